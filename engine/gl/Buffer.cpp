@@ -1,0 +1,56 @@
+#include "gl/Buffer.h"
+
+#include <utility>
+
+namespace firn::gl {
+
+Buffer::Buffer(std::size_t bytes, const void* data) : bytes_(bytes) {
+  glGenBuffers(1, &id_);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+  if (data == nullptr) zero();
+}
+
+Buffer::~Buffer() {
+  if (id_ != 0) glDeleteBuffers(1, &id_);
+}
+
+Buffer::Buffer(Buffer&& other) noexcept
+    : id_(std::exchange(other.id_, 0)), bytes_(std::exchange(other.bytes_, 0)) {}
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    if (id_ != 0) glDeleteBuffers(1, &id_);
+    id_ = std::exchange(other.id_, 0);
+    bytes_ = std::exchange(other.bytes_, 0);
+  }
+  return *this;
+}
+
+void Buffer::bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
+
+void Buffer::bindUniform(GLuint binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_); }
+
+void Buffer::upload(std::size_t offsetBytes, std::size_t bytes, const void* data) {
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offsetBytes), static_cast<GLsizeiptr>(bytes), data);
+}
+
+void Buffer::download(std::size_t offsetBytes, std::size_t bytes, void* out) const {
+  // Readbacks follow compute writes: make those writes visible to buffer reads first.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offsetBytes), static_cast<GLsizeiptr>(bytes), out);
+}
+
+void Buffer::zero() {
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
+  glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+}
+
+GLuint Buffer::release() {
+  bytes_ = 0;
+  return std::exchange(id_, 0);
+}
+
+}  // namespace firn::gl

@@ -1,0 +1,44 @@
+#pragma once
+// A headless OpenGL 4.3 core context through EGL: no window, no display server.
+//
+// Device choice: with EGL_EXT_platform_device the context is made on a GPU (FIRN_EGL_DEVICE=N picks the
+// N-th EGL device, as listed by `firn --gl-info`); otherwise on Mesa's surfaceless platform (llvmpipe).
+#include <memory>
+#include <string>
+
+namespace firn::gl {
+
+struct ContextInfo {
+  std::string platform;  // "EGL device 0", "Mesa surfaceless", …
+  std::string vendor;
+  std::string renderer;
+  std::string version;
+  bool hasFloatAtomics = false;  // GL_NV_shader_atomic_float
+  long long maxStorageBlockBytes = 0;
+  int maxComputeWorkGroupCountX = 0;
+};
+
+class HeadlessContext {
+ public:
+  // Throws NoOpenGLError (exit 4) with what was found when no GL 4.3 core context can be made.
+  HeadlessContext();
+  ~HeadlessContext();
+  HeadlessContext(const HeadlessContext&) = delete;
+  HeadlessContext& operator=(const HeadlessContext&) = delete;
+
+  const ContextInfo& info() const { return info_; }
+
+ private:
+  struct Egl;
+  std::unique_ptr<Egl> egl_;
+  ContextInfo info_;
+};
+
+// After a context is current: loads entry points with GLEW (accepting Debian GLEW's GLEW_ERROR_NO_GLX_DISPLAY
+// on EGL only when every entry point Firn uses is present), then fills ContextInfo's GL fields.
+// Throws NoOpenGLError if the context is older than 4.3 or an entry point is missing.
+void loadGLFunctions(ContextInfo& info);
+
+bool hasExtension(const char* name);
+
+}  // namespace firn::gl

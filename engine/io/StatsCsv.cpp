@@ -1,0 +1,63 @@
+#include "io/StatsCsv.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "Error.h"
+#include "sim/Simulation.h"
+
+namespace firn {
+
+FrameStats measureFrame(const ParticleSnapshot& particles) {
+  FrameStats stats;
+  stats.particles = particles.size();
+  double plasticJSum = 0;
+  glm::dvec3 weightedPosition(0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double mass = particles.positionMass[i].w;
+    const glm::dvec3 velocity(particles.velocityVolume[i]);
+    stats.massKg += mass;
+    stats.momentumKgMPerS += mass * velocity;
+    stats.kineticEnergyJ += 0.5 * mass * glm::dot(velocity, velocity);
+    weightedPosition += mass * glm::dvec3(particles.positionMass[i]);
+    plasticJSum += particles.plasticJ[i];
+  }
+  if (particles.size() > 0) {
+    stats.meanPlasticJ = plasticJSum / double(particles.size());
+    stats.centerOfMassM = weightedPosition / stats.massKg;
+  }
+  return stats;
+}
+
+const char* StatsCsvWriter::header() {
+  return "frame,time_s,steps,particles,mass_kg,momentum_x,momentum_y,momentum_z,kinetic_energy_j,wall_ms,"
+         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j";
+}
+
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path, std::ios::trunc) {
+  if (!out_) throw InputError(path.string() + ": cannot create stats file (" + std::strerror(errno) + ")");
+  out_ << header() << '\n';
+  out_.flush();
+}
+
+void StatsCsvWriter::write(const FrameStats& s) {
+  const double values[] = {s.massKg,           s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z,
+                           s.kineticEnergyJ,   s.wallMs,            s.centerOfMassM.x,   s.centerOfMassM.y,
+                           s.centerOfMassM.z,  s.meanPlasticJ,      s.timeS};
+  for (double value : values) {
+    if (!std::isfinite(value)) throw std::invalid_argument("stats row for frame " + std::to_string(s.frame) + " is not finite");
+  }
+  char row[512];
+  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g\n", s.frame,
+                s.timeS, static_cast<unsigned long long>(s.steps), static_cast<unsigned long long>(s.particles),
+                s.massKg, s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z, s.kineticEnergyJ, s.wallMs,
+                s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ);
+  out_ << row;
+  out_.flush();
+  if (!out_) throw InputError(path_.string() + ": writing the stats failed (disk full?)");
+}
+
+}  // namespace firn

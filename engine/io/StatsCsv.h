@@ -1,0 +1,42 @@
+#pragma once
+// stats.csv: one row per frame (frame 0 included), flushed as it is written so a stopped run keeps its rows.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+
+#include <glm/vec3.hpp>
+
+namespace firn {
+
+struct ParticleSnapshot;
+
+struct FrameStats {
+  int frame = 0;
+  double timeS = 0;
+  std::uint64_t steps = 0;  // steps taken since the previous frame
+  std::uint64_t particles = 0;
+  double massKg = 0;
+  glm::dvec3 momentumKgMPerS{0.0};
+  double kineticEnergyJ = 0;
+  double wallMs = 0;        // wall-clock time since the previous frame
+  double meanPlasticJ = 1;  // mean J_P: below 1 the snow has compacted
+  glm::dvec3 centerOfMassM{0.0};
+};
+
+// Mass, momentum, kinetic energy, centre of mass and mean J_P of a snapshot, summed in double.
+FrameStats measureFrame(const ParticleSnapshot& particles);
+
+class StatsCsvWriter {
+ public:
+  // Throws InputError naming the file if it cannot be created.
+  explicit StatsCsvWriter(const std::filesystem::path& path);
+  void write(const FrameStats& stats);
+
+  static const char* header();
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+};
+
+}  // namespace firn

@@ -1,0 +1,102 @@
+#include "run/HeadlessRun.h"
+
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+#include <string>
+#include <system_error>
+
+#include "Error.h"
+#include "gl/Context.h"
+#include "io/Ply.h"
+#include "io/StatsCsv.h"
+#include "sim/Simulation.h"
+
+namespace firn {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string frameFileName(int frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04d.ply", frame);
+  return name;
+}
+
+PointCache toPointCache(const ParticleSnapshot& particles) {
+  PointCache cache;
+  cache.positionsM.reserve(particles.size());
+  cache.velocitiesMPerS.reserve(particles.size());
+  cache.massesKg.reserve(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    cache.positionsM.emplace_back(particles.positionMass[i]);
+    cache.velocitiesMPerS.emplace_back(particles.velocityVolume[i]);
+    cache.massesKg.push_back(particles.positionMass[i].w);
+  }
+  cache.plasticJ = particles.plasticJ;
+  return cache;
+}
+
+void printProgress(int frame, int frames, double simulatedS, double stepsPerS, double etaS) {
+  const int eta = static_cast<int>(etaS + 0.5);
+  std::fprintf(stderr, "\rfirn: frame %d/%d  t = %.3f s  %.0f steps/s  ETA %d:%02d   ", frame, frames, simulatedS,
+               stepsPerS, eta / 60, eta % 60);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log) {
+  const auto runStart = Clock::now();
+  const int frames = options.frames.value_or(scene.time.frames);
+  std::error_code error;
+  std::filesystem::create_directories(options.outputDir, error);
+  if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
+
+  gl::HeadlessContext context;
+  const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+  Simulation simulation(scene, seeds, context.info());
+  log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
+      << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z
+      << " cells, dt " << scene.time.dtS << " s, " << frames << " frames on " << context.info().renderer << "\n";
+
+  StatsCsvWriter stats(options.outputDir / "stats.csv");
+  auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
+    const ParticleSnapshot particles = simulation.snapshot();
+    FrameStats row = measureFrame(particles);
+    row.frame = frame;
+    row.timeS = simulation.timeS();
+    row.steps = steps;
+    row.wallMs = wallMs;
+    stats.write(row);
+    if (options.writePly) writePly(options.outputDir / frameFileName(frame), toPointCache(particles));
+  };
+
+  RunSummary summary;
+  summary.particles = seeds.size();
+  summary.renderer = context.info().renderer;
+  writeFrame(0, 0, secondsSince(runStart) * 1e3);
+  for (int frame = 1; frame <= frames; ++frame) {
+    const auto frameStart = Clock::now();
+    const int steps = simulation.advanceTo(frame / scene.time.frameRateHz);
+    // The watchdog is read once a frame: a bad step stops the run before its frame is written.
+    simulation.checkWatchdog();
+    summary.simulationWallS += secondsSince(frameStart);
+    summary.steps += static_cast<std::uint64_t>(steps);
+    writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
+    summary.frames = frame;
+    if (options.showProgress) {
+      const double stepsPerS = double(summary.steps) / summary.simulationWallS;
+      const double etaS = summary.simulationWallS / frame * (frames - frame);
+      printProgress(frame, frames, simulation.timeS(), stepsPerS, etaS);
+    }
+  }
+  if (options.showProgress) std::fprintf(stderr, "\n");
+  summary.wallS = secondsSince(runStart);
+  return summary;
+}
+
+}  // namespace firn

@@ -1,0 +1,33 @@
+#pragma once
+// `firn run`: a scene simulated headless, writing stats.csv and PLY frames.
+#include <filesystem>
+#include <iosfwd>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "scene/Scene.h"
+
+namespace firn {
+
+struct RunOptions {
+  std::optional<int> frames;       // overrides the scene's time.frames
+  std::filesystem::path outputDir = "firn-out";
+  bool writePly = true;
+  bool showProgress = false;       // a progress line on stderr (when it is a terminal)
+};
+
+struct RunSummary {
+  int frames = 0;                  // frames written after frame 0
+  std::uint64_t steps = 0;
+  std::size_t particles = 0;
+  double wallS = 0;                // whole run, start-up included
+  double simulationWallS = 0;      // stepping only, frame output excluded
+  std::string renderer;
+};
+
+// Frame N is the state at N / frame_rate; frame 0 is the initial state. Throws InputError (bad scene or
+// output), SimulationError (unstable: the frames written so far stay on disk) or NoOpenGLError.
+RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log);
+
+}  // namespace firn

@@ -1,0 +1,48 @@
+// The snow presets a scene may name, and the built-in scene `firn run` uses with no SCENE.
+#include "scene/Scene.h"
+
+namespace firn {
+
+const std::vector<SnowMaterial>& snowPresets() {
+  // Fields: name, E (Pa), ν, ρ (kg/m³), θc, θs, ξ. Sources (shared/seeds, see design.md):
+  // - stomakhin: Stomakhin et al. 2013, table 2, the reference snow.
+  // - dry: powder; Stomakhin's lower critical compression and stretch, so it crumbles rather than deforms.
+  // - wet: chunky; larger θc and θs per the seeds, so it deforms plastically before it breaks.
+  // - icy: seed 002's snowball parameters (E = 5e6, ν = 0.3, ξ = 30, θs = 2e-3), high E and hardening.
+  // - slushy: Stomakhin's lower E and lower hardening, so it flows.
+  static const std::vector<SnowMaterial> presets = {
+      {"stomakhin", 1.4e5, 0.2, 400, 2.5e-2, 7.5e-3, 10},
+      {"dry", 1.4e5, 0.2, 300, 1.9e-2, 5.0e-3, 10},
+      {"wet", 1.4e5, 0.2, 500, 4.0e-2, 1.5e-2, 10},
+      {"icy", 5e6, 0.3, 600, 2.5e-2, 2.0e-3, 30},
+      {"slushy", 4.8e4, 0.25, 600, 3.0e-2, 1.0e-2, 5},
+  };
+  return presets;
+}
+
+Scene defaultScene() {
+  // Written as a scene file and parsed, so the built-in scene obeys exactly the rules a user's file does.
+  static const char* const sceneJson = R"json({
+  "name": "snowball-wall",
+  "description": "A snowball of stiffened reference snow thrown against a wall, above the ground.",
+  "grid": { "origin": [0, 0, 0], "cells": [64, 48, 48], "cell_size": 0.02 },
+  "time": { "dt": 2e-4, "frame_rate": 30, "frames": 45 },
+  "solver": { "kernel": "quadratic", "transfer": "apic", "atomics": "fixed" },
+  "materials": {
+    "snow": { "preset": "stomakhin", "youngs_modulus": 3e5 }
+  },
+  "bodies": [
+    { "shape": "sphere", "center": [0.35, 0.45, 0.48], "radius": 0.12, "material": "snow",
+      "velocity": [6, 1.5, 0], "particles_per_cell": 8 }
+  ],
+  "colliders": [
+    { "type": "plane", "point": [0, 0.08, 0], "normal": [0, 1, 0], "friction": 0.4, "boundary": "slip" },
+    { "type": "plane", "point": [1.1, 0, 0], "normal": [-1, 0, 0], "friction": 0.3, "boundary": "separate" }
+  ]
+})json";
+  Scene scene = parseScene(sceneJson, "<built-in default scene>");
+  scene.sourcePath.clear();
+  return scene;
+}
+
+}  // namespace firn

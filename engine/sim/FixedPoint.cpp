@@ -1,0 +1,32 @@
+#include "sim/FixedPoint.h"
+
+#include <cmath>
+#include <string>
+
+#include "Error.h"
+
+namespace firn {
+
+double FixedPointScale::unitsPerValue() const { return std::ldexp(1.0, fractionBits); }
+double FixedPointScale::maxNodeValue() const { return std::ldexp(1.0, 31 - fractionBits); }
+double FixedPointScale::resolution() const { return std::ldexp(1.0, -fractionBits); }
+
+FixedPointScale deriveFixedPointScale(double referenceMassKg, double maxParticlesPerCell, double cellSizeM, double dtS) {
+  constexpr int kMinimumFractionBits = 8;
+  constexpr int kMaximumFractionBits = 30;
+  const double bound = maxParticlesPerCell * kFixedPointCompressionMargin * kFixedPointVelocityMarginCellsPerStep;
+  const int integerBits = static_cast<int>(std::ceil(std::log2(std::max(bound, 1.0))));
+  const int fractionBits = std::min(31 - integerBits, kMaximumFractionBits);
+  if (fractionBits < kMinimumFractionBits) {
+    throw InputError("particles_per_cell: " + std::to_string(maxParticlesPerCell) +
+                     " particles per cell leave fewer than 8 bits of fixed-point resolution; use fewer particles "
+                     "per cell or solver.atomics \"float\"");
+  }
+  FixedPointScale scale;
+  scale.referenceMassKg = referenceMassKg;
+  scale.momentumUnitKgMPerS = referenceMassKg * cellSizeM / dtS;
+  scale.fractionBits = fractionBits;
+  return scale;
+}
+
+}  // namespace firn

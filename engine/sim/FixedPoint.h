@@ -1,0 +1,29 @@
+#pragma once
+// Fixed-point scales for the P2G sums (design.md, "Fixed-point atomics"). The GPU adds nondimensional values:
+// mass in units of the reference particle mass m_ref, momentum and impulse in units of m_ref·h/Δt (a node
+// moving one cell per step). Their bound is known from the scene, so the scale 2^k is chosen to fit it in
+// int32 with headroom, and every remaining bit is resolution.
+
+namespace firn {
+
+// A node's mass is about particles-per-cell × m_ref at rest; snow may compress this much before the sums
+// run out of range.
+constexpr double kFixedPointCompressionMargin = 8.0;
+// Momentum per unit mass is a velocity in cells per step, which the CFL condition keeps below 1; this much
+// more is allowed before overflow (the watchdog reports CFL violations beyond 1 anyway).
+constexpr double kFixedPointVelocityMarginCellsPerStep = 4.0;
+
+struct FixedPointScale {
+  double referenceMassKg = 0;
+  double momentumUnitKgMPerS = 0;  // m_ref · h / Δt
+  int fractionBits = 0;            // k: a nondimensional 1 is stored as 2^k
+
+  double unitsPerValue() const;    // 2^k
+  double maxNodeValue() const;     // the largest nondimensional sum int32 holds: 2^(31 − k)
+  double resolution() const;       // 2^−k
+};
+
+// Throws InputError when the scene's particles per cell leave fewer than 8 bits of resolution.
+FixedPointScale deriveFixedPointScale(double referenceMassKg, double maxParticlesPerCell, double cellSizeM, double dtS);
+
+}  // namespace firn

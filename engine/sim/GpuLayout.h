@@ -1,0 +1,121 @@
+#pragma once
+// Everything the host shares with the shaders: binding points (injected into GLSL as FIRN_BINDING_* defines,
+// so they are written once) and the std140/std430 structs, whose sizes are pinned by static_assert.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec4.hpp>
+
+namespace firn::gpu {
+
+// Shader storage binding points (one SSBO each).
+enum StorageBinding : std::uint32_t {
+  PositionMass = 0,    // vec4: x (m), mass (kg)
+  VelocityVolume = 1,  // vec4: v (m/s), initial volume V0 (m³)
+  ElasticDeformation = 2,  // mat3 F_E
+  KirchhoffStress = 3,     // mat3 τ = (∂Ψ/∂F_E) F_Eᵀ (Pa), from the last deformation update
+  Affine = 4,              // mat3 C (APIC only)
+  PlasticState = 5,        // ParticlePlasticState
+  GridMomentumMass = 6,    // per node: momentum and mass sums, then velocity and mass
+  GridImpulse = 7,         // per node (PIC/FLIP only): impulse sums, then the velocity before forces
+  Materials = 8,           // MaterialParams[]
+  Colliders = 9,           // ColliderParams[]
+  ActiveRegion = 10,       // ActiveRegion
+  Watchdog = 11,           // WatchdogStatus
+};
+
+// Uniform block binding point.
+enum UniformBinding : std::uint32_t { StepUniformsBlock = 0 };
+
+inline std::vector<std::pair<std::string, std::string>> bindingDefines() {
+  return {
+      {"FIRN_BINDING_POSITION_MASS", std::to_string(PositionMass)},
+      {"FIRN_BINDING_VELOCITY_VOLUME", std::to_string(VelocityVolume)},
+      {"FIRN_BINDING_ELASTIC_DEFORMATION", std::to_string(ElasticDeformation)},
+      {"FIRN_BINDING_KIRCHHOFF_STRESS", std::to_string(KirchhoffStress)},
+      {"FIRN_BINDING_AFFINE", std::to_string(Affine)},
+      {"FIRN_BINDING_PLASTIC_STATE", std::to_string(PlasticState)},
+      {"FIRN_BINDING_GRID_MOMENTUM_MASS", std::to_string(GridMomentumMass)},
+      {"FIRN_BINDING_GRID_IMPULSE", std::to_string(GridImpulse)},
+      {"FIRN_BINDING_MATERIALS", std::to_string(Materials)},
+      {"FIRN_BINDING_COLLIDERS", std::to_string(Colliders)},
+      {"FIRN_BINDING_ACTIVE_REGION", std::to_string(ActiveRegion)},
+      {"FIRN_BINDING_WATCHDOG", std::to_string(Watchdog)},
+      {"FIRN_BINDING_STEP_UNIFORMS", std::to_string(StepUniformsBlock)},
+  };
+}
+
+// std430 mat3: three columns padded to vec4.
+struct Mat3x4 {
+  glm::vec4 columns[3];
+};
+static_assert(sizeof(Mat3x4) == 48, "std430 mat3 is 48 bytes");
+
+struct ParticlePlasticState {
+  float plasticJ;            // J_P = det F_P
+  std::uint32_t materialIndex;
+};
+static_assert(sizeof(ParticlePlasticState) == 8, "std430 ParticlePlasticState");
+
+struct MaterialParams {
+  glm::vec4 elastic;  // μ0 (Pa), λ0 (Pa), hardening ξ, density (kg/m³)
+  glm::vec4 plastic;  // 1 − θc, 1 + θs, unused, unused
+};
+static_assert(sizeof(MaterialParams) == 32, "std430 MaterialParams");
+
+enum class ColliderShapeCode : std::int32_t { Plane = 0, Sphere = 1, Box = 2 };
+enum class BoundaryCode : std::int32_t { Sticky = 0, Slip = 1, Separate = 2 };
+
+struct ColliderParams {
+  glm::vec4 geometryA;           // plane: point; sphere: centre, w = radius; box: min corner (at t = 0)
+  glm::vec4 geometryB;           // plane: unit normal; box: max corner (at t = 0)
+  glm::vec4 velocityFriction;    // xyz velocity (m/s), w Coulomb μ
+  glm::ivec4 shapeBoundary;      // x ColliderShapeCode, y BoundaryCode
+};
+static_assert(sizeof(ColliderParams) == 64, "std430 ColliderParams");
+
+// The grid region the particles occupy: accumulated by G2P, turned into this step's node box and the
+// indirect dispatch of the grid passes by prepare_grid.comp.
+struct ActiveRegionData {
+  glm::ivec4 particleCellMin;  // atomicMin of particle cells
+  glm::ivec4 particleCellMax;  // atomicMax of particle cells
+  glm::ivec4 boxMin;           // first node of the box
+  glm::ivec4 boxSize;          // nodes per axis; w = node count
+  glm::uvec4 gridDispatch;     // work groups for the grid passes (glDispatchComputeIndirect reads xyz)
+};
+static_assert(sizeof(ActiveRegionData) == 80, "std430 ActiveRegion");
+constexpr std::size_t kGridDispatchOffset = offsetof(ActiveRegionData, gridDispatch);
+
+// What the GPU watchdog saw; first events are recorded by the invocation that flips `...Where` from −1.
+struct WatchdogStatus {
+  std::uint32_t overflowCount;
+  std::int32_t overflowNode;     // linear node index of the first overflow, −1 if none
+  std::uint32_t overflowStep;
+  std::uint32_t overflowChannel; // 0 mass, 1–3 momentum x/y/z, 4–6 impulse x/y/z
+  std::uint32_t nonFiniteCount;
+  std::int32_t nonFiniteParticle;
+  std::uint32_t nonFiniteStep;
+  std::uint32_t cflCount;
+  std::int32_t cflParticle;
+  std::uint32_t cflStep;
+  float cflCellsPerStep;         // how far the first offending particle moved, in cells
+  std::uint32_t unused;
+};
+static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
+
+// std140 uniform block, rewritten before every step.
+struct StepUniforms {
+  glm::vec4 gridOriginCellSize;   // origin (m), h (m)
+  glm::ivec4 gridNodes;           // nodes per axis, w unused
+  glm::vec4 gravityDt;            // g (m/s²), Δt of this step (s)
+  glm::vec4 fixedPoint;           // m_ref (kg), momentum unit m_ref·h/Δt_ref (kg·m/s), scale 2^k, 1/2^k
+  glm::vec4 transfer;             // FLIP ratio α, simulated time at the start of the step (s), APIC D⁻¹ (1/m²), unused
+  glm::uvec4 counts;              // particles, colliders, step index, unused
+};
+static_assert(sizeof(StepUniforms) == 96, "std140 StepUniforms");
+
+}  // namespace firn::gpu

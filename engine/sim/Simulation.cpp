@@ -1,0 +1,391 @@
+#include "sim/Simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "Error.h"
+#include "gl/Debug.h"
+#include "sim/Materials.h"
+
+namespace firn {
+
+namespace {
+
+constexpr GLuint kParticleGroupSize = 128;  // local_size_x of the particle passes
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(4);
+  out << value;
+  return out.str();
+}
+
+std::string mebibytes(double bytes) { return formatNumber(bytes / (1024.0 * 1024.0)) + " MiB"; }
+
+const char* channelName(std::uint32_t channel) {
+  static const char* const names[] = {"mass", "momentum x", "momentum y", "momentum z",
+                                      "impulse x", "impulse y", "impulse z"};
+  return channel < 7 ? names[channel] : "unknown";
+}
+
+gpu::Mat3x4 identityMat3() {
+  return {{glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0)}};
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl)
+    : scene_(scene), particleCount_(particles.size()), gridNodes_(scene.grid.cells + 1),
+      maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
+  if (particles.empty()) throw InputError("bodies: the scene has no particles");
+  if (scene_.solver.atomics == Atomics::Float && !gl.hasFloatAtomics) {
+    throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
+                     " does not offer; use \"fixed\"");
+  }
+  const double nodes = double(gridNodes_.x) * gridNodes_.y * gridNodes_.z;
+  const double gridBufferBytes = nodes * sizeof(glm::ivec4);
+  if (gridBufferBytes > double(gl.maxStorageBlockBytes)) {
+    throw InputError("grid.cells: " + std::to_string(scene_.grid.cells.x) + "×" + std::to_string(scene_.grid.cells.y) +
+                     "×" + std::to_string(scene_.grid.cells.z) + " cells need " + mebibytes(gridBufferBytes) +
+                     " per grid buffer, but " + gl.renderer + " allows " + mebibytes(double(gl.maxStorageBlockBytes)) +
+                     " per shader storage block; use fewer cells");
+  }
+  const double particleBytes = double(particles.size()) * sizeof(gpu::Mat3x4);
+  if (particleBytes > double(gl.maxStorageBlockBytes)) {
+    throw InputError("bodies: " + std::to_string(particles.size()) + " particles need " + mebibytes(particleBytes) +
+                     " per particle buffer, more than the " + mebibytes(double(gl.maxStorageBlockBytes)) +
+                     " this driver allows; use fewer particles_per_cell");
+  }
+
+  double referenceMassKg = 0;
+  for (const ParticleSeed& seed : particles) referenceMassKg = std::max(referenceMassKg, double(seed.massKg));
+  double maxParticlesPerCell = 0;
+  for (const Body& body : scene_.bodies) maxParticlesPerCell = std::max(maxParticlesPerCell, body.particlesPerCell);
+  fixedPoint_ = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, scene_.grid.cellSizeM, scene_.time.dtS);
+
+  buildPrograms(gl);
+  uploadParticles(particles);
+  uploadMaterialsAndColliders();
+  gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
+  if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
+  stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
+  const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
+  watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog);
+  activeRegion_ = gl::Buffer(sizeof(gpu::ActiveRegionData));
+
+  std::vector<glm::vec3> positions;
+  positions.reserve(particles.size());
+  for (const ParticleSeed& seed : particles) positions.push_back(seed.positionM);
+  seedActiveRegion(positions);
+
+  // Initial volumes (Stomakhin 2013 §6 step 2): one P2G of mass, then V0 = m / ρ from the grid density.
+  writeStepUniforms(scene_.time.dtS);
+  scatterToGrid();
+  runOverParticles(computeVolumes_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  gl::checkPass("compute_volumes");
+}
+
+void Simulation::buildPrograms(const gl::ContextInfo& gl) {
+  (void)gl;
+  gl::ShaderOptions options;
+  options.defines = gpu::bindingDefines();
+  options.defines.emplace_back("FIRN_PARTICLE_GROUP_SIZE", std::to_string(kParticleGroupSize));
+  options.defines.emplace_back(scene_.solver.kernel == Kernel::Cubic ? "FIRN_KERNEL_CUBIC" : "FIRN_KERNEL_QUADRATIC", "1");
+  options.defines.emplace_back(scene_.solver.transfer == Transfer::Apic ? "FIRN_TRANSFER_APIC" : "FIRN_TRANSFER_PIC_FLIP", "1");
+  if (!scene_.colliders.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDERS", "1");
+  if (scene_.solver.atomics == Atomics::Float) {
+    options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
+    options.extensions.push_back("GL_NV_shader_atomic_float");
+  }
+  const gl::ShaderLibrary library;
+  prepareGrid_ = gl::Program::compute(library, "sim/prepare_grid.comp", options);
+  clearGrid_ = gl::Program::compute(library, "sim/clear_grid.comp", options);
+  particleToGrid_ = gl::Program::compute(library, "sim/p2g.comp", options);
+  updateGrid_ = gl::Program::compute(library, "sim/update_grid.comp", options);
+  gridToParticle_ = gl::Program::compute(library, "sim/g2p.comp", options);
+  computeVolumes_ = gl::Program::compute(library, "sim/compute_volumes.comp", options);
+}
+
+void Simulation::uploadParticles(const std::vector<ParticleSeed>& particles) {
+  std::vector<glm::vec4> positionMass;
+  std::vector<glm::vec4> velocityVolume;
+  std::vector<gpu::ParticlePlasticState> plastic;
+  positionMass.reserve(particles.size());
+  velocityVolume.reserve(particles.size());
+  plastic.reserve(particles.size());
+  particleBody_.reserve(particles.size());
+  for (const ParticleSeed& seed : particles) {
+    positionMass.emplace_back(seed.positionM, seed.massKg);
+    velocityVolume.emplace_back(seed.velocityMPerS, 0.0f);  // V0 comes from compute_volumes.comp
+    plastic.push_back({1.0f, static_cast<std::uint32_t>(seed.materialIndex)});
+    particleBody_.push_back(seed.bodyIndex);
+  }
+  positionMass_ = gl::Buffer::fromVector(positionMass);
+  velocityVolume_ = gl::Buffer::fromVector(velocityVolume);
+  plasticState_ = gl::Buffer::fromVector(plastic);
+  // Snow starts undeformed: F_E = I, so its stress is zero.
+  elasticDeformation_ = gl::Buffer::fromVector(std::vector<gpu::Mat3x4>(particles.size(), identityMat3()));
+  kirchhoffStress_ = gl::Buffer(particles.size() * sizeof(gpu::Mat3x4));
+  if (scene_.solver.transfer == Transfer::Apic) affine_ = gl::Buffer(particles.size() * sizeof(gpu::Mat3x4));
+}
+
+void Simulation::uploadMaterialsAndColliders() {
+  std::vector<gpu::MaterialParams> materials;
+  for (const SnowMaterial& material : scene_.materials) {
+    const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
+    materials.push_back({glm::vec4(lame.muPa, lame.lambdaPa, material.hardening, material.densityKgPerM3),
+                         glm::vec4(1.0 - material.criticalCompression, 1.0 + material.criticalStretch, 0, 0)});
+  }
+  materials_ = gl::Buffer::fromVector(materials);
+
+  // One zeroed element stands in when there are none, so the binding is always a valid buffer.
+  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene_.colliders.size(), 1), gpu::ColliderParams{});
+  for (std::size_t i = 0; i < scene_.colliders.size(); ++i) {
+    const Collider& c = scene_.colliders[i];
+    gpu::ColliderParams& out = colliders[i];
+    switch (c.shape) {
+      case ColliderShape::Plane:
+        out.geometryA = glm::vec4(glm::vec3(c.pointM), 0);
+        out.geometryB = glm::vec4(glm::vec3(glm::normalize(c.normal)), 0);
+        out.shapeBoundary.x = int(gpu::ColliderShapeCode::Plane);
+        break;
+      case ColliderShape::Sphere:
+        out.geometryA = glm::vec4(glm::vec3(c.centerM), float(c.radiusM));
+        out.shapeBoundary.x = int(gpu::ColliderShapeCode::Sphere);
+        break;
+      case ColliderShape::Box:
+        out.geometryA = glm::vec4(glm::vec3(c.minM), 0);
+        out.geometryB = glm::vec4(glm::vec3(c.maxM), 0);
+        out.shapeBoundary.x = int(gpu::ColliderShapeCode::Box);
+        break;
+    }
+    out.velocityFriction = glm::vec4(glm::vec3(c.velocityMPerS), float(c.friction));
+    out.shapeBoundary.y = c.boundary == Boundary::Sticky ? int(gpu::BoundaryCode::Sticky)
+                          : c.boundary == Boundary::Slip ? int(gpu::BoundaryCode::Slip)
+                                                         : int(gpu::BoundaryCode::Separate);
+  }
+  colliders_ = gl::Buffer::fromVector(colliders);
+}
+
+void Simulation::seedActiveRegion(const std::vector<glm::vec3>& positions) {
+  gpu::ActiveRegionData region{};
+  region.particleCellMin = glm::ivec4(std::numeric_limits<int>::max());
+  region.particleCellMax = glm::ivec4(std::numeric_limits<int>::min());
+  const glm::vec3 origin(scene_.grid.originM);
+  const float cellSize = float(scene_.grid.cellSizeM);
+  for (const glm::vec3& x : positions) {
+    const glm::ivec3 cell(glm::floor((x - origin) / cellSize));
+    region.particleCellMin = glm::min(region.particleCellMin, glm::ivec4(cell, 0));
+    region.particleCellMax = glm::max(region.particleCellMax, glm::ivec4(cell, 0));
+  }
+  activeRegion_.upload(0, sizeof region, &region);
+}
+
+void Simulation::writeStepUniforms(double dtS) {
+  gpu::StepUniforms uniforms{};
+  const double h = scene_.grid.cellSizeM;
+  uniforms.gridOriginCellSize = glm::vec4(glm::vec3(scene_.grid.originM), float(h));
+  uniforms.gridNodes = glm::ivec4(gridNodes_, 0);
+  uniforms.gravityDt = glm::vec4(glm::vec3(scene_.gravityMPerS2), float(dtS));
+  uniforms.fixedPoint = glm::vec4(float(fixedPoint_.referenceMassKg), float(fixedPoint_.momentumUnitKgMPerS),
+                                  float(fixedPoint_.unitsPerValue()), float(fixedPoint_.resolution()));
+  // APIC's D_p⁻¹ (Jiang et al. 2015): 4/h² for quadratic, 3/h² for cubic B-splines.
+  const double inverseInertia = (scene_.solver.kernel == Kernel::Cubic ? 3.0 : 4.0) / (h * h);
+  uniforms.transfer = glm::vec4(float(scene_.solver.flipRatio), float(timeS_), float(inverseInertia), 0);
+  uniforms.counts = glm::uvec4(particleCount_, scene_.colliders.size(), static_cast<std::uint32_t>(steps_), 0);
+  stepUniforms_.upload(0, sizeof uniforms, &uniforms);
+}
+
+void Simulation::bindAll() const {
+  stepUniforms_.bindUniform(gpu::StepUniformsBlock);
+  positionMass_.bindStorage(gpu::PositionMass);
+  velocityVolume_.bindStorage(gpu::VelocityVolume);
+  elasticDeformation_.bindStorage(gpu::ElasticDeformation);
+  kirchhoffStress_.bindStorage(gpu::KirchhoffStress);
+  if (affine_) affine_.bindStorage(gpu::Affine);
+  plasticState_.bindStorage(gpu::PlasticState);
+  gridMomentumMass_.bindStorage(gpu::GridMomentumMass);
+  if (gridImpulse_) gridImpulse_.bindStorage(gpu::GridImpulse);
+  materials_.bindStorage(gpu::Materials);
+  colliders_.bindStorage(gpu::Colliders);
+  activeRegion_.bindStorage(gpu::ActiveRegion);
+  watchdog_.bindStorage(gpu::Watchdog);
+}
+
+void Simulation::runOnce(const gl::Program& program) const {
+  program.use();
+  glDispatchCompute(1, 1, 1);
+  gl::checkPass(program.name().c_str());
+}
+
+void Simulation::runOverGrid(const gl::Program& program) const {
+  program.use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, activeRegion_.id());
+  glDispatchComputeIndirect(static_cast<GLintptr>(gpu::kGridDispatchOffset));
+  gl::checkPass(program.name().c_str());
+}
+
+void Simulation::runOverParticles(const gl::Program& program) const {
+  program.use();
+  const GLuint groups = static_cast<GLuint>((particleCount_ + kParticleGroupSize - 1) / kParticleGroupSize);
+  const GLuint maxX = static_cast<GLuint>(maxWorkGroupsX_);
+  // More groups than one dimension allows are laid out in rows; the shader folds y back into the index.
+  if (groups <= maxX) {
+    glDispatchCompute(groups, 1, 1);
+  } else {
+    glDispatchCompute(maxX, (groups + maxX - 1) / maxX, 1);
+  }
+  gl::checkPass(program.name().c_str());
+}
+
+void Simulation::scatterToGrid() {
+  bindAll();
+  runOnce(prepareGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  runOverGrid(clearGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  runOverParticles(particleToGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void Simulation::step(double dtS) {
+  writeStepUniforms(dtS);
+  bindAll();
+  runOnce(prepareGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  runOverGrid(clearGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  runOverParticles(particleToGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  runOverGrid(updateGrid_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  runOverParticles(gridToParticle_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  timeS_ += dtS;
+  ++steps_;
+}
+
+int Simulation::advanceTo(double timeS) {
+  const double remainingS = timeS - timeS_;
+  if (remainingS <= 0) return 0;
+  // Equal steps, none larger than dt; the tolerance keeps an exact multiple from taking one step more.
+  const int steps = std::max(1, static_cast<int>(std::ceil(remainingS / scene_.time.dtS - 1e-9)));
+  const double dtS = remainingS / steps;
+  for (int i = 0; i < steps; ++i) step(dtS);
+  timeS_ = timeS;
+  return steps;
+}
+
+std::string Simulation::describeNode(std::int32_t node) const {
+  const glm::ivec3 index(node % gridNodes_.x, (node / gridNodes_.x) % gridNodes_.y, node / (gridNodes_.x * gridNodes_.y));
+  const glm::dvec3 position = scene_.grid.originM + glm::dvec3(index) * scene_.grid.cellSizeM;
+  return "grid node (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ", " + std::to_string(index.z) +
+         ") at (" + formatNumber(position.x) + ", " + formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+}
+
+std::string Simulation::describeParticle(std::int32_t particle) const {
+  const glm::vec4 position = positionMass_.read<glm::vec4>(1, static_cast<std::size_t>(particle))[0];
+  const int body = particleBody_[static_cast<std::size_t>(particle)];
+  const int material = scene_.bodies[static_cast<std::size_t>(body)].materialIndex;
+  return "particle " + std::to_string(particle) + " of bodies[" + std::to_string(body) + "] (material \"" +
+         scene_.materials[static_cast<std::size_t>(material)].name + "\") near (" + formatNumber(position.x) + ", " +
+         formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+}
+
+void Simulation::checkWatchdog() const {
+  const gpu::WatchdogStatus status = watchdog_.read<gpu::WatchdogStatus>(1)[0];
+  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0) return;
+
+  const double h = scene_.grid.cellSizeM;
+  const double dt = scene_.time.dtS;
+  double stableDt = std::numeric_limits<double>::infinity();
+  for (const SnowMaterial& material : scene_.materials) stableDt = std::min(stableDt, elasticStableDtS(material, h));
+  const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDt) +
+                                " s for the stiffest material (scene dt " + formatNumber(dt) + " s)";
+  auto when = [&](std::uint32_t step) {
+    return "step " + std::to_string(step) + " (t ≈ " + formatNumber(double(step) * dt) + " s)";
+  };
+
+  std::string message = "the simulation became unstable:";
+  if (status.overflowCount > 0) {
+    message += "\n  - " + when(status.overflowStep) + ": fixed-point overflow of the P2G " +
+               channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
+               std::to_string(status.overflowCount) + " overflowing additions). A node sum may reach ±" +
+               formatNumber(fixedPoint_.maxNodeValue()) +
+               " reference masses (or that many times a node moving one cell per step); the particles moved or "
+               "compressed far beyond that. Reduce time.dt, lower the body velocities or particles_per_cell, or "
+               "set solver.atomics to \"float\"; " + stiffness + ".";
+  }
+  if (status.nonFiniteCount > 0) {
+    message += "\n  - " + when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle) +
+               " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
+               " particle updates rejected). Reduce time.dt or youngs_modulus; " + stiffness + ".";
+  }
+  if (status.cflCount > 0) {
+    message += "\n  - " + when(status.cflStep) + ": " + describeParticle(status.cflParticle) + " moved " +
+               formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
+               std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower the body "
+               "velocities; " + stiffness + ".";
+  }
+  throw SimulationError(message);
+}
+
+ParticleSnapshot Simulation::snapshot() const {
+  ParticleSnapshot snapshot;
+  snapshot.positionMass = positionMass_.read<glm::vec4>(particleCount_);
+  snapshot.velocityVolume = velocityVolume_.read<glm::vec4>(particleCount_);
+  const auto plastic = plasticState_.read<gpu::ParticlePlasticState>(particleCount_);
+  snapshot.plasticJ.reserve(plastic.size());
+  for (const auto& state : plastic) snapshot.plasticJ.push_back(state.plasticJ);
+  return snapshot;
+}
+
+gpu::ActiveRegionData Simulation::activeRegion() const { return activeRegion_.read<gpu::ActiveRegionData>(1)[0]; }
+
+GridTotals Simulation::transferToGrid() {
+  const ParticleSnapshot state = snapshot();
+  std::vector<glm::vec3> positions;
+  positions.reserve(state.size());
+  for (const glm::vec4& p : state.positionMass) positions.emplace_back(p);
+
+  seedActiveRegion(positions);
+  writeStepUniforms(scene_.time.dtS);
+  scatterToGrid();
+  const gpu::ActiveRegionData region = activeRegion();
+  GridTotals totals;
+  totals.activeNodes = static_cast<std::uint64_t>(region.boxSize.w);
+  // Integer sums are exact; sum them as integers so the totals carry no rounding of their own.
+  glm::i64vec4 fixedSum(0);
+  glm::dvec4 floatSum(0.0);
+  for (int z = 0; z < region.boxSize.z; ++z)
+    for (int y = 0; y < region.boxSize.y; ++y) {
+      const glm::ivec3 first = glm::ivec3(region.boxMin) + glm::ivec3(0, y, z);
+      const std::size_t node = static_cast<std::size_t>(first.x + gridNodes_.x * (first.y + gridNodes_.y * first.z));
+      if (scene_.solver.atomics == Atomics::FixedPoint) {
+        for (const glm::ivec4& value : gridMomentumMass_.read<glm::ivec4>(std::size_t(region.boxSize.x), node)) {
+          fixedSum += glm::i64vec4(value);
+        }
+      } else {
+        for (const glm::vec4& value : gridMomentumMass_.read<glm::vec4>(std::size_t(region.boxSize.x), node)) {
+          floatSum += glm::dvec4(value);
+        }
+      }
+    }
+  const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
+                              ? glm::dvec4(fixedSum) * fixedPoint_.resolution()
+                              : floatSum;
+  totals.massKg = sums.w * fixedPoint_.referenceMassKg;
+  totals.momentumKgMPerS = glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS;
+
+  seedActiveRegion(positions);  // prepare_grid consumed the bounds the next step needs
+  return totals;
+}
+
+void Simulation::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
+  velocityVolume_.upload(particle * sizeof(glm::vec4), sizeof(glm::vec3), &velocityMPerS);
+}
+
+}  // namespace firn

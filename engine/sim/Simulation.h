@@ -1,0 +1,111 @@
+#pragma once
+// The MPM snow simulation on the GPU: owns the particle, grid, material, collider and bookkeeping buffers and
+// the compute programs built for this scene, and runs the step as a flat list of passes in paper order.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gl/Buffer.h"
+#include "gl/Context.h"
+#include "gl/Program.h"
+#include "scene/Scene.h"
+#include "sim/FixedPoint.h"
+#include "sim/GpuLayout.h"
+
+namespace firn {
+
+// Particle state read back from the GPU.
+struct ParticleSnapshot {
+  std::vector<glm::vec4> positionMass;    // x (m), mass (kg)
+  std::vector<glm::vec4> velocityVolume;  // v (m/s), V0 (m³)
+  std::vector<float> plasticJ;            // J_P
+  std::size_t size() const { return positionMass.size(); }
+};
+
+// Sums over the grid after P2G, from the exact integer sums (fixed point) or the float sums.
+struct GridTotals {
+  double massKg = 0;
+  glm::dvec3 momentumKgMPerS{0.0};
+  std::uint64_t activeNodes = 0;  // nodes in the active box
+};
+
+class Simulation {
+ public:
+  // Builds the programs and buffers the scene needs and computes the initial particle volumes.
+  // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
+  Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl);
+
+  // One step of `dtS` seconds (no larger than the scene's dt): prepare → clear → P2G → grid update → G2P.
+  void step(double dtS);
+  // Steps to `timeS` in equal steps no larger than the scene's dt, landing on it exactly; returns the count.
+  int advanceTo(double timeS);
+
+  // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
+  // fixed-point overflow, a non-finite value or a CFL violation since the start.
+  void checkWatchdog() const;
+
+  ParticleSnapshot snapshot() const;
+  // Runs prepare → clear → P2G on the current state and sums the grid (a diagnostic: conservation tests).
+  GridTotals transferToGrid();
+  // The active node box of the last step (its node count is what the grid passes cost).
+  gpu::ActiveRegionData activeRegion() const;
+
+  double timeS() const { return timeS_; }
+  std::uint64_t stepCount() const { return steps_; }
+  std::size_t particleCount() const { return particleCount_; }
+  const FixedPointScale& fixedPoint() const { return fixedPoint_; }
+  const Scene& scene() const { return scene_; }
+
+  // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
+  void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
+
+ private:
+  void buildPrograms(const gl::ContextInfo& gl);
+  void uploadParticles(const std::vector<ParticleSeed>& particles);
+  void uploadMaterialsAndColliders();
+  void seedActiveRegion(const std::vector<glm::vec3>& positions);
+  void writeStepUniforms(double dtS);
+  void bindAll() const;
+  void runOnce(const gl::Program& program) const;
+  void runOverGrid(const gl::Program& program) const;
+  void runOverParticles(const gl::Program& program) const;
+  void scatterToGrid();
+  std::string describeNode(std::int32_t node) const;
+  std::string describeParticle(std::int32_t particle) const;
+
+  Scene scene_;
+  FixedPointScale fixedPoint_;
+  std::size_t particleCount_ = 0;
+  glm::ivec3 gridNodes_{0};
+  int maxWorkGroupsX_ = 65535;
+  std::vector<int> particleBody_;  // body of each particle, for messages
+
+  double timeS_ = 0;
+  std::uint64_t steps_ = 0;
+
+  gl::Program prepareGrid_;
+  gl::Program clearGrid_;
+  gl::Program particleToGrid_;
+  gl::Program updateGrid_;
+  gl::Program gridToParticle_;
+  gl::Program computeVolumes_;
+
+  gl::Buffer positionMass_;
+  gl::Buffer velocityVolume_;
+  gl::Buffer elasticDeformation_;
+  gl::Buffer kirchhoffStress_;
+  gl::Buffer affine_;  // APIC only
+  gl::Buffer plasticState_;
+  gl::Buffer gridMomentumMass_;
+  gl::Buffer gridImpulse_;  // PIC/FLIP only
+  gl::Buffer materials_;
+  gl::Buffer colliders_;
+  gl::Buffer activeRegion_;
+  gl::Buffer watchdog_;
+  gl::Buffer stepUniforms_;
+};
+
+}  // namespace firn

@@ -1,0 +1,58 @@
+// Buffers and the step's uniform block, mirroring engine/sim/GpuLayout.h. Binding points come from the
+// host as FIRN_BINDING_* defines, so they are written once. Grid buffers live in grid.glsl.
+
+layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniforms {
+  vec4 gridOriginCellSize;  // origin (m), h (m)
+  ivec4 gridNodes;          // nodes per axis
+  vec4 gravityDt;           // g (m/s²), Δt of this step (s)
+  vec4 fixedPoint;          // m_ref (kg), momentum unit m_ref·h/Δt_ref (kg·m/s), 2^k, 2^-k
+  vec4 transfer;            // FLIP ratio α, time at the start of the step (s), APIC D⁻¹ (1/m²)
+  uvec4 counts;             // particles, colliders, step index
+};
+
+layout(std430, binding = FIRN_BINDING_POSITION_MASS) buffer PositionMassBuffer { vec4 positionMass[]; };
+layout(std430, binding = FIRN_BINDING_VELOCITY_VOLUME) buffer VelocityVolumeBuffer { vec4 velocityVolume[]; };
+layout(std430, binding = FIRN_BINDING_ELASTIC_DEFORMATION) buffer ElasticDeformationBuffer { mat3 elasticDeformation[]; };
+layout(std430, binding = FIRN_BINDING_KIRCHHOFF_STRESS) buffer KirchhoffStressBuffer { mat3 kirchhoffStress[]; };
+#ifdef FIRN_TRANSFER_APIC
+layout(std430, binding = FIRN_BINDING_AFFINE) buffer AffineBuffer { mat3 affine[]; };
+#endif
+
+struct PlasticState {
+  float plasticJ;      // J_P = det F_P
+  uint materialIndex;
+};
+layout(std430, binding = FIRN_BINDING_PLASTIC_STATE) buffer PlasticStateBuffer { PlasticState plasticState[]; };
+
+struct MaterialParams {
+  vec4 elastic;  // μ0 (Pa), λ0 (Pa), hardening ξ, density (kg/m³)
+  vec4 plastic;  // 1 − θc, 1 + θs
+};
+layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
+
+struct ActiveRegionData {
+  ivec4 particleCellMin;
+  ivec4 particleCellMax;
+  ivec4 boxMin;
+  ivec4 boxSize;  // w: node count
+  uvec4 gridDispatch;
+};
+layout(std430, binding = FIRN_BINDING_ACTIVE_REGION) coherent buffer ActiveRegionBuffer { ActiveRegionData region; };
+
+float cellSize() { return gridOriginCellSize.w; }
+vec3 gridOrigin() { return gridOriginCellSize.xyz; }
+float stepDt() { return gravityDt.w; }
+uint particleCount() { return counts.x; }
+uint stepIndex() { return counts.z; }
+
+// Particle passes may be dispatched as a 2-D grid of work groups when there are more than 65,535 groups.
+uint particleInvocationIndex() {
+  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(FIRN_PARTICLE_GROUP_SIZE);
+}
+
+uint nodeIndex(ivec3 node) { return uint(node.x + gridNodes.x * (node.y + gridNodes.y * node.z)); }
+ivec3 nodeCoordinates(uint index) {
+  int i = int(index);
+  return ivec3(i % gridNodes.x, (i / gridNodes.x) % gridNodes.y, i / (gridNodes.x * gridNodes.y));
+}
+vec3 nodePosition(ivec3 node) { return gridOrigin() + vec3(node) * cellSize(); }

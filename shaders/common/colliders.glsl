@@ -1,0 +1,92 @@
+// Signed-distance colliders and the boundary response shared by grid nodes and particles
+// (Stomakhin 2013 §8; seed 001 ch. 5; seed 002 §4.4). Colliders translate at their velocity.
+
+struct ColliderParams {
+  vec4 geometryA;         // plane: point; sphere: centre, w radius; box: min corner (at t = 0)
+  vec4 geometryB;         // plane: unit normal; box: max corner (at t = 0)
+  vec4 velocityFriction;  // xyz velocity (m/s), w Coulomb μ
+  ivec4 shapeBoundary;    // x shape, y boundary
+};
+layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer { ColliderParams colliders[]; };
+
+const int SHAPE_PLANE = 0;
+const int SHAPE_SPHERE = 1;
+const int SHAPE_BOX = 2;
+const int BOUNDARY_STICKY = 0;
+const int BOUNDARY_SLIP = 1;
+const int BOUNDARY_SEPARATE = 2;
+
+// Signed distance φ (m, negative inside the solid) and outward unit normal at x, at time timeS.
+float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
+  vec3 displacement = c.velocityFriction.xyz * timeS;
+  if (c.shapeBoundary.x == SHAPE_PLANE) {
+    normal = c.geometryB.xyz;
+    return dot(x - (c.geometryA.xyz + displacement), normal);
+  }
+  if (c.shapeBoundary.x == SHAPE_SPHERE) {
+    vec3 fromCentre = x - (c.geometryA.xyz + displacement);
+    float distanceToCentre = length(fromCentre);
+    normal = distanceToCentre > 0.0 ? fromCentre / distanceToCentre : vec3(0.0, 1.0, 0.0);
+    return distanceToCentre - c.geometryA.w;
+  }
+  vec3 centre = 0.5 * (c.geometryA.xyz + c.geometryB.xyz) + displacement;
+  vec3 halfExtent = 0.5 * (c.geometryB.xyz - c.geometryA.xyz);
+  vec3 fromCentre = x - centre;
+  vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
+  if (any(greaterThan(excess, vec3(0.0)))) {
+    vec3 outside = max(excess, vec3(0.0)) * sign(fromCentre);
+    normal = normalize(outside);
+    return length(outside);
+  }
+  // Inside: the nearest face decides the normal.
+  int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
+  normal = vec3(0.0);
+  normal[axis] = fromCentre[axis] >= 0.0 ? 1.0 : -1.0;
+  return excess[axis];
+}
+
+// Velocity after meeting a boundary whose surface moves at boundaryVelocity (Stomakhin 2013 §8):
+// sticky takes the boundary's velocity; slip removes the normal part of the relative velocity; separate
+// does so only when approaching. Coulomb friction μ shortens the tangential part by μ·|v_n|.
+vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction, int boundary) {
+  if (boundary == BOUNDARY_STICKY) return boundaryVelocity;
+  vec3 relative = v - boundaryVelocity;
+  float normalSpeed = dot(relative, normal);
+  if (boundary == BOUNDARY_SEPARATE && normalSpeed >= 0.0) return v;
+  vec3 tangential = relative - normalSpeed * normal;
+  if (normalSpeed < 0.0) {
+    float tangentialSpeed = length(tangential);
+    float frictionLoss = -friction * normalSpeed;
+    tangential = tangentialSpeed <= frictionLoss ? vec3(0.0) : tangential * (1.0 - frictionLoss / tangentialSpeed);
+  }
+  return tangential + boundaryVelocity;
+}
+
+// Applies every collider whose solid contains `probe` (a node, or a particle's predicted position).
+vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
+#ifdef FIRN_HAS_COLLIDERS
+  for (uint i = 0u; i < counts.y; ++i) {
+    ColliderParams c = colliders[i];
+    vec3 normal;
+    if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
+      v = boundaryResponse(v, normal, c.velocityFriction.xyz, c.velocityFriction.w, c.shapeBoundary.y);
+    }
+  }
+#endif
+  return v;
+}
+
+// The domain's outer cells are walls: beyond `interiorMin`/`interiorMax` motion out of the domain stops
+// (a frictionless separating boundary on each face).
+vec3 collideWithDomainWalls(vec3 probe, vec3 v, vec3 interiorMin, vec3 interiorMax) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (probe[axis] <= interiorMin[axis] && v[axis] < 0.0) v[axis] = 0.0;
+    if (probe[axis] >= interiorMax[axis] && v[axis] > 0.0) v[axis] = 0.0;
+  }
+  return v;
+}
+
+// Walls sit WALL_CELLS cells inside the domain so that every particle's stencil stays on the grid.
+const float WALL_CELLS = 2.0;
+vec3 interiorMin() { return gridOrigin() + WALL_CELLS * cellSize(); }
+vec3 interiorMax() { return gridOrigin() + (vec3(gridNodes.xyz - 1) - WALL_CELLS) * cellSize(); }

@@ -1,0 +1,42 @@
+// GPU-side detection of the failures design.md says must stop a run loudly: fixed-point overflow, non-finite
+// particle state, and particles moving more than a cell per step (CFL). Counting is an atomic on a rarely
+// touched buffer; the first event of each kind is recorded by the invocation that claims its slot.
+
+layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
+  uint overflowCount;
+  int overflowNode;
+  uint overflowStep;
+  uint overflowChannel;  // 0 mass, 1–3 momentum, 4–6 impulse
+  uint nonFiniteCount;
+  int nonFiniteParticle;
+  uint nonFiniteStep;
+  uint cflCount;
+  int cflParticle;
+  uint cflStep;
+  float cflCellsPerStep;
+  uint watchdogUnused;
+};
+
+void reportOverflow(uint node, uint channel) {
+  atomicAdd(overflowCount, 1u);
+  if (atomicCompSwap(overflowNode, -1, int(node)) == -1) {
+    overflowStep = stepIndex();
+    overflowChannel = channel;
+  }
+}
+
+void reportNonFinite(uint particle) {
+  atomicAdd(nonFiniteCount, 1u);
+  if (atomicCompSwap(nonFiniteParticle, -1, int(particle)) == -1) nonFiniteStep = stepIndex();
+}
+
+void reportCflViolation(uint particle, float cellsPerStep) {
+  atomicAdd(cflCount, 1u);
+  if (atomicCompSwap(cflParticle, -1, int(particle)) == -1) {
+    cflStep = stepIndex();
+    cflCellsPerStep = cellsPerStep;
+  }
+}
+
+bool allFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+bool allFinite(mat3 m) { return allFinite(m[0]) && allFinite(m[1]) && allFinite(m[2]); }

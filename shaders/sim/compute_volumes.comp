@@ -1,0 +1,33 @@
+#version 430 core
+// Initial particle volumes, once, after a P2G of mass: ρ_p = Σ_i m_i w_ip / h³, V0_p = m_p / ρ_p
+// (Stomakhin 2013 §6 step 2; seed 002). Also seeds the active-region bounds for the first step.
+// Reads: positionMass, grid mass. Writes: velocityVolume.w, region bounds.
+#include "common/bindings.glsl"
+#include "common/active_region.glsl"
+#include "common/kernel.glsl"
+#include "common/grid.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void computeVolume(uint p) {
+  vec4 xm = positionMass[p];
+  Stencil stencil = particleStencil(xm.xyz);
+  float densityMassUnits = 0.0;
+  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
+    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
+      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
+        ivec3 k = ivec3(kx, ky, kz);
+        densityMassUnits += stencilWeight(stencil, k) * nodeMassUnits(nodeIndex(stencil.baseNode + k));
+      }
+  float h = cellSize();
+  float densityKgPerM3 = densityMassUnits * fixedPoint.x / (h * h * h);
+  velocityVolume[p].w = xm.w / densityKgPerM3;
+  includeInBounds(xm.xyz);
+}
+
+void main() {
+  beginBoundsReduction();
+  uint p = particleInvocationIndex();
+  if (p < particleCount()) computeVolume(p);
+  endBoundsReduction();
+}

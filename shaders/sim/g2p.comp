@@ -1,0 +1,96 @@
+#version 430 core
+// Grid to particle: one invocation per particle. Gathers the new velocity (PIC/FLIP blend or APIC) and the
+// velocity gradient, updates F_E, J_P and the stress (snow.glsl), collides the particle, advects it
+// (x += Δt v), and feeds the active-region bounds and the watchdog. A particle whose new state is not finite
+// keeps its old state and is reported, so no non-finite value ever reaches a buffer or an output.
+// Reads: grid velocities, particle state, materials, colliders.
+// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
+#include "common/bindings.glsl"
+#include "common/active_region.glsl"
+#include "common/kernel.glsl"
+#include "common/grid.glsl"
+#include "common/colliders.glsl"
+#include "common/snow.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void advanceParticle(uint p) {
+  vec3 x = positionMass[p].xyz;
+  vec3 previousVelocity = velocityVolume[p].xyz;
+  Stencil stencil = particleStencil(x);
+
+  vec3 picVelocity = vec3(0.0);
+  mat3 velocityGradient = mat3(0.0);
+#ifdef FIRN_TRANSFER_APIC
+  mat3 affineMoment = mat3(0.0);  // B_p = Σ w v_i (x_i − x_p)ᵀ
+#else
+  vec3 flipIncrement = vec3(0.0);
+#endif
+  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
+    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
+      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
+        ivec3 k = ivec3(kx, ky, kz);
+        ivec3 node = stencil.baseNode + k;
+        uint i = nodeIndex(node);
+        float w = stencilWeight(stencil, k);
+        vec3 vi = nodeVelocity(i);
+        picVelocity += w * vi;
+        velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
+#ifdef FIRN_TRANSFER_APIC
+        affineMoment += w * outerProduct(vi, nodePosition(node) - x);
+#else
+        flipIncrement += w * (vi - nodeVelocityBeforeForces(i));
+#endif
+      }
+
+#ifdef FIRN_TRANSFER_APIC
+  vec3 velocity = picVelocity;
+  mat3 newAffine = affineMoment * transfer.z;  // C_p = B_p D_p⁻¹ (Jiang et al. 2015)
+#else
+  // v_p = α (v_p + Σ w Δv_i) + (1 − α) Σ w v_i (seed 002, PIC/FLIP blend)
+  vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, transfer.x);
+#endif
+
+  PlasticState state = plasticState[p];
+  SnowUpdate snow =
+      updateSnow(elasticDeformation[p], state.plasticJ, velocityGradient, stepDt(), materials[state.materialIndex]);
+
+  // Particle collisions at the predicted position, at the end of the step.
+  float endTimeS = transfer.y + stepDt();
+  vec3 predicted = x + stepDt() * velocity;
+  velocity = collideWithColliders(predicted, velocity, endTimeS);
+  velocity = collideWithDomainWalls(predicted, velocity, interiorMin(), interiorMax());
+  // Keep the stencil on the grid whatever happens: cubic needs x/h ∈ [1, nodes − 2).
+  vec3 newPosition = clamp(x + stepDt() * velocity, gridOrigin() + cellSize(),
+                           gridOrigin() + (vec3(gridNodes.xyz) - 2.001) * cellSize());
+
+  bool finite = allFinite(newPosition) && allFinite(velocity) && allFinite(snow.elasticDeformation) &&
+                allFinite(snow.kirchhoffStress) && !isnan(snow.plasticJ) && !isinf(snow.plasticJ);
+#ifdef FIRN_TRANSFER_APIC
+  finite = finite && allFinite(newAffine);
+#endif
+  if (!finite) {
+    reportNonFinite(p);
+    includeInBounds(x);
+    return;
+  }
+  float cellsPerStep = length(velocity) * stepDt() / cellSize();
+  if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
+
+  positionMass[p].xyz = newPosition;
+  velocityVolume[p].xyz = velocity;
+  elasticDeformation[p] = snow.elasticDeformation;
+  kirchhoffStress[p] = snow.kirchhoffStress;
+  plasticState[p].plasticJ = snow.plasticJ;
+#ifdef FIRN_TRANSFER_APIC
+  affine[p] = newAffine;
+#endif
+  includeInBounds(newPosition);
+}
+
+void main() {
+  beginBoundsReduction();
+  uint p = particleInvocationIndex();
+  if (p < particleCount()) advanceParticle(p);
+  endBoundsReduction();
+}

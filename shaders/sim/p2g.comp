@@ -1,0 +1,44 @@
+#version 430 core
+// Particle to grid: one invocation per particle. Scatters mass, momentum and the elastic impulse
+// −Δt V0 τ ∇w_ip (Stomakhin 2013 eq. 6, the force of the stress left by the last deformation update) to the
+// particle's stencil, in the nondimensional units of grid.glsl.
+// Reads: positionMass, velocityVolume, kirchhoffStress, affine (APIC). Writes: grid accumulators (atomics).
+#include "common/bindings.glsl"
+#include "common/kernel.glsl"
+#include "common/grid.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void main() {
+  uint p = particleInvocationIndex();
+  if (p >= particleCount()) return;
+  vec3 x = positionMass[p].xyz;
+  float massKg = positionMass[p].w;
+  vec4 velocityVolumeP = velocityVolume[p];
+  Stencil stencil = particleStencil(x);
+
+  float massUnits = massKg / fixedPoint.x;
+  vec3 momentumUnits = velocityVolumeP.xyz * (massKg / fixedPoint.y);
+  mat3 impulseUnits = (-stepDt() * velocityVolumeP.w / fixedPoint.y) * kirchhoffStress[p];
+#ifdef FIRN_TRANSFER_APIC
+  // APIC (Jiang et al. 2015): momentum m w (v + C (x_i − x_p)).
+  mat3 affineMomentumUnits = affine[p] * (massKg / fixedPoint.y);
+#endif
+
+  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
+    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
+      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
+        ivec3 k = ivec3(kx, ky, kz);
+        ivec3 node = stencil.baseNode + k;
+        uint i = nodeIndex(node);
+        float w = stencilWeight(stencil, k);
+        vec3 impulse = impulseUnits * stencilGradient(stencil, k);
+#ifdef FIRN_TRANSFER_APIC
+        vec3 momentum = w * (momentumUnits + affineMomentumUnits * (nodePosition(node) - x)) + impulse;
+        scatterMomentumMass(i, vec4(momentum, w * massUnits));
+#else
+        scatterMomentumMass(i, vec4(w * momentumUnits, w * massUnits));
+        scatterImpulse(i, impulse);
+#endif
+      }
+}
