@@ -16,13 +16,15 @@
 
 namespace {
 
-int runCommand(const std::string& scenePath, std::optional<int> frames, const std::string& outputDir, bool noPly) {
+int runCommand(const std::string& scenePath, std::optional<int> frames, const std::string& outputDir, bool noPly,
+               bool passTimes) {
   const firn::Scene scene = scenePath.empty() ? firn::defaultScene() : firn::loadScene(scenePath);
   firn::RunOptions options;
   options.frames = frames;
   options.outputDir = outputDir;
   options.writePly = !noPly;
   options.showProgress = isatty(STDERR_FILENO) != 0;
+  options.passTimes = passTimes;
   const firn::RunSummary summary = firn::runHeadless(scene, options, std::cerr);
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
               summary.frames + 1, summary.particles, static_cast<unsigned long long>(summary.steps),
@@ -51,6 +53,7 @@ int main(int argc, char** argv) {
   std::optional<int> frames;
   std::string outputDir = "firn-out";
   bool noPly = false;
+  bool passTimes = false;
   CLI::App* run = app.add_subcommand("run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames");
   run->add_option("scene", scenePath, "Scene file (JSON); without it, the built-in snowball-at-a-wall scene")
       ->check(CLI::ExistingFile);
@@ -58,6 +61,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000000));
   run->add_option("--out", outputDir, "Output folder for stats.csv and frame_NNNN.ply")->capture_default_str();
   run->add_flag("--no-ply", noPly, "Write stats.csv only, no point caches");
+  run->add_flag("--pass-times", passTimes, "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
 
   app.add_subcommand("info", "Show the OpenGL context Firn gets (set FIRN_EGL_DEVICE=N to pick an EGL device)");
 
@@ -69,7 +73,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (run->parsed()) return runCommand(scenePath, frames, outputDir, noPly);
+    if (run->parsed()) return runCommand(scenePath, frames, outputDir, noPly, passTimes);
     return infoCommand();
   } catch (const firn::Error& error) {
     std::fprintf(stderr, "\nfirn: error: %s\n", error.what());

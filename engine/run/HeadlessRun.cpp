@@ -1,5 +1,6 @@
 #include "run/HeadlessRun.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ostream>
@@ -63,6 +64,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
       << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z
       << " cells, dt " << scene.time.dtS << " s, " << frames << " frames on " << context.info().renderer << "\n";
 
+  simulation.setPassTiming(options.passTimes);
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
@@ -95,6 +97,16 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     }
   }
   if (options.showProgress) std::fprintf(stderr, "\n");
+  if (options.passTimes) {
+    log << "firn: time per pass (GPU: GL_TIME_ELAPSED; wall: dispatch to glFinish), mean over " << summary.steps << " steps:\n";
+    for (const Simulation::PassTime& pass : simulation.passTimes()) {
+      char row[128];
+      const double steps = double(std::max<std::uint64_t>(summary.steps, 1));
+      std::snprintf(row, sizeof row, "  %-26s GPU %9.3f ms   wall %9.3f ms\n", pass.pass.c_str(), pass.totalMs / steps,
+                    pass.totalWallMs / steps);
+      log << row;
+    }
+  }
   summary.wallS = secondsSince(runStart);
   return summary;
 }

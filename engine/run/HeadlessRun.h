@@ -15,6 +15,7 @@ struct RunOptions {
   std::filesystem::path outputDir = "firn-out";
   bool writePly = true;
   bool showProgress = false;       // a progress line on stderr (when it is a terminal)
+  bool passTimes = false;          // time every pass on the GPU and print a table at the end
 };
 
 struct RunSummary {

@@ -1,6 +1,7 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -65,7 +66,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& part
   for (const Body& body : scene_.bodies) maxParticlesPerCell = std::max(maxParticlesPerCell, body.particlesPerCell);
   fixedPoint_ = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, scene_.grid.cellSizeM, scene_.time.dtS);
 
-  buildPrograms(gl);
+  buildPrograms();
   uploadParticles(particles);
   uploadMaterialsAndColliders();
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
@@ -85,14 +86,13 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& part
   scatterToGrid();
   runOverParticles(computeVolumes_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  gl::checkPass("compute_volumes");
 }
 
-void Simulation::buildPrograms(const gl::ContextInfo& gl) {
-  (void)gl;
+void Simulation::buildPrograms() {
   gl::ShaderOptions options;
   options.defines = gpu::bindingDefines();
   options.defines.emplace_back("FIRN_PARTICLE_GROUP_SIZE", std::to_string(kParticleGroupSize));
+  options.defines.emplace_back("FIRN_WALL_CELLS", std::to_string(GridSpec::wallCells));
   options.defines.emplace_back(scene_.solver.kernel == Kernel::Cubic ? "FIRN_KERNEL_CUBIC" : "FIRN_KERNEL_QUADRATIC", "1");
   options.defines.emplace_back(scene_.solver.transfer == Transfer::Apic ? "FIRN_TRANSFER_APIC" : "FIRN_TRANSFER_PIC_FLIP", "1");
   if (!scene_.colliders.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDERS", "1");
@@ -215,21 +215,50 @@ void Simulation::bindAll() const {
   watchdog_.bindStorage(gpu::Watchdog);
 }
 
-void Simulation::runOnce(const gl::Program& program) const {
-  program.use();
-  glDispatchCompute(1, 1, 1);
-  gl::checkPass(program.name().c_str());
+void Simulation::setPassTiming(bool enabled) {
+  timingPasses_ = enabled;
+  passTimes_.clear();
 }
 
-void Simulation::runOverGrid(const gl::Program& program) const {
+void Simulation::beginPass() {
+  if (!timingPasses_) return;
+  glFinish();
+  passTimer_.begin();
+  passWallStart_ = std::chrono::steady_clock::now();
+}
+
+void Simulation::endPass(const gl::Program& program) {
+  gl::checkPass(program.name().c_str());
+  if (!timingPasses_) return;
+  passTimer_.end();
+  glFinish();
+  const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - passWallStart_).count();
+  auto entry = std::find_if(passTimes_.begin(), passTimes_.end(),
+                            [&](const PassTime& time) { return time.pass == program.name(); });
+  if (entry == passTimes_.end()) entry = passTimes_.insert(passTimes_.end(), PassTime{program.name()});
+  entry->totalMs += double(passTimer_.elapsedNanoseconds()) * 1e-6;
+  entry->totalWallMs += wallMs;
+  ++entry->dispatches;
+}
+
+void Simulation::runOnce(const gl::Program& program) {
+  program.use();
+  beginPass();
+  glDispatchCompute(1, 1, 1);
+  endPass(program);
+}
+
+void Simulation::runOverGrid(const gl::Program& program) {
   program.use();
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, activeRegion_.id());
+  beginPass();
   glDispatchComputeIndirect(static_cast<GLintptr>(gpu::kGridDispatchOffset));
-  gl::checkPass(program.name().c_str());
+  endPass(program);
 }
 
-void Simulation::runOverParticles(const gl::Program& program) const {
+void Simulation::runOverParticles(const gl::Program& program) {
   program.use();
+  beginPass();
   const GLuint groups = static_cast<GLuint>((particleCount_ + kParticleGroupSize - 1) / kParticleGroupSize);
   const GLuint maxX = static_cast<GLuint>(maxWorkGroupsX_);
   // More groups than one dimension allows are laid out in rows; the shader folds y back into the index.
@@ -238,7 +267,7 @@ void Simulation::runOverParticles(const gl::Program& program) const {
   } else {
     glDispatchCompute(maxX, (groups + maxX - 1) / maxX, 1);
   }
-  gl::checkPass(program.name().c_str());
+  endPass(program);
 }
 
 void Simulation::scatterToGrid() {

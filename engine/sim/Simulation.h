@@ -1,6 +1,7 @@
 #pragma once
 // The MPM snow simulation on the GPU: owns the particle, grid, material, collider and bookkeeping buffers and
 // the compute programs built for this scene, and runs the step as a flat list of passes in paper order.
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "gl/Buffer.h"
 #include "gl/Context.h"
 #include "gl/Program.h"
+#include "gl/Query.h"
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuLayout.h"
@@ -59,19 +61,32 @@ class Simulation {
   const FixedPointScale& fixedPoint() const { return fixedPoint_; }
   const Scene& scene() const { return scene_; }
 
+  // GPU time per pass from GL_TIME_ELAPSED queries, summed over the steps since timing was switched on.
+  // Timing waits for each pass, so it is for benchmarks, not for production runs.
+  void setPassTiming(bool enabled);
+  struct PassTime {
+    std::string pass;
+    double totalMs = 0;      // GPU time from the timer query
+    double totalWallMs = 0;  // host time from before the dispatch until glFinish returns
+    std::uint64_t dispatches = 0;
+  };
+  const std::vector<PassTime>& passTimes() const { return passTimes_; }
+
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
  private:
-  void buildPrograms(const gl::ContextInfo& gl);
+  void buildPrograms();
   void uploadParticles(const std::vector<ParticleSeed>& particles);
   void uploadMaterialsAndColliders();
   void seedActiveRegion(const std::vector<glm::vec3>& positions);
   void writeStepUniforms(double dtS);
   void bindAll() const;
-  void runOnce(const gl::Program& program) const;
-  void runOverGrid(const gl::Program& program) const;
-  void runOverParticles(const gl::Program& program) const;
+  void runOnce(const gl::Program& program);
+  void runOverGrid(const gl::Program& program);
+  void runOverParticles(const gl::Program& program);
+  void beginPass();
+  void endPass(const gl::Program& program);
   void scatterToGrid();
   std::string describeNode(std::int32_t node) const;
   std::string describeParticle(std::int32_t particle) const;
@@ -106,6 +121,11 @@ class Simulation {
   gl::Buffer activeRegion_;
   gl::Buffer watchdog_;
   gl::Buffer stepUniforms_;
+
+  bool timingPasses_ = false;
+  gl::TimerQuery passTimer_;
+  std::chrono::steady_clock::time_point passWallStart_;
+  std::vector<PassTime> passTimes_;
 };
 
 }  // namespace firn

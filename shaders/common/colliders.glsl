@@ -86,7 +86,7 @@ vec3 collideWithDomainWalls(vec3 probe, vec3 v, vec3 interiorMin, vec3 interiorM
   return v;
 }
 
-// Walls sit WALL_CELLS cells inside the domain so that every particle's stencil stays on the grid.
-const float WALL_CELLS = 2.0;
+// Walls sit FIRN_WALL_CELLS cells inside the domain (GridSpec::wallCells) so every stencil stays on the grid.
+const float WALL_CELLS = float(FIRN_WALL_CELLS);
 vec3 interiorMin() { return gridOrigin() + WALL_CELLS * cellSize(); }
 vec3 interiorMax() { return gridOrigin() + (vec3(gridNodes.xyz - 1) - WALL_CELLS) * cellSize(); }

@@ -4,18 +4,25 @@
 // the contract of svd3(): A = U diag(sigma) Vᵀ, U and V proper rotations, sigma sorted with the sign of
 // det A on the last value, and sigma equal to the singular values of A.
 //
-// Tolerances. The kernel works in float32, ε = 2^-23 ≈ 1.2e-7. Four Jacobi sweeps (twelve rotations), the
-// product B = A V and three QR rotations each contribute O(ε) relative error, so errors of a few tens of ε
-// relative to ‖A‖_F are expected; McAdams et al. 2011 report maximum errors near 1e-6 with 4 sweeps. The
-// limits below are the maxima measured over every family on Mesa llvmpipe, rounded up and multiplied by
-// about 4 for other drivers (a GPU's inversesqrt may be off by a few ulp, and FMA contraction differs).
+// Tolerances. The kernel works in float32, ε = 2^-23 ≈ 1.2e-7. Each of the 18 Jacobi rotations (6 sweeps),
+// the product B = A V and the 3 QR rotations adds O(ε) relative error, and llvmpipe's inversesqrt is itself
+// off by up to 1.5 ulp, so errors of ten or so ε relative to ‖A‖_F are expected (McAdams et al. 2011
+// report maxima near 1e-6 ≈ 8ε). Measured maxima on llvmpipe (Mesa 22.3.6, LLVM 15), in units of ε, over
+// the 300 matrices per family used here / over 10^5 per family from the same generators:
+//   reconstruction ‖UΣVᵀ − A‖_F / ‖A‖_F     8.3 / 12  (61 for exact rank 2: see below)
+//   ‖UᵀU − I‖_F, ‖VᵀV − I‖_F                 11.6 / 15.7
+//   |det U − 1|, |det V − 1|                   9.8 / 11.9
+//   ordering slack / ‖A‖_F                    1.9 / 2.8
+//   |σ_i − σ_i,ref| / ‖A‖_F                   3.8 / 5.1
+// The tolerances are about three times the first column, which also covers the second. The exception is
+// inherent to forming AᵀA in float: when σ2 = 0 and σ1 is a small fraction of σ0, the singular vectors of
+// that pair are rotated by up to about ε σ0² / σ1², and the reconstruction error reaches tens of ε.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
-#include <cstdlib>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -34,14 +41,15 @@ using firn::gl::Program;
 using firn::gl::ShaderLibrary;
 using firn::gl::ShaderOptions;
 
-// Measured maxima on llvmpipe (Mesa 22.3), over all families: see the comment at the top of the file.
-constexpr double kFloatEpsilon = 1.1920929e-7;             // 2^-23
-constexpr double kReconstructionTolerance = 16 * kFloatEpsilon;  // ‖UΣVᵀ − A‖_F / ‖A‖_F
-constexpr double kOrthogonalityTolerance = 16 * kFloatEpsilon;   // ‖UᵀU − I‖_F, ‖VᵀV − I‖_F, |det − 1|
-constexpr double kSingularValueTolerance = 16 * kFloatEpsilon;   // |σ_i − σ_i,ref| / ‖A‖_F, and ordering slack
-// The sign of σ2 is checked where the reference |σ2| exceeds the singular value tolerance by this factor,
-// so that an error within tolerance cannot flip it.
-constexpr double kSignCheckMargin = 10.0;
+// Limits relative to ‖A‖_F unless stated; see the measured maxima at the top of the file.
+constexpr double kFloatEpsilon = 0x1p-23;
+constexpr double kReconstructionTolerance = 24 * kFloatEpsilon;  // ‖UΣVᵀ − A‖_F / ‖A‖_F
+constexpr double kOrthogonalityTolerance = 32 * kFloatEpsilon;   // ‖UᵀU − I‖_F and |det − 1| for U, V
+constexpr double kOrderingTolerance = 8 * kFloatEpsilon;         // bound on σ1 − σ0, |σ2| − σ1 and −σ1
+constexpr double kSingularValueTolerance = 12 * kFloatEpsilon;   // |σ_i − σ_i,ref| / ‖A‖_F
+// The sign of σ2 is compared with that of det A where the reference |σ2| exceeds the singular value
+// tolerance by this factor: there an error within tolerance cannot flip it.
+constexpr double kSignCheckMargin = 2.0;
 
 constexpr int kFamilySize = 300;
 
@@ -65,16 +73,16 @@ static_assert(sizeof(Std430SvdResult) == 112, "std430 SvdResult: two mat3 and a 
 
 constexpr int kWorkGroupSize = 64;
 
-const char* const kSvdTestKernel = R"(#version 430 core
 // One invocation decomposes one matrix: reads matrices[i], writes results[i].
+const char* const kSvdTestKernel = R"(#version 430 core
 #include "common/svd3.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = WORK_GROUP_SIZE) in;
 
 struct SvdResult {
-    mat3 U;
-    mat3 V;
-    vec4 sigma;
+  mat3 U;
+  mat3 V;
+  vec4 sigma;
 };
 
 layout(std430, binding = 0) readonly buffer Matrices { mat3 matrices[]; };
@@ -82,15 +90,14 @@ layout(std430, binding = 1) writeonly buffer Results { SvdResult results[]; };
 
 uniform uint matrixCount;
 
-void main()
-{
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= matrixCount) return;
-    mat3 U;
-    vec3 sigma;
-    mat3 V;
-    svd3(matrices[i], U, sigma, V);
-    results[i] = SvdResult(U, V, vec4(sigma, 0.0));
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= matrixCount) return;
+  mat3 U;
+  vec3 sigma;
+  mat3 V;
+  svd3(matrices[i], U, sigma, V);
+  results[i] = SvdResult(U, V, vec4(sigma, 0.0));
 }
 )";
 
@@ -179,7 +186,10 @@ Mat3 withSingularValues(std::mt19937& rng, const Vec3& sigma) {
 double randomSign(std::mt19937& rng) { return (rng() & 1u) ? 1.0 : -1.0; }
 
 // ±2^k, k in [-2, 2]: scaling a float by it is exact.
-double randomPowerOfTwo(std::mt19937& rng) { return randomSign(rng) * std::ldexp(1.0, static_cast<int>(rng() % 5) - 2); }
+double randomPowerOfTwo(std::mt19937& rng) {
+  const int exponent = static_cast<int>(rng() % 5) - 2;
+  return randomSign(rng) * std::ldexp(1.0, exponent);
+}
 
 // ---- the double-precision reference ----
 
@@ -200,7 +210,7 @@ Vec3 referenceSingularValues(const Mat3& a) {
         beta += w[r][j] * w[r][j];
         gamma += w[r][i] * w[r][j];
       }
-      if (std::abs(gamma) <= 1e-17 * std::sqrt(alpha * beta)) continue;
+      if (std::abs(gamma) <= std::numeric_limits<double>::epsilon() * std::sqrt(alpha * beta)) continue;
       rotated = true;
       const double zeta = (beta - alpha) / (2 * gamma);
       const double t = std::copysign(1.0, zeta) / (std::abs(zeta) + std::hypot(1.0, zeta));
@@ -269,7 +279,9 @@ class GpuSvd : public ::testing::Test {
     firn::test::glContext();
     ShaderLibrary library;
     library.add("test/svd_test.comp", kSvdTestKernel);
-    program_ = Program::compute(library, "test/svd_test.comp", ShaderOptions{{{"SVD3_JACOBI_SWEEPS", std::getenv("SWEEPS")}}, {}});
+    ShaderOptions options;
+    options.defines = {{"WORK_GROUP_SIZE", std::to_string(kWorkGroupSize)}};
+    program_ = Program::compute(library, "test/svd_test.comp", options);
   }
 
   static void TearDownTestSuite() { program_ = Program(); }
@@ -294,10 +306,9 @@ class GpuSvd : public ::testing::Test {
     return results;
   }
 
-  // Decomposes `matrices` on the GPU and checks every result against the contract of svd3().
-  static void expectAccurateSvd(const std::vector<Mat3>& matrices) {
-    const std::vector<Svd> results = decomposeOnGpu(matrices);
-    ASSERT_EQ(results.size(), matrices.size());
+  // Decomposes `matrices` on the GPU, checks every result against the contract of svd3() and returns them.
+  static std::vector<Svd> expectAccurateSvd(const std::vector<Mat3>& matrices) {
+    std::vector<Svd> results = decomposeOnGpu(matrices);
     WorstCase reconstruction, orthogonality, determinantOfRotations, ordering, singularValues;
     std::size_t signsChecked = 0;
     for (std::size_t i = 0; i < matrices.size(); ++i) {
@@ -327,17 +338,21 @@ class GpuSvd : public ::testing::Test {
     }
 
     const auto report = [&](const char* name, const WorstCase& worst, double tolerance) {
-      ::testing::Test::RecordProperty(std::string("max_") + name, std::to_string(worst.error));
-      EXPECT_LE(worst.error, tolerance) << name << " error " << worst.error << " (" << worst.error / kFloatEpsilon
+      std::ostringstream inEpsilons;
+      inEpsilons.precision(3);
+      inEpsilons << worst.error / kFloatEpsilon;
+      ::testing::Test::RecordProperty(std::string("max_") + name + "_in_float_eps", inEpsilons.str());
+      EXPECT_LE(worst.error, tolerance) << name << " error " << worst.error << " (" << inEpsilons.str()
                                         << " float eps) at matrix " << worst.index << ": "
                                         << describe(matrices[worst.index]);
     };
     report("reconstruction", reconstruction, kReconstructionTolerance);
     report("orthogonality", orthogonality, kOrthogonalityTolerance);
     report("determinant", determinantOfRotations, kOrthogonalityTolerance);
-    report("ordering", ordering, kSingularValueTolerance);
+    report("ordering", ordering, kOrderingTolerance);
     report("singular_values", singularValues, kSingularValueTolerance);
     ::testing::Test::RecordProperty("signs_checked", std::to_string(signsChecked));
+    return results;
   }
 
   static Program program_;
@@ -426,7 +441,10 @@ TEST_F(GpuSvd, DecomposesInvertedMatricesWithNegativeSmallestSingularValue) {
     ASSERT_LT(determinant(a), 0) << describe(a);
     matrices.push_back(a);
   }
-  expectAccurateSvd(matrices);
+  const std::vector<Svd> results = expectAccurateSvd(matrices);
+  for (std::size_t i = 0; i < matrices.size(); ++i) {
+    EXPECT_LT(results[i].sigma[2], 0) << describe(matrices[i]);
+  }
 }
 
 // Diagonal matrices in any order and with any signs (the sort and the sign bookkeeping alone), and signed
@@ -448,8 +466,8 @@ TEST_F(GpuSvd, DecomposesDiagonalAndSignedPermutationMatrices) {
   expectAccurateSvd(matrices);
 }
 
-// Two or three equal singular values, where the singular vectors are not unique: (s, s, t), (s, t, t) and
-// scaled rotations (s, s, s), either sign of det; and exact multiples of I.
+// Two or three singular values equal before rounding to float, where the singular vectors are (nearly) not
+// unique: (s, s, t), (s, t, t) and scaled rotations (s, s, s), either sign of det; and exact multiples of I.
 TEST_F(GpuSvd, DecomposesMatricesWithRepeatedSingularValues) {
   std::mt19937 rng(7);
   std::vector<Mat3> matrices;
@@ -460,7 +478,10 @@ TEST_F(GpuSvd, DecomposesMatricesWithRepeatedSingularValues) {
     const Vec3 sigma = i % 3 == 0 ? Vec3{s, s, sign * t} : i % 3 == 1 ? Vec3{s, t, sign * t} : Vec3{s, s, sign * s};
     matrices.push_back(withSingularValues(rng, sigma));
   }
-  for (int k = -2; k <= 2; ++k) matrices.push_back(diagonal({std::ldexp(1.0, k), std::ldexp(1.0, k), std::ldexp(1.0, k)}));
+  for (int k = -2; k <= 2; ++k) {
+    const double s = std::ldexp(1.0, k);
+    matrices.push_back(diagonal({s, s, s}));
+  }
   expectAccurateSvd(matrices);
 }
 

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs what Firn builds and runs with on Debian 12 (bookworm), from Debian's own packages.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # EGL + OpenGL; Mesa's llvmpipe where there is no GPU
+  libglew-dev libglm-dev nlohmann-json3-dev libcli11-dev libstb-dev
+  libgtest-dev
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all packages present"
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"

@@ -1,0 +1,57 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "Error.h"
+#include "scene/Scene.h"
+#include "sim/FixedPoint.h"
+#include "sim/Materials.h"
+
+namespace {
+
+// Stomakhin 2013's reference snow, E0 = 1.4e5 Pa, ν = 0.2: μ = E/(2(1+ν)) = 58,333.3 Pa and
+// λ = Eν/((1+ν)(1−2ν)) = 38,888.9 Pa, computed by hand. Tolerance: double rounding, 1e-9 relative.
+TEST(Materials, LameParametersOfReferenceSnow) {
+  const firn::LameParameters lame = firn::lameParameters(1.4e5, 0.2);
+  EXPECT_NEAR(lame.muPa, 58333.333333333, 1e-9 * 58333.3);
+  EXPECT_NEAR(lame.lambdaPa, 38888.888888889, 1e-9 * 38888.9);
+}
+
+// ν = 0 decouples the axes (λ = 0, μ = E/2); as ν → 0.5, λ grows without bound (incompressibility).
+TEST(Materials, LameParametersAtPoissonLimits) {
+  EXPECT_EQ(firn::lameParameters(1e6, 0.0).lambdaPa, 0.0);
+  EXPECT_DOUBLE_EQ(firn::lameParameters(1e6, 0.0).muPa, 5e5);
+  EXPECT_GT(firn::lameParameters(1e6, 0.499).lambdaPa, 100 * firn::lameParameters(1e6, 0.499).muPa);
+}
+
+// Wave speed c = sqrt((λ + 2μ) e^{ξθc} / ρ); for the reference snow (λ + 2μ = 155,555.6 Pa, e^{0.25} = 1.2840,
+// ρ = 400) c = 22.35 m/s, so h = 0.02 m gives dt < 8.95e-4 s. Tolerance 1e-3 relative: the hand arithmetic.
+TEST(Materials, ElasticStableTimeStep) {
+  firn::SnowMaterial snow;
+  EXPECT_NEAR(firn::snowWaveSpeedMPerS(snow), 22.35, 22.35e-3);
+  EXPECT_NEAR(firn::elasticStableDtS(snow, 0.02), 8.95e-4, 8.95e-7);
+}
+
+// 8 particles per cell: the bound 8 × 8 (compression) × 4 (cells per step) = 256 = 2^8 takes 8 bits, so 23 of
+// the 31 magnitude bits are resolution; 64 per cell takes 11 bits and leaves 20.
+TEST(FixedPoint, ScaleFollowsParticlesPerCell) {
+  const firn::FixedPointScale eight = firn::deriveFixedPointScale(1e-3, 8, 0.02, 1e-4);
+  EXPECT_EQ(eight.fractionBits, 23);
+  EXPECT_DOUBLE_EQ(eight.maxNodeValue(), 256.0);
+  EXPECT_DOUBLE_EQ(eight.momentumUnitKgMPerS, 1e-3 * 0.02 / 1e-4);
+  EXPECT_EQ(firn::deriveFixedPointScale(1e-3, 64, 0.02, 1e-4).fractionBits, 20);
+  // The bound must fit: maxNodeValue ≥ particles per cell × both margins.
+  for (double ppc : {1.0, 3.0, 8.0, 27.0, 64.0, 125.0}) {
+    const firn::FixedPointScale scale = firn::deriveFixedPointScale(1e-3, ppc, 0.02, 1e-4);
+    EXPECT_GE(scale.maxNodeValue(),
+              ppc * firn::kFixedPointCompressionMargin * firn::kFixedPointVelocityMarginCellsPerStep);
+    EXPECT_LT(scale.maxNodeValue(),
+              2 * ppc * firn::kFixedPointCompressionMargin * firn::kFixedPointVelocityMarginCellsPerStep);
+  }
+}
+
+TEST(FixedPoint, TooManyParticlesPerCellIsBadInput) {
+  EXPECT_THROW(firn::deriveFixedPointScale(1e-3, 1e6, 0.02, 1e-4), firn::InputError);
+}
+
+}  // namespace
