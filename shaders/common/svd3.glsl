@@ -9,10 +9,10 @@
 //
 // Method: McAdams, Selle, Tamstorf, Teran, Sifakis 2011, "Computing the Singular Value Decomposition of 3×3
 // matrices with minimal branching and elementary floating point operations" (UW-Madison TR1690):
-//   1. Jacobi eigenanalysis of S = AᵀA by approximate Givens rotations, V accumulated as a quaternion (§2);
-//   2. B = A V, its columns sorted by decreasing norm with sign flips that keep det V = +1 (§3);
+//   1. Jacobi eigenanalysis of S = AᵀA by approximate Givens rotations, V accumulated as a quaternion;
+//   2. B = A V, its columns sorted by decreasing norm with sign flips that keep det V = +1;
 //   3. QR factorisation B = U R by exact Givens rotations; R is diagonal up to the Jacobi residual and its
-//      diagonal is sigma (§4).
+//      diagonal is sigma.
 // A fixed sweep count and selects in place of data-dependent branches; reciprocal square roots are
 // inversesqrt(), no bit tricks.
 //
@@ -30,13 +30,13 @@
 #define SVD3_JACOBI_SWEEPS 6
 #endif
 
-// Approximate Givens angles (§2.2): γ = 3 + 2√2 = cot²(π/8), so the test γ sh² < ch² accepts the first-order
+// Approximate Givens angles: γ = 3 + 2√2 = cot²(π/8), so the test γ sh² < ch² accepts the first-order
 // half angle only while it is below π/8; otherwise the rotation is by π/4, half angle π/8.
 const float SVD3_GAMMA = 5.82842712474619;            // 3 + 2*sqrt(2)
 const float SVD3_COS_PI_OVER_8 = 0.923879532511287;  // cos(pi/8)
 const float SVD3_SIN_PI_OVER_8 = 0.382683432365090;  // sin(pi/8)
 
-// Below this |(a1, a2)| a QR Givens rotation is the identity (Algorithm 4). Far smaller than the 1e-6 of the
+// Below this |(a1, a2)| a QR Givens rotation is the identity. Far smaller than the 1e-6 of the
 // paper's code, so that small nonzero entries of B are still eliminated; its square, 1e-36, is still a
 // normal float (> 1.2e-38), so the normalisation in svd3_qrGivensRotation never divides by zero.
 const float SVD3_QR_EPSILON = 1e-18;
@@ -56,10 +56,10 @@ mat3 svd3_quatToMat3(vec4 q) {
               vec3(2.0 * (xz + wy), 2.0 * (yz - wx), 1.0 - 2.0 * (xx + yy)));
 }
 
-// Algorithm 2: (cos, sin) of the half angle of a rotation that nearly annihilates the off-diagonal entry of
-// the symmetric block [[s_pp, s_pq], [s_pq, s_qq]]. The exact Jacobi angle θ solves
-// tan 2θ = 2 s_pq / (s_pp − s_qq); to first order θ/2 = s_pq / (2 (s_pp − s_qq)), hence (ch, sh) ∝
-// (2 (s_pp − s_qq), s_pq). Angles the first-order form would get wrong fall back to θ = π/4.
+// The paper's approximate Givens quaternion: (cos, sin) of the half angle of a rotation that nearly
+// annihilates the off-diagonal entry of the symmetric block [[s_pp, s_pq], [s_pq, s_qq]]. The exact Jacobi
+// angle θ solves tan 2θ = 2 s_pq / (s_pp − s_qq); to first order θ/2 = s_pq / (2 (s_pp − s_qq)), hence
+// (ch, sh) ∝ (2 (s_pp − s_qq), s_pq). Angles the first-order form would get wrong fall back to θ = π/4.
 vec2 svd3_approxGivensQuaternion(float s_pp, float s_pq, float s_qq) {
   float ch = 2.0 * (s_pp - s_qq);
   float sh = s_pq;
@@ -69,7 +69,7 @@ vec2 svd3_approxGivensQuaternion(float s_pp, float s_pq, float s_qq) {
   return firstOrderIsAccurate ? omega * vec2(ch, sh) : vec2(SVD3_COS_PI_OVER_8, SVD3_SIN_PI_OVER_8);
 }
 
-// One Jacobi conjugation S ← Qᵀ S Q in the (p, q) plane, k the remaining index (§2.1). Q rotates by θ about
+// One Jacobi conjugation S ← Qᵀ S Q in the (p, q) plane, k the remaining index. Q rotates by θ about
 // `axis` = e_k, (p, q, k) a cyclic permutation of (0, 1, 2), so on the (p, q) plane Q = [[c, −s], [s, c]] with
 // c = cos θ = ch² − sh² and s = sin θ = 2 ch sh. V accumulates as qV ← qV ⊗ (sh e_k, ch).
 void svd3_jacobiConjugation(inout float s_pp, inout float s_qq, inout float s_pq, inout float s_pk,
@@ -92,7 +92,7 @@ void svd3_jacobiConjugation(inout float s_pp, inout float s_qq, inout float s_pq
   qV = svd3_quatMultiply(qV, vec4(halfAngle.y * axis, halfAngle.x));
 }
 
-// §2: the rotation V that diagonalises S = AᵀA, as a unit quaternion. S is held as its six distinct entries;
+// Step 1: the rotation V that diagonalises S = AᵀA, as a unit quaternion. S is held as its six distinct entries;
 // visiting the pairs in cyclic order makes every rotation one about a coordinate axis with the same sign
 // convention.
 vec4 svd3_jacobiEigenanalysis(mat3 S) {
@@ -109,14 +109,14 @@ vec4 svd3_jacobiEigenanalysis(mat3 S) {
 }
 
 // When `swap` holds, exchanges x and y and negates the new y, so that a matrix with x and y as columns keeps
-// its determinant (§3).
+// its determinant.
 void svd3_conditionalNegatingSwap(bool swap, inout vec3 x, inout vec3 y) {
   vec3 negatedX = -x;
   x = swap ? y : x;
   y = swap ? negatedX : y;
 }
 
-// §3: sorts the columns of B = A V by decreasing norm, swapping the columns of V alike, so that B = A V
+// Step 2: sorts the columns of B = A V by decreasing norm, swapping the columns of V alike, so that B = A V
 // still holds and det V stays +1.
 void svd3_sortSingularValues(inout mat3 B, inout mat3 V) {
   vec3 rho = vec3(dot(B[0], B[0]), dot(B[1], B[1]), dot(B[2], B[2]));
@@ -135,9 +135,10 @@ void svd3_sortSingularValues(inout mat3 B, inout mat3 V) {
   svd3_conditionalNegatingSwap(swap, V[1], V[2]);
 }
 
-// Algorithm 4: (c, s) = (cos θ, sin θ) of the Givens rotation G = [[c, −s], [s, c]] with Gᵀ (a1, a2) =
-// (ρ, 0), ρ = |(a1, a2)|. Formed from the half angle, tan(θ/2) = a2 / (a1 + ρ), written for a1 < 0 as the
-// equal (ρ − a1) / a2 by exchanging ch and sh, so that neither form suffers cancellation.
+// The paper's QR Givens quaternion, returned as (c, s) = (cos θ, sin θ) of the Givens rotation
+// G = [[c, −s], [s, c]] with Gᵀ (a1, a2) = (ρ, 0), ρ = |(a1, a2)|. Formed from the half angle,
+// tan(θ/2) = a2 / (a1 + ρ), written for a1 < 0 as the equal (ρ − a1) / a2 by exchanging ch and sh, so that
+// neither form suffers cancellation.
 vec2 svd3_qrGivensRotation(float a1, float a2) {
   float rho = sqrt(a1 * a1 + a2 * a2);
   float sh = rho > SVD3_QR_EPSILON ? a2 : 0.0;
@@ -155,7 +156,7 @@ void svd3_rotatePair(vec2 cs, inout vec3 x, inout vec3 y) {
   x = rotatedX;
 }
 
-// §4: B = U R, U a rotation, R upper triangular with R00, R11 >= 0, by Givens rotations zeroing the entries
+// Step 3: B = U R, U a rotation, R upper triangular with R00, R11 >= 0, by Givens rotations zeroing the entries
 // (1,0), (2,0), (2,1) in turn; U is their product. Returns the diagonal of R. det R = det B, so the last
 // entry carries the sign of det B.
 vec3 svd3_qrDecomposition(mat3 B, out mat3 U) {

@@ -13,12 +13,10 @@ void computeVolume(uint p) {
   vec4 xm = positionMass[p];
   Stencil stencil = particleStencil(xm.xyz);
   float densityMassUnits = 0.0;
-  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
-    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
-      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
-        ivec3 k = ivec3(kx, ky, kz);
-        densityMassUnits += stencilWeight(stencil, k) * nodeMassUnits(nodeIndex(stencil.baseNode + k));
-      }
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    ivec3 k = stencilOffset(n);
+    densityMassUnits += stencilWeight(stencil, k) * nodeMassUnits(nodeIndex(stencil.baseNode + k));
+  }
   float h = cellSize();
   float densityKgPerM3 = densityMassUnits * fixedPoint.x / (h * h * h);
   velocityVolume[p].w = xm.w / densityKgPerM3;

@@ -26,22 +26,20 @@ void advanceParticle(uint p) {
 #else
   vec3 flipIncrement = vec3(0.0);
 #endif
-  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
-    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
-      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
-        ivec3 k = ivec3(kx, ky, kz);
-        ivec3 node = stencil.baseNode + k;
-        uint i = nodeIndex(node);
-        float w = stencilWeight(stencil, k);
-        vec3 vi = nodeVelocity(i);
-        picVelocity += w * vi;
-        velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    ivec3 k = stencilOffset(n);
+    ivec3 node = stencil.baseNode + k;
+    uint i = nodeIndex(node);
+    float w = stencilWeight(stencil, k);
+    vec3 vi = nodeVelocity(i);
+    picVelocity += w * vi;
+    velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
 #ifdef FIRN_TRANSFER_APIC
-        affineMoment += w * outerProduct(vi, nodePosition(node) - x);
+    affineMoment += w * outerProduct(vi, nodePosition(node) - x);
 #else
-        flipIncrement += w * (vi - nodeVelocityBeforeForces(i));
+    flipIncrement += w * (vi - nodeVelocityBeforeForces(i));
 #endif
-      }
+  }
 
 #ifdef FIRN_TRANSFER_APIC
   vec3 velocity = picVelocity;

@@ -15,30 +15,34 @@ void main() {
   vec3 x = positionMass[p].xyz;
   float massKg = positionMass[p].w;
   vec4 velocityVolumeP = velocityVolume[p];
+  mat3 stress = kirchhoffStress[p];
+  // G2P never stores a non-finite state, so one here came from outside (an upload): report it, scatter nothing.
+  if (!allFinite(x) || !allFinite(velocityVolumeP.xyz) || !allFinite(stress)) {
+    reportNonFinite(p);
+    return;
+  }
   Stencil stencil = particleStencil(x);
 
   float massUnits = massKg / fixedPoint.x;
   vec3 momentumUnits = velocityVolumeP.xyz * (massKg / fixedPoint.y);
-  mat3 impulseUnits = (-stepDt() * velocityVolumeP.w / fixedPoint.y) * kirchhoffStress[p];
+  mat3 impulseUnits = (-stepDt() * velocityVolumeP.w / fixedPoint.y) * stress;
 #ifdef FIRN_TRANSFER_APIC
   // APIC (Jiang et al. 2015): momentum m w (v + C (x_i − x_p)).
   mat3 affineMomentumUnits = affine[p] * (massKg / fixedPoint.y);
 #endif
 
-  for (int kz = 0; kz < KERNEL_WIDTH; ++kz)
-    for (int ky = 0; ky < KERNEL_WIDTH; ++ky)
-      for (int kx = 0; kx < KERNEL_WIDTH; ++kx) {
-        ivec3 k = ivec3(kx, ky, kz);
-        ivec3 node = stencil.baseNode + k;
-        uint i = nodeIndex(node);
-        float w = stencilWeight(stencil, k);
-        vec3 impulse = impulseUnits * stencilGradient(stencil, k);
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    ivec3 k = stencilOffset(n);
+    ivec3 node = stencil.baseNode + k;
+    uint i = nodeIndex(node);
+    float w = stencilWeight(stencil, k);
+    vec3 impulse = impulseUnits * stencilGradient(stencil, k);
 #ifdef FIRN_TRANSFER_APIC
-        vec3 momentum = w * (momentumUnits + affineMomentumUnits * (nodePosition(node) - x)) + impulse;
-        scatterMomentumMass(i, vec4(momentum, w * massUnits));
+    vec3 momentum = w * (momentumUnits + affineMomentumUnits * (nodePosition(node) - x)) + impulse;
+    scatterMomentumMass(x, i, vec4(momentum, w * massUnits));
 #else
-        scatterMomentumMass(i, vec4(w * momentumUnits, w * massUnits));
-        scatterImpulse(i, impulse);
+    scatterMomentumMass(x, i, vec4(w * momentumUnits, w * massUnits));
+    scatterImpulse(x, i, impulse);
 #endif
-      }
+  }
 }

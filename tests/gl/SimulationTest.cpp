@@ -1,0 +1,271 @@
+// The MPM passes on the GPU (llvmpipe in CI), checked against physics with stated tolerances.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "Error.h"
+#include "GlTest.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
+
+namespace {
+
+using firn::Scene;
+using firn::Simulation;
+
+Scene sceneFromJson(const std::string& json) { return firn::parseScene(json, "test scene"); }
+
+// A 0.2 m box of reference snow in a 1.6 m domain; `extra` adds solver/colliders/velocity keys.
+std::string boxScene(const std::string& solver, const std::string& velocity, const std::string& colliders,
+                     const std::string& boxMin = "[0.7, 0.7, 0.7]", const std::string& boxMax = "[0.9, 0.9, 0.9]") {
+  return R"({
+    "grid": { "origin": [0, 0, 0], "cells": [32, 32, 32], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 10 },
+    "solver": )" + solver + R"(,
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": )" + boxMin + R"(, "max": )" + boxMax + R"(, "material": "snow",
+                  "velocity": )" + velocity + R"( } ],
+    "colliders": )" + colliders + "}";
+}
+
+struct Totals {
+  double massKg = 0;
+  glm::dvec3 momentum{0.0};
+  glm::dvec3 centerOfMassM{0.0};
+  float minY = std::numeric_limits<float>::max();
+};
+
+Totals particleTotals(const firn::ParticleSnapshot& s) {
+  Totals t;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double m = s.positionMass[i].w;
+    t.massKg += m;
+    t.momentum += m * glm::dvec3(s.velocityVolume[i]);
+    t.centerOfMassM += m * glm::dvec3(s.positionMass[i]);
+    t.minY = std::min(t.minY, s.positionMass[i].y);
+  }
+  t.centerOfMassM /= t.massKg;
+  return t;
+}
+
+class SimulationTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { firn::test::glContext(); }
+  static const firn::gl::ContextInfo& gl() { return firn::test::glContext().info(); }
+};
+
+// P2G conserves mass and momentum: Σ_i m_i = Σ_p m_p and Σ_i p_i = Σ_p m_p v_p, since the weights are a
+// partition of unity (and, for APIC, have a vanishing first moment). The only error is fixed-point rounding,
+// less than one unit 2^-k of m_ref (or of the momentum unit) per contribution (dithered rounding), plus float32
+// rounding of the weights, ≈ 1e-6 relative per particle. Both are bounded below.
+TEST_F(SimulationTest, ParticleToGridConservesMassAndMomentum) {
+  for (const char* solver : {R"({"kernel": "quadratic", "transfer": "apic"})", R"({"kernel": "cubic", "transfer": "pic_flip"})"}) {
+    const Scene scene = sceneFromJson(boxScene(solver, "[1.5, -0.5, 2.0]", "[]"));
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    const Totals particles = particleTotals(simulation.snapshot());
+    const firn::GridTotals grid = simulation.transferToGrid();
+
+    const double stencilNodes = scene.solver.kernel == firn::Kernel::Cubic ? 64 : 27;
+    const double contributions = double(simulation.particleCount()) * stencilNodes;
+    const auto& fp = simulation.fixedPoint();
+    const double massTolerance = contributions * fp.resolution() * fp.referenceMassKg + 1e-6 * particles.massKg;
+    const double momentumTolerance =
+        contributions * fp.resolution() * fp.momentumUnitKgMPerS + 1e-6 * glm::length(particles.momentum);
+    EXPECT_NEAR(grid.massKg, particles.massKg, massTolerance) << solver;
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(grid.momentumKgMPerS[axis], particles.momentum[axis], momentumTolerance) << solver << " axis " << axis;
+    }
+  }
+}
+
+// Integer sums do not depend on the order of the additions: the same particles in a shuffled order give the
+// same grid sums to the last bit.
+TEST_F(SimulationTest, ParticleToGridIsOrderIndependent) {
+  const Scene scene = sceneFromJson(boxScene(R"({"kernel": "cubic"})", "[0.3, 1.0, -0.7]", "[]"));
+  std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  Simulation ordered(scene, seeds, gl());
+  const firn::GridTotals orderedTotals = ordered.transferToGrid();
+  std::shuffle(seeds.begin(), seeds.end(), std::mt19937(7));
+  Simulation shuffled(scene, seeds, gl());
+  const firn::GridTotals shuffledTotals = shuffled.transferToGrid();
+  EXPECT_EQ(orderedTotals.massKg, shuffledTotals.massKg);
+  EXPECT_EQ(orderedTotals.momentumKgMPerS, shuffledTotals.momentumKgMPerS);
+}
+
+// A block in free fall moves rigidly (∇v = 0, so the snow never deforms), and its centre of mass follows the
+// discrete trajectory of symplectic Euler: x_n = x0 + v0 t + ½ g t² + ½ g Δt t. That differs from the exact
+// x0 + v0 t + ½ g t² by ½|g| Δt t, the tolerance against the exact parabola; against the discrete one the
+// tolerance is float32 accumulation over the steps, 200 steps × 2⁻²⁴ × 1 m ≈ 1.2e-5 m, rounded up to 5e-5.
+// The velocity stays v0 + g t up to the zero-mean noise of dithered fixed-point rounding: one contribution
+// errs by at most a quantum, 2⁻²³ momentum units = 2⁻²³ · (h/Δt) / (8 particles per cell) ≈ 7.5e-7 m/s at a
+// node; 216 contributions per node give σ ≈ √(216/12) · 7.5e-7 ≈ 3.2e-6 m/s, and a random walk over 200 steps
+// ≈ 4.5e-5 m/s. Tolerance 5e-5 m/s (measured: 7e-6 PIC/FLIP, 1.5e-5 APIC). Undithered, biased rounding lost
+// up to 1.4e-4 m/s here.
+TEST_F(SimulationTest, FreeFallFollowsBallisticTrajectory) {
+  for (const char* solver : {R"({"transfer": "pic_flip"})", R"({"transfer": "apic", "kernel": "quadratic"})"}) {
+    const Scene scene = sceneFromJson(boxScene(solver, "[0.5, 2.0, -0.25]", "[]"));
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    const Totals start = particleTotals(simulation.snapshot());
+    const double t = 0.2;
+    simulation.advanceTo(t);
+    simulation.checkWatchdog();
+    const Totals end = particleTotals(simulation.snapshot());
+
+    const glm::dvec3 v0(0.5, 2.0, -0.25);
+    const glm::dvec3 g = scene.gravityMPerS2;
+    const double dt = scene.time.dtS;
+    const glm::dvec3 exact = start.centerOfMassM + v0 * t + 0.5 * g * t * t;
+    const glm::dvec3 discrete = exact + 0.5 * g * dt * t;
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(end.centerOfMassM[axis], discrete[axis], 5e-5) << solver << " axis " << axis;
+      EXPECT_NEAR(end.centerOfMassM[axis], exact[axis], 0.5 * glm::length(g) * dt * t + 5e-5) << solver;
+      EXPECT_NEAR(end.momentum[axis] / end.massKg, v0[axis] + g[axis] * t, 5e-5) << solver << " axis " << axis;
+    }
+  }
+}
+
+// Snow dropped on a ground plane never goes through it: particles moving into a collider lose their normal
+// velocity before they move, so for a plane (a linear SDF) y never drops below the plane. Tolerance: float32
+// rounding of positions near 0.3 m, 1e-6 m. The snow must also have landed: its centre is within one
+// block height of the plane and its momentum has nearly vanished.
+TEST_F(SimulationTest, NothingPenetratesGroundPlane) {
+  for (const char* boundary : {"slip", "sticky", "separate"}) {
+    const std::string colliders = std::string(R"([{ "type": "plane", "point": [0, 0.3, 0], "normal": [0, 1, 0],
+                                                    "friction": 0.3, "boundary": ")") + boundary + R"(" }])";
+    const Scene scene = sceneFromJson(boxScene(R"({"kernel": "quadratic"})", "[0.4, -1.0, 0]", colliders,
+                                               "[0.7, 0.4, 0.7]", "[0.9, 0.6, 0.9]"));
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    float lowest = std::numeric_limits<float>::max();
+    for (int frame = 1; frame <= 15; ++frame) {
+      simulation.advanceTo(frame / scene.time.frameRateHz);
+      lowest = std::min(lowest, particleTotals(simulation.snapshot()).minY);
+    }
+    simulation.checkWatchdog();
+    EXPECT_GE(lowest, 0.3f - 1e-6f) << boundary;
+    const Totals end = particleTotals(simulation.snapshot());
+    EXPECT_LT(end.centerOfMassM.y, 0.3 + 0.2) << boundary;
+    EXPECT_LT(std::abs(end.momentum.y) / end.massKg, 0.1) << boundary;  // from 1 m/s + g t at impact
+  }
+}
+
+// A ball of snow falling on a sphere collider stays outside it. The projection acts on the predicted
+// position, so along a curved surface a particle may end a step inside by the chord error
+// (|v| Δt)² / (2R) = (3 m/s · 1e-3 s)² / 0.3 m = 3e-5 m; tolerance 1e-4 m.
+TEST_F(SimulationTest, NothingPenetratesSphereOrBoxCollider) {
+  const std::string colliders = R"([
+      { "type": "sphere", "center": [0.5, 0.5, 0.8], "radius": 0.15, "boundary": "slip", "friction": 0.2 },
+      { "type": "box", "min": [1.0, 0.3, 0.65], "max": [1.3, 0.5, 0.95], "boundary": "separate" } ])";
+  std::string json = boxScene(R"({"kernel": "quadratic", "transfer": "apic"})", "[0, -1.0, 0]", colliders,
+                              "[0.42, 0.75, 0.72]", "[0.58, 0.85, 0.88]");
+  // A second block above the box collider.
+  json.replace(json.find("} ],"), 4, R"(}, { "shape": "box", "min": [1.08, 0.7, 0.72], "max": [1.22, 0.8, 0.88],
+               "material": "snow", "velocity": [0, -1.0, 0] } ],)");
+  const Scene scene = sceneFromJson(json);
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  double deepestInSphere = 0, deepestInBox = 0;
+  for (int frame = 1; frame <= 15; ++frame) {
+    simulation.advanceTo(frame / scene.time.frameRateHz);
+    const firn::ParticleSnapshot s = simulation.snapshot();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const glm::dvec3 x(s.positionMass[i]);
+      deepestInSphere = std::max(deepestInSphere, 0.15 - glm::length(x - glm::dvec3(0.5, 0.5, 0.8)));
+      const glm::dvec3 lo(1.0, 0.3, 0.65), hi(1.3, 0.5, 0.95);
+      const glm::dvec3 inside = glm::min(x - lo, hi - x);
+      deepestInBox = std::max(deepestInBox, std::min({inside.x, inside.y, inside.z}));
+    }
+  }
+  simulation.checkWatchdog();
+  EXPECT_LT(deepestInSphere, 1e-4);
+  EXPECT_LT(deepestInBox, 1e-4);
+}
+
+// Two runs of the same scene give identical particle state, bit for bit: fixed-point sums are exact and
+// order-independent, and nothing else in a step depends on scheduling.
+TEST_F(SimulationTest, TwoRunsAreBitwiseIdentical) {
+  const std::string colliders = R"([{ "type": "plane", "point": [0, 0.3, 0], "normal": [0, 1, 0], "friction": 0.5 }])";
+  const Scene scene = sceneFromJson(boxScene(R"({"kernel": "cubic", "transfer": "pic_flip"})", "[2, -3, 1]", colliders,
+                                             "[0.7, 0.35, 0.7]", "[0.9, 0.55, 0.9]"));
+  std::vector<std::vector<glm::vec4>> runs;
+  for (int run = 0; run < 2; ++run) {
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    simulation.advanceTo(0.06);
+    simulation.checkWatchdog();
+    const firn::ParticleSnapshot s = simulation.snapshot();
+    std::vector<glm::vec4> state = s.positionMass;
+    state.insert(state.end(), s.velocityVolume.begin(), s.velocityVolume.end());
+    runs.push_back(state);
+  }
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  EXPECT_EQ(0, std::memcmp(runs[0].data(), runs[1].data(), runs[0].size() * sizeof(glm::vec4)));
+}
+
+// A body at 2 km/s crosses 40 cells per step: its momentum sums leave the fixed-point range, which the GPU
+// detects as it happens; the error names the overflow, the step and what to change.
+TEST_F(SimulationTest, FixedPointOverflowIsReported) {
+  const Scene scene = sceneFromJson(boxScene(R"({"kernel": "quadratic"})", "[2000, 0, 0]", "[]"));
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  simulation.step(scene.time.dtS);
+  try {
+    simulation.checkWatchdog();
+    FAIL() << "expected SimulationError";
+  } catch (const firn::SimulationError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("fixed-point overflow of the P2G momentum x sum"), std::string::npos) << message;
+    EXPECT_NE(message.find("step 0"), std::string::npos) << message;
+    EXPECT_NE(message.find("Reduce time.dt"), std::string::npos) << message;
+    EXPECT_EQ(error.code(), firn::ExitCode::Unstable);
+  }
+}
+
+// A NaN in a particle's state is caught on the GPU, named (particle, body, material), and never stored.
+TEST_F(SimulationTest, NonFiniteParticleIsReportedAndNeverStored) {
+  const Scene scene = sceneFromJson(boxScene(R"({"transfer": "pic_flip"})", "[0, 0, 0]", "[]"));
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  simulation.step(scene.time.dtS);
+  simulation.checkWatchdog();
+  simulation.setParticleVelocity(17, glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0, 0));
+  simulation.step(scene.time.dtS);
+  try {
+    simulation.checkWatchdog();
+    FAIL() << "expected SimulationError";
+  } catch (const firn::SimulationError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("step 1"), std::string::npos) << message;
+    EXPECT_NE(message.find("particle 17 of bodies[0] (material \"snow\")"), std::string::npos) << message;
+    EXPECT_NE(message.find("non-finite"), std::string::npos) << message;
+  }
+  // The NaN stayed where it was injected: no other particle received one through the grid.
+  const firn::ParticleSnapshot s = simulation.snapshot();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (i == 17) continue;
+    ASSERT_TRUE(std::isfinite(s.velocityVolume[i].x) && std::isfinite(s.positionMass[i].x)) << "particle " << i;
+  }
+}
+
+// Grid passes cover the region the particles occupy: the same snowball in a 48³ and a 192³ domain has the same
+// active box, so the grid passes do the same work (the timing ratio is measured by benchmarks, not here).
+TEST_F(SimulationTest, ActiveGridFollowsParticlesNotDomain) {
+  std::vector<std::uint64_t> activeNodes;
+  for (int cells : {48, 192}) {
+    const std::string json = R"({
+      "grid": { "cells": [)" + std::to_string(cells) + "," + std::to_string(cells) + "," + std::to_string(cells) +
+                             R"(], "cell_size": 0.02 },
+      "time": { "dt": 2e-4, "frame_rate": 30, "frames": 1 },
+      "materials": { "snow": { "preset": "stomakhin" } },
+      "bodies": [ { "shape": "sphere", "center": [0.48, 0.48, 0.48], "radius": 0.1, "material": "snow" } ] })";
+    const Scene scene = sceneFromJson(json);
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    simulation.step(scene.time.dtS);
+    activeNodes.push_back(static_cast<std::uint64_t>(simulation.activeRegion().boxSize.w));
+  }
+  EXPECT_EQ(activeNodes[0], activeNodes[1]);
+  // A 0.2 m ball at h = 0.02 spans 10–11 cells; with the stencil margin the box is at most 15 nodes a side.
+  EXPECT_LE(activeNodes[0], 15u * 15u * 15u);
+  EXPECT_LT(activeNodes[1], 193ull * 193ull * 193ull / 1000ull);
+}
+
+}  // namespace
