@@ -338,27 +338,35 @@ void Simulation::checkWatchdog() const {
     return "step " + std::to_string(step) + " (t ≈ " + formatNumber(double(step) * dt) + " s)";
   };
 
-  std::string message = "the simulation became unstable:";
+  // Listed in the order they happened: the first is the cause, the others often its consequences.
+  std::vector<std::pair<std::uint32_t, std::string>> events;
   if (status.overflowCount > 0) {
-    message += "\n  - " + when(status.overflowStep) + ": fixed-point overflow of the P2G " +
-               channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
-               std::to_string(status.overflowCount) + " overflowing additions). A node sum may reach ±" +
-               formatNumber(fixedPoint_.maxNodeValue()) +
-               " reference masses (or that many times a node moving one cell per step); the particles moved or "
-               "compressed far beyond that. Reduce time.dt, lower the body velocities or particles_per_cell, or "
-               "set solver.atomics to \"float\"; " + stiffness + ".";
+    events.emplace_back(status.overflowStep,
+                        when(status.overflowStep) + ": fixed-point overflow of the P2G " +
+                            channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
+                            std::to_string(status.overflowCount) + " overflowing additions). A node sum may reach ±" +
+                            formatNumber(fixedPoint_.maxNodeValue()) +
+                            " reference masses (or that many times a node moving one cell per step); the particles "
+                            "moved or compressed far beyond that. Reduce time.dt, lower the body velocities or "
+                            "particles_per_cell, or set solver.atomics to \"float\"; " + stiffness + ".");
   }
   if (status.nonFiniteCount > 0) {
-    message += "\n  - " + when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle) +
-               " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
-               " particle updates rejected). Reduce time.dt or youngs_modulus; " + stiffness + ".";
+    events.emplace_back(status.nonFiniteStep,
+                        when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle) +
+                            " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
+                            " particle updates rejected). Reduce time.dt or youngs_modulus; " + stiffness + ".");
   }
   if (status.cflCount > 0) {
-    message += "\n  - " + when(status.cflStep) + ": " + describeParticle(status.cflParticle) + " moved " +
-               formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
-               std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower the body "
-               "velocities; " + stiffness + ".";
+    events.emplace_back(status.cflStep,
+                        when(status.cflStep) + ": " + describeParticle(status.cflParticle) + " moved " +
+                            formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
+                            std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower "
+                            "the body velocities; " + stiffness + ".");
   }
+  std::stable_sort(events.begin(), events.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string message = "the simulation became unstable:";
+  for (const auto& event : events) message += "\n  - " + event.second;
   throw SimulationError(message);
 }
 

@@ -1,0 +1,181 @@
+// The `firn` command line as a user runs it: outputs, exit codes and messages (design.md's contract).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/Ply.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exitCode;
+  std::string output;  // stdout and stderr
+};
+
+Result runFirn(const std::string& arguments, const std::string& environment = "") {
+  const std::string command = environment + " " + FIRN_EXECUTABLE + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return {-1, "popen failed"};
+  std::string output;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+fs::path freshDirectory(const std::string& name) {
+  const fs::path directory = fs::temp_directory_path() / ("firn_cli_test_" + name);
+  fs::remove_all(directory);
+  fs::create_directories(directory);
+  return directory;
+}
+
+fs::path writeScene(const fs::path& directory, const std::string& name, const std::string& json) {
+  const fs::path path = directory / name;
+  std::ofstream(path) << json;
+  return path;
+}
+
+std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream cellStream(line);
+    std::string cell;
+    while (std::getline(cellStream, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+const char* const kSmallScene = R"({
+  "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+  "time": { "dt": 1e-3, "frame_rate": 50, "frames": 3 },
+  "materials": { "snow": { "preset": "stomakhin" } },
+  "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15, "material": "snow" } ] })";
+
+// `firn run` with no scene runs the built-in one and writes stats.csv (header + frame 0 + N frames, frame N at
+// N / frame_rate) and one PLY per frame with the particles' state; mass never changes.
+TEST(Cli, DefaultSceneWritesStatsAndFrames) {
+  const fs::path out = freshDirectory("default");
+  const Result result = runFirn("run --frames 2 --out " + out.string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto rows = readCsv(out / "stats.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  const std::vector<std::string> expectedColumns = {"frame", "time_s", "steps", "particles", "mass_kg", "momentum_x",
+                                                    "momentum_y", "momentum_z", "kinetic_energy_j", "wall_ms"};
+  for (std::size_t i = 0; i < expectedColumns.size(); ++i) EXPECT_EQ(rows[0][i], expectedColumns[i]);
+  for (int frame = 0; frame <= 2; ++frame) {
+    const auto& row = rows[static_cast<std::size_t>(frame) + 1];
+    EXPECT_EQ(std::stoi(row[0]), frame);
+    EXPECT_NEAR(std::stod(row[1]), frame / 30.0, 1e-9);  // the default scene's frame rate is 30
+    EXPECT_EQ(row[4], rows[1][4]) << "mass changed at frame " << frame;
+    const firn::PointCache cache = firn::readPly(out / ("frame_000" + std::to_string(frame) + ".ply"));
+    EXPECT_EQ(std::to_string(cache.size()), row[3]);
+    for (std::size_t p = 0; p < cache.size(); ++p) {
+      ASSERT_TRUE(std::isfinite(cache.positionsM[p].x + cache.velocitiesMPerS[p].y + cache.plasticJ[p]));
+    }
+  }
+  EXPECT_NE(result.output.find("wrote 3 frames"), std::string::npos) << result.output;
+}
+
+// Each class of bad input exits with 2 and a message naming the file, the key and the problem.
+TEST(Cli, BadInputExitsWithTwoNamingFileAndKey) {
+  const fs::path directory = freshDirectory("bad");
+  struct Case {
+    std::string name;
+    std::string json;
+    std::string expected;
+  };
+  const std::string good = kSmallScene;
+  auto edit = [&](const std::string& from, const std::string& to) {
+    std::string json = good;
+    json.replace(json.find(from), from.size(), to);
+    return json;
+  };
+  const std::vector<Case> cases = {
+      {"unknown_key.json", edit("\"cell_size\"", "\"cell_sise\""), "grid.cell_sise: unknown key"},
+      {"wrong_type.json", edit("\"radius\": 0.15", "\"radius\": \"big\""), "bodies[0].radius"},
+      {"out_of_range.json", edit("\"radius\": 0.15", "\"radius\": -0.15"), "bodies[0].radius: must be greater than 0"},
+      {"outside.json", edit("[0.6, 0.6, 0.6]", "[1.1, 0.6, 0.6]"), "bodies[0]"},
+      {"material.json", edit("\"material\": \"snow\"", "\"material\": \"slush\""), "bodies[0].material"},
+      {"syntax.json", edit("\"frames\": 3 }", "\"frames\": 3 "), "JSON syntax error"},
+  };
+  for (const Case& c : cases) {
+    const fs::path scene = writeScene(directory, c.name, c.json);
+    const Result result = runFirn("run " + scene.string() + " --out " + (directory / "out").string());
+    EXPECT_EQ(result.exitCode, 2) << c.name << ": " << result.output;
+    EXPECT_NE(result.output.find(scene.string()), std::string::npos) << c.name << ": " << result.output;
+    EXPECT_NE(result.output.find(c.expected), std::string::npos) << c.name << ": " << result.output;
+  }
+  const Result missing = runFirn("run " + (directory / "absent.json").string());
+  EXPECT_EQ(missing.exitCode, 2) << missing.output;
+  EXPECT_NE(missing.output.find("absent.json"), std::string::npos) << missing.output;
+  const Result badFlag = runFirn("run --frames -3");
+  EXPECT_EQ(badFlag.exitCode, 2) << badFlag.output;
+  EXPECT_NE(badFlag.output.find("--frames"), std::string::npos) << badFlag.output;
+}
+
+// A scene far too stiff for its step (E = 1e9 Pa: the elastic bound is dt < h / c ≈ 3e-5 s, the scene asks for
+// 1e-3 s) blows up: exit 3, a message saying what to change, and the frames written before stay on disk,
+// every value in them finite.
+TEST(Cli, UnstableSceneExitsWithThreeAndKeepsGoodFrames) {
+  const fs::path directory = freshDirectory("unstable");
+  std::string json = kSmallScene;
+  json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 1e9");
+  json.replace(json.find("\"frames\": 3"), 11, "\"frames\": 10");
+  const fs::path scene = writeScene(directory, "stiff.json", json);
+  const fs::path out = directory / "out";
+  const Result result = runFirn("run " + scene.string() + " --out " + out.string());
+  ASSERT_EQ(result.exitCode, 3) << result.output;
+  EXPECT_NE(result.output.find("unstable"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("Reduce time.dt"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("dt < h / c"), std::string::npos) << result.output;
+  ASSERT_TRUE(fs::exists(out / "frame_0000.ply"));
+  for (const auto& entry : fs::directory_iterator(out)) {
+    if (entry.path().extension() != ".ply") continue;
+    const firn::PointCache cache = firn::readPly(entry.path());
+    for (std::size_t p = 0; p < cache.size(); ++p) {
+      ASSERT_TRUE(std::isfinite(cache.positionsM[p].x) && std::isfinite(cache.positionsM[p].y) &&
+                  std::isfinite(cache.positionsM[p].z) && std::isfinite(cache.velocitiesMPerS[p].x))
+          << entry.path();
+    }
+  }
+  const auto rows = readCsv(out / "stats.csv");
+  EXPECT_LT(rows.size(), 12u);  // stopped before the last frame
+  for (const auto& row : rows) {
+    for (const auto& cell : row) EXPECT_EQ(cell.find("nan"), std::string::npos);
+  }
+}
+
+// No usable OpenGL: exit 4 with what was found. An EGL device index that does not exist stands in for a
+// machine without a GPU or Mesa.
+TEST(Cli, NoUsableOpenGLExitsWithFour) {
+  const Result result = runFirn("run --frames 1 --out " + freshDirectory("nogl").string(), "FIRN_EGL_DEVICE=99");
+  EXPECT_EQ(result.exitCode, 4) << result.output;
+  EXPECT_NE(result.output.find("FIRN_EGL_DEVICE=99"), std::string::npos) << result.output;
+}
+
+TEST(Cli, HelpDescribesCommands) {
+  const Result top = runFirn("--help");
+  EXPECT_EQ(top.exitCode, 0);
+  EXPECT_NE(top.output.find("run"), std::string::npos) << top.output;
+  const Result run = runFirn("run --help");
+  EXPECT_EQ(run.exitCode, 0);
+  EXPECT_NE(run.output.find("--frames"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("--out"), std::string::npos) << run.output;
+}
+
+}  // namespace
