@@ -21,26 +21,8 @@ const std::vector<SnowMaterial>& snowPresets() {
 }
 
 Scene defaultScene() {
-  // Written as a scene file and parsed, so the built-in scene obeys exactly the rules a user's file does.
-  static const char* const sceneJson = R"json({
-  "name": "snowball-wall",
-  "description": "A snowball of stiffened reference snow thrown against a wall, above the ground.",
-  "grid": { "origin": [0, 0, 0], "cells": [64, 48, 48], "cell_size": 0.02 },
-  "time": { "dt": 2e-4, "frame_rate": 30, "frames": 45 },
-  "solver": { "kernel": "quadratic", "transfer": "apic", "atomics": "fixed" },
-  "materials": {
-    "snow": { "preset": "stomakhin", "youngs_modulus": 3e5 }
-  },
-  "bodies": [
-    { "shape": "sphere", "center": [0.35, 0.45, 0.48], "radius": 0.12, "material": "snow",
-      "velocity": [6, 1.5, 0], "particles_per_cell": 8 }
-  ],
-  "colliders": [
-    { "type": "plane", "point": [0, 0.08, 0], "normal": [0, 1, 0], "friction": 0.4, "boundary": "slip" },
-    { "type": "plane", "point": [1.1, 0, 0], "normal": [-1, 0, 0], "friction": 0.3, "boundary": "separate" }
-  ]
-})json";
-  Scene scene = parseScene(sceneJson, "<built-in default scene>");
+  // The asset file, parsed like any other, so the built-in scene obeys exactly the rules a user's file does.
+  Scene scene = parseScene(embeddedSceneFiles().at("snowball_wall.json"), "<built-in default scene>");
   scene.sourcePath.clear();
   return scene;
 }
