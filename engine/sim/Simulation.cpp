@@ -270,6 +270,7 @@ void Simulation::runOverParticles(const gl::Program& program) {
   endPass(program);
 }
 
+// Steps 1–2 of Stomakhin 2013 §6: the grid box for this step, cleared, then particle to grid.
 void Simulation::scatterToGrid() {
   bindAll();
   runOnce(prepareGrid_);
@@ -282,13 +283,7 @@ void Simulation::scatterToGrid() {
 
 void Simulation::step(double dtS) {
   writeStepUniforms(dtS);
-  bindAll();
-  runOnce(prepareGrid_);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  runOverGrid(clearGrid_);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  runOverParticles(particleToGrid_);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  scatterToGrid();  // prepare_grid → clear_grid → p2g
   runOverGrid(updateGrid_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   runOverParticles(gridToParticle_);

@@ -36,6 +36,7 @@ const uint CHANNEL_IMPULSE = 4u;
 
 #define FIRN_SCATTER(member, value, node, channel, dither) atomicAdd(member, value)
 
+uint contributionSeed(vec3 particlePosition, uint node) { return 0u; }  // float sums are not dithered
 vec4 storedToNondimensional(vec4 stored) { return stored; }
 vec4 storedFloats(vec4 stored) { return stored; }
 vec4 floatsToStored(vec4 values) { return values; }
@@ -87,11 +88,9 @@ ivec4 floatsToStored(vec4 values) { return floatBitsToInt(values); }
 
 #endif
 
-// P2G: adds the nondimensional contribution (momentum xyz, mass w) of the particle at `particlePosition`.
-void scatterMomentumMass(vec3 particlePosition, uint node, vec4 momentumMass) {
-#ifndef FIRN_FLOAT_ATOMICS
-  uint seed = contributionSeed(particlePosition, node);
-#endif
+// P2G: adds a particle's nondimensional contribution (momentum xyz, mass w) to a node; `seed` is the
+// contribution's contributionSeed().
+void scatterMomentumMass(uint node, vec4 momentumMass, uint seed) {
   FIRN_SCATTER(gridMomentumMass[node].x, momentumMass.x, node, CHANNEL_MOMENTUM + 0u, seed);
   FIRN_SCATTER(gridMomentumMass[node].y, momentumMass.y, node, CHANNEL_MOMENTUM + 1u, seed);
   FIRN_SCATTER(gridMomentumMass[node].z, momentumMass.z, node, CHANNEL_MOMENTUM + 2u, seed);
@@ -99,10 +98,7 @@ void scatterMomentumMass(vec3 particlePosition, uint node, vec4 momentumMass) {
 }
 
 #ifndef FIRN_TRANSFER_APIC
-void scatterImpulse(vec3 particlePosition, uint node, vec3 impulse) {
-#ifndef FIRN_FLOAT_ATOMICS
-  uint seed = contributionSeed(particlePosition, node);
-#endif
+void scatterImpulse(uint node, vec3 impulse, uint seed) {
   FIRN_SCATTER(gridImpulse[node].x, impulse.x, node, CHANNEL_IMPULSE + 0u, seed);
   FIRN_SCATTER(gridImpulse[node].y, impulse.y, node, CHANNEL_IMPULSE + 1u, seed);
   FIRN_SCATTER(gridImpulse[node].z, impulse.z, node, CHANNEL_IMPULSE + 2u, seed);

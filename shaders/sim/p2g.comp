@@ -36,13 +36,14 @@ void main() {
     ivec3 node = stencil.baseNode + k;
     uint i = nodeIndex(node);
     float w = stencilWeight(stencil, k);
+    uint seed = contributionSeed(x, i);
     vec3 impulse = impulseUnits * stencilGradient(stencil, k);
 #ifdef FIRN_TRANSFER_APIC
     vec3 momentum = w * (momentumUnits + affineMomentumUnits * (nodePosition(node) - x)) + impulse;
-    scatterMomentumMass(x, i, vec4(momentum, w * massUnits));
+    scatterMomentumMass(i, vec4(momentum, w * massUnits), seed);
 #else
-    scatterMomentumMass(x, i, vec4(w * momentumUnits, w * massUnits));
-    scatterImpulse(x, i, impulse);
+    scatterMomentumMass(i, vec4(w * momentumUnits, w * massUnits), seed);
+    scatterImpulse(i, impulse, seed);
 #endif
   }
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -34,7 +35,9 @@ Result runFirn(const std::string& arguments, const std::string& environment = ""
 }
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path directory = fs::temp_directory_path() / ("firn_cli_test_" + name);
+  // The process id keeps concurrent test runs (ctest --parallel, two checkouts) out of each other's way.
+  const fs::path directory =
+      fs::temp_directory_path() / ("firn_cli_test_" + std::to_string(getpid()) + "_" + name);
   fs::remove_all(directory);
   fs::create_directories(directory);
   return directory;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,7 +13,7 @@
 namespace {
 
 std::filesystem::path temporaryPath(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("firn_ply_test_" + name);
+  return std::filesystem::temp_directory_path() / ("firn_ply_test_" + std::to_string(getpid()) + "_" + name);
 }
 
 firn::PointCache examplePoints() {
