@@ -1,9 +1,8 @@
 #include "gl/Program.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <utility>
-
-#include <glm/gtc/type_ptr.hpp>
 
 #include "Error.h"
 
@@ -11,20 +10,13 @@ namespace firn::gl {
 
 namespace {
 
-std::string shaderLog(GLuint shader) {
+// The info log of a shader (glGetShaderiv, glGetShaderInfoLog) or a program (glGetProgramiv, …).
+template <typename GetParameter, typename GetLog>
+std::string infoLog(GLuint object, GetParameter getParameter, GetLog getLog) {
   GLint length = 0;
-  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  getParameter(object, GL_INFO_LOG_LENGTH, &length);
   std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-  glGetShaderInfoLog(shader, length, nullptr, log.data());
-  log.resize(std::char_traits<char>::length(log.c_str()));
-  return log;
-}
-
-std::string programLog(GLuint program) {
-  GLint length = 0;
-  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-  glGetProgramInfoLog(program, length, nullptr, log.data());
+  getLog(object, length, nullptr, log.data());
   log.resize(std::char_traits<char>::length(log.c_str()));
   return log;
 }
@@ -39,7 +31,7 @@ Program Program::compute(const ShaderLibrary& library, const std::string& path, 
   glCompileShader(shader);
   GLint compiled = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
-  const std::string compileLog = ShaderLibrary::translateLog(shaderLog(shader), source);
+  const std::string compileLog = ShaderLibrary::translateLog(infoLog(shader, glGetShaderiv, glGetShaderInfoLog), source);
   if (!compiled) {
     glDeleteShader(shader);
     throw GLError("compiling " + path + " failed:\n" + compileLog);
@@ -57,7 +49,7 @@ Program Program::compute(const ShaderLibrary& library, const std::string& path, 
   glDeleteShader(shader);
   GLint linked = GL_FALSE;
   glGetProgramiv(program.id_, GL_LINK_STATUS, &linked);
-  if (!linked) throw GLError("linking " + path + " failed:\n" + ShaderLibrary::translateLog(programLog(program.id_), source));
+  if (!linked) throw GLError("linking " + path + " failed:\n" + ShaderLibrary::translateLog(infoLog(program.id_, glGetProgramiv, glGetProgramInfoLog), source));
   return program;
 }
 
@@ -77,20 +69,6 @@ Program& Program::operator=(Program&& other) noexcept {
 }
 
 void Program::use() const { glUseProgram(id_); }
-
-void Program::set(const char* name, int value) const { glUniform1i(glGetUniformLocation(id_, name), value); }
-
-void Program::set(const char* name, unsigned value) const { glUniform1ui(glGetUniformLocation(id_, name), value); }
-
-void Program::set(const char* name, float value) const { glUniform1f(glGetUniformLocation(id_, name), value); }
-
-void Program::set(const char* name, const glm::vec3& value) const {
-  glUniform3fv(glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
-}
-
-void Program::set(const char* name, const glm::ivec3& value) const {
-  glUniform3iv(glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
-}
 
 GLuint Program::release() { return std::exchange(id_, 0); }
 

@@ -2,10 +2,6 @@
 // Move-only owner of a linked compute program.
 #include <string>
 
-#include <glm/mat3x3.hpp>
-#include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
-
 #include "gl/GL.h"
 #include "gl/ShaderLibrary.h"
 
@@ -27,13 +23,6 @@ class Program {
   GLuint id() const { return id_; }
   const std::string& name() const { return name_; }
   void use() const;
-
-  // Uniform setters; the program must be in use. A name the compiler optimised away is ignored.
-  void set(const char* name, int value) const;
-  void set(const char* name, unsigned value) const;
-  void set(const char* name, float value) const;
-  void set(const char* name, const glm::vec3& value) const;
-  void set(const char* name, const glm::ivec3& value) const;
 
   GLuint release();
 
