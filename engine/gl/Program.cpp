@@ -70,6 +70,8 @@ Program& Program::operator=(Program&& other) noexcept {
 
 void Program::use() const { glUseProgram(id_); }
 
+void Program::set(const char* name, unsigned value) const { glUniform1ui(glGetUniformLocation(id_, name), value); }
+
 GLuint Program::release() { return std::exchange(id_, 0); }
 
 }  // namespace firn::gl

@@ -24,6 +24,9 @@ class Program {
   const std::string& name() const { return name_; }
   void use() const;
 
+  // Sets a uint uniform; the program must be in use. A name the compiler optimised away is ignored.
+  void set(const char* name, unsigned value) const;
+
   GLuint release();
 
  private:
