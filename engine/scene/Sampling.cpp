@@ -47,7 +47,7 @@ bool contains(const Body& body, const glm::dvec3& pointM) {
 }
 
 std::string sceneFileName(const Scene& scene) {
-  return scene.sourcePath.empty() ? "<built-in default scene>" : scene.sourcePath.string();
+  return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ const std::vector<SnowMaterial>& snowPresets() {
 
 Scene defaultScene() {
   // The asset file, parsed like any other, so the built-in scene obeys exactly the rules a user's file does.
-  Scene scene = parseScene(embeddedSceneFiles().at("snowball_wall.json"), "<built-in default scene>");
+  Scene scene = parseScene(embeddedSceneFiles().at("snowball_wall.json"), kBuiltInSceneName);
   scene.sourcePath.clear();
   return scene;
 }

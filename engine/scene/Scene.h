@@ -103,6 +103,9 @@ struct ParticleSeed {
   int bodyIndex;
 };
 
+// How messages name the built-in scene, which has no file.
+constexpr const char* kBuiltInSceneName = "<built-in default scene>";
+
 // Reads and validates a scene file; throws InputError naming the file, the key and the problem.
 Scene loadScene(const std::filesystem::path& path);
 // Same, from text; `source` names the file in messages.

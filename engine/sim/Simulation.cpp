@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include <glm/common.hpp>
+
 #include "Error.h"
 #include "gl/Debug.h"
 #include "sim/Materials.h"
@@ -389,23 +391,26 @@ GridTotals Simulation::transferToGrid() {
   const gpu::ActiveRegionData region = activeRegion();
   GridTotals totals;
   totals.activeNodes = static_cast<std::uint64_t>(region.boxSize.w);
-  // Integer sums are exact; sum them as integers so the totals carry no rounding of their own.
+  if (totals.activeNodes == 0) return totals;
+
+  // One readback of the node span the box lies in, summed over the box's nodes. Integer sums are exact, so
+  // they are added as integers and the totals carry no rounding of their own.
+  auto linear = [&](const glm::ivec3& node) {
+    return static_cast<std::size_t>(node.x + gridNodes_.x * (node.y + gridNodes_.y * node.z));
+  };
+  const glm::ivec3 boxFirst(region.boxMin);
+  const glm::ivec3 boxLast = boxFirst + glm::ivec3(region.boxSize) - 1;
+  const std::size_t spanFirst = linear(boxFirst);
+  const std::vector<glm::ivec4> stored = gridMomentumMass_.read<glm::ivec4>(linear(boxLast) - spanFirst + 1, spanFirst);
   glm::i64vec4 fixedSum(0);
   glm::dvec4 floatSum(0.0);
-  for (int z = 0; z < region.boxSize.z; ++z)
-    for (int y = 0; y < region.boxSize.y; ++y) {
-      const glm::ivec3 first = glm::ivec3(region.boxMin) + glm::ivec3(0, y, z);
-      const std::size_t node = static_cast<std::size_t>(first.x + gridNodes_.x * (first.y + gridNodes_.y * first.z));
-      if (scene_.solver.atomics == Atomics::FixedPoint) {
-        for (const glm::ivec4& value : gridMomentumMass_.read<glm::ivec4>(std::size_t(region.boxSize.x), node)) {
-          fixedSum += glm::i64vec4(value);
-        }
-      } else {
-        for (const glm::vec4& value : gridMomentumMass_.read<glm::vec4>(std::size_t(region.boxSize.x), node)) {
-          floatSum += glm::dvec4(value);
-        }
+  for (int z = boxFirst.z; z <= boxLast.z; ++z)
+    for (int y = boxFirst.y; y <= boxLast.y; ++y)
+      for (int x = boxFirst.x; x <= boxLast.x; ++x) {
+        const glm::ivec4& value = stored[linear(glm::ivec3(x, y, z)) - spanFirst];
+        fixedSum += glm::i64vec4(value);
+        floatSum += glm::dvec4(glm::intBitsToFloat(value));
       }
-    }
   const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
                               ? glm::dvec4(fixedSum) * fixedPoint_.resolution()
                               : floatSum;
