@@ -2,6 +2,7 @@
 // The scene description: what design.md's JSON scene file says, parsed and validated, in SI units.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,13 @@ struct Collider {
   Boundary boundary = Boundary::Slip;
 };
 
+// Where pictures are taken from (`firn run --png`, the viewer's starting view).
+struct CameraSpec {
+  glm::dvec3 positionM{0.0};
+  glm::dvec3 targetM{0.0};
+  double fovDeg = 40;  // vertical field of view
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -89,6 +97,7 @@ struct Scene {
   std::vector<SnowMaterial> materials;
   std::vector<Body> bodies;
   std::vector<Collider> colliders;
+  std::optional<CameraSpec> camera;  // absent: the renderer frames the scene itself
 
   glm::dvec3 domainMinM() const { return grid.originM; }
   glm::dvec3 domainMaxM() const { return grid.originM + glm::dvec3(grid.cells) * grid.cellSizeM; }

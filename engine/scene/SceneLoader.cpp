@@ -559,9 +559,21 @@ Collider readCollider(const Object& collider) {
   return result;
 }
 
+CameraSpec readCamera(const Object& camera) {
+  camera.checkKeys({"position", "target", "fov_deg"}, {}, "\"camera\"");
+  CameraSpec spec;
+  spec.positionM = camera.vec3("position");
+  spec.targetM = camera.vec3("target");
+  if (spec.positionM == spec.targetM) camera.fail("target", "must differ from \"position\" (the camera looks from one to the other)");
+  // Beyond 170° the perspective stretches everything to the corners; below 1° it is a telescope.
+  spec.fovDeg = camera.number("fov_deg", spec.fovDeg, Interval::closed(1, 170));
+  return spec;
+}
+
 Scene readScene(const Object& root) {
-  root.checkKeys({"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders"}, {},
-                 "a scene");
+  root.checkKeys(
+      {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders", "camera"}, {},
+      "a scene");
   Scene scene;
   scene.name = root.string("name", scene.name);
   scene.description = root.string("description", scene.description);
@@ -586,6 +598,7 @@ Scene readScene(const Object& root) {
       scene.colliders.push_back(readCollider(Object(colliders->element(i))));
     }
   }
+  if (const auto camera = root.optional("camera")) scene.camera = readCamera(Object(*camera));
   return scene;
 }
 

@@ -217,6 +217,13 @@ void Simulation::bindAll() const {
   watchdog_.bindStorage(gpu::Watchdog);
 }
 
+void Simulation::bindParticleBuffers() const {
+  positionMass_.bindStorage(gpu::PositionMass);
+  velocityVolume_.bindStorage(gpu::VelocityVolume);
+  kirchhoffStress_.bindStorage(gpu::KirchhoffStress);
+  plasticState_.bindStorage(gpu::PlasticState);
+}
+
 void Simulation::setPassTiming(bool enabled) {
   timingPasses_ = enabled;
   passTimes_.clear();

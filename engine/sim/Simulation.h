@@ -50,6 +50,10 @@ class Simulation {
   void checkWatchdog() const;
 
   ParticleSnapshot snapshot() const;
+  // Binds the particle buffers to their storage binding points (gpu::PositionMass, VelocityVolume,
+  // PlasticState, KirchhoffStress), for passes outside the step that read particles in place: the renderer
+  // draws straight from them. The first particleCount() entries are live.
+  void bindParticleBuffers() const;
   // Runs prepare → clear → P2G on the current state and sums the grid (a diagnostic: conservation tests).
   GridTotals transferToGrid();
   // The active node box of the last step (its node count is what the grid passes cost).
