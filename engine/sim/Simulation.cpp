@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include <glm/common.hpp>
 
@@ -39,8 +40,10 @@ gpu::Mat3x4 identityMat3() {
 
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl)
-    : scene_(scene), particleCount_(particles.size()), gridNodes_(scene.grid.cells + 1),
+Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl,
+                       std::size_t particleCapacity)
+    : scene_(scene), particleCount_(particles.size()), particleCapacity_(std::max(particleCapacity, particles.size())),
+      gridNodes_(scene.grid.cells + 1),
       maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
   if (particles.empty()) throw InputError("bodies: the scene has no particles");
   if (scene_.solver.atomics == Atomics::Float && !gl.hasFloatAtomics) {
@@ -55,9 +58,9 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& part
                      " per grid buffer, but " + gl.renderer + " allows " + mebibytes(double(gl.maxStorageBlockBytes)) +
                      " per shader storage block; use fewer cells");
   }
-  const double particleBytes = double(particles.size()) * sizeof(gpu::Mat3x4);
+  const double particleBytes = double(particleCapacity_) * sizeof(gpu::Mat3x4);
   if (particleBytes > double(gl.maxStorageBlockBytes)) {
-    throw InputError("bodies: " + std::to_string(particles.size()) + " particles need " + mebibytes(particleBytes) +
+    throw InputError("bodies: " + std::to_string(particleCapacity_) + " particles need " + mebibytes(particleBytes) +
                      " per particle buffer, more than the " + mebibytes(double(gl.maxStorageBlockBytes)) +
                      " this driver allows; use fewer particles_per_cell");
   }
@@ -69,7 +72,8 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& part
   fixedPoint_ = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, scene_.grid.cellSizeM, scene_.time.dtS);
 
   buildPrograms();
-  uploadParticles(particles);
+  allocateParticles();
+  writeParticles(0, particles, false);
   uploadMaterialsAndColliders();
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
@@ -111,27 +115,68 @@ void Simulation::buildPrograms() {
   computeVolumes_ = gl::Program::compute(library, "sim/compute_volumes.comp", options);
 }
 
-void Simulation::uploadParticles(const std::vector<ParticleSeed>& particles) {
+void Simulation::allocateParticles() {
+  const std::size_t n = particleCapacity_;
+  positionMass_ = gl::Buffer(n * sizeof(glm::vec4));
+  velocityVolume_ = gl::Buffer(n * sizeof(glm::vec4));
+  plasticState_ = gl::Buffer(n * sizeof(gpu::ParticlePlasticState));
+  elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  if (scene_.solver.transfer == Transfer::Apic) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  particleBody_.reserve(n);
+  particleMaterial_.reserve(n);
+}
+
+// Writes particles [first, first + particles.size()) as new: undeformed, unstressed, no affine velocity.
+void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity) {
+  const std::size_t n = particles.size();
   std::vector<glm::vec4> positionMass;
   std::vector<glm::vec4> velocityVolume;
   std::vector<gpu::ParticlePlasticState> plastic;
-  positionMass.reserve(particles.size());
-  velocityVolume.reserve(particles.size());
-  plastic.reserve(particles.size());
-  particleBody_.reserve(particles.size());
+  positionMass.reserve(n);
+  velocityVolume.reserve(n);
+  plastic.reserve(n);
   for (const ParticleSeed& seed : particles) {
     positionMass.emplace_back(seed.positionM, seed.massKg);
-    velocityVolume.emplace_back(seed.velocityMPerS, 0.0f);  // V0 comes from compute_volumes.comp
+    // Otherwise V0 comes from compute_volumes.comp.
+    const double volumeM3 =
+        volumeFromDensity ? seed.massKg / scene_.materials.at(std::size_t(seed.materialIndex)).densityKgPerM3 : 0.0;
+    velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
     plastic.push_back({1.0f, static_cast<std::uint32_t>(seed.materialIndex)});
     particleBody_.push_back(seed.bodyIndex);
+    particleMaterial_.push_back(seed.materialIndex);
   }
-  positionMass_ = gl::Buffer::fromVector(positionMass);
-  velocityVolume_ = gl::Buffer::fromVector(velocityVolume);
-  plasticState_ = gl::Buffer::fromVector(plastic);
+  positionMass_.upload(first * sizeof(glm::vec4), n * sizeof(glm::vec4), positionMass.data());
+  velocityVolume_.upload(first * sizeof(glm::vec4), n * sizeof(glm::vec4), velocityVolume.data());
+  plasticState_.upload(first * sizeof(gpu::ParticlePlasticState), n * sizeof(gpu::ParticlePlasticState), plastic.data());
   // Snow starts undeformed: F_E = I, so its stress is zero.
-  elasticDeformation_ = gl::Buffer::fromVector(std::vector<gpu::Mat3x4>(particles.size(), identityMat3()));
-  kirchhoffStress_ = gl::Buffer(particles.size() * sizeof(gpu::Mat3x4));
-  if (scene_.solver.transfer == Transfer::Apic) affine_ = gl::Buffer(particles.size() * sizeof(gpu::Mat3x4));
+  const std::vector<gpu::Mat3x4> identity(n, identityMat3());
+  elasticDeformation_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), identity.data());
+  const std::vector<gpu::Mat3x4> zero(n, gpu::Mat3x4{});
+  kirchhoffStress_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), zero.data());
+  if (affine_) affine_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), zero.data());
+}
+
+void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
+  if (particles.empty()) return;
+  if (particles.size() > particleCapacity_ - particleCount_) {
+    throw std::length_error("addParticles: " + std::to_string(particles.size()) + " particles do not fit: " +
+                            std::to_string(particleCount_) + " of " + std::to_string(particleCapacity_) + " in use");
+  }
+  for (const ParticleSeed& seed : particles) {
+    // The fixed-point bounds were derived for masses up to m_ref (design.md, "Fixed-point atomics").
+    if (double(seed.massKg) > fixedPoint_.referenceMassKg) {
+      throw std::invalid_argument("addParticles: a particle of " + formatNumber(seed.massKg) +
+                                  " kg exceeds the fixed-point reference mass " +
+                                  formatNumber(fixedPoint_.referenceMassKg) + " kg");
+    }
+  }
+  writeParticles(particleCount_, particles, true);
+  particleCount_ += particles.size();
+  std::vector<glm::vec3> positions;
+  positions.reserve(particles.size());
+  for (const ParticleSeed& seed : particles) positions.push_back(seed.positionM);
+  widenActiveRegion(positions);
 }
 
 void Simulation::uploadMaterialsAndColliders() {
@@ -176,6 +221,14 @@ void Simulation::seedActiveRegion(const std::vector<glm::vec3>& positions) {
   gpu::ActiveRegionData region{};
   region.particleCellMin = glm::ivec4(std::numeric_limits<int>::max());
   region.particleCellMax = glm::ivec4(std::numeric_limits<int>::min());
+  activeRegion_.upload(0, sizeof region, &region);
+  widenActiveRegion(positions);
+}
+
+// The particle cell bounds the next prepare_grid reads come from the last G2P; particles that did not take
+// part in it are added to them here (one small read and write, only when particles are added).
+void Simulation::widenActiveRegion(const std::vector<glm::vec3>& positions) {
+  gpu::ActiveRegionData region = activeRegion();
   const glm::vec3 origin(scene_.grid.originM);
   const float cellSize = float(scene_.grid.cellSizeM);
   for (const glm::vec3& x : positions) {
@@ -322,8 +375,9 @@ std::string Simulation::describeNode(std::int32_t node) const {
 std::string Simulation::describeParticle(std::int32_t particle) const {
   const glm::vec4 position = positionMass_.read<glm::vec4>(1, static_cast<std::size_t>(particle))[0];
   const int body = particleBody_[static_cast<std::size_t>(particle)];
-  const int material = scene_.bodies[static_cast<std::size_t>(body)].materialIndex;
-  return "particle " + std::to_string(particle) + " of bodies[" + std::to_string(body) + "] (material \"" +
+  const int material = particleMaterial_[static_cast<std::size_t>(particle)];
+  const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";
+  return "particle " + std::to_string(particle) + " " + origin + " (material \"" +
          scene_.materials[static_cast<std::size_t>(material)].name + "\") near (" + formatNumber(position.x) + ", " +
          formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
 }

@@ -36,9 +36,17 @@ struct GridTotals {
 
 class Simulation {
  public:
-  // Builds the programs and buffers the scene needs and computes the initial particle volumes.
-  // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
-  Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl);
+  // Builds the programs and buffers the scene needs and computes the initial particle volumes. The particle
+  // buffers hold `particleCapacity` particles (at least particles.size()), so that addParticles can add more
+  // while running. Throws InputError when the scene asks for more than the driver offers (float atomics,
+  // buffer sizes).
+  Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl,
+             std::size_t particleCapacity = 0);
+
+  // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
+  // density that gave the first particles their volumes is not theirs to share). Their mass must not exceed
+  // the fixed-point reference mass. Throws std::length_error if they do not fit the capacity.
+  void addParticles(const std::vector<ParticleSeed>& particles);
 
   // One step of `dtS` seconds (no larger than the scene's dt): prepare → clear → P2G → grid update → G2P.
   void step(double dtS);
@@ -62,6 +70,7 @@ class Simulation {
   double timeS() const { return timeS_; }
   std::uint64_t stepCount() const { return steps_; }
   std::size_t particleCount() const { return particleCount_; }
+  std::size_t particleCapacity() const { return particleCapacity_; }
   const FixedPointScale& fixedPoint() const { return fixedPoint_; }
   const Scene& scene() const { return scene_; }
 
@@ -81,9 +90,11 @@ class Simulation {
 
  private:
   void buildPrograms();
-  void uploadParticles(const std::vector<ParticleSeed>& particles);
+  void allocateParticles();
+  void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
   void uploadMaterialsAndColliders();
   void seedActiveRegion(const std::vector<glm::vec3>& positions);
+  void widenActiveRegion(const std::vector<glm::vec3>& positions);
   void writeStepUniforms(double dtS);
   void bindAll() const;
   void runOnce(const gl::Program& program);
@@ -98,9 +109,11 @@ class Simulation {
   Scene scene_;
   FixedPointScale fixedPoint_;
   std::size_t particleCount_ = 0;
+  std::size_t particleCapacity_ = 0;
   glm::ivec3 gridNodes_{0};
   int maxWorkGroupsX_ = 65535;
-  std::vector<int> particleBody_;  // body of each particle, for messages
+  std::vector<int> particleBody_;      // body of each particle (−1: added while running), for messages
+  std::vector<int> particleMaterial_;  // material of each particle, for messages
 
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
