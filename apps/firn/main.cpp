@@ -2,34 +2,114 @@
 // 3 unstable or overflowed simulation, 4 no usable OpenGL 4.3.
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iostream>
+#include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "Error.h"
+#include "Viewer.h"
 #include "gl/Context.h"
+#include "io/Video.h"
 #include "run/HeadlessRun.h"
+#include "io/Ply.h"
 #include "scene/Scene.h"
+#include "voxelizer/Voxelizer.h"
 
 namespace {
 
-int runCommand(const std::string& scenePath, std::optional<int> frames, const std::string& outputDir, bool noPly,
-               bool passTimes) {
-  const firn::Scene scene = scenePath.empty() ? firn::defaultScene() : firn::loadScene(scenePath);
-  firn::RunOptions options;
-  options.frames = frames;
-  options.outputDir = outputDir;
-  options.writePly = !noPly;
+firn::Scene sceneOrDefault(const std::string& scenePath) {
+  return scenePath.empty() ? firn::defaultScene() : firn::loadScene(scenePath);
+}
+
+int runCommand(const std::string& scenePath, firn::RunOptions options) {
+  const firn::Scene scene = sceneOrDefault(scenePath);
+  // Said before the run, not after an hour of simulation.
+  if (!options.videoPath.empty() && !firn::findFfmpeg()) {
+    throw firn::InputError("--mp4: the ffmpeg program is not on the PATH (Debian: apt-get install ffmpeg); "
+                           "--png writes the frames without it");
+  }
   options.showProgress = isatty(STDERR_FILENO) != 0;
-  options.passTimes = passTimes;
+  const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, std::cerr);
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
               summary.frames + 1, summary.particles, static_cast<unsigned long long>(summary.steps),
               outputDir.c_str(), summary.wallS,
               summary.steps > 0 ? 1e3 * summary.simulationWallS / double(summary.steps) : 0.0, summary.renderer.c_str());
+  return 0;
+}
+
+int viewCommand(const std::string& scenePath, const firn::ViewOptions& options) {
+  firn::runViewer(sceneOrDefault(scenePath), options);
+  return 0;
+}
+
+struct VoxelizeOptions {
+  std::string meshPath;
+  std::string outputPath;
+  double spacingM = 0;
+  double cellSizeM = 0;
+  double particlesPerCell = 8;
+  std::string sampler = "lattice";
+  std::uint32_t seed = 0x4669726e;
+  firn::voxelizer::Transform placement;
+  double densityKgPerM3 = 400;
+};
+
+int voxelizeCommand(const VoxelizeOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  firn::voxelizer::SamplingOptions sampling;
+  // --spacing, or the spacing a body of particles_per_cell gets on a grid of cell_size (Sampling.cpp's rule).
+  sampling.spacingM = options.spacingM > 0 ? options.spacingM : options.cellSizeM / std::cbrt(options.particlesPerCell);
+  sampling.sampler = options.sampler == "poisson_disk" ? firn::voxelizer::Sampler::PoissonDisk
+                                                        : firn::voxelizer::Sampler::Lattice;
+  sampling.seed = options.seed;
+  const firn::voxelizer::TriangleMesh mesh =
+      firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
+  const auto loaded = Clock::now();
+  const std::vector<glm::dvec3> positions = firn::voxelizer::voxelize(mesh, sampling);
+  const auto sampled = Clock::now();
+  if (positions.empty()) {
+    throw firn::InputError(options.meshPath + ": no particles: the mesh is smaller than the spacing " +
+                           std::to_string(sampling.spacingM) + " m, or encloses nothing");
+  }
+  // The particles share the volume the lattice measures, one s³ per lattice point (Poisson-disk samples
+  // pack a little denser along the surface, so they are not counted as s³ each: voxelizer/Samplers.h).
+  const double cellVolumeM3 = sampling.spacingM * sampling.spacingM * sampling.spacingM;
+  double volumeM3 = double(positions.size()) * cellVolumeM3;
+  if (sampling.sampler == firn::voxelizer::Sampler::PoissonDisk) {
+    firn::voxelizer::SamplingOptions lattice = sampling;
+    lattice.sampler = firn::voxelizer::Sampler::Lattice;
+    volumeM3 = double(firn::voxelizer::voxelize(mesh, lattice).size()) * cellVolumeM3;
+  }
+  const float massKg = float(options.densityKgPerM3 * volumeM3 / double(positions.size()));
+  firn::PointCache cloud;
+  for (const glm::dvec3& p : positions) {
+    cloud.positionsM.emplace_back(p);
+    cloud.velocitiesMPerS.emplace_back(0.0f);
+    cloud.massesKg.push_back(massKg);
+    cloud.plasticJ.push_back(1.0f);
+  }
+  firn::writePly(options.outputPath, cloud);
+  const firn::voxelizer::Bounds box = firn::voxelizer::bounds(mesh);
+  const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+  std::printf("firn voxelize: %zu triangles, bounds [%.4g, %.4g, %.4g] to [%.4g, %.4g, %.4g] m\n",
+              mesh.triangles.size(), box.minM.x, box.minM.y, box.minM.z, box.maxM.x, box.maxM.y, box.maxM.z);
+  std::printf("firn voxelize: %zu particles at spacing %.4g m (%s): volume %.6g m³ (the mesh's signed volume is "
+              "%.6g m³)\n",
+              positions.size(), sampling.spacingM, options.sampler.c_str(), volumeM3,
+              firn::voxelizer::signedVolume(mesh));
+  std::printf("firn voxelize: wrote %s in %.2f s (load %.2f s, sample %.2f s)\n", options.outputPath.c_str(),
+              seconds(Clock::now() - start), seconds(loaded - start), seconds(sampled - loaded));
   return 0;
 }
 
@@ -49,19 +129,74 @@ int main(int argc, char** argv) {
   CLI::App app{"Firn: a GPU snow engine (Material Point Method, Stomakhin et al. 2013) on OpenGL 4.3 compute shaders"};
   app.require_subcommand(1);
 
+  const std::map<std::string, firn::render::ColorMode> colorModes = {
+      {"material", firn::render::ColorMode::Material},
+      {"speed", firn::render::ColorMode::Speed},
+      {"plastic", firn::render::ColorMode::PlasticCompression},
+      {"stress", firn::render::ColorMode::Stress}};
+  const char* colorHelp = "Particle colour: material, speed, plastic (compression J_P) or stress";
+  const char* sceneHelp = "Scene file (JSON); without it, the built-in snowball-at-a-wall scene";
+
   std::string scenePath;
-  std::optional<int> frames;
-  std::string outputDir = "firn-out";
+  firn::RunOptions runOptions;
+  std::string outputDir = runOptions.outputDir.string();
+  std::string videoPath;
   bool noPly = false;
-  bool passTimes = false;
   CLI::App* run = app.add_subcommand("run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames");
-  run->add_option("scene", scenePath, "Scene file (JSON); without it, the built-in snowball-at-a-wall scene")
-      ->check(CLI::ExistingFile);
-  run->add_option("--frames", frames, "Number of frames after frame 0 (default: the scene's time.frames)")
+  run->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
+  run->add_option("--frames", runOptions.frames, "Number of frames after frame 0 (default: the scene's time.frames)")
       ->check(CLI::Range(0, 1000000));
   run->add_option("--out", outputDir, "Output folder for stats.csv and frame_NNNN.ply")->capture_default_str();
   run->add_flag("--no-ply", noPly, "Write stats.csv only, no point caches");
-  run->add_flag("--pass-times", passTimes, "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
+  run->add_flag("--pass-times", runOptions.passTimes,
+                "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
+  run->add_flag("--png", runOptions.writePng, "Also render each frame offscreen to frame_NNNN.png");
+  run->add_option("--width", runOptions.imageSizePx.x, "Picture width in pixels (--png, --mp4)")
+      ->check(CLI::Range(16, 8192))->capture_default_str();
+  run->add_option("--height", runOptions.imageSizePx.y, "Picture height in pixels (--png, --mp4)")
+      ->check(CLI::Range(16, 8192))->capture_default_str();
+  run->add_option("--color", runOptions.colorMode, colorHelp)
+      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case))->default_str("material");
+  run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
+
+  firn::ViewOptions viewOptions;
+  std::string screenshotPath;
+  CLI::App* view = app.add_subcommand("view", "Open a window and watch the scene (GLFW; needs a display or xvfb-run)");
+  view->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
+  view->add_option("--frames", viewOptions.frames, "Exit after this many drawn frames")->check(CLI::Range(1, 100000000));
+  view->add_option("--screenshot", screenshotPath, "With --frames: write the last frame to this PNG file")
+      ->needs("--frames");
+  view->add_option("--width", viewOptions.widthPx, "Window width in pixels")->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  view->add_option("--height", viewOptions.heightPx, "Window height in pixels")->check(CLI::Range(16, 8192))
+      ->capture_default_str();
+  view->add_option("--color", viewOptions.colorMode, colorHelp)
+      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case))->default_str("material");
+
+  VoxelizeOptions voxelizeOptions;
+  std::vector<double> rotateDeg, translateM;
+  CLI::App* voxelize = app.add_subcommand("voxelize", "Fill a mesh (OBJ, PLY, STL, glTF …) with particles and write a PLY");
+  voxelize->add_option("mesh", voxelizeOptions.meshPath, "Mesh file (anything assimp reads)")->required()
+      ->check(CLI::ExistingFile);
+  voxelize->add_option("--out", voxelizeOptions.outputPath, "Output point cloud (binary PLY: x y z vx vy vz mass plastic_j)")
+      ->required();
+  CLI::Option* spacing = voxelize->add_option("--spacing", voxelizeOptions.spacingM, "Particle spacing s in metres")
+                             ->check(CLI::PositiveNumber);
+  CLI::Option* cellSize = voxelize->add_option("--cell-size", voxelizeOptions.cellSizeM,
+                                               "Grid cell size h in metres: spacing h / cbrt(--particles-per-cell)")
+                              ->check(CLI::PositiveNumber)->excludes(spacing);
+  voxelize->add_option("--particles-per-cell", voxelizeOptions.particlesPerCell, "Particles per grid cell (with --cell-size)")
+      ->check(CLI::Range(0.001, 1000.0))->needs(cellSize)->capture_default_str();
+  voxelize->add_option("--sampler", voxelizeOptions.sampler, "lattice (jittered, grid-aligned) or poisson_disk (blue noise)")
+      ->check(CLI::IsMember({"lattice", "poisson_disk"}))->capture_default_str();
+  voxelize->add_option("--seed", voxelizeOptions.seed, "Random seed of the jitter or the Poisson-disk samples");
+  voxelize->add_option("--scale", voxelizeOptions.placement.scale, "Uniform scale applied to the mesh first")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  voxelize->add_option("--rotate-deg", rotateDeg, "Rotation X,Y,Z in degrees (about x, then y, then z), after scaling")
+      ->expected(3)->delimiter(',');
+  voxelize->add_option("--translate", translateM, "Translation X,Y,Z in metres, applied last")->expected(3)->delimiter(',');
+  voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³: each particle's mass is density · s³")
+      ->check(CLI::PositiveNumber)->capture_default_str();
 
   app.add_subcommand("info", "Show the OpenGL context Firn gets (set FIRN_EGL_DEVICE=N to pick an EGL device)");
 
@@ -73,7 +208,24 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (run->parsed()) return runCommand(scenePath, frames, outputDir, noPly, passTimes);
+    if (run->parsed()) {
+      runOptions.outputDir = outputDir;
+      runOptions.writePly = !noPly;
+      runOptions.videoPath = videoPath;
+      return runCommand(scenePath, runOptions);
+    }
+    if (view->parsed()) {
+      viewOptions.screenshotPath = screenshotPath;
+      return viewCommand(scenePath, viewOptions);
+    }
+    if (voxelize->parsed()) {
+      if (spacing->count() == 0 && cellSize->count() == 0) {
+        throw firn::InputError("voxelize: give --spacing S, or --cell-size H (with --particles-per-cell N)");
+      }
+      if (rotateDeg.size() == 3) voxelizeOptions.placement.rotateDeg = {rotateDeg[0], rotateDeg[1], rotateDeg[2]};
+      if (translateM.size() == 3) voxelizeOptions.placement.translateM = {translateM[0], translateM[1], translateM[2]};
+      return voxelizeCommand(voxelizeOptions);
+    }
     return infoCommand();
   } catch (const firn::Error& error) {
     std::fprintf(stderr, "\nfirn: error: %s\n", error.what());

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <utility>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "Error.h"
 
 namespace firn::gl {
@@ -23,34 +25,70 @@ std::string infoLog(GLuint object, GetParameter getParameter, GetLog getLog) {
 
 }  // namespace
 
-Program Program::compute(const ShaderLibrary& library, const std::string& path, const ShaderOptions& options) {
-  const PreprocessedShader source = library.preprocess(path, options);
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-  const char* text = source.text.c_str();
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
-  GLint compiled = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
-  const std::string compileLog = ShaderLibrary::translateLog(infoLog(shader, glGetShaderiv, glGetShaderInfoLog), source);
-  if (!compiled) {
-    glDeleteShader(shader);
-    throw GLError("compiling " + path + " failed:\n" + compileLog);
+// One compiled shader stage. It deletes its shader object when done: a linked program keeps what it needs.
+struct Program::Stage {
+  Stage(const ShaderLibrary& library, GLenum type, std::string stagePath, const ShaderOptions& options)
+      : path(std::move(stagePath)), source(library.preprocess(path, options)) {
+    shader = glCreateShader(type);
+    const char* text = source.text.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint compiled = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &compiled);
+    const std::string log = ShaderLibrary::translateLog(infoLog(shader, glGetShaderiv, glGetShaderInfoLog), source);
+    if (!compiled) {
+      glDeleteShader(shader);
+      throw GLError("compiling " + path + " failed:\n" + log);
+    }
+    if (!log.empty() && log.find_first_not_of(" \n") != std::string::npos) {
+      std::fprintf(stderr, "firn: warning: compiling %s:\n%s\n", path.c_str(), log.c_str());
+    }
   }
-  if (!compileLog.empty() && compileLog.find_first_not_of(" \n") != std::string::npos) {
-    std::fprintf(stderr, "firn: warning: compiling %s:\n%s\n", path.c_str(), compileLog.c_str());
+  ~Stage() {
+    if (shader != 0) glDeleteShader(shader);
   }
+  Stage(Stage&& other) noexcept
+      : shader(std::exchange(other.shader, 0)), path(std::move(other.path)), source(std::move(other.source)) {}
+  Stage& operator=(Stage&&) = delete;
+  Stage(const Stage&) = delete;
+  Stage& operator=(const Stage&) = delete;
 
+  GLuint shader = 0;
+  std::string path;
+  PreprocessedShader source;
+};
+
+Program Program::link(const std::string& name, const std::vector<Stage>& stages) {
   Program program;
-  program.name_ = path;
+  program.name_ = name;
   program.id_ = glCreateProgram();
-  glAttachShader(program.id_, shader);
+  for (const Stage& stage : stages) glAttachShader(program.id_, stage.shader);
   glLinkProgram(program.id_);
-  glDetachShader(program.id_, shader);
-  glDeleteShader(shader);
+  for (const Stage& stage : stages) glDetachShader(program.id_, stage.shader);
   GLint linked = GL_FALSE;
   glGetProgramiv(program.id_, GL_LINK_STATUS, &linked);
-  if (!linked) throw GLError("linking " + path + " failed:\n" + ShaderLibrary::translateLog(infoLog(program.id_, glGetProgramiv, glGetProgramInfoLog), source));
+  if (!linked) {
+    const std::string log = infoLog(program.id_, glGetProgramiv, glGetProgramInfoLog);
+    // Line numbers in a link log can be mapped back only when a single source could have produced them.
+    throw GLError("linking " + name + " failed:\n" +
+                  (stages.size() == 1 ? ShaderLibrary::translateLog(log, stages.front().source) : log));
+  }
   return program;
+}
+
+Program Program::compute(const ShaderLibrary& library, const std::string& path, const ShaderOptions& options) {
+  std::vector<Stage> stages;
+  stages.emplace_back(library, GL_COMPUTE_SHADER, path, options);
+  return link(path, stages);
+}
+
+Program Program::graphics(const ShaderLibrary& library, const std::string& vertexPath, const std::string& fragmentPath,
+                          const ShaderOptions& options) {
+  std::vector<Stage> stages;
+  stages.reserve(2);
+  stages.emplace_back(library, GL_VERTEX_SHADER, vertexPath, options);
+  stages.emplace_back(library, GL_FRAGMENT_SHADER, fragmentPath, options);
+  return link(vertexPath + " + " + fragmentPath, stages);
 }
 
 Program::~Program() {
@@ -71,6 +109,31 @@ Program& Program::operator=(Program&& other) noexcept {
 void Program::use() const { glUseProgram(id_); }
 
 void Program::set(const char* name, unsigned value) const { glUniform1ui(glGetUniformLocation(id_, name), value); }
+
+void Program::set(const char* name, int value) const { glUniform1i(glGetUniformLocation(id_, name), value); }
+
+void Program::set(const char* name, float value) const { glUniform1f(glGetUniformLocation(id_, name), value); }
+
+void Program::set(const char* name, const glm::vec2& value) const {
+  glUniform2fv(glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+
+void Program::set(const char* name, const glm::vec3& value) const {
+  glUniform3fv(glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+
+void Program::set(const char* name, const glm::vec4& value) const {
+  glUniform4fv(glGetUniformLocation(id_, name), 1, glm::value_ptr(value));
+}
+
+void Program::set(const char* name, const glm::mat4& value) const {
+  glUniformMatrix4fv(glGetUniformLocation(id_, name), 1, GL_FALSE, glm::value_ptr(value));
+}
+
+void Program::set(const char* name, const std::vector<glm::vec4>& values) const {
+  glUniform4fv(glGetUniformLocation(id_, name), static_cast<GLsizei>(values.size()),
+               reinterpret_cast<const GLfloat*>(values.data()));
+}
 
 GLuint Program::release() { return std::exchange(id_, 0); }
 

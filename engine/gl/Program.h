@@ -1,6 +1,12 @@
 #pragma once
-// Move-only owner of a linked compute program.
+// Move-only owner of a linked program: a compute program, or a vertex + fragment program for drawing.
 #include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "gl/GL.h"
 #include "gl/ShaderLibrary.h"
@@ -13,6 +19,9 @@ class Program {
   // Compiles and links `path` from `library`. A compile or link failure throws GLError with the pass name,
   // file:line and the driver's log; a successful compile with a non-empty log prints it as a warning.
   static Program compute(const ShaderLibrary& library, const std::string& path, const ShaderOptions& options);
+  // Compiles `vertexPath` and `fragmentPath` with the same options and links them; failures as for compute().
+  static Program graphics(const ShaderLibrary& library, const std::string& vertexPath, const std::string& fragmentPath,
+                          const ShaderOptions& options);
 
   ~Program();
   Program(Program&& other) noexcept;
@@ -24,12 +33,22 @@ class Program {
   const std::string& name() const { return name_; }
   void use() const;
 
-  // Sets a uint uniform; the program must be in use. A name the compiler optimised away is ignored.
+  // Set a uniform; the program must be in use. A name the compiler optimised away is ignored.
   void set(const char* name, unsigned value) const;
+  void set(const char* name, int value) const;  // also a sampler's texture unit
+  void set(const char* name, float value) const;
+  void set(const char* name, const glm::vec2& value) const;
+  void set(const char* name, const glm::vec3& value) const;
+  void set(const char* name, const glm::vec4& value) const;
+  void set(const char* name, const glm::mat4& value) const;
+  void set(const char* name, const std::vector<glm::vec4>& values) const;  // a vec4 array from element 0
 
   GLuint release();
 
  private:
+  struct Stage;
+  static Program link(const std::string& name, const std::vector<Stage>& stages);
+
   GLuint id_ = 0;
   std::string name_;
 };

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include "Error.h"
 
@@ -22,14 +24,6 @@ void appendLittleEndian(std::string& out, float value) {
   std::uint32_t bits;
   std::memcpy(&bits, &value, sizeof bits);
   for (int byte = 0; byte < 4; ++byte) out.push_back(static_cast<char>((bits >> (8 * byte)) & 0xFFu));
-}
-
-float readLittleEndianFloat(const unsigned char* bytes) {
-  const std::uint32_t bits = std::uint32_t(bytes[0]) | std::uint32_t(bytes[1]) << 8 | std::uint32_t(bytes[2]) << 16 |
-                             std::uint32_t(bytes[3]) << 24;
-  float value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) {
@@ -71,17 +65,64 @@ void writePly(const std::filesystem::path& path, const PointCache& points) {
   std::filesystem::rename(temporary, path);
 }
 
+namespace {
+
+// PLY's scalar types (both the original names and the sized aliases), as read into a double.
+struct PlyType {
+  const char* name;
+  const char* alias;
+  std::size_t bytes;
+  double (*decode)(const unsigned char* bytes);
+};
+
+template <class T>
+double decodeLittleEndian(const unsigned char* bytes) {
+  std::uint64_t bits = 0;
+  for (std::size_t i = 0; i < sizeof(T); ++i) bits |= std::uint64_t(bytes[i]) << (8 * i);
+  T value;
+  if constexpr (sizeof(T) == 8) {
+    std::memcpy(&value, &bits, sizeof value);
+  } else {
+    using Unsigned = std::conditional_t<sizeof(T) == 4, std::uint32_t,
+                                        std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>;
+    const auto narrow = static_cast<Unsigned>(bits);
+    std::memcpy(&value, &narrow, sizeof value);
+  }
+  return static_cast<double>(value);
+}
+
+const PlyType kPlyTypes[] = {
+    {"char", "int8", 1, decodeLittleEndian<std::int8_t>},       {"uchar", "uint8", 1, decodeLittleEndian<std::uint8_t>},
+    {"short", "int16", 2, decodeLittleEndian<std::int16_t>},    {"ushort", "uint16", 2, decodeLittleEndian<std::uint16_t>},
+    {"int", "int32", 4, decodeLittleEndian<std::int32_t>},      {"uint", "uint32", 4, decodeLittleEndian<std::uint32_t>},
+    {"float", "float32", 4, decodeLittleEndian<float>},         {"double", "float64", 8, decodeLittleEndian<double>},
+};
+
+const PlyType* findPlyType(const std::string& name) {
+  for (const PlyType& type : kPlyTypes) {
+    if (name == type.name || name == type.alias) return &type;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 PointCache readPly(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, std::string("cannot open point cache (") + std::strerror(errno) + ")");
   std::string line;
   std::getline(in, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
   if (line != "ply") fail(path, "not a PLY file (first line is not \"ply\")");
 
   bool binary = false;
   std::size_t vertexCount = 0;
   bool inVertexElement = false;
-  std::vector<std::string> properties;
+  struct Property {
+    std::string name;
+    const PlyType* type;
+  };
+  std::vector<Property> properties;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
@@ -101,38 +142,49 @@ PointCache readPly(const std::filesystem::path& path) {
     } else if (keyword == "property" && inVertexElement) {
       std::string type, name;
       words >> type >> name;
-      if (type != "float" && type != "float32") fail(path, "vertex property \"" + name + "\" is " + type + "; only float is supported");
-      properties.push_back(name);
+      if (type == "list") fail(path, "list properties of vertices are not supported");
+      const PlyType* known = findPlyType(type);
+      if (known == nullptr) fail(path, "vertex property \"" + name + "\" has unknown type \"" + type + "\"");
+      properties.push_back({name, known});
     } else if (keyword == "end_header") {
       break;
     }
   }
   if (line != "end_header") fail(path, "PLY header has no end_header");
   std::map<std::string, std::size_t> column;
-  for (std::size_t i = 0; i < properties.size(); ++i) column[properties[i]] = i;
+  for (std::size_t i = 0; i < properties.size(); ++i) column[properties[i].name] = i;
   for (const char* required : {"x", "y", "z"}) {
     if (column.count(required) == 0) fail(path, std::string("vertex property \"") + required + "\" is missing");
   }
 
-  std::vector<float> values(vertexCount * properties.size());
+  // Elements after the vertices (faces of a mesh, say) are not read: a point cloud is its vertices.
+  std::vector<double> values(vertexCount * properties.size());
+  const auto truncated = [&] { fail(path, "truncated: the header declares " + std::to_string(vertexCount) + " vertices"); };
   if (binary) {
-    std::vector<unsigned char> bytes(values.size() * sizeof(float));
-    in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (static_cast<std::size_t>(in.gcount()) != bytes.size()) {
-      fail(path, "truncated: the header declares " + std::to_string(vertexCount) + " vertices");
+    std::size_t recordBytes = 0;
+    for (const Property& property : properties) recordBytes += property.type->bytes;
+    std::vector<unsigned char> record(recordBytes);
+    for (std::size_t v = 0; v < vertexCount; ++v) {
+      in.read(reinterpret_cast<char*>(record.data()), static_cast<std::streamsize>(recordBytes));
+      if (static_cast<std::size_t>(in.gcount()) != recordBytes) truncated();
+      const unsigned char* field = record.data();
+      for (std::size_t p = 0; p < properties.size(); ++p) {
+        values[v * properties.size() + p] = properties[p].type->decode(field);
+        field += properties[p].type->bytes;
+      }
     }
-    for (std::size_t i = 0; i < values.size(); ++i) values[i] = readLittleEndianFloat(&bytes[i * sizeof(float)]);
   } else {
-    for (float& value : values) {
-      if (!(in >> value)) fail(path, "truncated: the header declares " + std::to_string(vertexCount) + " vertices");
+    for (double& value : values) {
+      if (!(in >> value)) truncated();
     }
   }
 
   auto property = [&](std::size_t vertex, const char* name, float fallback) {
     const auto found = column.find(name);
-    return found == column.end() ? fallback : values[vertex * properties.size() + found->second];
+    return found == column.end() ? fallback : float(values[vertex * properties.size() + found->second]);
   };
   PointCache points;
+  points.hasMass = column.count("mass") != 0;
   for (std::size_t v = 0; v < vertexCount; ++v) {
     points.positionsM.emplace_back(property(v, "x", 0), property(v, "y", 0), property(v, "z", 0));
     points.velocitiesMPerS.emplace_back(property(v, "vx", 0), property(v, "vy", 0), property(v, "vz", 0));

@@ -13,6 +13,7 @@ struct PointCache {
   std::vector<glm::vec3> velocitiesMPerS;
   std::vector<float> massesKg;
   std::vector<float> plasticJ;
+  bool hasMass = false;  // read: the file has a "mass" property (otherwise massesKg holds zeros)
   std::size_t size() const { return positionsM.size(); }
 };
 
@@ -21,8 +22,9 @@ struct PointCache {
 // finite (a non-finite value must never reach an output).
 void writePly(const std::filesystem::path& path, const PointCache& points);
 
-// Reads a cache with at least x y z (float); vx vy vz, mass and plastic_j are read when present.
-// Binary little-endian and ASCII. Throws InputError naming the file and the problem.
+// Reads the vertices of a PLY file with at least x y z; vx vy vz, mass and plastic_j are read when present,
+// other properties are skipped. Binary little-endian and ASCII, any PLY scalar type (a cloud made elsewhere
+// often has double coordinates and uchar colours). Throws InputError naming the file and the problem.
 PointCache readPly(const std::filesystem::path& path);
 
 }  // namespace firn

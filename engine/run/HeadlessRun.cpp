@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <system_error>
@@ -11,6 +12,7 @@
 #include "gl/Context.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
+#include "io/Video.h"
 #include "sim/Simulation.h"
 
 namespace firn {
@@ -21,9 +23,10 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-std::string frameFileName(int frame) {
+// frame_NNNN.<extension>, the names design.md gives the outputs (and assembleVideo reads).
+std::string frameFileName(int frame, const char* extension) {
   char name[32];
-  std::snprintf(name, sizeof name, "frame_%04d.ply", frame);
+  std::snprintf(name, sizeof name, "frame_%04d.%s", frame, extension);
   return name;
 }
 
@@ -65,6 +68,12 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
       << " cells, dt " << scene.time.dtS << " s, " << frames << " frames on " << context.info().renderer << "\n";
 
   simulation.setPassTiming(options.passTimes);
+  std::optional<render::OffscreenRenderer> pictures;
+  render::Camera camera;
+  if (options.writePng || !options.videoPath.empty()) {
+    pictures.emplace(scene, options.imageSizePx);
+    camera = render::defaultCamera(scene, float(options.imageSizePx.x) / float(options.imageSizePx.y));
+  }
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
@@ -74,7 +83,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.steps = steps;
     row.wallMs = wallMs;
     stats.write(row);
-    if (options.writePly) writePly(options.outputDir / frameFileName(frame), toPointCache(particles));
+    if (options.writePly) writePly(options.outputDir / frameFileName(frame, "ply"), toPointCache(particles));
+    if (pictures) {
+      render::writePng(options.outputDir / frameFileName(frame, "png"),
+                       pictures->render(simulation, camera, options.colorMode));
+    }
   };
 
   RunSummary summary;
@@ -106,6 +119,10 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
                     pass.totalWallMs / steps);
       log << row;
     }
+  }
+  if (!options.videoPath.empty()) {
+    assembleVideo(options.outputDir, summary.frames + 1, scene.time.frameRateHz, options.videoPath);
+    log << "firn: wrote " << options.videoPath.string() << "\n";
   }
   summary.wallS = secondsSince(runStart);
   return summary;

@@ -6,6 +6,9 @@
 #include <optional>
 #include <string>
 
+#include <glm/vec2.hpp>
+
+#include "render/Renderer.h"
 #include "scene/Scene.h"
 
 namespace firn {
@@ -16,6 +19,10 @@ struct RunOptions {
   bool writePly = true;
   bool showProgress = false;       // a progress line on stderr (when it is a terminal)
   bool passTimes = false;          // time every pass on the GPU and print a table at the end
+  bool writePng = false;           // render each frame offscreen to frame_NNNN.png
+  glm::ivec2 imageSizePx{1280, 720};
+  render::ColorMode colorMode = render::ColorMode::Material;
+  std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg
 };
 
 struct RunSummary {

@@ -6,8 +6,14 @@
 
 namespace firn {
 
-StepAccumulator::StepAccumulator(double dtS, int maxStepsPerFrame) : dtS_(dtS), maxStepsPerFrame_(maxStepsPerFrame) {
-  if (!(dtS > 0) || maxStepsPerFrame < 1) throw std::invalid_argument("StepAccumulator: dt > 0 and a cap ≥ 1 are required");
+StepAccumulator::StepAccumulator(double dtS, int maxStepsPerFrame) : dtS_(dtS) {
+  if (!(dtS > 0)) throw std::invalid_argument("StepAccumulator: dt must be positive");
+  setMaxStepsPerFrame(maxStepsPerFrame);
+}
+
+void StepAccumulator::setMaxStepsPerFrame(int maxStepsPerFrame) {
+  if (maxStepsPerFrame < 1) throw std::invalid_argument("StepAccumulator: the cap must be at least one step");
+  maxStepsPerFrame_ = maxStepsPerFrame;
 }
 
 int StepAccumulator::stepsForFrame(double frameWallS, double speed) {

@@ -19,6 +19,8 @@ class StepAccumulator {
 
   double dtS() const { return dtS_; }
   int maxStepsPerFrame() const { return maxStepsPerFrame_; }
+  // The viewer sets the cap from the measured cost of a step, so physics fits its share of a frame.
+  void setMaxStepsPerFrame(int maxStepsPerFrame);
   // Simulated time owed but not yet stepped (less than one dt after any frame).
   double bankedS() const { return bankedS_; }
   // Simulated time given up because of the cap, since construction or reset().
@@ -27,7 +29,7 @@ class StepAccumulator {
 
  private:
   double dtS_;
-  int maxStepsPerFrame_;
+  int maxStepsPerFrame_ = 1;
   double bankedS_ = 0;
   double droppedS_ = 0;
 };

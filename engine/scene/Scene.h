@@ -2,6 +2,7 @@
 // The scene description: what design.md's JSON scene file says, parsed and validated, in SI units.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,12 +10,16 @@
 #include <glm/vec3.hpp>
 
 namespace firn {
+namespace voxelizer {
+struct TriangleMesh;
+}
 
 enum class Kernel { Quadratic, Cubic };          // B-spline order: 27 or 64 nodes per particle
 enum class Transfer { PicFlip, Apic };            // seed 002's PIC/FLIP blend, or seed 001's APIC
 enum class Atomics { FixedPoint, Float };         // integer atomics on nondimensional sums, or NV float atomics
 enum class Boundary { Sticky, Slip, Separate };   // seed 001 ch. 5
-enum class BodyShape { Sphere, Box };
+enum class BodyShape { Sphere, Box, Mesh, Points };
+enum class BodySampler { Lattice, PoissonDisk };  // how sphere, box and mesh bodies are filled
 enum class ColliderShape { Plane, Sphere, Box };
 
 struct GridSpec {
@@ -60,10 +65,41 @@ struct Body {
   glm::dvec3 maxM{0.0};     // box
   int materialIndex = 0;    // into Scene::materials
   glm::dvec3 velocityMPerS{0.0};
+  // Sphere, box and mesh bodies are sampled at spacing cell_size / cbrt(particlesPerCell); for a points body
+  // it is (cell_size / the cloud's spacing)³, what the fixed-point bounds need to know.
   double particlesPerCell = 8;
+  BodySampler sampler = BodySampler::Lattice;
 
-  glm::dvec3 boundsMinM() const { return shape == BodyShape::Sphere ? centerM - radiusM : minM; }
-  glm::dvec3 boundsMaxM() const { return shape == BodyShape::Sphere ? centerM + radiusM : maxM; }
+  // Mesh and points bodies: the file (as the scene names it, and resolved against the scene's folder), and
+  // the placement applied to it: p' = translate + R · (scale · p), R = Rz · Ry · Rx (voxelizer/Mesh.h).
+  std::string path;
+  std::filesystem::path resolvedPath;
+  double scale = 1;
+  glm::dvec3 rotateDeg{0.0};
+  glm::dvec3 translateM{0.0};
+  // Loaded and placed by the scene loader, so that a bad file is reported with the scene, before any run.
+  std::shared_ptr<const voxelizer::TriangleMesh> mesh;
+  std::shared_ptr<const std::vector<glm::dvec3>> pointsM;
+  // Points bodies: kilograms per particle, from "particle_mass", the file's own masses, or ρ s³ with s the
+  // cloud's median neighbour spacing (in that order of preference).
+  std::vector<double> pointMassesKg;  // one per point, or a single value for all
+  double pointSpacingM = 0;
+  glm::dvec3 loadedMinM{0.0}, loadedMaxM{0.0};  // mesh and points: bounds after placement
+
+  glm::dvec3 boundsMinM() const {
+    switch (shape) {
+      case BodyShape::Sphere: return centerM - radiusM;
+      case BodyShape::Box: return minM;
+      default: return loadedMinM;
+    }
+  }
+  glm::dvec3 boundsMaxM() const {
+    switch (shape) {
+      case BodyShape::Sphere: return centerM + radiusM;
+      case BodyShape::Box: return maxM;
+      default: return loadedMaxM;
+    }
+  }
 };
 
 struct Collider {

@@ -16,12 +16,15 @@
 #include <utility>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 #include <nlohmann/json.hpp>
 
 #include "Error.h"
+#include "io/PointCloud.h"
 #include "scene/Scene.h"
+#include "voxelizer/Mesh.h"
 
 namespace firn {
 namespace {
@@ -481,30 +484,113 @@ int readMaterialReference(const Object& body, const std::vector<SnowMaterial>& m
   reference.fail("no material named " + describeValue(reference.json()) + " (materials: " + joinNames(names) + ")");
 }
 
-Body readBody(const Object& body, const GridSpec& grid, const std::vector<SnowMaterial>& materials) {
-  Body result;
-  result.shape = body.required("shape").choice<BodyShape>({{"sphere", BodyShape::Sphere}, {"box", BodyShape::Box}},
-                                                         {"mesh", "points"});
-  const std::vector<std::string> commonKeys = {"material", "velocity", "particles_per_cell"};
-  const Names laterKeys = {"angular_velocity", "lambda_scale", "mu_scale",  "mass_scale",    "start_frame",
-                           "duration_frames",  "path",         "scale",     "translate",     "particle_mass"};
-  if (result.shape == BodyShape::Sphere) {
-    std::vector<std::string> keys = {"shape", "center", "radius"};
-    keys.insert(keys.end(), commonKeys.begin(), commonKeys.end());
-    body.checkKeys(keys, laterKeys, "a sphere body");
-    result.centerM = body.vec3("center");
-    result.radiusM = body.number("radius", Interval::greaterThan(0));
+voxelizer::Transform readPlacement(const Object& body) {
+  voxelizer::Transform placement;
+  placement.scale = body.number("scale", placement.scale, Interval::greaterThan(0));
+  placement.rotateDeg = body.vec3("rotate_deg", placement.rotateDeg);
+  placement.translateM = body.vec3("translate", placement.translateM);
+  return placement;
+}
+
+void loadMeshBody(const Object& body, Body& result, const voxelizer::Transform& placement) {
+  voxelizer::TriangleMesh mesh;
+  try {
+    mesh = voxelizer::transformed(voxelizer::loadMesh(result.resolvedPath), placement);
+  } catch (const InputError& error) {
+    body.fail("path", error.what());
+  }
+  const voxelizer::Bounds box = voxelizer::bounds(mesh);
+  result.loadedMinM = box.minM;
+  result.loadedMaxM = box.maxM;
+  result.mesh = std::make_shared<const voxelizer::TriangleMesh>(std::move(mesh));
+}
+
+void loadPointsBody(const Object& body, Body& result, const voxelizer::Transform& placement, const GridSpec& grid,
+                    double densityKgPerM3) {
+  PointCloud cloud;
+  try {
+    cloud = readPointCloud(result.resolvedPath);
+  } catch (const InputError& error) {
+    body.fail("path", error.what());
+  }
+  const glm::dmat3 rotation = voxelizer::rotationMatrix(placement.rotateDeg);
+  std::vector<glm::dvec3> points;
+  points.reserve(cloud.positionsM.size());
+  result.loadedMinM = glm::dvec3(std::numeric_limits<double>::infinity());
+  result.loadedMaxM = -result.loadedMinM;
+  for (const glm::dvec3& p : cloud.positionsM) {
+    points.push_back(placement.translateM + rotation * (placement.scale * p));
+    result.loadedMinM = glm::min(result.loadedMinM, points.back());
+    result.loadedMaxM = glm::max(result.loadedMaxM, points.back());
+  }
+  result.pointSpacingM = medianNeighbourSpacingM(points);
+  if (result.pointSpacingM > 0) result.particlesPerCell = std::pow(grid.cellSizeM / result.pointSpacingM, 3.0);
+
+  if (body.has("particle_mass")) {
+    result.pointMassesKg = {body.number("particle_mass", Interval::greaterThan(0))};
+  } else if (!cloud.massesKg.empty()) {
+    // The file's masses belong to the cloud at its own size; scaled by s, it covers s³ the volume.
+    const double volumeRatio = placement.scale * placement.scale * placement.scale;
+    for (double massKg : cloud.massesKg) result.pointMassesKg.push_back(massKg * volumeRatio);
+  } else if (result.pointSpacingM > 0) {
+    result.pointMassesKg = {densityKgPerM3 * result.pointSpacingM * result.pointSpacingM * result.pointSpacingM};
   } else {
-    std::vector<std::string> keys = {"shape", "min", "max"};
-    keys.insert(keys.end(), commonKeys.begin(), commonKeys.end());
-    body.checkKeys(keys, laterKeys, "a box body");
-    result.minM = body.vec3("min");
-    result.maxM = body.vec3("max");
-    checkBoxCorners(body, result.minM, result.maxM);
+    body.fail("particle_mass", "required key is missing: the cloud's points coincide, so no spacing (and no mass "
+                               "from the density) can be derived from it");
+  }
+  result.pointsM = std::make_shared<const std::vector<glm::dvec3>>(std::move(points));
+}
+
+Body readBody(const Object& body, const GridSpec& grid, const std::vector<SnowMaterial>& materials,
+              const std::filesystem::path& sceneFolder) {
+  Body result;
+  result.shape = body.required("shape").choice<BodyShape>(
+      {{"sphere", BodyShape::Sphere}, {"box", BodyShape::Box}, {"mesh", BodyShape::Mesh}, {"points", BodyShape::Points}});
+  const Names laterKeys = {"angular_velocity", "lambda_scale", "mu_scale", "mass_scale", "start_frame", "duration_frames"};
+  const auto keysWith = [](const std::vector<std::string>& shapeKeys) {
+    std::vector<std::string> keys = {"shape"};
+    keys.insert(keys.end(), shapeKeys.begin(), shapeKeys.end());
+    for (const char* common : {"material", "velocity"}) keys.push_back(common);
+    return keys;
+  };
+  const auto readFile = [&] {
+    result.path = body.required("path").string();
+    if (result.path.empty()) body.fail("path", "must not be empty");
+    result.resolvedPath = sceneFolder / result.path;
+  };
+  switch (result.shape) {
+    case BodyShape::Sphere:
+      body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), laterKeys, "a sphere body");
+      result.centerM = body.vec3("center");
+      result.radiusM = body.number("radius", Interval::greaterThan(0));
+      break;
+    case BodyShape::Box:
+      body.checkKeys(keysWith({"min", "max", "particles_per_cell", "sampler"}), laterKeys, "a box body");
+      result.minM = body.vec3("min");
+      result.maxM = body.vec3("max");
+      checkBoxCorners(body, result.minM, result.maxM);
+      break;
+    case BodyShape::Mesh:
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particles_per_cell", "sampler"}), laterKeys,
+                     "a mesh body");
+      readFile();
+      break;
+    case BodyShape::Points:
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particle_mass"}), laterKeys,
+                     "a points body");
+      readFile();
+      break;
   }
   result.materialIndex = readMaterialReference(body, materials);
   result.velocityMPerS = body.vec3("velocity", result.velocityMPerS);
   result.particlesPerCell = body.number("particles_per_cell", result.particlesPerCell, Interval::openClosed(0, 1000));
+  result.sampler = body.choice<BodySampler>("sampler", result.sampler,
+                                            {{"lattice", BodySampler::Lattice}, {"poisson_disk", BodySampler::PoissonDisk}});
+  if (result.shape == BodyShape::Mesh) loadMeshBody(body, result, readPlacement(body));
+  if (result.shape == BodyShape::Points) {
+    loadPointsBody(body, result, readPlacement(body), grid,
+                   materials[std::size_t(result.materialIndex)].densityKgPerM3);
+  }
 
   // Particles must start clear of the wall cells, where the grid update zeroes the velocity.
   const glm::dvec3 interiorMinM = grid.interiorMinM();
@@ -570,7 +656,7 @@ CameraSpec readCamera(const Object& camera) {
   return spec;
 }
 
-Scene readScene(const Object& root) {
+Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   root.checkKeys(
       {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders", "camera"}, {},
       "a scene");
@@ -587,7 +673,7 @@ Scene readScene(const Object& root) {
   if (!bodies.json().is_array()) bodies.fail("expected an array of bodies (got " + describeValue(bodies.json()) + ")");
   if (bodies.json().empty()) bodies.fail("at least one body is required");
   for (std::size_t i = 0; i < bodies.json().size(); ++i) {
-    scene.bodies.push_back(readBody(Object(bodies.element(i)), scene.grid, scene.materials));
+    scene.bodies.push_back(readBody(Object(bodies.element(i)), scene.grid, scene.materials, sceneFolder));
   }
 
   if (const auto colliders = root.optional("colliders")) {
@@ -614,7 +700,7 @@ Scene parseScene(const std::string& jsonText, const std::filesystem::path& sourc
   } catch (const Json::out_of_range& error) {
     throwNumberOverflow(file, jsonText, error);
   }
-  Scene scene = readScene(Object(Value(root, "", file)));
+  Scene scene = readScene(Object(Value(root, "", file)), source.parent_path());
   scene.sourcePath = source;
   return scene;
 }

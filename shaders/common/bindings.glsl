@@ -1,5 +1,6 @@
 // Buffers and the step's uniform block, mirroring engine/sim/GpuLayout.h. Binding points come from the
-// host as FIRN_BINDING_* defines, so they are written once. Grid buffers live in grid.glsl.
+// host as FIRN_BINDING_* defines, so they are written once. Particle buffers live in particles.glsl (the
+// renderer's vertex shader reads them too), grid buffers in grid.glsl.
 
 layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniforms {
   vec4 gridOriginCellSize;  // origin (m), h (m)
@@ -10,19 +11,7 @@ layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniforms {
   uvec4 counts;             // particles, colliders, step index
 };
 
-layout(std430, binding = FIRN_BINDING_POSITION_MASS) buffer PositionMassBuffer { vec4 positionMass[]; };
-layout(std430, binding = FIRN_BINDING_VELOCITY_VOLUME) buffer VelocityVolumeBuffer { vec4 velocityVolume[]; };
-layout(std430, binding = FIRN_BINDING_ELASTIC_DEFORMATION) buffer ElasticDeformationBuffer { mat3 elasticDeformation[]; };
-layout(std430, binding = FIRN_BINDING_KIRCHHOFF_STRESS) buffer KirchhoffStressBuffer { mat3 kirchhoffStress[]; };
-#ifdef FIRN_TRANSFER_APIC
-layout(std430, binding = FIRN_BINDING_AFFINE) buffer AffineBuffer { mat3 affine[]; };
-#endif
-
-struct PlasticState {
-  float plasticJ;      // J_P = det F_P
-  uint materialIndex;
-};
-layout(std430, binding = FIRN_BINDING_PLASTIC_STATE) buffer PlasticStateBuffer { PlasticState plasticState[]; };
+#include "common/particles.glsl"
 
 struct MaterialParams {
   vec4 elastic;  // μ0 (Pa), λ0 (Pa), hardening ξ, density (kg/m³)

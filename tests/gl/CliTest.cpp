@@ -12,42 +12,16 @@
 #include <string>
 #include <vector>
 
+#include "Cli.h"
 #include "io/Ply.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Result {
-  int exitCode;
-  std::string output;  // stdout and stderr
-};
-
-Result runFirn(const std::string& arguments, const std::string& environment = "") {
-  const std::string command = environment + " " + FIRN_EXECUTABLE + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return {-1, "popen failed"};
-  std::string output;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path freshDirectory(const std::string& name) {
-  // The process id keeps concurrent test runs (ctest --parallel, two checkouts) out of each other's way.
-  const fs::path directory =
-      fs::temp_directory_path() / ("firn_cli_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(directory);
-  fs::create_directories(directory);
-  return directory;
-}
-
-fs::path writeScene(const fs::path& directory, const std::string& name, const std::string& json) {
-  const fs::path path = directory / name;
-  std::ofstream(path) << json;
-  return path;
-}
+using firn::test::freshDirectory;
+using firn::test::Result;
+using firn::test::runFirn;
+using firn::test::writeScene;
 
 std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
   std::vector<std::vector<std::string>> rows;

@@ -352,11 +352,6 @@ TEST(SceneLoader, RejectsUnsupportedMaterialModel) {
 
 TEST(SceneLoader, RejectsUnsupportedShapesAndKeys) {
   Json scene = validScene();
-  scene["bodies"][0] = {{"shape", "mesh"}, {"path", "meshes/bunny.obj"}, {"material", "snow"}};
-  expectError(scene, "bodies[0].shape",
-              "\"mesh\" is part of the scene format but not supported by this build yet (supported: sphere, box)");
-
-  scene = validScene();
   scene["colliders"] = {{{"type", "mesh"}}};
   expectError(scene, "colliders[0].type", "\"mesh\" is part of the scene format but not supported by this build yet");
 

@@ -1,0 +1,385 @@
+#include "Viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gl/GL.h"  // GLEW's header must come before GLFW's
+#include <GLFW/glfw3.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "Error.h"
+#include "gl/Context.h"
+#include "run/StepAccumulator.h"
+#include "sim/Simulation.h"
+
+namespace firn {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Physics may use up to this much wall time per drawn frame, so the window stays responsive (about 30 frames
+// per second at most spent stepping) on a machine that cannot keep real time.
+constexpr double kPhysicsBudgetPerFrameS = 1.0 / 30.0;
+constexpr double kTitleIntervalS = 0.25;
+constexpr double kMinSpeed = 1.0 / 64, kMaxSpeed = 4.0;
+// Snowballs thrown from the camera: radius in cells (big enough to hold together, small beside a scene),
+// speed (m/s), and how many the particle buffers keep room for.
+constexpr double kSnowballRadiusCells = 4.0;
+constexpr double kSnowballSpeedMPerS = 8.0;
+constexpr int kSnowballCapacity = 8;
+
+std::string& lastGlfwError() {
+  static std::string message = "no error reported";
+  return message;
+}
+
+void rememberGlfwError(int code, const char* description) {
+  char text[32];
+  std::snprintf(text, sizeof text, " (GLFW error 0x%05X)", code);
+  lastGlfwError() = std::string(description) + text;
+}
+
+// glfwInit/glfwTerminate as an object, so every way out of runViewer terminates GLFW.
+class GlfwSession {
+ public:
+  GlfwSession() {
+    glfwSetErrorCallback(rememberGlfwError);
+    if (glfwInit() != GLFW_TRUE) {
+      throw NoOpenGLError("firn view needs a window system, and GLFW could not start one: " + lastGlfwError() +
+                          ". Without a display, run `xvfb-run -a firn view …`, or use `firn run --png` for pictures");
+    }
+  }
+  ~GlfwSession() { glfwTerminate(); }
+  GlfwSession(const GlfwSession&) = delete;
+  GlfwSession& operator=(const GlfwSession&) = delete;
+};
+
+struct WindowDeleter {
+  void operator()(GLFWwindow* window) const { glfwDestroyWindow(window); }
+};
+using WindowPtr = std::unique_ptr<GLFWwindow, WindowDeleter>;
+
+// A camera that turns about a target point: yaw about +y, pitch up to just short of the poles.
+class OrbitCamera {
+ public:
+  explicit OrbitCamera(const render::Camera& start) : targetM_(start.targetM), fovDeg_(start.fovDeg) {
+    const glm::vec3 offset = start.positionM - start.targetM;
+    distanceM_ = glm::length(offset);
+    yawRad_ = std::atan2(offset.x, offset.z);
+    pitchRad_ = std::asin(glm::clamp(offset.y / distanceM_, -1.0f, 1.0f));
+  }
+
+  render::Camera camera() const {
+    render::Camera camera;
+    camera.targetM = targetM_;
+    camera.positionM = targetM_ + distanceM_ * direction();
+    camera.fovDeg = fovDeg_;
+    return camera;
+  }
+
+  void orbit(double dxPx, double dyPx) {
+    constexpr double radiansPerPx = 0.005;
+    constexpr float maxPitchRad = 1.55f;  // about 89°: the view direction never lines up with +y
+    yawRad_ -= float(dxPx * radiansPerPx);
+    pitchRad_ = glm::clamp(pitchRad_ + float(dyPx * radiansPerPx), -maxPitchRad, maxPitchRad);
+  }
+
+  // Moves the target in the view plane so that the point under the cursor follows it.
+  void pan(double dxPx, double dyPx, int viewportHeightPx) {
+    const float metresPerPx =
+        2.0f * distanceM_ * std::tan(glm::radians(fovDeg_) / 2) / float(std::max(viewportHeightPx, 1));
+    const glm::vec3 forward = -direction();
+    const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 1, 0)));
+    const glm::vec3 up = glm::cross(right, forward);
+    targetM_ += metresPerPx * (-float(dxPx) * right + float(dyPx) * up);
+  }
+
+  void zoom(double wheelSteps) { distanceM_ *= float(std::pow(0.9, wheelSteps)); }
+
+ private:
+  glm::vec3 direction() const {
+    return {std::cos(pitchRad_) * std::sin(yawRad_), std::sin(pitchRad_), std::cos(pitchRad_) * std::cos(yawRad_)};
+  }
+
+  glm::vec3 targetM_;
+  float fovDeg_;
+  float distanceM_ = 1;
+  float yawRad_ = 0;
+  float pitchRad_ = 0;
+};
+
+// Where along the ray origin + t·direction (t ≥ 0) it enters the box, by the slab method; nothing if it misses.
+std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& boxMin,
+                                  const glm::vec3& boxMax) {
+  float enter = 0, leave = std::numeric_limits<float>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(direction[axis]) < 1e-12f) {
+      if (origin[axis] < boxMin[axis] || origin[axis] > boxMax[axis]) return std::nullopt;
+      continue;
+    }
+    float near = (boxMin[axis] - origin[axis]) / direction[axis];
+    float far = (boxMax[axis] - origin[axis]) / direction[axis];
+    if (near > far) std::swap(near, far);
+    enter = std::max(enter, near);
+    leave = std::min(leave, far);
+  }
+  if (enter > leave) return std::nullopt;
+  return enter;
+}
+
+std::string withThousands(std::size_t value) {
+  std::string digits = std::to_string(value);
+  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
+  return digits;
+}
+
+class Viewer {
+ public:
+  Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
+      : scene_(scene), options_(options), window_(window), gl_(gl), seeds_(sampleBodies(scene)),
+        snowballTemplate_(sampleSnowball()), renderer_(scene),
+        orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx))),
+        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode) {
+    resetSimulation();
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
+      if (action != GLFW_RELEASE) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onKey(key, mods);
+    });
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onCursor(x, y);
+    });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
+      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
+    });
+    std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
+                "S step, R reset, +/- speed, C colour, T throw a snowball, F reframe, Q quit\n",
+                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(seeds_.size()).c_str());
+  }
+
+  void run() {
+    auto lastFrame = Clock::now();
+    auto lastTitle = lastFrame;
+    int frame = 0;
+    while (glfwWindowShouldClose(window_) == GLFW_FALSE) {
+      glfwPollEvents();
+      const auto now = Clock::now();
+      const double frameWallS = std::chrono::duration<double>(now - lastFrame).count();
+      lastFrame = now;
+
+      const int steps = paused_ ? std::exchange(pendingSingleSteps_, 0) : accumulator_.stepsForFrame(frameWallS, speed_);
+      advance(steps);
+
+      glm::ivec2 framebufferPx;
+      glfwGetFramebufferSize(window_, &framebufferPx.x, &framebufferPx.y);
+      // A minimised window has no pixels to draw into.
+      if (framebufferPx.x > 0 && framebufferPx.y > 0) {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        renderer_.draw(*simulation_, orbit_.camera(), framebufferPx, colorMode_);
+      }
+      ++frame;
+      if (options_.frames && frame >= *options_.frames) {
+        if (!options_.screenshotPath.empty()) {
+          render::writePng(options_.screenshotPath, render::readFramebuffer(framebufferPx));
+          std::printf("firn view: wrote %s after %d frames (t = %.3f s)\n", options_.screenshotPath.string().c_str(),
+                      frame, simulation_->timeS());
+        }
+        break;
+      }
+      glfwSwapBuffers(window_);
+      if (std::chrono::duration<double>(now - lastTitle).count() >= kTitleIntervalS) {
+        updateTitle(std::chrono::duration<double>(now - lastTitle).count());
+        lastTitle = now;
+      }
+    }
+  }
+
+ private:
+  void resetSimulation() {
+    simulation_.reset();  // frees the old buffers before the new ones are made
+    simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_,
+                                               seeds_.size() + kSnowballCapacity * snowballTemplate_.size());
+    accumulator_.reset();
+    unstable_ = false;
+  }
+
+  // Takes `steps` steps of dt, then reads the watchdog; a scripted run stops on instability, an interactive
+  // one pauses with the message so the user can look, then reset.
+  void advance(int steps) {
+    if (steps <= 0 || unstable_) return;
+    const auto start = Clock::now();
+    for (int i = 0; i < steps; ++i) simulation_->step(scene_.time.dtS);
+    try {
+      simulation_->checkWatchdog();  // reads a small buffer, which waits for the steps to finish
+    } catch (const SimulationError& error) {
+      if (options_.frames) throw;
+      std::fprintf(stderr, "firn view: %s\nfirn view: paused; press R to reset\n", error.what());
+      unstable_ = true;
+      paused_ = true;
+    }
+    const double secondsPerStep = std::chrono::duration<double>(Clock::now() - start).count() / steps;
+    // The cap follows the measured cost of a step (smoothed), so physics fits its share of each frame.
+    stepCostS_ = stepCostS_ == 0 ? secondsPerStep : 0.8 * stepCostS_ + 0.2 * secondsPerStep;
+    accumulator_.setMaxStepsPerFrame(std::max(1, int(kPhysicsBudgetPerFrameS / stepCostS_)));
+    stepsSinceTitle_ += steps;
+  }
+
+  void updateTitle(double intervalS) {
+    char text[512];
+    const double stepsPerS = stepsSinceTitle_ / intervalS;
+    std::snprintf(text, sizeof text,
+                  "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | colour: %s%s",
+                  scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
+                  withThousands(simulation_->particleCount()).c_str(), simulation_->timeS(), speed_,
+                  render::colorModeName(colorMode_), unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
+    glfwSetWindowTitle(window_, text);
+    stepsSinceTitle_ = 0;
+  }
+
+  void onKey(int key, int mods) {
+    switch (key) {
+      case GLFW_KEY_ESCAPE:
+      case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+      case GLFW_KEY_SPACE: paused_ = !paused_ || unstable_; accumulator_.reset(); break;
+      case GLFW_KEY_S:
+      case GLFW_KEY_RIGHT:
+        paused_ = true;
+        ++pendingSingleSteps_;
+        break;
+      case GLFW_KEY_R: resetSimulation(); break;
+      case GLFW_KEY_EQUAL:
+      case GLFW_KEY_KP_ADD: speed_ = std::min(speed_ * 2, kMaxSpeed); break;
+      case GLFW_KEY_MINUS:
+      case GLFW_KEY_KP_SUBTRACT: speed_ = std::max(speed_ / 2, kMinSpeed); break;
+      case GLFW_KEY_C: {
+        const int next = (int(colorMode_) + ((mods & GLFW_MOD_SHIFT) ? render::kColorModeCount - 1 : 1)) %
+                         render::kColorModeCount;
+        colorMode_ = render::ColorMode(next);
+        break;
+      }
+      case GLFW_KEY_T: throwSnowball(); break;
+      case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect())); break;
+      default: break;
+    }
+  }
+
+  void onCursor(double x, double y) {
+    const double dx = x - cursorX_, dy = y - cursorY_;
+    cursorX_ = x;
+    cursorY_ = y;
+    const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+                       glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+    const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                       glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    int widthPx = 0, heightPx = 0;
+    glfwGetWindowSize(window_, &widthPx, &heightPx);
+    if (right || (left && shift)) {
+      orbit_.pan(dx, dy, heightPx);
+    } else if (left) {
+      orbit_.orbit(dx, dy);
+    }
+  }
+
+  float aspect() const {
+    int widthPx = 0, heightPx = 0;
+    glfwGetFramebufferSize(window_, &widthPx, &heightPx);
+    return heightPx > 0 ? float(widthPx) / float(heightPx) : 1.0f;
+  }
+
+  // A sphere of the first body's material and particle spacing, centred at the origin, at rest.
+  std::vector<ParticleSeed> sampleSnowball() const {
+    Scene ball = scene_;
+    Body body;
+    body.shape = BodyShape::Sphere;
+    body.radiusM = kSnowballRadiusCells * scene_.grid.cellSizeM;
+    body.centerM = scene_.grid.originM + 0.5 * glm::dvec3(scene_.grid.cells) * scene_.grid.cellSizeM;
+    body.materialIndex = scene_.bodies.front().materialIndex;
+    body.particlesPerCell = scene_.bodies.front().particlesPerCell;
+    ball.bodies = {body};
+    std::vector<ParticleSeed> particles = sampleBodies(ball);
+    for (ParticleSeed& particle : particles) {
+      particle.positionM -= glm::vec3(body.centerM);
+      particle.bodyIndex = -1;
+    }
+    return particles;
+  }
+
+  // Throws a snowball along the view direction from where the view ray enters the domain (or from the
+  // camera, if it is inside), kept clear of the walls.
+  void throwSnowball() {
+    if (simulation_->particleCount() + snowballTemplate_.size() > simulation_->particleCapacity()) {
+      std::fprintf(stderr, "firn view: no room for another snowball (%d thrown; press R to reset)\n", kSnowballCapacity);
+      return;
+    }
+    const render::Camera camera = orbit_.camera();
+    const glm::vec3 forward = glm::normalize(camera.targetM - camera.positionM);
+    const float clearanceM = float((kSnowballRadiusCells + 1) * scene_.grid.cellSizeM);
+    const glm::vec3 lowM = glm::vec3(scene_.grid.interiorMinM()) + clearanceM;
+    const glm::vec3 highM = glm::vec3(scene_.grid.interiorMaxM()) - clearanceM;
+    if (glm::any(glm::greaterThan(lowM, highM))) return;  // the domain is too small for a snowball
+    const std::optional<float> entry = rayEntersBox(camera.positionM, forward, lowM, highM);
+    const glm::vec3 centerM = glm::clamp(entry ? camera.positionM + *entry * forward : camera.targetM, lowM, highM);
+    // At most a third of a cell per step, well inside the CFL bound the watchdog enforces.
+    const float speedMPerS = float(std::min(kSnowballSpeedMPerS, scene_.grid.cellSizeM / scene_.time.dtS / 3));
+    std::vector<ParticleSeed> particles = snowballTemplate_;
+    for (ParticleSeed& particle : particles) {
+      particle.positionM += centerM;
+      particle.velocityMPerS = speedMPerS * forward;
+    }
+    simulation_->addParticles(particles);
+  }
+
+  const Scene& scene_;
+  const ViewOptions& options_;
+  GLFWwindow* window_;
+  gl::ContextInfo gl_;
+  std::vector<ParticleSeed> seeds_;
+  std::vector<ParticleSeed> snowballTemplate_;
+  std::unique_ptr<Simulation> simulation_;
+  render::Renderer renderer_;
+  OrbitCamera orbit_;
+  StepAccumulator accumulator_;
+  render::ColorMode colorMode_;
+  bool paused_ = false;
+  bool unstable_ = false;
+  int pendingSingleSteps_ = 0;
+  double speed_ = 1;
+  double stepCostS_ = 0;
+  int stepsSinceTitle_ = 0;
+  double cursorX_ = 0, cursorY_ = 0;
+};
+
+}  // namespace
+
+void runViewer(const Scene& scene, const ViewOptions& options) {
+  GlfwSession glfw;
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  const std::string title = "Firn — " + (scene.name.empty() ? std::string("scene") : scene.name);
+  WindowPtr window(glfwCreateWindow(options.widthPx, options.heightPx, title.c_str(), nullptr, nullptr));
+  if (!window) {
+    throw NoOpenGLError("could not open a window with an OpenGL 4.3 core context: " + lastGlfwError());
+  }
+  glfwMakeContextCurrent(window.get());
+  glfwSwapInterval(1);
+  gl::ContextInfo info;
+  info.platform = "GLFW window";
+  gl::loadGLFunctions(info);
+  Viewer viewer(scene, options, window.get(), info);
+  viewer.run();
+}
+
+}  // namespace firn

@@ -1,0 +1,24 @@
+#pragma once
+// `firn view`: the interactive window (GLFW, OpenGL 4.3 core). Physics runs in fixed steps of the scene's dt
+// through a StepAccumulator, apart from drawing; the renderer draws the particles straight from the GPU.
+#include <filesystem>
+#include <optional>
+
+#include "render/Renderer.h"
+#include "scene/Scene.h"
+
+namespace firn {
+
+struct ViewOptions {
+  std::optional<int> frames;           // exit after this many drawn frames (scripted runs)
+  std::filesystem::path screenshotPath;  // with `frames`: the last frame, as PNG
+  int widthPx = 1280;
+  int heightPx = 720;
+  render::ColorMode colorMode = render::ColorMode::Material;
+};
+
+// Runs until the window closes (or `frames` frames). Throws NoOpenGLError (exit 4) without a display or a
+// GL 4.3 core context, InputError for a bad scene, SimulationError (exit 3) when a scripted run goes unstable.
+void runViewer(const Scene& scene, const ViewOptions& options);
+
+}  // namespace firn

@@ -1,0 +1,70 @@
+#pragma once
+// What the renderer draws besides particles, as plain data: collider meshes, the planes' finite quads, the
+// ground, the domain's edges, and the extents the camera frames. No GL here.
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "scene/Scene.h"
+
+namespace firn::render {
+
+// Vertex of a collider surface (shaders/render/surface.vert).
+struct SurfaceVertex {
+  glm::vec3 positionM;
+  glm::vec3 normal;
+  glm::vec2 planeCoordinatesM{0.0f};  // planes: position in the quad's frame from its centre
+};
+static_assert(sizeof(SurfaceVertex) == 32, "SurfaceVertex is tightly packed for glVertexAttribPointer");
+
+// An axis-aligned box, in metres.
+struct Bounds {
+  glm::dvec3 minM;
+  glm::dvec3 maxM;
+  glm::dvec3 centerM() const { return 0.5 * (minM + maxM); }
+};
+
+// A plane drawn as a finite square: (tangentU, tangentV, normal) is right-handed.
+struct PlaneQuad {
+  glm::vec3 centerM;
+  glm::vec3 normal;
+  glm::vec3 tangentU;
+  glm::vec3 tangentV;
+  float halfSizeM;
+};
+
+// The quad of a plane: centred on the domain centre's projection onto it, with a side twice the domain's
+// largest extent, so that it reaches well past the domain, where it fades into the sky.
+PlaneQuad planeQuad(const Scene& scene, const glm::dvec3& pointM, const glm::dvec3& normal);
+// Whether a plane passes through the domain (planes wholly outside it are not drawn).
+bool planeCutsDomain(const Scene& scene, const glm::dvec3& pointM, const glm::dvec3& normal);
+
+// The plane shadows fall on: the first plane collider that cuts the domain with a normal within ~25° of +y
+// (colliderIndex ≥ 0), else the floor of the domain's interior, where the walls stop the snow (−1).
+struct Ground {
+  PlaneQuad quad;
+  glm::vec3 velocityMPerS{0.0f};
+  int colliderIndex = -1;
+};
+Ground findGround(const Scene& scene);
+
+// Triangles, counter-clockwise seen from outside (the plane's normal side).
+std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad);
+std::vector<SurfaceVertex> sphereTriangles(const glm::vec3& centerM, float radiusM);
+std::vector<SurfaceVertex> boxTriangles(const glm::vec3& minM, const glm::vec3& maxM);
+// The 12 edges of a box as 24 line end points.
+std::vector<glm::vec3> boxEdges(const glm::vec3& minM, const glm::vec3& maxM);
+
+// Side of the planes' checkerboard cells: a power of ten, about a quarter of the domain's largest extent
+// or less, so that a metre-sized domain gets 10 cm cells.
+float checkerCellM(const Scene& scene);
+
+// Bodies, sphere and box colliders clipped to the domain, and the parts of planes inside it: the region a
+// default camera frames.
+Bounds usedRegion(const Scene& scene);
+// Radius around the domain centre that holds everything drawn during the scene's frames: the domain, the
+// plane quads, and colliders as far as they travel.
+double drawnRadiusM(const Scene& scene);
+
+}  // namespace firn::render

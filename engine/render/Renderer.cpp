@@ -1,0 +1,336 @@
+#include "render/Renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <iterator>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
+#include "Error.h"
+#include "gl/Debug.h"
+#include "gl/ShaderLibrary.h"
+#include "sim/GpuLayout.h"
+
+namespace firn::render {
+
+namespace {
+
+// Material colours (sRGB), by material index, repeating: snow near-white with a touch of blue first.
+const glm::vec3 kMaterialPaletteSrgb[] = {{0.93f, 0.96f, 1.00f}, {1.00f, 0.88f, 0.74f}, {0.76f, 0.93f, 0.82f},
+                                          {0.97f, 0.79f, 0.86f}, {0.78f, 0.85f, 1.00f}, {0.98f, 0.95f, 0.72f}};
+const glm::vec3 kGroundAlbedoSrgb{0.60f, 0.56f, 0.50f};
+const glm::vec3 kPlaneAlbedoSrgb{0.56f, 0.55f, 0.53f};
+const glm::vec3 kColliderAlbedoSrgb{0.60f, 0.45f, 0.36f};
+const glm::vec4 kDomainEdgeColor{0.86f, 0.90f, 1.00f, 0.35f};  // sRGB, alpha
+
+// Ground-shadow texels: about half the finest particle spacing, so a contact shadow keeps the particles'
+// grain, within bounds that keep the texture cheap to clear and to splat into.
+constexpr int kMinShadowTexels = 256;
+constexpr int kMaxShadowTexels = 2048;
+// The speed scale when nothing in the scene moves or falls.
+constexpr float kFallbackSpeedScaleMPerS = 5;
+constexpr GLuint kGroundShadowTextureUnit = 0;
+// positionMass, velocityVolume, plasticState, kirchhoffStress (shaders/render/particles.vert).
+constexpr GLint kParticleBuffersPerVertex = 4;
+
+int shadowTextureSize(const Scene& scene, float groundHalfSizeM) {
+  double finestSpacingM = scene.grid.cellSizeM;
+  for (const Body& body : scene.bodies) {
+    finestSpacingM = std::min(finestSpacingM, scene.grid.cellSizeM / std::cbrt(body.particlesPerCell));
+  }
+  const double texels = 2.0 * groundHalfSizeM / (0.5 * finestSpacingM);
+  int size = kMinShadowTexels;
+  while (size < texels && size < kMaxShadowTexels) size *= 2;
+  return size;
+}
+
+float speedScale(const Scene& scene) {
+  double speedMPerS = 0;
+  for (const Body& body : scene.bodies) speedMPerS = std::max(speedMPerS, glm::length(body.velocityMPerS));
+  for (const Collider& collider : scene.colliders) speedMPerS = std::max(speedMPerS, glm::length(collider.velocityMPerS));
+  // Free fall through the domain: v = √(2 g H).
+  const double heightM = scene.domainMaxM().y - scene.domainMinM().y;
+  speedMPerS = std::max(speedMPerS, std::sqrt(2 * glm::length(scene.gravityMPerS2) * heightM));
+  return speedMPerS > 0 ? static_cast<float>(speedMPerS) : kFallbackSpeedScaleMPerS;
+}
+
+}  // namespace
+
+const char* colorModeName(ColorMode mode) {
+  switch (mode) {
+    case ColorMode::Material: return "material";
+    case ColorMode::Speed: return "speed";
+    case ColorMode::PlasticCompression: return "plastic compression";
+    case ColorMode::Stress: return "stress";
+  }
+  return "unknown";
+}
+
+struct Renderer::FrameView {
+  glm::mat4 view;
+  glm::mat4 projection;
+  glm::vec2 viewportPx;
+  glm::vec3 cameraPositionM;
+};
+
+Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const SnowMaterial& material = scene.materials[i];
+    materialColors_.emplace_back(kMaterialPaletteSrgb[i % std::size(kMaterialPaletteSrgb)], 1.0f);
+    materialProperties_.emplace_back(1.0 / material.youngsModulusPa, 1.0 / material.densityKgPerM3, 0.0f, 0.0f);
+  }
+  // GL 4.3 requires storage buffers in compute shaders only; the minimum for vertex shaders is 0.
+  GLint vertexStorageBlocks = 0;
+  glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertexStorageBlocks);
+  if (vertexStorageBlocks < kParticleBuffersPerVertex) {
+    throw NoOpenGLError("the renderer reads " + std::to_string(kParticleBuffersPerVertex) +
+                        " particle storage buffers in its vertex shader, but " +
+                        reinterpret_cast<const char*>(glGetString(GL_RENDERER)) +
+                        " allows GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS = " + std::to_string(vertexStorageBlocks));
+  }
+  GLfloat pointSizeRangePx[2] = {1, 1};
+  glGetFloatv(GL_POINT_SIZE_RANGE, pointSizeRangePx);
+  maxPointSizePx_ = pointSizeRangePx[1];
+  buildPrograms();
+  buildGeometry(scene);
+  const int shadowTexels = shadowTextureSize(scene, ground_.quad.halfSizeM);
+  groundShadow_ = gl::Framebuffer(glm::ivec2(shadowTexels), GL_R16F, false);
+}
+
+void Renderer::buildPrograms() {
+  gl::ShaderOptions options;
+  options.defines = gpu::bindingDefines();
+  // GLSL has no empty arrays: a scene without materials (and so without particles) still declares one.
+  options.defines.emplace_back("FIRN_MATERIAL_COUNT", std::to_string(std::max<std::size_t>(materialColors_.size(), 1)));
+  options.defines.emplace_back("FIRN_COLOR_MODE_MATERIAL", std::to_string(int(ColorMode::Material)));
+  options.defines.emplace_back("FIRN_COLOR_MODE_SPEED", std::to_string(int(ColorMode::Speed)));
+  options.defines.emplace_back("FIRN_COLOR_MODE_PLASTIC_COMPRESSION", std::to_string(int(ColorMode::PlasticCompression)));
+  options.defines.emplace_back("FIRN_COLOR_MODE_STRESS", std::to_string(int(ColorMode::Stress)));
+  const gl::ShaderLibrary library(gl::embeddedShaderFiles());
+  skyProgram_ = gl::Program::graphics(library, "render/sky.vert", "render/sky.frag", options);
+  surfaceProgram_ = gl::Program::graphics(library, "render/surface.vert", "render/surface.frag", options);
+  particleProgram_ = gl::Program::graphics(library, "render/particles.vert", "render/particles.frag", options);
+  particleShadowProgram_ =
+      gl::Program::graphics(library, "render/particle_shadow.vert", "render/particle_shadow.frag", options);
+  colliderShadowProgram_ =
+      gl::Program::graphics(library, "render/collider_shadow.vert", "render/collider_shadow.frag", options);
+  lineProgram_ = gl::Program::graphics(library, "render/lines.vert", "render/lines.frag", options);
+}
+
+void Renderer::buildGeometry(const Scene& scene) {
+  std::vector<SurfaceVertex> vertices;
+  auto add = [&](const std::vector<SurfaceVertex>& mesh, SurfaceDraw draw) {
+    draw.firstVertex = static_cast<GLint>(vertices.size());
+    draw.vertexCount = static_cast<GLsizei>(mesh.size());
+    vertices.insert(vertices.end(), mesh.begin(), mesh.end());
+    surfaces_.push_back(draw);
+  };
+  const float checkerM = checkerCellM(scene);
+  const float fadeM = ground_.quad.halfSizeM;
+  if (ground_.colliderIndex < 0) {
+    add(quadTriangles(ground_.quad), {0, 0, kGroundAlbedoSrgb, glm::vec3(0.0f), checkerM, fadeM, true, false});
+  }
+  for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& collider = scene.colliders[i];
+    const glm::vec3 velocity(collider.velocityMPerS);
+    switch (collider.shape) {
+      case ColliderShape::Plane: {
+        const bool isGround = static_cast<int>(i) == ground_.colliderIndex;
+        if (!isGround && !planeCutsDomain(scene, collider.pointM, collider.normal)) break;
+        const PlaneQuad quad = isGround ? ground_.quad : planeQuad(scene, collider.pointM, collider.normal);
+        add(quadTriangles(quad), {0, 0, isGround ? kGroundAlbedoSrgb : kPlaneAlbedoSrgb, velocity, checkerM,
+                                  quad.halfSizeM, isGround, false});
+        break;
+      }
+      case ColliderShape::Sphere:
+        add(sphereTriangles(glm::vec3(collider.centerM), static_cast<float>(collider.radiusM)),
+            {0, 0, kColliderAlbedoSrgb, velocity, 0.0f, 0.0f, false, true});
+        break;
+      case ColliderShape::Box:
+        add(boxTriangles(glm::vec3(collider.minM), glm::vec3(collider.maxM)),
+            {0, 0, kColliderAlbedoSrgb, velocity, 0.0f, 0.0f, false, true});
+        break;
+    }
+  }
+  surfaceVertices_ = gl::Buffer::fromVector(vertices);
+  surfaceArray_.setFloatAttribute(0, surfaceVertices_, 3, sizeof(SurfaceVertex), offsetof(SurfaceVertex, positionM));
+  surfaceArray_.setFloatAttribute(1, surfaceVertices_, 3, sizeof(SurfaceVertex), offsetof(SurfaceVertex, normal));
+  surfaceArray_.setFloatAttribute(2, surfaceVertices_, 2, sizeof(SurfaceVertex),
+                                  offsetof(SurfaceVertex, planeCoordinatesM));
+
+  // The interior's edges: where the walls stop the particles (GridSpec::wallCells inside the domain).
+  const std::vector<glm::vec3> edges = boxEdges(glm::vec3(scene.grid.interiorMinM()), glm::vec3(scene.grid.interiorMaxM()));
+  edgeVertices_ = gl::Buffer::fromVector(edges);
+  edgeArray_.setFloatAttribute(0, edgeVertices_, 3, sizeof(glm::vec3), 0);
+  edgeVertexCount_ = static_cast<GLsizei>(edges.size());
+}
+
+PlaneQuad Renderer::groundAt(double timeS) const {
+  PlaneQuad quad = ground_.quad;
+  quad.centerM += ground_.velocityMPerS * static_cast<float>(timeS);
+  return quad;
+}
+
+void Renderer::setView(const gl::Program& program, const FrameView& view) const {
+  program.set("viewMatrix", view.view);
+  program.set("projectionMatrix", view.projection);
+  program.set("inverseProjectionMatrix", glm::inverse(view.projection));
+  program.set("viewportSizePx", view.viewportPx);
+}
+
+void Renderer::setGround(const gl::Program& program, const PlaneQuad& ground) const {
+  program.set("groundCentreM", ground.centerM);
+  program.set("groundNormal", ground.normal);
+  program.set("groundTangentU", ground.tangentU);
+  program.set("groundTangentV", ground.tangentV);
+  program.set("groundHalfSizeM", ground.halfSizeM);
+}
+
+void Renderer::draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode) {
+  simulation.bindParticleBuffers();
+  draw(simulation.particleCount(), simulation.timeS(), camera, viewportPx, mode);
+}
+
+void Renderer::draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx,
+                    ColorMode mode) {
+  if (viewportPx.x <= 0 || viewportPx.y <= 0) return;  // a minimised window
+  const GLuint target = gl::Framebuffer::boundForDrawing();
+  // The particles were last written by compute passes; vertex shaders read them as storage buffers.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  const PlaneQuad ground = groundAt(timeS);
+  castGroundShadow(particleCount, timeS, ground);
+
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  glViewport(0, 0, viewportPx.x, viewportPx.y);
+  glDepthMask(GL_TRUE);
+  const GLfloat farDepth = 1;
+  glClearBufferfv(GL_DEPTH, 0, &farDepth);
+  const float aspect = float(viewportPx.x) / float(viewportPx.y);
+  const FrameView view{camera.view(), camera.projection(aspect), glm::vec2(viewportPx), camera.positionM};
+  drawSky(view);
+  drawSurfaces(view, timeS, ground);
+  drawParticles(view, particleCount, mode);
+  drawDomainEdges(view);
+
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glDepthMask(GL_TRUE);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  gl::checkPass("render");
+}
+
+// The ground-shadow texture: optical depth of the key light's shadow, summed over particles and colliders.
+void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const PlaneQuad& ground) {
+  groundShadow_.bind();
+  const glm::ivec2 texels = groundShadow_.size();
+  glViewport(0, 0, texels.x, texels.y);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  const GLfloat noShadow[4] = {0, 0, 0, 0};
+  glClearBufferfv(GL_COLOR, 0, noShadow);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  if (particleCount > 0) {
+    particleShadowProgram_.use();
+    setGround(particleShadowProgram_, ground);
+    particleShadowProgram_.set("shadowTexelSizeM", 2 * ground.halfSizeM / float(texels.x));
+    particleShadowProgram_.set("maxPointSizePx", maxPointSizePx_);
+    particleShadowProgram_.set("materialProperties", materialProperties_);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    noAttributes_.bind();
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(particleCount));
+  }
+  colliderShadowProgram_.use();
+  setGround(colliderShadowProgram_, ground);
+  surfaceArray_.bind();
+  for (const SurfaceDraw& surface : surfaces_) {
+    if (!surface.castsShadow) continue;
+    colliderShadowProgram_.set("translationM", surface.velocityMPerS * static_cast<float>(timeS));
+    glDrawArrays(GL_TRIANGLES, surface.firstVertex, surface.vertexCount);
+  }
+  glDisable(GL_BLEND);
+}
+
+void Renderer::drawSky(const FrameView& view) {
+  glDisable(GL_DEPTH_TEST);
+  skyProgram_.use();
+  setView(skyProgram_, view);
+  noAttributes_.bind();
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void Renderer::drawSurfaces(const FrameView& view, double timeS, const PlaneQuad& ground) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  // Planes are seen from their free side only: from behind one, the camera looks through it.
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  surfaceProgram_.use();
+  setView(surfaceProgram_, view);
+  setGround(surfaceProgram_, ground);
+  surfaceProgram_.set("cameraPositionM", view.cameraPositionM);
+  surfaceProgram_.set("groundShadowOpticalDepth", static_cast<int>(kGroundShadowTextureUnit));
+  groundShadow_.color().bind(kGroundShadowTextureUnit);
+  surfaceArray_.bind();
+  for (const SurfaceDraw& surface : surfaces_) {
+    surfaceProgram_.set("translationM", surface.velocityMPerS * static_cast<float>(timeS));
+    surfaceProgram_.set("albedoSrgb", surface.albedoSrgb);
+    surfaceProgram_.set("checkerCellM", surface.checkerCellM);
+    surfaceProgram_.set("fadeHalfSizeM", surface.fadeHalfSizeM);
+    surfaceProgram_.set("receivesShadow", surface.isGround ? 1 : 0);
+    glDrawArrays(GL_TRIANGLES, surface.firstVertex, surface.vertexCount);
+  }
+  glDisable(GL_CULL_FACE);
+}
+
+void Renderer::drawParticles(const FrameView& view, std::size_t particleCount, ColorMode mode) {
+  if (particleCount == 0) return;
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  particleProgram_.use();
+  setView(particleProgram_, view);
+  particleProgram_.set("maxPointSizePx", maxPointSizePx_);
+  particleProgram_.set("colorMode", static_cast<int>(mode));
+  particleProgram_.set("materialColorSrgb", materialColors_);
+  particleProgram_.set("materialProperties", materialProperties_);
+  particleProgram_.set("speedScaleMPerS", speedScaleMPerS_);
+  noAttributes_.bind();
+  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(particleCount));
+}
+
+void Renderer::drawDomainEdges(const FrameView& view) {
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);  // translucent: nothing drawn later should be hidden by them
+  glEnable(GL_BLEND);
+  // Over the colour; the picture stays opaque.
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+  lineProgram_.use();
+  setView(lineProgram_, view);
+  lineProgram_.set("lineColor", kDomainEdgeColor);
+  edgeArray_.bind();
+  glDrawArrays(GL_LINES, 0, edgeVertexCount_);
+}
+
+OffscreenRenderer::OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx) : renderer_(scene), target_(sizePx) {}
+
+Image OffscreenRenderer::render(const Simulation& simulation, const Camera& camera, ColorMode mode) {
+  const GLuint previousTarget = gl::Framebuffer::boundForDrawing();
+  GLint previousViewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, previousViewport);
+  target_.bind();
+  renderer_.draw(simulation, camera, size(), mode);
+  Image image{size().x, size().y, target_.readColorRgba8()};
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, previousTarget);
+  glViewport(previousViewport[0], previousViewport[1], previousViewport[2], previousViewport[3]);
+  return image;
+}
+
+}  // namespace firn::render

@@ -1,0 +1,116 @@
+#pragma once
+// The point-sprite renderer (design.md, engine/render): particles drawn in place from the simulation's
+// buffers as lit sphere impostors, the colliders, the ground with the particles' soft shadow, the domain's
+// edges; and offscreen capture into an Image.
+#include <cstddef>
+#include <iterator>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gl/Buffer.h"
+#include "gl/Framebuffer.h"
+#include "gl/Program.h"
+#include "render/Camera.h"
+#include "render/Geometry.h"
+#include "render/Image.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
+
+namespace firn::render {
+
+enum class ColorMode {
+  Material,            // a palette colour per material; snow near-white with a touch of blue
+  Speed,               // |v| through viridis, up to the scene's speed scale
+  PlasticCompression,  // J_P on a log scale: blue compacted, neutral at 1, red stretched
+  Stress,              // Frobenius norm of the Kirchhoff stress over Young's modulus, log scale, inferno
+};
+constexpr ColorMode kColorModes[] = {ColorMode::Material, ColorMode::Speed, ColorMode::PlasticCompression,
+                                     ColorMode::Stress};
+constexpr int kColorModeCount = static_cast<int>(std::size(kColorModes));
+// A short name for a user interface: "material", "speed", "plastic compression", "stress".
+const char* colorModeName(ColorMode mode);
+
+class Renderer {
+ public:
+  // Builds the programs (from the embedded shaders, for this scene's materials) and the collider geometry.
+  // Needs a current OpenGL 4.3 context.
+  explicit Renderer(const Scene& scene);
+
+  // Draws into the currently bound draw framebuffer, which needs a depth buffer, over the viewport
+  // (0, 0)–viewportPx: sky, colliders where they are at the simulation's time, the ground with its shadow,
+  // the particles read in place from the simulation's buffers, the domain's edges. Colours are written
+  // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off.
+  void draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode);
+  // The same for the first `particleCount` particles of whatever buffers are bound at the particle binding
+  // points (gpu::PositionMass, VelocityVolume, PlasticState, KirchhoffStress), with colliders at `timeS`.
+  // With no particles it draws the scene without them.
+  void draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode);
+
+  // The speed at the top of the speed colour map (m/s): the fastest initial body or collider, or the speed
+  // of a fall through the domain's height, whichever is larger.
+  float speedScaleMPerS() const { return speedScaleMPerS_; }
+
+ private:
+  struct SurfaceDraw {
+    GLint firstVertex;
+    GLsizei vertexCount;
+    glm::vec3 albedoSrgb;
+    glm::vec3 velocityMPerS;
+    float checkerCellM;   // planes
+    float fadeHalfSizeM;  // planes
+    bool isGround;
+    bool castsShadow;     // spheres and boxes
+  };
+  struct FrameView;
+
+  void buildPrograms();
+  void buildGeometry(const Scene& scene);
+  PlaneQuad groundAt(double timeS) const;
+  void setView(const gl::Program& program, const FrameView& view) const;
+  void setGround(const gl::Program& program, const PlaneQuad& ground) const;
+  void castGroundShadow(std::size_t particleCount, double timeS, const PlaneQuad& ground);
+  void drawSky(const FrameView& view);
+  void drawSurfaces(const FrameView& view, double timeS, const PlaneQuad& ground);
+  void drawParticles(const FrameView& view, std::size_t particleCount, ColorMode mode);
+  void drawDomainEdges(const FrameView& view);
+
+  gl::Program skyProgram_;
+  gl::Program surfaceProgram_;
+  gl::Program particleProgram_;
+  gl::Program particleShadowProgram_;
+  gl::Program colliderShadowProgram_;
+  gl::Program lineProgram_;
+
+  gl::VertexArray noAttributes_;  // for the draws that read no vertex attributes
+  gl::Buffer surfaceVertices_;
+  gl::VertexArray surfaceArray_;
+  std::vector<SurfaceDraw> surfaces_;
+  gl::Buffer edgeVertices_;
+  gl::VertexArray edgeArray_;
+  GLsizei edgeVertexCount_ = 0;
+
+  Ground ground_;
+  gl::Framebuffer groundShadow_;  // optical depth of the key light's shadow over the ground quad
+  std::vector<glm::vec4> materialColors_;      // sRGB palette colour, 1
+  std::vector<glm::vec4> materialProperties_;  // 1 / Young's modulus (1/Pa), 1 / rest density (m³/kg)
+  float speedScaleMPerS_ = 1;
+  float maxPointSizePx_ = 1;
+};
+
+// Renders pictures into its own framebuffer and reads them back.
+class OffscreenRenderer {
+ public:
+  OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx);
+  // One picture of the simulation's current state; leaves the bound framebuffer and viewport as they were.
+  Image render(const Simulation& simulation, const Camera& camera, ColorMode mode);
+  glm::ivec2 size() const { return target_.size(); }
+
+ private:
+  Renderer renderer_;
+  gl::Framebuffer target_;
+};
+
+}  // namespace firn::render

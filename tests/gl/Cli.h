@@ -1,0 +1,52 @@
+#pragma once
+// Running the `firn` executable as a user would, for the command-line tests.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace firn::test {
+
+struct Result {
+  int exitCode;
+  std::string output;  // stdout and stderr
+};
+
+// `environment` is prepended to the command line ("FIRN_EGL_DEVICE=99", or a wrapper such as xvfb-run).
+inline Result runFirn(const std::string& arguments, const std::string& environment = "") {
+  const std::string command = environment + " " + FIRN_EXECUTABLE + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return {-1, "popen failed"};
+  std::string output;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+inline std::filesystem::path freshDirectory(const std::string& name) {
+  // The process id keeps concurrent test runs (ctest --parallel, two checkouts) out of each other's way.
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("firn_cli_test_" + std::to_string(getpid()) + "_" + name);
+  std::filesystem::remove_all(directory);
+  std::filesystem::create_directories(directory);
+  return directory;
+}
+
+inline std::filesystem::path writeScene(const std::filesystem::path& directory, const std::string& name,
+                                        const std::string& json) {
+  const std::filesystem::path path = directory / name;
+  std::ofstream(path) << json;
+  return path;
+}
+
+// Whether `program` is an executable on the PATH.
+inline bool onPath(const std::string& program) {
+  return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+}  // namespace firn::test

@@ -1,0 +1,349 @@
+// The point-sprite renderer on llvmpipe. Pictures are checked against the camera's own projection of the
+// scene's geometry (coverage, bounds, colours by region), never against stored pixels.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "Error.h"
+#include "GlTest.h"
+#include "gl/Framebuffer.h"
+#include "render/Renderer.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace {
+
+using firn::Scene;
+using firn::Simulation;
+using firn::render::Camera;
+using firn::render::ColorMode;
+using firn::render::Image;
+using firn::render::Renderer;
+
+const glm::ivec2 kImageSize(320, 240);
+
+// A 1 m domain of 40³ cells of 2.5 cm; at 8 particles per cell the particle spacing s is 1.25 cm.
+constexpr double kSpacingM = 0.0125;
+
+Scene sceneFromJson(const std::string& bodies, const std::string& colliders = "[]") {
+  return firn::parseScene(R"({
+    "grid": { "origin": [0, 0, 0], "cells": [40, 40, 40], "cell_size": 0.025 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 10 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": )" + bodies + R"(,
+    "colliders": )" + colliders + "}",
+                          "render test scene");
+}
+
+std::string box(const std::string& minM, const std::string& maxM, const std::string& velocity = "[0, 0, 0]") {
+  return R"({ "shape": "box", "min": )" + minM + R"(, "max": )" + maxM + R"(, "material": "snow", "velocity": )" +
+         velocity + " }";
+}
+
+// Looks at the box [0.4, 0.5, 0.4]–[0.6, 0.7, 0.6] from the front, 23° from below, so that only sky lies
+// behind it: the ground, and the particles' shadow on it, stay out of the picture.
+Camera cameraBelowBox() {
+  Camera camera;
+  camera.positionM = {0.62f, 0.30f, 1.15f};
+  camera.targetM = {0.5f, 0.6f, 0.5f};
+  camera.fovDeg = 40;
+  camera.nearM = 0.01f;
+  camera.farM = 10.0f;
+  return camera;
+}
+
+struct Pixel {
+  int r, g, b, a;
+};
+
+Pixel pixelAt(const Image& image, int x, int y) {
+  const std::size_t i = (std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * 4;
+  return {image.rgba[i], image.rgba[i + 1], image.rgba[i + 2], image.rgba[i + 3]};
+}
+
+int largestChannelDifference(const Pixel& a, const Pixel& b) {
+  return std::max({std::abs(a.r - b.r), std::abs(a.g - b.g), std::abs(a.b - b.b)});
+}
+
+// Draws with `particleCount` particles (from the simulation's buffers when given) into a fresh framebuffer.
+Image renderFrame(Renderer& renderer, const Simulation* simulation, const Camera& camera, ColorMode mode) {
+  firn::gl::Framebuffer target(kImageSize);
+  target.bind();
+  if (simulation != nullptr) {
+    renderer.draw(*simulation, camera, kImageSize, mode);
+  } else {
+    renderer.draw(0, 0.0, camera, kImageSize, mode);
+  }
+  Image image{kImageSize.x, kImageSize.y, target.readColorRgba8()};
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  return image;
+}
+
+// Where a world point lands in the picture: pixel coordinates, x to the right, y down from the top row.
+glm::dvec2 projectToPixels(const Camera& camera, const glm::dvec3& pointM) {
+  const glm::dmat4 viewProjection =
+      glm::dmat4(camera.projection(float(kImageSize.x) / float(kImageSize.y))) * glm::dmat4(camera.view());
+  const glm::dvec4 clip = viewProjection * glm::dvec4(pointM, 1.0);
+  const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
+  return {(ndc.x + 1) / 2 * kImageSize.x, (1 - ndc.y) / 2 * kImageSize.y};
+}
+
+// Convex hull (Andrew's monotone chain) of projected points: the silhouette of a convex body.
+std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> points) {
+  std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  auto turn = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  std::vector<glm::dvec2> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+struct Silhouette {
+  double areaPx = 0;
+  double perimeterPx = 0;
+  glm::dvec2 minPx{0.0}, maxPx{0.0};
+};
+
+Silhouette boxSilhouette(const Camera& camera, const glm::dvec3& minM, const glm::dvec3& maxM) {
+  std::vector<glm::dvec2> corners;
+  for (int i = 0; i < 8; ++i) {
+    corners.push_back(projectToPixels(
+        camera, {(i & 1) ? maxM.x : minM.x, (i & 2) ? maxM.y : minM.y, (i & 4) ? maxM.z : minM.z}));
+  }
+  const std::vector<glm::dvec2> hull = convexHull(corners);
+  Silhouette silhouette;
+  silhouette.minPx = silhouette.maxPx = hull[0];
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const glm::dvec2& a = hull[i];
+    const glm::dvec2& b = hull[(i + 1) % hull.size()];
+    silhouette.areaPx += 0.5 * (a.x * b.y - b.x * a.y);
+    silhouette.perimeterPx += glm::length(b - a);
+    silhouette.minPx = glm::min(silhouette.minPx, a);
+    silhouette.maxPx = glm::max(silhouette.maxPx, a);
+  }
+  silhouette.areaPx = std::abs(silhouette.areaPx);
+  return silhouette;
+}
+
+// Pixels the particles change: more than 8 of 255 in some channel. Rendering is deterministic (the picture
+// without particles comes out the same twice, bit for bit), so nothing else changes a pixel; colour alone
+// cannot tell snow from this sky, as snow in shade turns the sky's blue-grey, to within 30 levels.
+constexpr int kSnowThreshold = 8;
+
+struct Coverage {
+  int pixels = 0;
+  glm::ivec2 minPx{kImageSize}, maxPx{-1};
+};
+
+Coverage snowCoverage(const Image& withParticles, const Image& background) {
+  Coverage coverage;
+  for (int y = 0; y < kImageSize.y; ++y) {
+    for (int x = 0; x < kImageSize.x; ++x) {
+      if (largestChannelDifference(pixelAt(withParticles, x, y), pixelAt(background, x, y)) <= kSnowThreshold) continue;
+      ++coverage.pixels;
+      coverage.minPx = glm::min(coverage.minPx, glm::ivec2(x, y));
+      coverage.maxPx = glm::max(coverage.maxPx, glm::ivec2(x, y));
+    }
+  }
+  return coverage;
+}
+
+// Mean colour of a rectangle of pixels.
+glm::dvec3 meanColor(const Image& image, glm::dvec2 minPx, glm::dvec2 maxPx) {
+  glm::dvec3 sum(0.0);
+  int count = 0;
+  for (int y = int(std::ceil(minPx.y)); y <= int(maxPx.y); ++y) {
+    for (int x = int(std::ceil(minPx.x)); x <= int(maxPx.x); ++x) {
+      const Pixel pixel = pixelAt(image, x, y);
+      sum += glm::dvec3(pixel.r, pixel.g, pixel.b);
+      ++count;
+    }
+  }
+  return sum / double(std::max(count, 1));
+}
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { firn::test::glContext(); }
+  static const firn::gl::ContextInfo& gl() { return firn::test::glContext().info(); }
+};
+
+// A box of snow covers what the camera's projection of the box predicts. The particles are spheres of their
+// rest volume s³, radius r = (3 s³ / 4π)^(1/3) ≈ 0.62 s, around centres on a lattice half a spacing inside each
+// face, jittered by ±0.25 s (engine/scene/Sampling.cpp): the picture's outline lies between 0.75 s − 0.62 s
+// = 0.13 s inside the box's and 0.62 s − 0.25 s = 0.37 s outside it. So the snow's pixel count may differ
+// from the projected area by at most perimeter × (0.37 s + 1 px), and the snow's bounding rectangle from the
+// projected one by 0.37 s + 1 px on each side, s in pixels at the box's nearest corner and 1 px for sampling
+// at pixel centres. Measured: area −0.5 %, bounds within 1 px, of budgets 12.6 % and 3.6 px.
+TEST_F(RenderTest, SnowBoxCoversItsProjectedSilhouette) {
+  const glm::dvec3 boxMinM(0.4, 0.5, 0.4), boxMaxM(0.6, 0.7, 0.6);
+  const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  Renderer renderer(scene);
+  const Camera camera = cameraBelowBox();
+  const Image background = renderFrame(renderer, nullptr, camera, ColorMode::Material);
+  const Image snow = renderFrame(renderer, &simulation, camera, ColorMode::Material);
+
+  const Silhouette predicted = boxSilhouette(camera, boxMinM, boxMaxM);
+  const Coverage measured = snowCoverage(snow, background);
+  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
+  double nearestM = 1e9;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 cornerM((i & 1) ? boxMaxM.x : boxMinM.x, (i & 2) ? boxMaxM.y : boxMinM.y,
+                             (i & 4) ? boxMaxM.z : boxMinM.z);
+    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
+  }
+  const double spacingPx = kSpacingM * focalPx / nearestM;
+  const double outlineTolerancePx = 0.37 * spacingPx + 1;
+  const double imageArea = double(kImageSize.x) * kImageSize.y;
+  ASSERT_GT(predicted.areaPx, 0.05 * imageArea) << "the box should fill a fair part of the picture";
+  EXPECT_NEAR(measured.pixels / imageArea, predicted.areaPx / imageArea,
+              predicted.perimeterPx * outlineTolerancePx / imageArea);
+  // Pixel (x, y) is covered when its centre (x + ½, y + ½) is.
+  EXPECT_NEAR(measured.minPx.x + 0.5, predicted.minPx.x, outlineTolerancePx);
+  EXPECT_NEAR(measured.minPx.y + 0.5, predicted.minPx.y, outlineTolerancePx);
+  EXPECT_NEAR(measured.maxPx.x + 0.5, predicted.maxPx.x, outlineTolerancePx);
+  EXPECT_NEAR(measured.maxPx.y + 0.5, predicted.maxPx.y, outlineTolerancePx);
+
+  EXPECT_EQ(renderFrame(renderer, nullptr, camera, ColorMode::Material).rgba, background.rgba)
+      << "rendering is deterministic";
+
+  // The front face, lit by the key and fill lights, is near-white with a touch of blue.
+  const Silhouette frontFace = boxSilhouette(camera, {boxMinM.x, boxMinM.y, boxMaxM.z}, boxMaxM);
+  const glm::dvec2 quarter = 0.25 * (frontFace.maxPx - frontFace.minPx);
+  const glm::dvec3 front = meanColor(snow, frontFace.minPx + quarter, frontFace.maxPx - quarter);
+  EXPECT_GT(front.r, 170) << "bright: the sky behind has 127";
+  EXPECT_GE(front.b, front.r) << "bluish";
+  EXPECT_LT(front.b - front.r, 30) << "only slightly";
+}
+
+// Without particles the picture is the sky, the ground and the colliders: every pixel opaque and finite
+// (a NaN in a shader's output would be stored as black), none as bright as lit snow, the sphere collider's
+// colour where the sphere is and sky above the scene.
+TEST_F(RenderTest, FrameWithoutParticlesShowsOnlyBackgroundAndColliders) {
+  const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]", R"([
+      { "type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0], "friction": 0.3 },
+      { "type": "sphere", "center": [0.35, 0.3, 0.5], "radius": 0.12 },
+      { "type": "box", "min": [0.6, 0.1, 0.4], "max": [0.8, 0.3, 0.6] } ])");
+  Renderer renderer(scene);
+  const Camera camera = firn::render::defaultCamera(scene, float(kImageSize.x) / float(kImageSize.y));
+  const Image image = renderFrame(renderer, nullptr, camera, ColorMode::Material);
+
+  int black = 0, translucent = 0, snowWhite = 0;
+  for (int y = 0; y < kImageSize.y; ++y) {
+    for (int x = 0; x < kImageSize.x; ++x) {
+      const Pixel pixel = pixelAt(image, x, y);
+      black += pixel.r == 0 && pixel.g == 0 && pixel.b == 0;
+      translucent += pixel.a != 255;
+      snowWhite += std::min({pixel.r, pixel.g, pixel.b}) > 235;
+    }
+  }
+  EXPECT_EQ(black, 0);
+  EXPECT_EQ(translucent, 0);
+  EXPECT_EQ(snowWhite, 0);
+
+  const glm::dvec2 sphereCentrePx = projectToPixels(camera, {0.35, 0.3, 0.5});
+  const Pixel sphere = pixelAt(image, int(sphereCentrePx.x), int(sphereCentrePx.y));
+  EXPECT_GT(sphere.r, sphere.b + 20) << "the sphere collider is terracotta";
+  const Pixel sky = pixelAt(image, kImageSize.x / 2, 0);
+  EXPECT_GT(sky.b, sky.r + 20) << "the sky is blue";
+}
+
+// Speed colouring tells a moving body from a still one that Material colouring shows alike: the still box
+// takes the bottom of viridis (dark purple), the box at 3 m/s (⅔ of the scale √(2 g · 1 m) = 4.4 m/s) its
+// green part. Compared over the inner half of each box's projected rectangle, away from edges.
+TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
+  const Scene scene = sceneFromJson("[" + box("[0.25, 0.5, 0.4]", "[0.45, 0.7, 0.6]") + ", " +
+                                    box("[0.55, 0.5, 0.4]", "[0.75, 0.7, 0.6]", "[3, 0, 0]") + "]");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  Renderer renderer(scene);
+  EXPECT_NEAR(renderer.speedScaleMPerS(), std::sqrt(2 * 9.81 * 1.0), 1e-3);
+  Camera camera = cameraBelowBox();
+  camera.positionM = {0.5f, 0.3f, 1.35f};
+
+  auto innerMean = [&](const Image& image, const glm::dvec3& minM, const glm::dvec3& maxM) {
+    const Silhouette silhouette = boxSilhouette(camera, minM, maxM);
+    const glm::dvec2 quarter = 0.25 * (silhouette.maxPx - silhouette.minPx);
+    return meanColor(image, silhouette.minPx + quarter, silhouette.maxPx - quarter);
+  };
+  const glm::dvec3 stillMinM(0.25, 0.5, 0.4), stillMaxM(0.45, 0.7, 0.6);
+  const glm::dvec3 movingMinM(0.55, 0.5, 0.4), movingMaxM(0.75, 0.7, 0.6);
+
+  const Image material = renderFrame(renderer, &simulation, camera, ColorMode::Material);
+  const glm::dvec3 stillMaterial = innerMean(material, stillMinM, stillMaxM);
+  const glm::dvec3 movingMaterial = innerMean(material, movingMinM, movingMaxM);
+  // Same material, similar lighting: within 20 of 255 per channel (shading differs a little with the angle).
+  for (int channel = 0; channel < 3; ++channel) EXPECT_NEAR(stillMaterial[channel], movingMaterial[channel], 20);
+
+  const Image speed = renderFrame(renderer, &simulation, camera, ColorMode::Speed);
+  const glm::dvec3 still = innerMean(speed, stillMinM, stillMaxM);
+  const glm::dvec3 moving = innerMean(speed, movingMinM, movingMaxM);
+  EXPECT_GT(moving.g, still.g + 60) << "viridis turns green with speed";
+  EXPECT_GT(still.b, still.g) << "viridis starts purple";
+  EXPECT_GT(glm::length(moving - still), 80);
+}
+
+// writePng writes a PNG that a reader decodes to the same pixels, and a path it cannot write is an
+// InputError that names the file.
+TEST_F(RenderTest, WritePngRoundTripsPixels) {
+  const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  firn::render::OffscreenRenderer offscreen(scene, {96, 64});
+  const Image image = offscreen.render(simulation, cameraBelowBox(), ColorMode::Material);
+  ASSERT_EQ(image.rgba.size(), std::size_t(96 * 64 * 4));
+
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("firn_render_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(directory);
+  const std::filesystem::path path = directory / "frame.png";
+  firn::render::writePng(path, image);
+  int width = 0, height = 0, channels = 0;
+  stbi_uc* decoded = stbi_load(path.c_str(), &width, &height, &channels, 4);
+  ASSERT_NE(decoded, nullptr) << stbi_failure_reason();
+  EXPECT_EQ(width, 96);
+  EXPECT_EQ(height, 64);
+  EXPECT_TRUE(std::equal(image.rgba.begin(), image.rgba.end(), decoded));
+  stbi_image_free(decoded);
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".part"));
+
+  const std::filesystem::path unwritable = directory / "absent" / "frame.png";
+  try {
+    firn::render::writePng(unwritable, image);
+    ADD_FAILURE() << "expected InputError";
+  } catch (const firn::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(unwritable.string()), std::string::npos) << error.what();
+  }
+  std::filesystem::remove_all(directory);
+}
+
+}  // namespace
