@@ -72,7 +72,8 @@ using WindowPtr = std::unique_ptr<GLFWwindow, WindowDeleter>;
 // A camera that turns about a target point: yaw about +y, pitch up to just short of the poles.
 class OrbitCamera {
  public:
-  explicit OrbitCamera(const render::Camera& start) : targetM_(start.targetM), fovDeg_(start.fovDeg) {
+  OrbitCamera(const render::Camera& start, const Scene& scene)
+      : scene_(&scene), targetM_(start.targetM), fovDeg_(start.fovDeg) {
     const glm::vec3 offset = start.positionM - start.targetM;
     distanceM_ = glm::length(offset);
     yawRad_ = std::atan2(offset.x, offset.z);
@@ -84,6 +85,7 @@ class OrbitCamera {
     camera.targetM = targetM_;
     camera.positionM = targetM_ + distanceM_ * direction();
     camera.fovDeg = fovDeg_;
+    render::fitDepthRange(camera, *scene_);
     return camera;
   }
 
@@ -111,6 +113,7 @@ class OrbitCamera {
     return {std::cos(pitchRad_) * std::sin(yawRad_), std::sin(pitchRad_), std::cos(pitchRad_) * std::cos(yawRad_)};
   }
 
+  const Scene* scene_;  // a pointer, so that the camera can be reassigned (F reframes)
   glm::vec3 targetM_;
   float fovDeg_;
   float distanceM_ = 1;
@@ -148,7 +151,7 @@ class Viewer {
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
       : scene_(scene), options_(options), window_(window), gl_(gl), seeds_(sampleBodies(scene)),
         snowballTemplate_(sampleSnowball()), renderer_(scene),
-        orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx))),
+        orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode) {
     resetSimulation();
     glfwSetWindowUserPointer(window_, this);
@@ -187,12 +190,15 @@ class Viewer {
         renderer_.draw(*simulation_, orbit_.camera(), framebufferPx, colorMode_);
       }
       ++frame;
+      if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
       if (options_.frames && frame >= *options_.frames) {
         if (!options_.screenshotPath.empty()) {
           render::writePng(options_.screenshotPath, render::readFramebuffer(framebufferPx));
-          std::printf("firn view: wrote %s after %d frames (t = %.3f s)\n", options_.screenshotPath.string().c_str(),
-                      frame, simulation_->timeS());
+          std::printf("firn view: wrote %s\n", options_.screenshotPath.string().c_str());
         }
+        std::printf("firn view: %d frames, %llu steps, t = %.4f s, %zu particles\n", frame,
+                    static_cast<unsigned long long>(simulation_->stepCount()), simulation_->timeS(),
+                    simulation_->particleCount());
         break;
       }
       glfwSwapBuffers(window_);
@@ -267,7 +273,7 @@ class Viewer {
         break;
       }
       case GLFW_KEY_T: throwSnowball(); break;
-      case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect())); break;
+      case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect()), scene_); break;
       default: break;
     }
   }

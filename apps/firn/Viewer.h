@@ -3,6 +3,7 @@
 // through a StepAccumulator, apart from drawing; the renderer draws the particles straight from the GPU.
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "render/Renderer.h"
 #include "scene/Scene.h"
@@ -15,6 +16,7 @@ struct ViewOptions {
   int widthPx = 1280;
   int heightPx = 720;
   render::ColorMode colorMode = render::ColorMode::Material;
+  std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
 };
 
 // Runs until the window closes (or `frames` frames). Throws NoOpenGLError (exit 4) without a display or a

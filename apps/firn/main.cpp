@@ -170,6 +170,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   view->add_option("--height", viewOptions.heightPx, "Window height in pixels")->check(CLI::Range(16, 8192))
       ->capture_default_str();
+  view->add_option("--throw-at", viewOptions.throwAtFrames,
+                   "Throw a snowball from the camera at these frames, as the T key does (scripted demos)")
+      ->check(CLI::PositiveNumber);
   view->add_option("--color", viewOptions.colorMode, colorHelp)
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case))->default_str("material");
 

@@ -290,4 +290,44 @@ TEST_F(SimulationTest, ActiveGridFollowsParticlesNotDomain) {
   EXPECT_LT(activeNodes[1], 193ull * 193ull * 193ull / 1000ull);
 }
 
+// Particles added while running (the viewer's snowballs, within the capacity reserved up front) join the
+// simulation at once: the grid sums count them (conservation tolerance as in ParticleToGridConservesMassAndMomentum)
+// and they fall freely with everything else: after 0.1 s at rest, their velocity is g t to float32 noise (5e-5,
+// as in FreeFallFollowsBallisticTrajectory). Adding more than the capacity is refused.
+TEST_F(SimulationTest, AddedParticlesJoinTheGridAndFall) {
+  const Scene scene = sceneFromJson(boxScene(R"({"transfer": "apic", "kernel": "quadratic"})", "[0, 0, 0]", "[]"));
+  const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  Simulation simulation(scene, seeds, gl(), 2 * seeds.size());
+  EXPECT_EQ(simulation.particleCapacity(), 2 * seeds.size());
+  simulation.advanceTo(0.05);
+
+  // The same box again, 0.5 m higher (clear of the first box's grid nodes, so neither drags the other), at rest.
+  std::vector<firn::ParticleSeed> added = seeds;
+  for (firn::ParticleSeed& seed : added) {
+    seed.positionM.y += 0.5f;
+    seed.bodyIndex = -1;
+  }
+  simulation.addParticles(added);
+  ASSERT_EQ(simulation.particleCount(), 2 * seeds.size());
+  const Totals particles = particleTotals(simulation.snapshot());
+  const firn::GridTotals grid = simulation.transferToGrid();
+  const auto& fp = simulation.fixedPoint();
+  EXPECT_NEAR(grid.massKg, particles.massKg, double(simulation.particleCount()) * 27 * fp.resolution() * fp.referenceMassKg +
+                                                 1e-6 * particles.massKg);
+
+  simulation.advanceTo(0.15);
+  simulation.checkWatchdog();
+  const firn::ParticleSnapshot state = simulation.snapshot();
+  double momentumY = 0, massKg = 0;
+  for (std::size_t i = seeds.size(); i < state.size(); ++i) {
+    momentumY += state.positionMass[i].w * state.velocityVolume[i].y;
+    massKg += state.positionMass[i].w;
+    // V0 = m / ρ for particles added while running.
+    ASSERT_FLOAT_EQ(state.velocityVolume[i].w, state.positionMass[i].w / 400.0f);
+  }
+  EXPECT_NEAR(momentumY / massKg, scene.gravityMPerS2.y * 0.1, 5e-5);
+
+  EXPECT_THROW(simulation.addParticles({seeds.front()}), std::length_error);
+}
+
 }  // namespace
