@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "Error.h"
+#include "io/AtomicFile.h"
 
 namespace firn {
 
@@ -54,15 +55,7 @@ void writePly(const std::filesystem::path& path, const PointCache& points) {
       appendLittleEndian(data, value);
     }
   }
-  std::filesystem::path temporary = path;
-  temporary += ".part";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) fail(path, std::string("cannot write point cache (") + std::strerror(errno) + ")");
-    out.write(data.data(), static_cast<std::streamsize>(data.size()));
-    if (!out) fail(path, "writing the point cache failed (disk full?)");
-  }
-  std::filesystem::rename(temporary, path);
+  writeFileAtomically(path, data, "point cache");
 }
 
 namespace {

@@ -1,14 +1,11 @@
 #include "render/Image.h"
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
-#include <system_error>
 
 #include "Error.h"
 #include "gl/Framebuffer.h"
+#include "io/AtomicFile.h"
 
 // stb's implementation is C written for C compilers' warnings; it trips -Wextra and is not ours to change.
 #pragma GCC diagnostic push
@@ -43,21 +40,7 @@ void writePng(const std::filesystem::path& path, const Image& image) {
   if (!stbi_write_png_to_func(appendBytes, &png, image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
     fail(path, "encoding the PNG failed");
   }
-  std::filesystem::path temporary = path;
-  temporary += ".part";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) fail(path, std::string("cannot write PNG (") + std::strerror(errno) + ")");
-    out.write(png.data(), static_cast<std::streamsize>(png.size()));
-    if (!out) fail(path, "writing the PNG failed (disk full?)");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    fail(path, "cannot write PNG (" + error.message() + ")");
-  }
+  writeFileAtomically(path, png, "PNG");
 }
 
 }  // namespace firn::render
