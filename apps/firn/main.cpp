@@ -156,7 +156,8 @@ int main(int argc, char** argv) {
   run->add_option("--height", runOptions.imageSizePx.y, "Picture height in pixels (--png, --mp4)")
       ->check(CLI::Range(16, 8192))->capture_default_str();
   run->add_option("--color", runOptions.colorMode, colorHelp)
-      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case))->default_str("material");
+      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
+      ->default_str("material");
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
 
   firn::ViewOptions viewOptions;
@@ -174,7 +175,8 @@ int main(int argc, char** argv) {
                    "Throw a snowball from the camera at these frames, as the T key does (scripted demos)")
       ->check(CLI::PositiveNumber);
   view->add_option("--color", viewOptions.colorMode, colorHelp)
-      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case))->default_str("material");
+      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
+      ->default_str("material");
 
   VoxelizeOptions voxelizeOptions;
   std::vector<double> rotateDeg, translateM;
@@ -198,7 +200,7 @@ int main(int argc, char** argv) {
   voxelize->add_option("--rotate-deg", rotateDeg, "Rotation X,Y,Z in degrees (about x, then y, then z), after scaling")
       ->expected(3)->delimiter(',');
   voxelize->add_option("--translate", translateM, "Translation X,Y,Z in metres, applied last")->expected(3)->delimiter(',');
-  voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³: each particle's mass is density · s³")
+  voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³ of the particles' masses (density · s³ on the lattice)")
       ->check(CLI::PositiveNumber)->capture_default_str();
 
   app.add_subcommand("info", "Show the OpenGL context Firn gets (set FIRN_EGL_DEVICE=N to pick an EGL device)");
