@@ -1,5 +1,6 @@
 // Fills each body with particles: sphere, box and mesh bodies through the voxelizer's samplers (a jittered
 // lattice aligned with the grid, or Poisson-disk samples), points bodies with the cloud as it is.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -42,6 +43,38 @@ std::vector<glm::dvec3> sampleShape(const Body& body, const voxelizer::SamplingO
     case BodyShape::Points: return *body.pointsM;
   }
   return {};
+}
+
+using SeedIterator = std::vector<ParticleSeed>::iterator;
+
+// v = v0 + ω × (x − c) about the body's centre of mass c: the body translates at v0 and spins at ω.
+void setInitialMotion(const Body& body, SeedIterator begin, SeedIterator end) {
+  if (body.angularVelocityRadPerS == glm::dvec3(0.0)) return;
+  glm::dvec3 weightedSumM(0.0);
+  double massKg = 0;
+  for (auto seed = begin; seed != end; ++seed) {
+    weightedSumM += double(seed->massKg) * glm::dvec3(seed->positionM);
+    massKg += seed->massKg;
+  }
+  const glm::dvec3 centerM = weightedSumM / massKg;
+  for (auto seed = begin; seed != end; ++seed) {
+    seed->velocityMPerS = glm::vec3(body.velocityMPerS +
+                                    glm::cross(body.angularVelocityRadPerS, glm::dvec3(seed->positionM) - centerM));
+  }
+}
+
+// An emitter's particles leave in order of how far they lie along its velocity (the leading edge first, as if
+// the body were pushed out of a nozzle at its back), evenly over its release window; at rest, top first.
+void setReleaseTimes(const Body& body, double frameRateHz, SeedIterator begin, SeedIterator end) {
+  const glm::dvec3 direction = body.velocityMPerS == glm::dvec3(0.0) ? glm::dvec3(0, 1, 0)
+                                                                      : glm::normalize(body.velocityMPerS);
+  std::stable_sort(begin, end, [&](const ParticleSeed& a, const ParticleSeed& b) {
+    return glm::dot(glm::dvec3(a.positionM), direction) > glm::dot(glm::dvec3(b.positionM), direction);
+  });
+  const double startS = body.startFrame / frameRateHz;
+  const double windowS = body.durationFrames / frameRateHz;
+  const double count = double(end - begin);
+  for (auto seed = begin; seed != end; ++seed) seed->releaseTimeS = startS + windowS * double(seed - begin) / count;
 }
 
 }  // namespace
@@ -87,14 +120,17 @@ std::vector<ParticleSeed> sampleBodies(const Scene& scene) {
       lattice.sampler = voxelizer::Sampler::Lattice;
       sampledMassKg *= double(sampleShape(body, lattice).size()) / double(positionsM.size());
     }
+    const std::size_t first = particles.size();
     for (std::size_t i = 0; i < positionsM.size(); ++i) {
       double massKg = sampledMassKg;
       if (body.shape == BodyShape::Points) {
         massKg = body.pointMassesKg.size() == 1 ? body.pointMassesKg.front() : body.pointMassesKg[i];
       }
-      particles.push_back({glm::vec3(positionsM[i]), glm::vec3(body.velocityMPerS), static_cast<float>(massKg),
-                           body.materialIndex, static_cast<int>(bodyIndex)});
+      particles.push_back({glm::vec3(positionsM[i]), glm::vec3(body.velocityMPerS),
+                           static_cast<float>(massKg * body.massScale), body.materialIndex, static_cast<int>(bodyIndex)});
     }
+    setInitialMotion(body, particles.begin() + std::ptrdiff_t(first), particles.end());
+    if (body.isEmitter()) setReleaseTimes(body, scene.time.frameRateHz, particles.begin() + std::ptrdiff_t(first), particles.end());
   }
   return particles;
 }

@@ -65,6 +65,16 @@ struct Body {
   glm::dvec3 maxM{0.0};     // box
   int materialIndex = 0;    // into Scene::materials
   glm::dvec3 velocityMPerS{0.0};
+  glm::dvec3 angularVelocityRadPerS{0.0};  // about the body's centre of mass: v = v0 + ω × (x − c)
+  // Seed 001's modifiers of the material for this body alone: λ0, μ0 and the particle masses are scaled.
+  double lambdaScale = 1;
+  double muScale = 1;
+  double massScale = 1;
+  // An emitter releases its particles over [start_frame, start_frame + duration_frames) frames, leading edge
+  // first; the particle buffers reserve room for them from the start.
+  int startFrame = 0;
+  int durationFrames = 0;
+  bool isEmitter() const { return startFrame > 0 || durationFrames > 0; }
   // Sphere, box and mesh bodies are sampled at spacing cell_size / cbrt(particlesPerCell); for a points body
   // it is (cell_size / the cloud's spacing)³, what the fixed-point bounds need to know.
   double particlesPerCell = 8;
@@ -146,6 +156,7 @@ struct ParticleSeed {
   float massKg;
   int materialIndex;
   int bodyIndex;
+  double releaseTimeS = 0;  // emitters: when the particle joins the simulation; 0 for everything else
 };
 
 // How messages name the built-in scene, which has no file.

@@ -546,11 +546,13 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<SnowMa
   Body result;
   result.shape = body.required("shape").choice<BodyShape>(
       {{"sphere", BodyShape::Sphere}, {"box", BodyShape::Box}, {"mesh", BodyShape::Mesh}, {"points", BodyShape::Points}});
-  const Names laterKeys = {"angular_velocity", "lambda_scale", "mu_scale", "mass_scale", "start_frame", "duration_frames"};
   const auto keysWith = [](const std::vector<std::string>& shapeKeys) {
     std::vector<std::string> keys = {"shape"};
     keys.insert(keys.end(), shapeKeys.begin(), shapeKeys.end());
-    for (const char* common : {"material", "velocity"}) keys.push_back(common);
+    for (const char* common : {"material", "velocity", "angular_velocity", "lambda_scale", "mu_scale", "mass_scale",
+                               "start_frame", "duration_frames"}) {
+      keys.push_back(common);
+    }
     return keys;
   };
   const auto readFile = [&] {
@@ -560,29 +562,36 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<SnowMa
   };
   switch (result.shape) {
     case BodyShape::Sphere:
-      body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), laterKeys, "a sphere body");
+      body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), {}, "a sphere body");
       result.centerM = body.vec3("center");
       result.radiusM = body.number("radius", Interval::greaterThan(0));
       break;
     case BodyShape::Box:
-      body.checkKeys(keysWith({"min", "max", "particles_per_cell", "sampler"}), laterKeys, "a box body");
+      body.checkKeys(keysWith({"min", "max", "particles_per_cell", "sampler"}), {}, "a box body");
       result.minM = body.vec3("min");
       result.maxM = body.vec3("max");
       checkBoxCorners(body, result.minM, result.maxM);
       break;
     case BodyShape::Mesh:
-      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particles_per_cell", "sampler"}), laterKeys,
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particles_per_cell", "sampler"}), {},
                      "a mesh body");
       readFile();
       break;
     case BodyShape::Points:
-      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particle_mass"}), laterKeys,
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particle_mass"}), {},
                      "a points body");
       readFile();
       break;
   }
   result.materialIndex = readMaterialReference(body, materials);
   result.velocityMPerS = body.vec3("velocity", result.velocityMPerS);
+  result.angularVelocityRadPerS = body.vec3("angular_velocity", result.angularVelocityRadPerS);
+  result.lambdaScale = body.number("lambda_scale", result.lambdaScale, Interval::atLeast(0));
+  result.muScale = body.number("mu_scale", result.muScale, Interval::atLeast(0));
+  result.massScale = body.number("mass_scale", result.massScale, Interval::greaterThan(0));
+  constexpr int maxFrames = 1000000;  // as time.frames
+  result.startFrame = body.integer("start_frame", result.startFrame, 0, maxFrames);
+  result.durationFrames = body.integer("duration_frames", result.durationFrames, 0, maxFrames);
   result.particlesPerCell = body.number("particles_per_cell", result.particlesPerCell, Interval::openClosed(0, 1000));
   result.sampler = body.choice<BodySampler>("sampler", result.sampler,
                                             {{"lattice", BodySampler::Lattice}, {"poisson_disk", BodySampler::PoissonDisk}});

@@ -1,8 +1,14 @@
 #pragma once
 // Material parameter conversions, one tested function each.
 
+#include <cstdint>
+#include <vector>
+
+#include "sim/GpuLayout.h"
+
 namespace firn {
 
+struct Scene;
 struct SnowMaterial;
 
 struct LameParameters {
@@ -14,10 +20,19 @@ struct LameParameters {
 LameParameters lameParameters(double youngsModulusPa, double poissonRatio);
 
 // Speed of the fastest elastic (pressure) wave, sqrt((λ + 2μ) / ρ), at the stiffest state the snow can reach:
-// hardening grows the moduli by e^{ξ θc} at the compression limit J_P = 1 − θc.
-double snowWaveSpeedMPerS(const SnowMaterial& material);
+// hardening grows the moduli by e^{ξ θc} at the compression limit J_P = 1 − θc. A body's lambda_scale and
+// mu_scale scale λ and μ.
+double snowWaveSpeedMPerS(const SnowMaterial& material, double lambdaScale = 1, double muScale = 1);
 
 // The explicit step's elastic stability bound Δt < h / c (CFL on the elastic wave).
-double elasticStableDtS(const SnowMaterial& material, double cellSizeM);
+double elasticStableDtS(const SnowMaterial& material, double cellSizeM, double lambdaScale = 1, double muScale = 1);
+
+// The materials as the GPU sees them: the scene's, in order, then one variant for each body whose
+// lambda_scale or mu_scale is not 1 (seed 001's per-body modifiers), so no shader needs a per-body table.
+struct MaterialTable {
+  std::vector<gpu::MaterialParams> entries;
+  std::vector<std::uint32_t> bodyEntry;  // the entry each body's particles use
+};
+MaterialTable buildMaterialTable(const Scene& scene);
 
 }  // namespace firn

@@ -40,12 +40,26 @@ gpu::Mat3x4 identityMat3() {
 
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl,
+namespace {
+
+// The particles present from the start; the emitters' others go to `pending`, in order of release.
+std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& particles, std::vector<ParticleSeed>& pending) {
+  std::vector<ParticleSeed> initial;
+  for (const ParticleSeed& seed : particles) (seed.releaseTimeS > 0 ? pending : initial).push_back(seed);
+  std::stable_sort(pending.begin(), pending.end(),
+                   [](const ParticleSeed& a, const ParticleSeed& b) { return a.releaseTimeS < b.releaseTimeS; });
+  return initial;
+}
+
+}  // namespace
+
+Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
                        std::size_t particleCapacity)
-    : scene_(scene), particleCount_(particles.size()), particleCapacity_(std::max(particleCapacity, particles.size())),
-      gridNodes_(scene.grid.cells + 1),
+    : scene_(scene), particleCapacity_(std::max(particleCapacity, seeds.size())), gridNodes_(scene.grid.cells + 1),
       maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
-  if (particles.empty()) throw InputError("bodies: the scene has no particles");
+  if (seeds.empty()) throw InputError("bodies: the scene has no particles");
+  const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
+  particleCount_ = particles.size();
   if (scene_.solver.atomics == Atomics::Float && !gl.hasFloatAtomics) {
     throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
                      " does not offer; use \"fixed\"");
@@ -66,15 +80,15 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& part
   }
 
   double referenceMassKg = 0;
-  for (const ParticleSeed& seed : particles) referenceMassKg = std::max(referenceMassKg, double(seed.massKg));
+  for (const ParticleSeed& seed : seeds) referenceMassKg = std::max(referenceMassKg, double(seed.massKg));
   double maxParticlesPerCell = 0;
   for (const Body& body : scene_.bodies) maxParticlesPerCell = std::max(maxParticlesPerCell, body.particlesPerCell);
   fixedPoint_ = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, scene_.grid.cellSizeM, scene_.time.dtS);
 
   buildPrograms();
+  uploadMaterialsAndColliders();
   allocateParticles();
   writeParticles(0, particles, false);
-  uploadMaterialsAndColliders();
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
@@ -142,7 +156,9 @@ void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSee
     const double volumeM3 =
         volumeFromDensity ? seed.massKg / scene_.materials.at(std::size_t(seed.materialIndex)).densityKgPerM3 : 0.0;
     velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
-    plastic.push_back({1.0f, static_cast<std::uint32_t>(seed.materialIndex)});
+    const std::uint32_t materialEntry = seed.bodyIndex >= 0 ? bodyMaterialEntry_.at(std::size_t(seed.bodyIndex))
+                                                            : static_cast<std::uint32_t>(seed.materialIndex);
+    plastic.push_back({1.0f, materialEntry});
     particleBody_.push_back(seed.bodyIndex);
     particleMaterial_.push_back(seed.materialIndex);
   }
@@ -180,13 +196,9 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
 }
 
 void Simulation::uploadMaterialsAndColliders() {
-  std::vector<gpu::MaterialParams> materials;
-  for (const SnowMaterial& material : scene_.materials) {
-    const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
-    materials.push_back({glm::vec4(lame.muPa, lame.lambdaPa, material.hardening, material.densityKgPerM3),
-                         glm::vec4(1.0 - material.criticalCompression, 1.0 + material.criticalStretch, 0, 0)});
-  }
-  materials_ = gl::Buffer::fromVector(materials);
+  const MaterialTable table = buildMaterialTable(scene_);
+  materials_ = gl::Buffer::fromVector(table.entries);
+  bodyMaterialEntry_ = table.bodyEntry;
 
   // One zeroed element stands in when there are none, so the binding is always a valid buffer.
   std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene_.colliders.size(), 1), gpu::ColliderParams{});
@@ -343,7 +355,18 @@ void Simulation::scatterToGrid() {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
+void Simulation::releaseDueParticles() {
+  std::vector<ParticleSeed> due;
+  // The tolerance lets a particle due at a frame time join at that frame's first step despite rounding.
+  const double nowS = timeS_ + 1e-9 * scene_.time.dtS;
+  while (nextPending_ < pendingParticles_.size() && pendingParticles_[nextPending_].releaseTimeS <= nowS) {
+    due.push_back(pendingParticles_[nextPending_++]);
+  }
+  addParticles(due);
+}
+
 void Simulation::step(double dtS) {
+  releaseDueParticles();
   writeStepUniforms(dtS);
   scatterToGrid();  // prepare_grid → clear_grid → p2g
   runOverGrid(updateGrid_);
@@ -390,6 +413,10 @@ void Simulation::checkWatchdog() const {
   const double dt = scene_.time.dtS;
   double stableDt = std::numeric_limits<double>::infinity();
   for (const SnowMaterial& material : scene_.materials) stableDt = std::min(stableDt, elasticStableDtS(material, h));
+  for (const Body& body : scene_.bodies) {
+    stableDt = std::min(stableDt, elasticStableDtS(scene_.materials[std::size_t(body.materialIndex)], h,
+                                                   body.lambdaScale, body.muScale));
+  }
   const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDt) +
                                 " s for the stiffest material (scene dt " + formatNumber(dt) + " s)";
   auto when = [&](std::uint32_t step) {

@@ -36,11 +36,11 @@ struct GridTotals {
 
 class Simulation {
  public:
-  // Builds the programs and buffers the scene needs and computes the initial particle volumes. The particle
-  // buffers hold `particleCapacity` particles (at least particles.size()), so that addParticles can add more
-  // while running. Throws InputError when the scene asks for more than the driver offers (float atomics,
-  // buffer sizes).
-  Simulation(const Scene& scene, const std::vector<ParticleSeed>& particles, const gl::ContextInfo& gl,
+  // Builds the programs and buffers the scene needs and computes the initial particle volumes. Particles with
+  // a release time (emitters) join at the first step that starts at or after it. The particle buffers hold
+  // `particleCapacity` particles (at least all the seeds), so that addParticles can add more while running.
+  // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
+  Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
              std::size_t particleCapacity = 0);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
@@ -71,6 +71,8 @@ class Simulation {
   std::uint64_t stepCount() const { return steps_; }
   std::size_t particleCount() const { return particleCount_; }
   std::size_t particleCapacity() const { return particleCapacity_; }
+  // Emitters' particles still to come.
+  std::size_t pendingParticleCount() const { return pendingParticles_.size() - nextPending_; }
   const FixedPointScale& fixedPoint() const { return fixedPoint_; }
   const Scene& scene() const { return scene_; }
 
@@ -91,6 +93,7 @@ class Simulation {
  private:
   void buildPrograms();
   void allocateParticles();
+  void releaseDueParticles();
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
   void uploadMaterialsAndColliders();
   void seedActiveRegion(const std::vector<glm::vec3>& positions);
@@ -114,6 +117,9 @@ class Simulation {
   int maxWorkGroupsX_ = 65535;
   std::vector<int> particleBody_;      // body of each particle (−1: added while running), for messages
   std::vector<int> particleMaterial_;  // material of each particle, for messages
+  std::vector<std::uint32_t> bodyMaterialEntry_;  // each body's entry in the GPU material table
+  std::vector<ParticleSeed> pendingParticles_;    // emitters' particles not yet released, by release time
+  std::size_t nextPending_ = 0;
 
   double timeS_ = 0;
   std::uint64_t steps_ = 0;

@@ -330,4 +330,46 @@ TEST_F(SimulationTest, AddedParticlesJoinTheGridAndFall) {
   EXPECT_THROW(simulation.addParticles({seeds.front()}), std::length_error);
 }
 
+// An emitter body (start_frame 2, duration_frames 4 at 50 Hz) joins over 0.04–0.12 s: before its window only
+// the other body is simulated, during it the count follows the release times exactly (a particle joins at the
+// first step starting at or after its time), after it everything is in, and the grid carries all the mass
+// (conservation tolerance as in ParticleToGridConservesMassAndMomentum).
+TEST_F(SimulationTest, EmitterReleasesItsParticlesOverItsWindow) {
+  const Scene scene = sceneFromJson(R"({
+    "grid": { "cells": [32, 32, 32], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 8 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [
+      { "shape": "box", "min": [0.2, 0.2, 0.2], "max": [0.4, 0.4, 0.4], "material": "snow" },
+      { "shape": "box", "min": [0.8, 0.9, 0.7], "max": [1.0, 1.1, 0.9], "material": "snow",
+        "velocity": [0, -1, 0], "start_frame": 2, "duration_frames": 4 } ] })");
+  const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  std::size_t still = 0;
+  for (const firn::ParticleSeed& seed : seeds) still += seed.bodyIndex == 0 ? 1 : 0;
+  Simulation simulation(scene, seeds, gl());
+  EXPECT_EQ(simulation.particleCount(), still);
+  EXPECT_EQ(simulation.pendingParticleCount(), seeds.size() - still);
+
+  for (int frame = 1; frame <= 7; ++frame) {
+    const double timeS = frame / 50.0;
+    simulation.advanceTo(timeS);
+    // Released by the last step's start, t − dt.
+    std::size_t expected = still;
+    for (const firn::ParticleSeed& seed : seeds) {
+      if (seed.bodyIndex == 1 && seed.releaseTimeS <= timeS - 1e-3 + 1e-12) ++expected;
+    }
+    EXPECT_EQ(simulation.particleCount(), expected) << "frame " << frame;
+  }
+  simulation.checkWatchdog();
+  EXPECT_EQ(simulation.particleCount(), seeds.size());
+  EXPECT_EQ(simulation.pendingParticleCount(), 0u);
+  const Totals particles = particleTotals(simulation.snapshot());
+  double seededKg = 0;
+  for (const firn::ParticleSeed& seed : seeds) seededKg += seed.massKg;
+  EXPECT_NEAR(particles.massKg, seededKg, 1e-6 * seededKg);
+  const firn::GridTotals grid = simulation.transferToGrid();
+  const auto& fp = simulation.fixedPoint();
+  EXPECT_NEAR(grid.massKg, seededKg, double(seeds.size()) * 64 * fp.resolution() * fp.referenceMassKg + 1e-6 * seededKg);
+}
+
 }  // namespace

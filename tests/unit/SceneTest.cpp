@@ -356,10 +356,6 @@ TEST(SceneLoader, RejectsUnsupportedShapesAndKeys) {
   expectError(scene, "colliders[0].type", "\"mesh\" is part of the scene format but not supported by this build yet");
 
   scene = validScene();
-  scene["bodies"][0]["angular_velocity"] = {0, 1, 0};
-  expectError(scene, "bodies[0].angular_velocity", "part of the scene format but not supported by this build yet");
-
-  scene = validScene();
   scene["time"]["adaptive"] = true;
   expectError(scene, "time.adaptive", "part of the scene format but not supported by this build yet");
 }
