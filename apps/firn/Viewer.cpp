@@ -337,10 +337,14 @@ class Viewer {
     const glm::vec3 centerM = glm::clamp(entry ? camera.positionM + *entry * forward : camera.targetM, lowM, highM);
     // At most a third of a cell per step, well inside the CFL bound the watchdog enforces.
     const float speedMPerS = float(std::min(kSnowballSpeedMPerS, scene_.grid.cellSizeM / scene_.time.dtS / 3));
+    // The fixed-point scale allows no particle heavier than the scene's heaviest (a points body may bring
+    // lighter particles than ρ s³): such a snowball is made lighter instead.
+    const float maxMassKg = float(simulation_->fixedPoint().referenceMassKg);
     std::vector<ParticleSeed> particles = snowballTemplate_;
     for (ParticleSeed& particle : particles) {
       particle.positionM += centerM;
       particle.velocityMPerS = speedMPerS * forward;
+      particle.massKg = std::min(particle.massKg, maxMassKg);
     }
     simulation_->addParticles(particles);
   }
