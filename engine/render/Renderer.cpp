@@ -79,7 +79,7 @@ struct Renderer::FrameView {
 
 Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-    const SnowMaterial& material = scene.materials[i];
+    const Material& material = scene.materials[i];
     materialColors_.emplace_back(kMaterialPaletteSrgb[i % std::size(kMaterialPaletteSrgb)], 1.0f);
     materialProperties_.emplace_back(1.0 / material.youngsModulusPa, 1.0 / material.densityKgPerM3, 0.0f, 0.0f);
   }

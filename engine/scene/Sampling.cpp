@@ -84,7 +84,7 @@ std::vector<ParticleSeed> sampleBodies(const Scene& scene) {
   for (std::size_t bodyIndex = 0; bodyIndex < scene.bodies.size(); ++bodyIndex) {
     const Body& body = scene.bodies[bodyIndex];
     const std::string bodyName = sceneFileName(scene) + ": bodies[" + std::to_string(bodyIndex) + "]";
-    const SnowMaterial& material = scene.materials.at(body.materialIndex);
+    const Material& material = scene.materials.at(body.materialIndex);
     const double spacingM = scene.grid.cellSizeM / std::cbrt(body.particlesPerCell);
 
     // The lattice has about one candidate per spacing³ of the bounding box (plus a jitter margin).

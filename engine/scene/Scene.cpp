@@ -3,14 +3,14 @@
 
 namespace firn {
 
-const std::vector<SnowMaterial>& snowPresets() {
+const std::vector<Material>& snowPresets() {
   // Fields: name, E (Pa), ν, ρ (kg/m³), θc, θs, ξ. Sources (shared/seeds, see design.md):
   // - stomakhin: Stomakhin et al. 2013, table 2, the reference snow.
   // - dry: powder; Stomakhin's lower critical compression and stretch, so it crumbles rather than deforms.
   // - wet: chunky; larger θc and θs per the seeds, so it deforms plastically before it breaks.
   // - icy: seed 002's snowball parameters (E = 5e6, ν = 0.3, ξ = 30, θs = 2e-3), high E and hardening.
   // - slushy: Stomakhin's lower E and lower hardening, so it flows.
-  static const std::vector<SnowMaterial> presets = {
+  static const std::vector<Material> presets = {
       {"stomakhin", 1.4e5, 0.2, 400, 2.5e-2, 7.5e-3, 10},
       {"dry", 1.4e5, 0.2, 300, 1.9e-2, 5.0e-3, 10},
       {"wet", 1.4e5, 0.2, 500, 4.0e-2, 1.5e-2, 10},

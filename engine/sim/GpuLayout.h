@@ -55,17 +55,25 @@ struct Mat3x4 {
 };
 static_assert(sizeof(Mat3x4) == 48, "std430 mat3 is 48 bytes");
 
+// The scalar state each material keeps besides F (materials.glsl): snow J_P = det F_P; water J = det F; sand
+// its hardening state q and log-volume correction V_c (Klár 2016). 1 for what a material does not use.
 struct ParticlePlasticState {
-  float plasticJ;            // J_P = det F_P
-  std::uint32_t materialIndex;
+  float plasticJ;               // snow: J_P; water: J; sand: q
+  std::uint32_t materialIndex;  // into the material table (sim/Materials.h)
+  float volumeCorrection;       // sand: V_c
+  float unused;
 };
-static_assert(sizeof(ParticlePlasticState) == 8, "std430 ParticlePlasticState");
+static_assert(sizeof(ParticlePlasticState) == 16, "std430 ParticlePlasticState");
+
+enum class MaterialModelCode : std::int32_t { Snow = 0, FixedCorotated = 1, NeoHookean = 2, Water = 3, DruckerPrager = 4 };
 
 struct MaterialParams {
-  glm::vec4 elastic;  // μ0 (Pa), λ0 (Pa), hardening ξ, density (kg/m³)
-  glm::vec4 plastic;  // 1 − θc, 1 + θs, unused, unused
+  glm::vec4 elastic;  // μ0 (Pa), λ0 (Pa), snow hardening ξ, density (kg/m³)
+  glm::vec4 plastic;  // snow: 1 − θc, 1 + θs; sand: h0, h1 (rad), h2, h3 (rad)
+  glm::vec4 fluid;    // water: bulk modulus k (Pa), γ, viscosity (Pa·s)
+  glm::ivec4 model;   // x: MaterialModelCode
 };
-static_assert(sizeof(MaterialParams) == 32, "std430 MaterialParams");
+static_assert(sizeof(MaterialParams) == 64, "std430 MaterialParams");
 
 enum class ColliderShapeCode : std::int32_t { Plane = 0, Sphere = 1, Box = 2 };
 enum class BoundaryCode : std::int32_t { Sticky = 0, Slip = 1, Separate = 2 };

@@ -11,30 +11,66 @@ LameParameters lameParameters(double youngsModulusPa, double poissonRatio) {
           youngsModulusPa * poissonRatio / ((1.0 + poissonRatio) * (1.0 - 2.0 * poissonRatio))};
 }
 
-double snowWaveSpeedMPerS(const SnowMaterial& material, double lambdaScale, double muScale) {
+double waveSpeedMPerS(const Material& material, double lambdaScale, double muScale) {
+  if (material.model == MaterialModel::Water) {
+    return std::sqrt(material.bulkModulusPa * material.gamma / material.densityKgPerM3);
+  }
   const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
-  const double hardening = std::exp(material.hardening * material.criticalCompression);
+  const double hardening =
+      material.model == MaterialModel::Snow ? std::exp(material.hardening * material.criticalCompression) : 1.0;
   return std::sqrt((lambdaScale * lame.lambdaPa + 2.0 * muScale * lame.muPa) * hardening / material.densityKgPerM3);
 }
 
-double elasticStableDtS(const SnowMaterial& material, double cellSizeM, double lambdaScale, double muScale) {
-  return cellSizeM / snowWaveSpeedMPerS(material, lambdaScale, muScale);
+double elasticStableDtS(const Material& material, double cellSizeM, double lambdaScale, double muScale) {
+  return cellSizeM / waveSpeedMPerS(material, lambdaScale, muScale);
 }
 
 namespace {
 
-gpu::MaterialParams gpuMaterial(const SnowMaterial& material, double lambdaScale, double muScale) {
+gpu::MaterialModelCode modelCode(MaterialModel model) {
+  switch (model) {
+    case MaterialModel::Snow: return gpu::MaterialModelCode::Snow;
+    case MaterialModel::FixedCorotated: return gpu::MaterialModelCode::FixedCorotated;
+    case MaterialModel::NeoHookean: return gpu::MaterialModelCode::NeoHookean;
+    case MaterialModel::Water: return gpu::MaterialModelCode::Water;
+    case MaterialModel::DruckerPrager: return gpu::MaterialModelCode::DruckerPrager;
+  }
+  return gpu::MaterialModelCode::Snow;
+}
+
+gpu::MaterialParams gpuMaterial(const Material& material, double lambdaScale, double muScale) {
+  gpu::MaterialParams params{};
+  params.model.x = static_cast<std::int32_t>(modelCode(material.model));
+  const double radiansPerDegree = 3.14159265358979323846 / 180;
+  switch (material.model) {
+    case MaterialModel::Water:
+      params.elastic.w = float(material.densityKgPerM3);
+      params.fluid = glm::vec4(float(material.bulkModulusPa), float(material.gamma), float(material.viscosityPaS), 0);
+      return params;
+    case MaterialModel::DruckerPrager:
+      params.plastic = glm::vec4(float(material.hardeningH0Deg * radiansPerDegree),
+                                 float(material.hardeningH1Deg * radiansPerDegree), float(material.hardeningH2),
+                                 float(material.hardeningH3Deg * radiansPerDegree));
+      break;
+    case MaterialModel::Snow:
+      params.plastic = glm::vec4(float(1.0 - material.criticalCompression), float(1.0 + material.criticalStretch), 0, 0);
+      params.elastic.z = float(material.hardening);
+      break;
+    case MaterialModel::FixedCorotated:
+    case MaterialModel::NeoHookean: break;
+  }
   const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
-  return {glm::vec4(float(muScale * lame.muPa), float(lambdaScale * lame.lambdaPa), float(material.hardening),
-                    float(material.densityKgPerM3)),
-          glm::vec4(float(1.0 - material.criticalCompression), float(1.0 + material.criticalStretch), 0, 0)};
+  params.elastic.x = float(muScale * lame.muPa);
+  params.elastic.y = float(lambdaScale * lame.lambdaPa);
+  params.elastic.w = float(material.densityKgPerM3);
+  return params;
 }
 
 }  // namespace
 
 MaterialTable buildMaterialTable(const Scene& scene) {
   MaterialTable table;
-  for (const SnowMaterial& material : scene.materials) table.entries.push_back(gpuMaterial(material, 1, 1));
+  for (const Material& material : scene.materials) table.entries.push_back(gpuMaterial(material, 1, 1));
   for (const Body& body : scene.bodies) {
     if (body.lambdaScale == 1 && body.muScale == 1) {
       table.bodyEntry.push_back(static_cast<std::uint32_t>(body.materialIndex));

@@ -9,7 +9,7 @@
 namespace firn {
 
 struct Scene;
-struct SnowMaterial;
+struct Material;
 
 struct LameParameters {
   double muPa;      // shear modulus μ
@@ -19,13 +19,13 @@ struct LameParameters {
 // μ = E / (2(1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)) (Stomakhin 2013 §7; seed 001 §4.2).
 LameParameters lameParameters(double youngsModulusPa, double poissonRatio);
 
-// Speed of the fastest elastic (pressure) wave, sqrt((λ + 2μ) / ρ), at the stiffest state the snow can reach:
-// hardening grows the moduli by e^{ξ θc} at the compression limit J_P = 1 − θc. A body's lambda_scale and
-// mu_scale scale λ and μ.
-double snowWaveSpeedMPerS(const SnowMaterial& material, double lambdaScale = 1, double muScale = 1);
+// Speed of the fastest elastic (pressure) wave: sqrt((λ + 2μ) / ρ) for solids and sand, at the stiffest state
+// snow can reach (hardening grows its moduli by e^{ξ θc} at the compression limit J_P = 1 − θc), and
+// sqrt(k γ / ρ) for water (dp/dJ at rest). A body's lambda_scale and mu_scale scale λ and μ.
+double waveSpeedMPerS(const Material& material, double lambdaScale = 1, double muScale = 1);
 
 // The explicit step's elastic stability bound Δt < h / c (CFL on the elastic wave).
-double elasticStableDtS(const SnowMaterial& material, double cellSizeM, double lambdaScale = 1, double muScale = 1);
+double elasticStableDtS(const Material& material, double cellSizeM, double lambdaScale = 1, double muScale = 1);
 
 // The materials as the GPU sees them: the scene's, in order, then one variant for each body whose
 // lambda_scale or mu_scale is not 1 (seed 001's per-body modifiers), so no shader needs a per-body table.

@@ -116,6 +116,17 @@ void Simulation::buildPrograms() {
   options.defines.emplace_back(scene_.solver.kernel == Kernel::Cubic ? "FIRN_KERNEL_CUBIC" : "FIRN_KERNEL_QUADRATIC", "1");
   options.defines.emplace_back(scene_.solver.transfer == Transfer::Apic ? "FIRN_TRANSFER_APIC" : "FIRN_TRANSFER_PIC_FLIP", "1");
   if (!scene_.colliders.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDERS", "1");
+  // Only the material models present are compiled in, and F only where one of them needs it.
+  for (const auto& [model, define] : {std::pair{MaterialModel::Snow, "FIRN_MATERIAL_SNOW"},
+                                      std::pair{MaterialModel::FixedCorotated, "FIRN_MATERIAL_FIXED_COROTATED"},
+                                      std::pair{MaterialModel::NeoHookean, "FIRN_MATERIAL_NEO_HOOKEAN"},
+                                      std::pair{MaterialModel::Water, "FIRN_MATERIAL_WATER"},
+                                      std::pair{MaterialModel::DruckerPrager, "FIRN_MATERIAL_DRUCKER_PRAGER"}}) {
+    const bool present = std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                                     [&](const Material& material) { return material.model == model; });
+    if (present) options.defines.emplace_back(define, "1");
+  }
+  if (needsDeformationGradient()) options.defines.emplace_back("FIRN_HAS_DEFORMATION_GRADIENT", "1");
   if (scene_.solver.atomics == Atomics::Float) {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
@@ -129,12 +140,17 @@ void Simulation::buildPrograms() {
   computeVolumes_ = gl::Program::compute(library, "sim/compute_volumes.comp", options);
 }
 
+bool Simulation::needsDeformationGradient() const {
+  return std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                     [](const Material& material) { return material.needsDeformationGradient(); });
+}
+
 void Simulation::allocateParticles() {
   const std::size_t n = particleCapacity_;
   positionMass_ = gl::Buffer(n * sizeof(glm::vec4));
   velocityVolume_ = gl::Buffer(n * sizeof(glm::vec4));
   plasticState_ = gl::Buffer(n * sizeof(gpu::ParticlePlasticState));
-  elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  if (needsDeformationGradient()) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   if (scene_.solver.transfer == Transfer::Apic) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   particleBody_.reserve(n);
@@ -158,7 +174,9 @@ void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSee
     velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
     const std::uint32_t materialEntry = seed.bodyIndex >= 0 ? bodyMaterialEntry_.at(std::size_t(seed.bodyIndex))
                                                             : static_cast<std::uint32_t>(seed.materialIndex);
-    plastic.push_back({1.0f, materialEntry});
+    // Sand's hardening state q starts at 0; J_P (snow) and J (water) start at 1.
+    const bool sand = scene_.materials.at(std::size_t(seed.materialIndex)).model == MaterialModel::DruckerPrager;
+    plastic.push_back({sand ? 0.0f : 1.0f, materialEntry, 0.0f, 0.0f});
     particleBody_.push_back(seed.bodyIndex);
     particleMaterial_.push_back(seed.materialIndex);
   }
@@ -167,7 +185,9 @@ void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSee
   plasticState_.upload(first * sizeof(gpu::ParticlePlasticState), n * sizeof(gpu::ParticlePlasticState), plastic.data());
   // Snow starts undeformed: F_E = I, so its stress is zero.
   const std::vector<gpu::Mat3x4> identity(n, identityMat3());
-  elasticDeformation_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), identity.data());
+  if (elasticDeformation_) {
+    elasticDeformation_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), identity.data());
+  }
   const std::vector<gpu::Mat3x4> zero(n, gpu::Mat3x4{});
   kirchhoffStress_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), zero.data());
   if (affine_) affine_.upload(first * sizeof(gpu::Mat3x4), n * sizeof(gpu::Mat3x4), zero.data());
@@ -270,7 +290,7 @@ void Simulation::bindAll() const {
   stepUniforms_.bindUniform(gpu::StepUniformsBlock);
   positionMass_.bindStorage(gpu::PositionMass);
   velocityVolume_.bindStorage(gpu::VelocityVolume);
-  elasticDeformation_.bindStorage(gpu::ElasticDeformation);
+  if (elasticDeformation_) elasticDeformation_.bindStorage(gpu::ElasticDeformation);
   kirchhoffStress_.bindStorage(gpu::KirchhoffStress);
   if (affine_) affine_.bindStorage(gpu::Affine);
   plasticState_.bindStorage(gpu::PlasticState);
@@ -412,7 +432,7 @@ void Simulation::checkWatchdog() const {
   const double h = scene_.grid.cellSizeM;
   const double dt = scene_.time.dtS;
   double stableDt = std::numeric_limits<double>::infinity();
-  for (const SnowMaterial& material : scene_.materials) stableDt = std::min(stableDt, elasticStableDtS(material, h));
+  for (const Material& material : scene_.materials) stableDt = std::min(stableDt, elasticStableDtS(material, h));
   for (const Body& body : scene_.bodies) {
     stableDt = std::min(stableDt, elasticStableDtS(scene_.materials[std::size_t(body.materialIndex)], h,
                                                    body.lambdaScale, body.muScale));

@@ -92,6 +92,7 @@ class Simulation {
 
  private:
   void buildPrograms();
+  bool needsDeformationGradient() const;
   void allocateParticles();
   void releaseDueParticles();
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
@@ -133,7 +134,7 @@ class Simulation {
 
   gl::Buffer positionMass_;
   gl::Buffer velocityVolume_;
-  gl::Buffer elasticDeformation_;
+  gl::Buffer elasticDeformation_;  // F (F_E for snow and sand); water-only scenes carry J alone
   gl::Buffer kirchhoffStress_;
   gl::Buffer affine_;  // APIC only
   gl::Buffer plasticState_;

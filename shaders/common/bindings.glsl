@@ -14,8 +14,10 @@ layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniforms {
 #include "common/particles.glsl"
 
 struct MaterialParams {
-  vec4 elastic;  // μ0 (Pa), λ0 (Pa), hardening ξ, density (kg/m³)
-  vec4 plastic;  // 1 − θc, 1 + θs
+  vec4 elastic;  // μ0 (Pa), λ0 (Pa), snow hardening ξ, density (kg/m³)
+  vec4 plastic;  // snow: 1 − θc, 1 + θs; sand: h0, h1 (rad), h2, h3 (rad)
+  vec4 fluid;    // water: bulk modulus k (Pa), γ, viscosity (Pa·s)
+  ivec4 model;   // x: MODEL_* (materials.glsl)
 };
 layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
 

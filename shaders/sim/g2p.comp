@@ -1,6 +1,7 @@
 #version 430 core
 // Grid to particle: one invocation per particle. Gathers the new velocity (PIC/FLIP blend or APIC) and the
-// velocity gradient, updates F_E, J_P and the stress (snow.glsl), collides the particle, advects it
+// velocity gradient, updates the particle's material (F or F_E, its scalar state, and the stress:
+// materials.glsl), collides the particle, advects it
 // (x += Δt v), and feeds the active-region bounds and the watchdog. A particle whose new state is not finite
 // keeps its old state and is reported, so no non-finite value ever reaches a buffer or an output.
 // Reads: grid velocities, particle state, materials, colliders.
@@ -10,7 +11,7 @@
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
 #include "common/colliders.glsl"
-#include "common/snow.glsl"
+#include "common/materials.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -50,8 +51,12 @@ void advanceParticle(uint p) {
 #endif
 
   PlasticState state = plasticState[p];
-  SnowUpdate snow =
-      updateSnow(elasticDeformation[p], state.plasticJ, velocityGradient, stepDt(), materials[state.materialIndex]);
+#ifdef FIRN_HAS_DEFORMATION_GRADIENT
+  mat3 deformation = elasticDeformation[p];
+#else
+  mat3 deformation = mat3(1.0);
+#endif
+  MaterialUpdate material = updateMaterial(deformation, state, velocityGradient, stepDt(), materials[state.materialIndex]);
 
   // Particle collisions at the predicted position, at the end of the step.
   float endTimeS = transfer.y + stepDt();
@@ -62,8 +67,9 @@ void advanceParticle(uint p) {
   vec3 newPosition = clamp(x + stepDt() * velocity, gridOrigin() + cellSize(),
                            gridOrigin() + (vec3(gridNodes.xyz) - 2.001) * cellSize());
 
-  bool finite = allFinite(newPosition) && allFinite(velocity) && allFinite(snow.elasticDeformation) &&
-                allFinite(snow.kirchhoffStress) && !isnan(snow.plasticJ) && !isinf(snow.plasticJ);
+  bool finite = allFinite(newPosition) && allFinite(velocity) && allFinite(material.deformation) &&
+                allFinite(material.kirchhoffStress) && !isnan(material.state) && !isinf(material.state) &&
+                !isnan(material.volumeCorrection) && !isinf(material.volumeCorrection);
 #ifdef FIRN_TRANSFER_APIC
   finite = finite && allFinite(newAffine);
 #endif
@@ -77,9 +83,12 @@ void advanceParticle(uint p) {
 
   positionMass[p].xyz = newPosition;
   velocityVolume[p].xyz = velocity;
-  elasticDeformation[p] = snow.elasticDeformation;
-  kirchhoffStress[p] = snow.kirchhoffStress;
-  plasticState[p].plasticJ = snow.plasticJ;
+#ifdef FIRN_HAS_DEFORMATION_GRADIENT
+  elasticDeformation[p] = material.deformation;
+#endif
+  kirchhoffStress[p] = material.kirchhoffStress;
+  plasticState[p].plasticJ = material.state;
+  plasticState[p].volumeCorrection = material.volumeCorrection;
 #ifdef FIRN_TRANSFER_APIC
   affine[p] = newAffine;
 #endif

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "Error.h"
 #include "GlTest.h"
@@ -38,9 +40,26 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
                          {"FIRN_PARTICLE_GROUP_SIZE", "64"}, {"FIRN_WALL_CELLS", "2"}};
       for (const auto& binding : firn::gpu::bindingDefines()) options.defines.push_back(binding);
       for (const char* pass : {"sim/prepare_grid.comp", "sim/clear_grid.comp", "sim/p2g.comp", "sim/update_grid.comp",
-                               "sim/g2p.comp", "sim/compute_volumes.comp"}) {
+                               "sim/compute_volumes.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, options)) << pass << " " << kernel << " " << transfer;
       }
+      // G2P holds the material models: each alone (water without F), and all of them together.
+      using Defines = std::vector<std::pair<std::string, std::string>>;
+      const Defines withF = {{"FIRN_HAS_DEFORMATION_GRADIENT", "1"}};
+      for (const Defines& materials :
+           {Defines{{"FIRN_MATERIAL_SNOW", "1"}}, Defines{{"FIRN_MATERIAL_FIXED_COROTATED", "1"}},
+            Defines{{"FIRN_MATERIAL_NEO_HOOKEAN", "1"}}, Defines{{"FIRN_MATERIAL_DRUCKER_PRAGER", "1"}},
+            Defines{{"FIRN_MATERIAL_SNOW", "1"}, {"FIRN_MATERIAL_FIXED_COROTATED", "1"}, {"FIRN_MATERIAL_NEO_HOOKEAN", "1"},
+                    {"FIRN_MATERIAL_WATER", "1"}, {"FIRN_MATERIAL_DRUCKER_PRAGER", "1"}}}) {
+        firn::gl::ShaderOptions g2p = options;
+        g2p.defines.insert(g2p.defines.end(), materials.begin(), materials.end());
+        g2p.defines.insert(g2p.defines.end(), withF.begin(), withF.end());
+        EXPECT_NO_THROW(firn::gl::Program::compute(library, "sim/g2p.comp", g2p))
+            << materials.front().first << " (" << materials.size() << " models) " << kernel << " " << transfer;
+      }
+      firn::gl::ShaderOptions waterOnly = options;
+      waterOnly.defines.emplace_back("FIRN_MATERIAL_WATER", "1");
+      EXPECT_NO_THROW(firn::gl::Program::compute(library, "sim/g2p.comp", waterOnly)) << "water alone, no F";
     }
   }
 }

@@ -83,7 +83,7 @@ TEST(BodyModifiers, LameScalesMakeAMaterialVariantForTheirBodyOnly) {
   EXPECT_FLOAT_EQ(table.entries[1].elastic.y, float(3 * lame.lambdaPa));
   EXPECT_EQ(table.entries[1].plastic, table.entries[0].plastic);
   // A stiffer body tightens the elastic time step bound: c² grows with λ + 2μ.
-  const SnowMaterial& snow = scene.materials[0];
+  const Material& snow = scene.materials[0];
   EXPECT_NEAR(elasticStableDtS(snow, 0.02, 3, 0.5) / elasticStableDtS(snow, 0.02),
               std::sqrt((lame.lambdaPa + 2 * lame.muPa) / (3 * lame.lambdaPa + lame.muPa)), 1e-12);
 }

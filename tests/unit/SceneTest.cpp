@@ -66,7 +66,7 @@ TEST(SceneLoader, DefaultSceneIsAValidSmallSnowScene) {
   const std::size_t particles = sampleBodies(scene).size();
   EXPECT_GE(particles, 2000u);
   EXPECT_LE(particles, 50000u);
-  for (const SnowMaterial& material : scene.materials) {
+  for (const Material& material : scene.materials) {
     EXPECT_LT(scene.time.dtS, 0.5 * elasticStableDtS(material, scene.grid.cellSizeM)) << material.name;
   }
 }
@@ -113,7 +113,7 @@ TEST(SceneLoader, ParsesEveryValueOfAFullScene) {
 
   // In the file's order, not alphabetical.
   ASSERT_EQ(scene.materials.size(), 2u);
-  const SnowMaterial& zeta = scene.materials[0];
+  const Material& zeta = scene.materials[0];
   EXPECT_EQ(zeta.name, "zeta");
   EXPECT_DOUBLE_EQ(zeta.youngsModulusPa, 2e5);
   EXPECT_DOUBLE_EQ(zeta.poissonRatio, 0.3);
@@ -177,9 +177,9 @@ TEST(SceneLoader, OptionalKeysTakeTheirDefaults) {
 TEST(SceneLoader, PresetSuppliesNumbersAndExplicitKeysOverrideThem) {
   Json scene = validScene();
   scene["materials"]["snow"] = {{"preset", "wet"}, {"hardening", 4}};
-  const SnowMaterial material = parseScene(scene.dump(), sceneFile).materials.at(0);
-  const SnowMaterial* wet = nullptr;
-  for (const SnowMaterial& preset : snowPresets()) {
+  const Material material = parseScene(scene.dump(), sceneFile).materials.at(0);
+  const Material* wet = nullptr;
+  for (const Material& preset : snowPresets()) {
     if (preset.name == "wet") wet = &preset;
   }
   ASSERT_NE(wet, nullptr);
@@ -194,10 +194,10 @@ TEST(SceneLoader, PresetSuppliesNumbersAndExplicitKeysOverrideThem) {
 
 TEST(SceneLoader, PresetsIncludeStomakhinsReferenceSnow) {
   std::vector<std::string> names;
-  for (const SnowMaterial& preset : snowPresets()) names.push_back(preset.name);
+  for (const Material& preset : snowPresets()) names.push_back(preset.name);
   EXPECT_EQ(names, (std::vector<std::string>{"stomakhin", "dry", "wet", "icy", "slushy"}));
   // Stomakhin et al. 2013, table 2.
-  const SnowMaterial& reference = snowPresets().front();
+  const Material& reference = snowPresets().front();
   EXPECT_DOUBLE_EQ(reference.youngsModulusPa, 1.4e5);
   EXPECT_DOUBLE_EQ(reference.poissonRatio, 0.2);
   EXPECT_DOUBLE_EQ(reference.densityKgPerM3, 400);
@@ -340,14 +340,53 @@ TEST(SceneLoader, RejectsMissingRequiredKey) {
   expectError(scene, "bodies", "at least one body is required");
 }
 
-TEST(SceneLoader, RejectsUnsupportedMaterialModel) {
+TEST(SceneLoader, ReadsEveryMaterialModelWithItsOwnKeys) {
   Json scene = validScene();
-  scene["materials"]["snow"] = {{"model", "water"}, {"density", 1000}};
-  expectError(scene, "materials.snow.model",
-              "\"water\" is part of the scene format but not supported by this build yet (supported: snow)");
+  scene["materials"]["jelly"] = {{"model", "neo_hookean"}, {"youngs_modulus", 5e4}, {"poisson_ratio", 0.3}, {"density", 1000}};
+  scene["materials"]["rubber"] = {{"model", "fixed_corotated"}, {"youngs_modulus", 1e5}, {"poisson_ratio", 0.4}, {"density", 1100}};
+  scene["materials"]["water"] = {{"model", "water"}, {"density", 1000}, {"bulk_modulus", 2e5}, {"gamma", 7}, {"viscosity", 1e-3}};
+  scene["materials"]["sand"] = {{"model", "drucker_prager"}, {"youngs_modulus", 3.537e7}, {"poisson_ratio", 0.3},
+                                {"density", 2200}, {"friction_angle_deg", 30}};
+  scene["materials"]["hardening sand"] = {{"model", "drucker_prager"}, {"youngs_modulus", 3.537e7}, {"poisson_ratio", 0.3},
+                                          {"density", 2200}, {"hardening", {35, 9, 0.2, 10}}};
+  const Scene parsed = parseScene(scene.dump(), sceneFile);
+  ASSERT_EQ(parsed.materials.size(), 6u);
+  EXPECT_EQ(parsed.materials[1].model, MaterialModel::NeoHookean);
+  EXPECT_EQ(parsed.materials[2].model, MaterialModel::FixedCorotated);
+  EXPECT_DOUBLE_EQ(parsed.materials[2].poissonRatio, 0.4);
+  const Material& water = parsed.materials[3];
+  EXPECT_EQ(water.model, MaterialModel::Water);
+  EXPECT_DOUBLE_EQ(water.bulkModulusPa, 2e5);
+  EXPECT_DOUBLE_EQ(water.gamma, 7);
+  EXPECT_DOUBLE_EQ(water.viscosityPaS, 1e-3);
+  EXPECT_FALSE(water.needsDeformationGradient());
+  // A constant friction angle is h0 with no hardening; Klár's four numbers are taken as given.
+  EXPECT_DOUBLE_EQ(parsed.materials[4].hardeningH0Deg, 30);
+  EXPECT_DOUBLE_EQ(parsed.materials[4].hardeningH3Deg, 0);
+  EXPECT_DOUBLE_EQ(parsed.materials[5].hardeningH1Deg, 9);
+  EXPECT_DOUBLE_EQ(parsed.materials[5].hardeningH3Deg, 10);
+}
+
+TEST(SceneLoader, RejectsMaterialKeysOfAnotherModel) {
+  Json scene = validScene();
+  scene["materials"]["snow"] = {{"model", "water"}, {"density", 1000}, {"bulk_modulus", 1e5}, {"gamma", 7},
+                                {"youngs_modulus", 1e5}};
+  expectError(scene, "materials.snow.youngs_modulus", "unknown key (allowed in a water material: model, density");
+
+  scene["materials"]["snow"] = {{"model", "water"}, {"density", 1000}, {"gamma", 7}};
+  expectError(scene, "materials.snow.bulk_modulus", "required key is missing");
+
+  scene["materials"]["snow"] = {{"model", "drucker_prager"}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3},
+                                {"density", 2000}, {"friction_angle_deg", 30}, {"hardening", {35, 9, 0.2, 10}}};
+  expectError(scene, "materials.snow.friction_angle_deg", "not both");
+
+  scene["materials"]["snow"] = {{"model", "drucker_prager"}, {"youngs_modulus", 1e7}, {"poisson_ratio", 0.3},
+                                {"density", 2000}, {"hardening", {10, 9, 0.2, 35}}};
+  expectError(scene, "materials.snow.hardening[3]", "must be in [0, 10)");
 
   scene["materials"]["snow"] = {{"model", "granite"}};
-  expectError(scene, "materials.snow.model", "must be one of \"snow\" (got \"granite\")");
+  expectError(scene, "materials.snow.model",
+              "must be one of \"snow\", \"fixed_corotated\", \"neo_hookean\", \"water\", \"drucker_prager\" (got \"granite\")");
 }
 
 TEST(SceneLoader, RejectsUnsupportedShapesAndKeys) {

@@ -1,0 +1,174 @@
+// The constitutive models (design.md's table): for each, the deformation update of one particle and its
+// Kirchhoff stress τ = (∂Ψ/∂F) Fᵀ, which P2G turns into nodal forces. Only the models a scene uses are compiled
+// in (FIRN_MATERIAL_* defines), so a snow-only scene carries no code for the others.
+#include "common/svd3.glsl"
+
+const int MODEL_SNOW = 0;
+const int MODEL_FIXED_COROTATED = 1;
+const int MODEL_NEO_HOOKEAN = 2;
+const int MODEL_WATER = 3;
+const int MODEL_DRUCKER_PRAGER = 4;
+
+struct MaterialUpdate {
+  mat3 deformation;        // F after the step (F_E for snow and sand); water keeps none
+  float state;             // PlasticState.plasticJ: snow J_P, water J, sand q
+  float volumeCorrection;  // PlasticState.volumeCorrection: sand V_c
+  mat3 kirchhoffStress;    // τ (Pa)
+};
+
+mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
+
+// F̂ = (I + Δt ∇v) F (Stomakhin 2013 eq. 8; seed 001 eq. 3.6).
+mat3 advanceDeformation(mat3 F, mat3 velocityGradient, float dtS) { return (mat3(1.0) + dtS * velocityGradient) * F; }
+
+#ifdef FIRN_MATERIAL_SNOW
+// Stomakhin 2013: SVD F̂_E = U Σ Vᵀ, Σ clamped to [1 − θc, 1 + θs] (eq. 10–11), J_P ← J_P det F̂_E / det F_E,
+// then the fixed corotated stress of the new F_E with hardened Lamé parameters (eq. 6–7).
+MaterialUpdate updateSnow(mat3 F, float plasticJ, mat3 velocityGradient, float dtS, MaterialParams m) {
+  mat3 U, V;
+  vec3 sigma;
+  svd3(advanceDeformation(F, velocityGradient, dtS), U, sigma, V);
+  vec3 clamped = clamp(sigma, vec3(m.plastic.x), vec3(m.plastic.y));
+  MaterialUpdate result;
+  result.deformation = U * diagonal(clamped) * transpose(V);
+  result.state = plasticJ * (sigma.x * sigma.y * sigma.z) / (clamped.x * clamped.y * clamped.z);
+  result.volumeCorrection = 0.0;
+  // Hardening (eq. 7): μ = μ0 e^{ξ(1−J_P)}, λ = λ0 e^{ξ(1−J_P)}.
+  float hardening = exp(m.elastic.z * (1.0 - result.state));
+  float mu = m.elastic.x * hardening;
+  float lambda = m.elastic.y * hardening;
+  // ∂Ψ/∂F_E F_Eᵀ = 2μ(F_E − R_E)F_Eᵀ + λ(J_E − 1)J_E I with R_E = U Vᵀ, so R_E F_Eᵀ = U Σ Uᵀ (eq. 6).
+  float elasticJ = clamped.x * clamped.y * clamped.z;
+  mat3 Fe = result.deformation;
+  result.kirchhoffStress = 2.0 * mu * (Fe * transpose(Fe) - U * diagonal(clamped) * transpose(U)) +
+                           lambda * (elasticJ - 1.0) * elasticJ * mat3(1.0);
+  return result;
+}
+#endif
+
+#ifdef FIRN_MATERIAL_FIXED_COROTATED
+// Seed 001 eq. 4.8: ∂Ψ/∂F = 2μ(F − R) + λ(J − 1)J F⁻ᵀ, so τ = 2μ(F − R)Fᵀ + λ(J − 1)J I, with R = U Vᵀ.
+MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
+  MaterialUpdate result;
+  result.deformation = advanceDeformation(F, velocityGradient, dtS);
+  mat3 U, V;
+  vec3 sigma;
+  svd3(result.deformation, U, sigma, V);
+  float J = sigma.x * sigma.y * sigma.z;
+  mat3 Fn = result.deformation;
+  result.kirchhoffStress = 2.0 * m.elastic.x * (Fn * transpose(Fn) - U * diagonal(sigma) * transpose(U)) +
+                           m.elastic.y * (J - 1.0) * J * mat3(1.0);
+  result.state = 1.0;
+  result.volumeCorrection = 0.0;
+  return result;
+}
+#endif
+
+#ifdef FIRN_MATERIAL_NEO_HOOKEAN
+// Seed 001 eq. 4.3: ∂Ψ/∂F = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ (the thesis prints F − Fᵀ; the derivative of −μ ln J is
+// −μ F⁻ᵀ), so τ = μ(F Fᵀ − I) + λ ln J I: no SVD. An inverted F (J ≤ 0) gives a non-finite τ, which the
+// watchdog reports.
+MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
+  MaterialUpdate result;
+  result.deformation = advanceDeformation(F, velocityGradient, dtS);
+  mat3 Fn = result.deformation;
+  result.kirchhoffStress = m.elastic.x * (Fn * transpose(Fn) - mat3(1.0)) + m.elastic.y * log(determinant(Fn)) * mat3(1.0);
+  result.state = 1.0;
+  result.volumeCorrection = 0.0;
+  return result;
+}
+#endif
+
+#ifdef FIRN_MATERIAL_WATER
+// Seed 001 §4.1: only J = det F is kept, J ← (1 + Δt tr ∇v) J; p = −∂Ψ/∂J = k(J^−γ − 1), τ = −p J I. The
+// optional viscous stress is Newtonian, σ = η(∇v + ∇vᵀ), so τ = J η(∇v + ∇vᵀ).
+MaterialUpdate updateWater(float J, mat3 velocityGradient, float dtS, MaterialParams m) {
+  MaterialUpdate result;
+  float newJ = (1.0 + dtS * (velocityGradient[0][0] + velocityGradient[1][1] + velocityGradient[2][2])) * J;
+  float pressure = m.fluid.x * (pow(newJ, -m.fluid.y) - 1.0);
+  result.kirchhoffStress = -pressure * newJ * mat3(1.0) +
+                           newJ * m.fluid.z * (velocityGradient + transpose(velocityGradient));
+  result.deformation = mat3(1.0);
+  result.state = newJ;
+  result.volumeCorrection = 0.0;
+  return result;
+}
+#endif
+
+#ifdef FIRN_MATERIAL_DRUCKER_PRAGER
+// Klár et al. 2016 sand (seed 001 §4.4): Hencky elasticity Ψ = μ tr((ln Σ)²) + λ/2 (tr ln Σ)² (eq. 4.12) on
+// F_E, whose log-strain ε = ln Σ + V_c/3 is projected onto the Drucker–Prager cone of friction coefficient α
+// (eq. 4.14–4.15), with hardening q (eq. 4.16–4.18) and the log-volume correction V_c of the pseudocode 7.
+float frictionCoefficient(float q, MaterialParams m) {
+  float phi = m.plastic.x + (m.plastic.y * q - m.plastic.w) * exp(-m.plastic.z * q);  // eq. 4.17 (radians)
+  float s = sin(phi);
+  return sqrt(2.0 / 3.0) * 2.0 * s / (3.0 - s);  // eq. 4.18
+}
+
+MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3 velocityGradient, float dtS,
+                                   MaterialParams m) {
+  mat3 U, V;
+  vec3 sigma;
+  svd3(advanceDeformation(F, velocityGradient, dtS), U, sigma, V);
+  // A singular value at or below 0 (an inverted cell) has no logarithm; such compression is far outside the
+  // model, so it is held at 1e-4 instead of turning the particle into NaN.
+  sigma = max(sigma, vec3(1e-4));
+  float mu = m.elastic.x;
+  float lambda = m.elastic.y;
+  vec3 epsilon = log(sigma) + volumeCorrection / 3.0;
+  float traceEpsilon = epsilon.x + epsilon.y + epsilon.z;
+  vec3 deviatoric = epsilon - traceEpsilon / 3.0;
+  float deviatoricNorm = length(deviatoric);
+  vec3 projected = sigma;  // case 1: inside the cone
+  float plasticIncrement = 0.0;
+  if (deviatoricNorm == 0.0 || traceEpsilon > 0.0) {
+    projected = vec3(1.0);  // case 2: expansion, to the cone's tip: no stress
+    plasticIncrement = length(epsilon);
+  } else {
+    float deltaGamma = deviatoricNorm + (3.0 * lambda + 2.0 * mu) / (2.0 * mu) * traceEpsilon * frictionCoefficient(q, m);
+    if (deltaGamma > 0.0) {  // case 3: onto the cone's surface
+      projected = exp(epsilon - deltaGamma * deviatoric / deviatoricNorm);
+      plasticIncrement = deltaGamma;
+    }
+  }
+  MaterialUpdate result;
+  result.deformation = U * diagonal(projected) * transpose(V);
+  // V_c collects the volume the projection removed, so that loosened sand must be compressed back before it
+  // bears load again.
+  result.volumeCorrection = volumeCorrection + log(sigma.x * sigma.y * sigma.z) - log(projected.x * projected.y * projected.z);
+  result.state = q + plasticIncrement;
+  // τ = U (2μ ln Σ + λ tr(ln Σ) I) Uᵀ for the Hencky energy (eq. 4.13).
+  vec3 logSigma = log(projected);
+  result.kirchhoffStress = U * diagonal(2.0 * mu * logSigma + lambda * (logSigma.x + logSigma.y + logSigma.z)) * transpose(U);
+  return result;
+}
+#endif
+
+// The update of the particle's material; `F` is ignored by water.
+MaterialUpdate updateMaterial(mat3 F, PlasticState state, mat3 velocityGradient, float dtS, MaterialParams m) {
+  switch (m.model.x) {
+#ifdef FIRN_MATERIAL_SNOW
+    case MODEL_SNOW: return updateSnow(F, state.plasticJ, velocityGradient, dtS, m);
+#endif
+#ifdef FIRN_MATERIAL_FIXED_COROTATED
+    case MODEL_FIXED_COROTATED: return updateFixedCorotated(F, velocityGradient, dtS, m);
+#endif
+#ifdef FIRN_MATERIAL_NEO_HOOKEAN
+    case MODEL_NEO_HOOKEAN: return updateNeoHookean(F, velocityGradient, dtS, m);
+#endif
+#ifdef FIRN_MATERIAL_WATER
+    case MODEL_WATER: return updateWater(state.plasticJ, velocityGradient, dtS, m);
+#endif
+#ifdef FIRN_MATERIAL_DRUCKER_PRAGER
+    case MODEL_DRUCKER_PRAGER:
+      return updateDruckerPrager(F, state.plasticJ, state.volumeCorrection, velocityGradient, dtS, m);
+#endif
+  }
+  // Unreachable: the host compiles in every model its materials use.
+  MaterialUpdate unchanged;
+  unchanged.deformation = F;
+  unchanged.state = state.plasticJ;
+  unchanged.volumeCorrection = state.volumeCorrection;
+  unchanged.kirchhoffStress = mat3(0.0);
+  return unchanged;
+}

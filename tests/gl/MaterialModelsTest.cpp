@@ -1,0 +1,175 @@
+// The material models of seed 001 on the GPU (design.md's table): each runs alone and mixed, with its physics
+// checked where a short, small run can check it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "Error.h"
+#include "GlTest.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
+
+namespace {
+
+using firn::Scene;
+using firn::Simulation;
+
+class MaterialModels : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { firn::test::glContext(); }
+  static const firn::gl::ContextInfo& gl() { return firn::test::glContext().info(); }
+};
+
+// A 1.2 m domain of 4 cm cells with a sticky-free ground plane at y = 0.1 m; `materials` and `bodies` as JSON.
+Scene sceneWith(const std::string& materials, const std::string& bodies, double groundFriction = 0.5) {
+  return firn::parseScene(R"({
+    "grid": { "cells": [30, 30, 30], "cell_size": 0.04 },
+    "time": { "dt": 2e-4, "frame_rate": 50, "frames": 10 },
+    "solver": { "kernel": "quadratic", "transfer": "apic" },
+    "materials": { )" + materials + R"( },
+    "bodies": [ )" + bodies + R"( ],
+    "colliders": [ { "type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0], "friction": )" +
+                              std::to_string(groundFriction) + R"(, "boundary": "slip" } ] })",
+                          "materials test");
+}
+
+struct Summary {
+  double massKg = 0;
+  glm::dvec3 centerM{0.0};
+  glm::dvec3 velocityMPerS{0.0};  // of the centre of mass
+  double maxX = -1e9, minX = 1e9;
+};
+
+Summary summarize(const firn::ParticleSnapshot& s) {
+  Summary out;
+  glm::dvec3 momentum(0.0);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double m = s.positionMass[i].w;
+    out.massKg += m;
+    out.centerM += m * glm::dvec3(s.positionMass[i]);
+    momentum += m * glm::dvec3(s.velocityVolume[i]);
+    out.maxX = std::max(out.maxX, double(s.positionMass[i].x));
+    out.minX = std::min(out.minX, double(s.positionMass[i].x));
+  }
+  out.centerM /= out.massKg;
+  out.velocityMPerS = momentum / out.massKg;
+  return out;
+}
+
+// An elastic ball dropped on the ground bounces: its centre of mass moves up again after the impact, where a
+// snowball of the same stiffness (which compacts plastically) does not. Ball: r = 0.16 m, 1 m/s down from
+// 0.1 m above the ground; after 0.3 s of contact and rebound the elastic ball's centre moves upward at a
+// good fraction of its impact speed (≥ 0.2 m/s; an elastic ball keeps most of it, MPM's grid damping some).
+TEST_F(MaterialModels, ElasticBallsBounceWhereSnowDoesNot) {
+  const std::string ball = R"({ "shape": "sphere", "center": [0.6, 0.36, 0.6], "radius": 0.16, "material": "ball",
+                                "velocity": [0, -1, 0] })";
+  for (const char* model : {"fixed_corotated", "neo_hookean"}) {
+    const Scene scene = sceneWith(std::string(R"("ball": { "model": ")") + model +
+                                      R"(", "youngs_modulus": 2e5, "poisson_ratio": 0.3, "density": 1000 })",
+                                  ball);
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    double highestUpwardMPerS = -1e9;
+    for (int frame = 1; frame <= 15; ++frame) {
+      simulation.advanceTo(frame / 50.0);
+      highestUpwardMPerS = std::max(highestUpwardMPerS, summarize(simulation.snapshot()).velocityMPerS.y);
+    }
+    simulation.checkWatchdog();
+    // It meets the ground at sqrt(1² + 2 g · 0.1 m) = 1.72 m/s.
+    std::printf("%s ball: rebounds at up to %.2f m/s after hitting the ground at 1.72 m/s\n", model, highestUpwardMPerS);
+    EXPECT_GT(highestUpwardMPerS, 0.2) << model;
+  }
+  const Scene snow = sceneWith(R"("ball": { "model": "snow", "youngs_modulus": 2e5, "poisson_ratio": 0.3, "density": 1000,
+                                            "critical_compression": 0.025, "critical_stretch": 0.0075, "hardening": 10 })",
+                               ball);
+  Simulation simulation(snow, firn::sampleBodies(snow), gl());
+  double highestUpwardMPerS = -1e9;
+  for (int frame = 1; frame <= 15; ++frame) {
+    simulation.advanceTo(frame / 50.0);
+    if (frame > 5) highestUpwardMPerS = std::max(highestUpwardMPerS, summarize(simulation.snapshot()).velocityMPerS.y);
+  }
+  EXPECT_LT(highestUpwardMPerS, 0.2) << "snow compacts instead of bouncing";
+}
+
+// A block of water (k = 1e5 Pa, γ = 7: sound speed sqrt(kγ/ρ) = 26 m/s, dt = 2e-4 s well inside h/c = 1.5e-3 s)
+// released against a wall on a frictionless floor spreads (a dam break): its mass is unchanged, and it stays
+// nearly incompressible: |J − 1| under 5% (the weakly compressible equation of state lets water compress by
+// about ρ g H / (k γ) ≈ 0.5% under its own weight, plus the transient of the release). The front must move,
+// but no faster than Ritter's ideal dam-break front, 2 sqrt(g H) = 3.96 m/s for H = 0.4 m. (Measured here:
+// 0.16 m in 0.25 s, slower than Martin & Moyce 1952's ≈ 0.27 m for this column at T = t sqrt(2g/a) = 2; at
+// 7 cells across the column the grid is too coarse to match the experiment, which needs a finer test.)
+TEST_F(MaterialModels, WaterBlockSpreadsAndStaysNearlyIncompressible) {
+  const Scene scene = sceneWith(R"("water": { "model": "water", "density": 1000, "bulk_modulus": 1e5, "gamma": 7 })",
+                                R"({ "shape": "box", "min": [0.1, 0.1, 0.45], "max": [0.4, 0.5, 0.75], "material": "water" })",
+                                /*groundFriction=*/0);
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const Summary start = summarize(simulation.snapshot());
+  simulation.advanceTo(0.25);
+  simulation.checkWatchdog();
+  const firn::ParticleSnapshot state = simulation.snapshot();
+  const Summary end = summarize(state);
+  EXPECT_NEAR(end.massKg, start.massKg, 1e-6 * start.massKg);
+  const double frontRunM = end.maxX - start.maxX;
+  std::printf("water: the front ran %.3f m in 0.25 s\n", frontRunM);
+  EXPECT_GT(frontRunM, 0.1);
+  EXPECT_LT(frontRunM, 2 * std::sqrt(9.81 * 0.4) * 0.25);
+  EXPECT_LT(end.centerM.y, start.centerM.y - 0.03) << "the column slumps";
+  for (float J : state.plasticJ) ASSERT_NEAR(J, 1.0f, 0.05f);
+}
+
+// A column of sand collapses and spreads, then stops: friction holds a heap, unlike water. Lube et al. 2005 put
+// the runout of a column of aspect ratio a < 3 at (L∞ − L0)/L0 ≈ 1.2 a; at this resolution (8 cells across
+// the column) the check is that the runout is of that order (between 0.3 and 3 times it) and that the sand is
+// at rest at the end.
+TEST_F(MaterialModels, SandColumnCollapsesIntoAHeapAndStops) {
+  const Scene scene = sceneWith(R"("sand": { "model": "drucker_prager", "youngs_modulus": 3.537e5, "poisson_ratio": 0.3,
+                                             "density": 2200, "friction_angle_deg": 30 })",
+                                R"({ "shape": "box", "min": [0.1, 0.1, 0.4], "max": [0.26, 0.42, 0.8], "material": "sand" })");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const Summary start = summarize(simulation.snapshot());
+  simulation.advanceTo(0.8);
+  simulation.checkWatchdog();
+  const Summary end = summarize(simulation.snapshot());
+  const double initialLengthM = start.maxX - 0.1;  // against the wall at x = 0.1 m
+  const double aspect = 0.32 / initialLengthM;
+  const double runout = (end.maxX - start.maxX) / initialLengthM;
+  std::printf("sand column: aspect %.2f, runout (L - L0)/L0 = %.2f (Lube et al. 2005: %.2f)\n", aspect, runout,
+              1.2 * aspect);
+  EXPECT_GT(runout, 0.3 * 1.2 * aspect) << "runout " << runout << " for aspect " << aspect;
+  EXPECT_LT(runout, 3.0 * 1.2 * aspect) << "runout " << runout << " for aspect " << aspect;
+  EXPECT_LT(glm::length(end.velocityMPerS), 0.05) << "the heap has stopped";
+}
+
+// Every model in one scene, interacting through the shared grid: no NaN, mass unchanged, the watchdog quiet.
+TEST_F(MaterialModels, AllModelsTogetherStayFinite) {
+  const Scene scene = sceneWith(
+      R"("snow": { "preset": "stomakhin" },
+         "jelly": { "model": "neo_hookean", "youngs_modulus": 5e4, "poisson_ratio": 0.3, "density": 1000 },
+         "rubber": { "model": "fixed_corotated", "youngs_modulus": 1e5, "poisson_ratio": 0.3, "density": 1000 },
+         "water": { "model": "water", "density": 1000, "bulk_modulus": 1e5, "gamma": 7 },
+         "sand": { "model": "drucker_prager", "youngs_modulus": 3.537e5, "poisson_ratio": 0.3, "density": 2200,
+                   "hardening": [35, 9, 0.2, 10] })",
+      R"({ "shape": "box", "min": [0.4, 0.1, 0.4], "max": [0.8, 0.22, 0.8], "material": "water" },
+         { "shape": "sphere", "center": [0.4, 0.5, 0.4], "radius": 0.1, "material": "snow", "velocity": [1, -2, 0] },
+         { "shape": "sphere", "center": [0.8, 0.5, 0.4], "radius": 0.1, "material": "jelly", "velocity": [-1, -2, 0] },
+         { "shape": "box", "min": [0.3, 0.4, 0.7], "max": [0.5, 0.6, 0.9], "material": "rubber", "mu_scale": 2 },
+         { "shape": "box", "min": [0.7, 0.4, 0.7], "max": [0.9, 0.7, 0.9], "material": "sand" })");
+  const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  Simulation simulation(scene, seeds, gl());
+  const Summary start = summarize(simulation.snapshot());
+  simulation.advanceTo(0.2);
+  simulation.checkWatchdog();
+  const firn::ParticleSnapshot state = simulation.snapshot();
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(state.positionMass[i].x + state.positionMass[i].y + state.positionMass[i].z +
+                              state.velocityVolume[i].x + state.velocityVolume[i].y + state.velocityVolume[i].z +
+                              state.plasticJ[i]))
+        << "particle " << i;
+  }
+  EXPECT_NEAR(summarize(state).massKg, start.massKg, 1e-6 * start.massKg);
+}
+
+}  // namespace
