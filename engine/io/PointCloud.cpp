@@ -100,8 +100,15 @@ PointCloud readPlyCloud(const std::filesystem::path& path) {
 }  // namespace
 
 PointCloud readPointCloud(const std::filesystem::path& path) {
+  // Only regular files are read: a folder fails on the first read, and a device or pipe can be endless
+  // (/dev/zero holds no line break, so reading its first line would never finish). A missing file is left to
+  // the open, which says why it failed.
   std::error_code error;
-  if (std::filesystem::is_directory(path, error)) fail(path, "is a folder, not a point cloud file");
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (std::filesystem::is_directory(status)) fail(path, "is a folder, not a point cloud file");
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    fail(path, "is not a regular file (a device, pipe or socket), not a point cloud file");
+  }
   PointCloud cloud = hasPlyExtension(path) ? readPlyCloud(path) : readText(path);
   if (cloud.positionsM.empty()) fail(path, "the point cloud holds no points");
   return cloud;
@@ -115,11 +122,18 @@ double medianNeighbourSpacingM(const std::vector<glm::dvec3>& positionsM) {
     high = glm::max(high, p);
   }
   const glm::dvec3 extent = high - low;
+  // The points must be finite (a NaN has no cell). A cloud wider than a double can measure has no spacing a
+  // double can hold, and its cells could not be indexed.
+  if (!std::isfinite(extent.x) || !std::isfinite(extent.y) || !std::isfinite(extent.z)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double largestExtent = std::max({extent.x, extent.y, extent.z});
   const double count = double(positionsM.size());
-  // A hash grid whose cells hold about one point, whether the cloud fills a volume, a sheet or a line.
+  // A hash grid whose cells hold about one point, whether the cloud fills a volume, a sheet or a line. For a
+  // flat cloud whose area overflows, the volume is ∞ · 0 = NaN, which fmax passes over.
   const double largestArea = std::max({extent.x * extent.y, extent.y * extent.z, extent.z * extent.x});
-  double cellM = std::max({std::cbrt(extent.x * extent.y * extent.z / count), std::sqrt(largestArea / count),
-                           std::max({extent.x, extent.y, extent.z}) / count});
+  double cellM = std::fmax(std::fmax(std::cbrt(extent.x * extent.y * extent.z / count), std::sqrt(largestArea / count)),
+                           largestExtent / count);
   if (!(cellM > 0)) return 0;  // every point is the same point
 
   const auto cellOf = [&](const glm::dvec3& p) { return glm::i64vec3(glm::floor((p - low) / cellM)); };
@@ -161,7 +175,9 @@ double medianNeighbourSpacingM(const std::vector<glm::dvec3>& positionsM) {
     }
     const auto middle = nearest.begin() + std::ptrdiff_t(nearest.size() / 2);
     std::nth_element(nearest.begin(), middle, nearest.end());
-    if (std::isfinite(*middle)) return *middle;
+    // Once one cell spans the whole cloud every pair has been compared, so the median is exact; it is infinite
+    // only if the points are so far apart that their squared distances overflow.
+    if (std::isfinite(*middle) || cellM >= largestExtent) return *middle;
     cellM *= 4;
   }
 }

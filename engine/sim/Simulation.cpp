@@ -54,8 +54,9 @@ std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& partic
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-                       std::size_t particleCapacity)
-    : scene_(scene), particleCapacity_(std::max(particleCapacity, seeds.size())), gridNodes_(scene.grid.cells + 1),
+                       std::size_t particleCapacity, MaterialPrograms programs)
+    : scene_(scene), materialPrograms_(programs), particleCapacity_(std::max(particleCapacity, seeds.size())),
+      gridNodes_(scene.grid.cells + 1),
       maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
   if (seeds.empty()) throw InputError("bodies: the scene has no particles");
   const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
@@ -122,8 +123,10 @@ void Simulation::buildPrograms() {
                                       std::pair{MaterialModel::NeoHookean, "FIRN_MATERIAL_NEO_HOOKEAN"},
                                       std::pair{MaterialModel::Water, "FIRN_MATERIAL_WATER"},
                                       std::pair{MaterialModel::DruckerPrager, "FIRN_MATERIAL_DRUCKER_PRAGER"}}) {
-    const bool present = std::any_of(scene_.materials.begin(), scene_.materials.end(),
-                                     [&](const Material& material) { return material.model == model; });
+    const bool present = materialPrograms_ == MaterialPrograms::EveryModel ||
+                         std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                                     // A copy: C++17 cannot capture a structured binding (clang refuses).
+                                     [model = model](const Material& material) { return material.model == model; });
     if (present) options.defines.emplace_back(define, "1");
   }
   if (needsDeformationGradient()) options.defines.emplace_back("FIRN_HAS_DEFORMATION_GRADIENT", "1");
@@ -141,6 +144,7 @@ void Simulation::buildPrograms() {
 }
 
 bool Simulation::needsDeformationGradient() const {
+  if (materialPrograms_ == MaterialPrograms::EveryModel) return true;
   return std::any_of(scene_.materials.begin(), scene_.materials.end(),
                      [](const Material& material) { return material.needsDeformationGradient(); });
 }

@@ -34,6 +34,10 @@ struct GridTotals {
   std::uint64_t activeNodes = 0;  // nodes in the active box
 };
 
+// Which material models the programs are built for: the scene's (the default, design.md: "a scene pays only for
+// what it uses"), or every model with F for all, as one general build would: for measuring what that costs.
+enum class MaterialPrograms { SceneModels, EveryModel };
+
 class Simulation {
  public:
   // Builds the programs and buffers the scene needs and computes the initial particle volumes. Particles with
@@ -41,7 +45,7 @@ class Simulation {
   // `particleCapacity` particles (at least all the seeds), so that addParticles can add more while running.
   // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-             std::size_t particleCapacity = 0);
+             std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
   // density that gave the first particles their volumes is not theirs to share). Their mass must not exceed
@@ -111,6 +115,7 @@ class Simulation {
   std::string describeParticle(std::int32_t particle) const;
 
   Scene scene_;
+  MaterialPrograms materialPrograms_;
   FixedPointScale fixedPoint_;
   std::size_t particleCount_ = 0;
   std::size_t particleCapacity_ = 0;
