@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -24,16 +25,15 @@ class MaterialModels : public ::testing::Test {
   static const firn::gl::ContextInfo& gl() { return firn::test::glContext().info(); }
 };
 
-// A 1.2 m domain of 4 cm cells with a sticky-free ground plane at y = 0.1 m; `materials` and `bodies` as JSON.
-Scene sceneWith(const std::string& materials, const std::string& bodies, double groundFriction = 0.5) {
+// A 1.2 m domain of 4 cm cells with a ground plane at y = 0.1 m; `materials` and `bodies` as JSON.
+Scene sceneWith(const std::string& materials, const std::string& bodies) {
   return firn::parseScene(R"({
     "grid": { "cells": [30, 30, 30], "cell_size": 0.04 },
     "time": { "dt": 2e-4, "frame_rate": 50, "frames": 10 },
     "solver": { "kernel": "quadratic", "transfer": "apic" },
     "materials": { )" + materials + R"( },
     "bodies": [ )" + bodies + R"( ],
-    "colliders": [ { "type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0], "friction": )" +
-                              std::to_string(groundFriction) + R"(, "boundary": "slip" } ] })",
+    "colliders": [ { "type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0], "friction": 0.5, "boundary": "slip" } ] })",
                           "materials test");
 }
 
@@ -94,36 +94,46 @@ TEST_F(MaterialModels, ElasticBallsBounceWhereSnowDoesNot) {
   EXPECT_LT(highestUpwardMPerS, 0.2) << "snow compacts instead of bouncing";
 }
 
-// A block of water (k = 1e5 Pa, γ = 7: sound speed sqrt(kγ/ρ) = 26 m/s, dt = 2e-4 s well inside h/c = 1.5e-3 s)
-// released against a wall on a frictionless floor spreads (a dam break): its mass is unchanged, and it stays
-// nearly incompressible: |J − 1| under 5% (the weakly compressible equation of state lets water compress by
-// about ρ g H / (k γ) ≈ 0.5% under its own weight, plus the transient of the release). The front must move,
-// but no faster than Ritter's ideal dam-break front, 2 sqrt(g H) = 3.96 m/s for H = 0.4 m. (Measured here:
-// 0.16 m in 0.25 s, slower than Martin & Moyce 1952's ≈ 0.27 m for this column at T = t sqrt(2g/a) = 2; at
-// 7 cells across the column the grid is too coarse to match the experiment, which needs a finer test.)
-TEST_F(MaterialModels, WaterBlockSpreadsAndStaysNearlyIncompressible) {
-  const Scene scene = sceneWith(R"("water": { "model": "water", "density": 1000, "bulk_modulus": 1e5, "gamma": 7 })",
-                                R"({ "shape": "box", "min": [0.1, 0.1, 0.45], "max": [0.4, 0.5, 0.75], "material": "water" })",
-                                /*groundFriction=*/0);
+// Martin & Moyce's dam break (1952, part IV): a water column of width a and height 2a released against a wall
+// on a dry frictionless floor. Their front positions Z = x/a against T = t sqrt(2g/a), for n² = H/a = 2, as
+// digitized in the dam-break literature (e.g. Koshizuka & Oka 1996): Z ≈ 1.88 at T = 1.62 and Z ≈ 2.37 at
+// T = 2.02. Here a = 0.3 m in a 4-cell-deep channel of 2 cm cells (15 cells across the column), water with
+// k = 1e5 Pa and γ = 7 (sound speed sqrt(kγ/ρ) = 26 m/s, dt = 2e-4 s inside h/c = 7.6e-4 s). Tolerance 15%:
+// the experiment's own scatter between its two column sizes is 5–10% at these times, the front is a thin
+// tongue whose tip a few particles define, and the water is weakly compressible (measured: +9% and +6%).
+// Mass is unchanged, and the water stays nearly incompressible: |J − 1| < 5% (it compresses by about
+// ρ g H / (k γ) ≈ 0.8% under its own weight, plus the transient of the release).
+TEST_F(MaterialModels, WaterDamBreakFrontFollowsMartinAndMoyce) {
+  const Scene scene = firn::parseScene(R"({
+    "grid": { "cells": [60, 40, 8], "cell_size": 0.02 },
+    "time": { "dt": 2e-4, "frame_rate": 50, "frames": 10 },
+    "solver": { "kernel": "quadratic", "transfer": "apic" },
+    "materials": { "water": { "model": "water", "density": 1000, "bulk_modulus": 1e5, "gamma": 7 } },
+    "bodies": [ { "shape": "box", "min": [0.04, 0.06, 0.04], "max": [0.34, 0.66, 0.12], "material": "water",
+                  "particles_per_cell": 4 } ],
+    "colliders": [ { "type": "plane", "point": [0, 0.06, 0], "normal": [0, 1, 0], "friction": 0, "boundary": "slip" } ] })",
+                                       "dam break");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   const Summary start = summarize(simulation.snapshot());
-  simulation.advanceTo(0.25);
+  const double a = 0.3, wallX = 0.04;
+  for (const auto& [timeS, expectedZ] : {std::pair{0.2, 1.88}, std::pair{0.25, 2.37}}) {
+    simulation.advanceTo(timeS);
+    const Summary now = summarize(simulation.snapshot());
+    const double z = (now.maxX - wallX) / a;
+    std::printf("dam break: T = %.2f, Z = %.2f (Martin & Moyce %.2f)\n", timeS * std::sqrt(2 * 9.81 / a), z, expectedZ);
+    EXPECT_NEAR(z / expectedZ, 1.0, 0.15) << "at t = " << timeS << " s";
+  }
   simulation.checkWatchdog();
   const firn::ParticleSnapshot state = simulation.snapshot();
-  const Summary end = summarize(state);
-  EXPECT_NEAR(end.massKg, start.massKg, 1e-6 * start.massKg);
-  const double frontRunM = end.maxX - start.maxX;
-  std::printf("water: the front ran %.3f m in 0.25 s\n", frontRunM);
-  EXPECT_GT(frontRunM, 0.1);
-  EXPECT_LT(frontRunM, 2 * std::sqrt(9.81 * 0.4) * 0.25);
-  EXPECT_LT(end.centerM.y, start.centerM.y - 0.03) << "the column slumps";
+  EXPECT_NEAR(summarize(state).massKg, start.massKg, 1e-6 * start.massKg);
   for (float J : state.plasticJ) ASSERT_NEAR(J, 1.0f, 0.05f);
 }
 
 // A column of sand collapses and spreads, then stops: friction holds a heap, unlike water. Lube et al. 2005 put
-// the runout of a column of aspect ratio a < 3 at (L∞ − L0)/L0 ≈ 1.2 a; at this resolution (8 cells across
-// the column) the check is that the runout is of that order (between 0.3 and 3 times it) and that the sand is
-// at rest at the end.
+// the runout of a column of aspect ratio a < 3 at (L∞ − L0)/L0 ≈ 1.2 a. This is a sanity bound, not that
+// validation: Firn's sand runs out about half as far as Lube's relation says (measured 1.30 against 2.48 here,
+// at 4 cells across the column; 0.73 against 1.2 for a = 1 in a quasi-2-D channel of 2 cm cells), so the check
+// is that the runout is of that order (between 0.3 and 3 times it) and that the heap is at rest at the end.
 TEST_F(MaterialModels, SandColumnCollapsesIntoAHeapAndStops) {
   const Scene scene = sceneWith(R"("sand": { "model": "drucker_prager", "youngs_modulus": 3.537e5, "poisson_ratio": 0.3,
                                              "density": 2200, "friction_angle_deg": 30 })",
