@@ -88,7 +88,9 @@ void advanceParticle(uint p) {
 #endif
   kirchhoffStress[p] = material.kirchhoffStress;
   plasticState[p].plasticJ = material.state;
-  plasticState[p].volumeCorrection = material.volumeCorrection;
+#ifdef FIRN_MATERIAL_DRUCKER_PRAGER
+  plasticState[p].volumeCorrection = material.volumeCorrection;  // only sand has one
+#endif
 #ifdef FIRN_TRANSFER_APIC
   affine[p] = newAffine;
 #endif
