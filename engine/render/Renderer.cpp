@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <iterator>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
@@ -14,6 +15,7 @@
 #include "gl/Debug.h"
 #include "gl/ShaderLibrary.h"
 #include "sim/GpuLayout.h"
+#include "sim/Materials.h"
 
 namespace firn::render {
 
@@ -78,10 +80,22 @@ struct Renderer::FrameView {
 };
 
 Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
-  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+  // One entry per entry of the simulation's material table (particles carry that index): the scene's materials,
+  // then the variants of bodies with their own Lamé scales, drawn in their base material's colour.
+  const MaterialTable table = buildMaterialTable(scene);
+  std::vector<std::size_t> baseMaterial(table.entries.size());
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) baseMaterial[i] = i;
+  for (std::size_t body = 0; body < scene.bodies.size(); ++body) {
+    baseMaterial[table.bodyEntry[body]] = std::size_t(scene.bodies[body].materialIndex);
+  }
+  for (std::size_t entry = 0; entry < table.entries.size(); ++entry) {
+    const std::size_t i = baseMaterial[entry];
     const Material& material = scene.materials[i];
+    // The stress colour scale: Young's modulus, or for water (no E) the stiffness of its pressure, k γ.
+    const double stiffnessPa =
+        material.model == MaterialModel::Water ? material.bulkModulusPa * material.gamma : material.youngsModulusPa;
     materialColors_.emplace_back(kMaterialPaletteSrgb[i % std::size(kMaterialPaletteSrgb)], 1.0f);
-    materialProperties_.emplace_back(1.0 / material.youngsModulusPa, 1.0 / material.densityKgPerM3, 0.0f, 0.0f);
+    materialProperties_.emplace_back(1.0 / stiffnessPa, 1.0 / material.densityKgPerM3, 0.0f, 0.0f);
   }
   // GL 4.3 requires storage buffers in compute shaders only; the minimum for vertex shaders is 0.
   GLint vertexStorageBlocks = 0;
