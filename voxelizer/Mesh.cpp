@@ -57,7 +57,11 @@ void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& pare
 
 TriangleMesh loadMesh(const std::filesystem::path& path) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) fail(path, "no such mesh file");
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) fail(path, "no such mesh file");
+  if (std::filesystem::is_directory(status)) fail(path, "is a folder, not a mesh file");
+  // A device or pipe (/dev/zero) could be read for ever.
+  if (!std::filesystem::is_regular_file(status)) fail(path, "is not a regular file (a device, pipe or socket)");
   Assimp::Importer importer;
   // Only triangulation and vertex welding: face removal or normal fixing would change what the winding
   // number sees.

@@ -150,12 +150,23 @@ PointCache readPly(const std::filesystem::path& path) {
     if (column.count(required) == 0) fail(path, std::string("vertex property \"") + required + "\" is missing");
   }
 
+  // The header's vertex count is checked against the file before anything is allocated for it: a corrupt or
+  // hostile count must be bad input, not an allocation failure. Binary records have a known size; an ASCII
+  // value takes at least two bytes (a digit and a separator).
+  std::error_code sizeError;
+  const auto fileBytes = std::filesystem::file_size(path, sizeError);
+  std::size_t recordBytes = 0;
+  for (const Property& property : properties) recordBytes += binary ? property.type->bytes : 2;
+  const auto headerBytes = static_cast<std::uintmax_t>(in.tellg());
+  if (!sizeError && recordBytes > 0 &&
+      vertexCount > (fileBytes > headerBytes ? fileBytes - headerBytes : 0) / recordBytes) {
+    fail(path, "truncated: the header declares " + std::to_string(vertexCount) + " vertices, more than the file's " +
+                   std::to_string(fileBytes) + " bytes can hold");
+  }
   // Elements after the vertices (faces of a mesh, say) are not read: a point cloud is its vertices.
   std::vector<double> values(vertexCount * properties.size());
   const auto truncated = [&] { fail(path, "truncated: the header declares " + std::to_string(vertexCount) + " vertices"); };
   if (binary) {
-    std::size_t recordBytes = 0;
-    for (const Property& property : properties) recordBytes += property.type->bytes;
     std::vector<unsigned char> record(recordBytes);
     for (std::size_t v = 0; v < vertexCount; ++v) {
       in.read(reinterpret_cast<char*>(record.data()), static_cast<std::streamsize>(recordBytes));

@@ -366,7 +366,8 @@ GridSpec readGrid(const Object& grid) {
   spec.originM = grid.vec3("origin", spec.originM);
   // Fewer than 8 cells leaves at most 4 interior cells between the walls; 1024³ cells is already 10⁹ nodes.
   spec.cells = grid.required("cells").ivec3(8, 1024);
-  spec.cellSizeM = grid.number("cell_size", Interval::greaterThan(0));
+  // A cell over a kilometre is a unit mistake, and bounds the domain's extent far from a double's range.
+  spec.cellSizeM = grid.number("cell_size", Interval::openClosed(0, 1000));
   return spec;
 }
 

@@ -80,4 +80,21 @@ TEST(Ply, TruncatedOrMissingFileIsBadInputNamingIt) {
   EXPECT_THROW(firn::readPly(temporaryPath("absent.ply")), firn::InputError);
 }
 
+// A header's vertex count is checked against the file's size before anything is allocated for it, so a
+// corrupt count is bad input, not an allocation failure.
+TEST(Ply, VertexCountBeyondTheFileIsBadInput) {
+  const auto path = temporaryPath("huge.ply");
+  for (const char* format : {"binary_little_endian", "ascii"}) {
+    std::ofstream(path) << "ply\nformat " << format << " 1.0\nelement vertex 1000000000000000\nproperty float x\n"
+                        << "property float y\nproperty float z\nend_header\n0 0 0\n";
+    try {
+      firn::readPly(path);
+      ADD_FAILURE() << "expected InputError for " << format;
+    } catch (const firn::InputError& error) {
+      EXPECT_NE(std::string(error.what()).find("more than the file's"), std::string::npos) << error.what();
+    }
+  }
+  std::filesystem::remove(path);
+}
+
 }  // namespace
