@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <iostream>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <string>
@@ -18,9 +18,9 @@
 #include "Error.h"
 #include "Viewer.h"
 #include "gl/Context.h"
+#include "io/Ply.h"
 #include "io/Video.h"
 #include "run/HeadlessRun.h"
-#include "io/Ply.h"
 #include "scene/Scene.h"
 #include "voxelizer/Voxelizer.h"
 
