@@ -600,6 +600,26 @@ void loadPointsBody(const Object& body, Body& result, const voxelizer::Transform
   result.pointsM = std::make_shared<const std::vector<glm::dvec3>>(std::move(points));
 }
 
+// Masses live in 32-bit floats on the GPU: each must be a normal float, neither 0 nor infinite after rounding
+// (extreme densities, spacings, scales or mass_scale can produce either).
+void checkParticleMasses(const Object& body, const Body& result, const GridSpec& grid, const Material& material) {
+  const auto check = [&](double massKg, const std::string& origin) {
+    const double scaledKg = massKg * result.massScale;
+    if (!(scaledKg >= double(std::numeric_limits<float>::min()) && scaledKg <= double(std::numeric_limits<float>::max()))) {
+      body.value().fail("a particle's mass, " + formatApproximately(scaledKg) + " kg (" + origin +
+                        "), is outside what the GPU's 32-bit floats hold; change the density, scale or mass_scale");
+    }
+  };
+  if (result.shape == BodyShape::Points) {
+    const auto [lightest, heaviest] = std::minmax_element(result.pointMassesKg.begin(), result.pointMassesKg.end());
+    check(*lightest, "the lightest of the cloud's");
+    check(*heaviest, "the heaviest of the cloud's");
+    return;
+  }
+  const double spacingM = grid.cellSizeM / std::cbrt(result.particlesPerCell);
+  check(material.densityKgPerM3 * spacingM * spacingM * spacingM, "density × spacing³ × mass_scale");
+}
+
 Body readBody(const Object& body, const GridSpec& grid, const std::vector<Material>& materials,
               const std::filesystem::path& sceneFolder) {
   Body result;
@@ -659,6 +679,8 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
     loadPointsBody(body, result, readPlacement(body), grid,
                    materials[std::size_t(result.materialIndex)].densityKgPerM3);
   }
+
+  checkParticleMasses(body, result, grid, materials[std::size_t(result.materialIndex)]);
 
   // Particles must start clear of the wall cells, where the grid update zeroes the velocity.
   const glm::dvec3 interiorMinM = grid.interiorMinM();

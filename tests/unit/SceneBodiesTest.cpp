@@ -208,6 +208,23 @@ TEST_F(SceneBodies, BodyOutsideTheInteriorIsReportedWithItsBounds) {
   }
 }
 
+// Masses are 32-bit floats on the GPU: one that would round to 0 or infinity is refused with the body named.
+TEST_F(SceneBodies, ParticleMassesMustFitAFloat) {
+  write("one.xyz", "0.5,0.5,0.5\n0.52,0.5,0.5\n");
+  for (const std::string& body :
+       {std::string(R"({ "shape": "points", "path": "one.xyz", "material": "snow", "particle_mass": 1e-300 })"),
+        std::string(R"({ "shape": "points", "path": "one.xyz", "material": "snow", "particle_mass": 1e300 })"),
+        std::string(R"({ "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.1, "material": "snow",
+                          "mass_scale": 1e-40 })")}) {
+    try {
+      loadScene(writeScene(body));
+      ADD_FAILURE() << "expected an InputError for " << body;
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find("bodies[0]: a particle's mass"), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(PointCloud, MedianNeighbourSpacingOfALatticeIsItsSpacing) {
   std::vector<glm::dvec3> points;
   for (int k = 0; k < 12; ++k)
