@@ -19,6 +19,7 @@
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "run/Preflight.h"
 #include "run/StepAccumulator.h"
 #include "sim/Simulation.h"
 
@@ -153,6 +154,8 @@ class Viewer {
         snowballTemplate_(sampleSnowball()), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode) {
+    const PreflightReport report = preflight(scene, seeds_);
+    for (const std::string& warning : report.warnings) std::printf("firn view: warning: %s\n", warning.c_str());
     resetSimulation();
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {

@@ -13,6 +13,7 @@
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/Video.h"
+#include "run/Preflight.h"
 #include "sim/Simulation.h"
 
 namespace firn {
@@ -60,13 +61,17 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   std::filesystem::create_directories(options.outputDir, error);
   if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
 
-  gl::HeadlessContext context;
   const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+  // Before any GL work: a scene that cannot run says so at once (exit 2).
+  const PreflightReport preflightReport = preflight(scene, seeds);
+  gl::HeadlessContext context;
   Simulation simulation(scene, seeds, context.info());
   log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
       << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z
       << " cells, dt " << scene.time.dtS << " s, " << frames << " frames on " << context.info().renderer << "\n";
 
+  for (const std::string& note : preflightReport.notes) log << "firn: " << note << "\n";
+  for (const std::string& warning : preflightReport.warnings) log << "firn: warning: " << warning << "\n";
   simulation.setPassTiming(options.passTimes);
   std::optional<render::OffscreenRenderer> pictures;
   render::Camera camera;

@@ -105,18 +105,34 @@ TEST(Cli, BadInputExitsWithTwoNamingFileAndKey) {
   EXPECT_NE(badFlag.output.find("--frames"), std::string::npos) << badFlag.output;
 }
 
-// A scene far too stiff for its step (E = 1e9 Pa: the elastic bound is dt < h / c ≈ 3e-5 s, the scene asks for
-// 1e-3 s) blows up: exit 3, a message saying what to change, and the frames written before stay on disk,
-// every value in them finite.
+// A scene too stiff for its step (E = 6e6 Pa: the elastic bound is dt < h / c = 3.4e-4 s, the scene asks for
+// 1e-3 s, 2.9 times more: the pre-flight check warns but lets it run) blows up: exit 3, a message saying what to
+// change, and the frames written before stay on disk, every value in them finite.
+// Far beyond the bound (E = 1e9 Pa: h / c = 2.6e-5 s against dt = 1e-3 s) nothing is run: exit 2, with the
+// numbers and the step to use, and no output written.
+TEST(Cli, TimeStepFarBeyondTheStableBoundIsBadInput) {
+  const fs::path directory = freshDirectory("far_beyond");
+  std::string json = kSmallScene;
+  json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 1e9");
+  const fs::path scene = writeScene(directory, "stiff.json", json);
+  const Result result = runFirn("run " + scene.string() + " --out " + (directory / "out").string());
+  ASSERT_EQ(result.exitCode, 2) << result.output;
+  EXPECT_NE(result.output.find("time.dt: 0.001 s is"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("Set time.dt to at most 2.6"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(directory / "out" / "frame_0000.ply"));
+}
+
 TEST(Cli, UnstableSceneExitsWithThreeAndKeepsGoodFrames) {
   const fs::path directory = freshDirectory("unstable");
   std::string json = kSmallScene;
-  json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 1e9");
+  json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 6e6");
   json.replace(json.find("\"frames\": 3"), 11, "\"frames\": 10");
   const fs::path scene = writeScene(directory, "stiff.json", json);
   const fs::path out = directory / "out";
   const Result result = runFirn("run " + scene.string() + " --out " + out.string());
   ASSERT_EQ(result.exitCode, 3) << result.output;
+  EXPECT_NE(result.output.find("warning: time.dt = 0.001 s exceeds the elastic bound"), std::string::npos)
+      << result.output;
   EXPECT_NE(result.output.find("unstable"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("Reduce time.dt"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("dt < h / c"), std::string::npos) << result.output;

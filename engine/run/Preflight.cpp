@@ -1,0 +1,129 @@
+#include "run/Preflight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+
+#include "Error.h"
+#include "sim/FixedPoint.h"
+#include "sim/Materials.h"
+
+namespace firn {
+namespace {
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+std::string seconds(double valueS) { return format("%.3g s", valueS); }
+
+std::string sceneFile(const Scene& scene) {
+  return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
+}
+
+// Signed distance to a collider's surface, negative inside its solid (the GLSL SDFs of colliders.glsl).
+double colliderDistanceM(const Collider& collider, const glm::dvec3& pointM) {
+  switch (collider.shape) {
+    case ColliderShape::Plane: return glm::dot(pointM - collider.pointM, glm::normalize(collider.normal));
+    case ColliderShape::Sphere: return glm::length(pointM - collider.centerM) - collider.radiusM;
+    case ColliderShape::Box: {
+      const glm::dvec3 center = 0.5 * (collider.minM + collider.maxM);
+      const glm::dvec3 q = glm::abs(pointM - center) - 0.5 * (collider.maxM - collider.minM);
+      return glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+const char* colliderName(ColliderShape shape) {
+  switch (shape) {
+    case ColliderShape::Plane: return "plane";
+    case ColliderShape::Sphere: return "sphere";
+    case ColliderShape::Box: return "box";
+  }
+  return "collider";
+}
+
+}  // namespace
+
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles) {
+  PreflightReport report;
+  const double h = scene.grid.cellSizeM;
+  const double dt = scene.time.dtS;
+
+  // The elastic bound dt < h / c for every material as each body uses it (its Lamé scales included).
+  double elasticDt = std::numeric_limits<double>::infinity();
+  std::string stiffest;
+  for (const Body& body : scene.bodies) {
+    const Material& material = scene.materials.at(std::size_t(body.materialIndex));
+    const double bound = elasticStableDtS(material, h, body.lambdaScale, body.muScale);
+    if (bound < elasticDt) {
+      elasticDt = bound;
+      stiffest = "material \"" + material.name + "\" (wave speed c = " +
+                 format("%.4g m/s", waveSpeedMPerS(material, body.lambdaScale, body.muScale)) + ")";
+    }
+  }
+  // The CFL bound dt < h / |v| for the fastest particle at the start.
+  double fastestMPerS = 0;
+  for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
+  const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
+  report.stableDtS = std::min(elasticDt, cflDt);
+  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffest +
+                         (std::isfinite(cflDt) ? ", CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
+                                                     format("%.3g m/s", fastestMPerS) + ")"
+                                               : std::string()) +
+                         "; time.dt = " + seconds(dt));
+  const std::string limit = elasticDt <= cflDt ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffest
+                                               : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
+  if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
+    throw InputError(sceneFile(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
+                     " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
+                     seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
+  }
+  if (dt > report.stableDtS) {
+    report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
+                              ": the run is likely to go unstable; set time.dt to at most " + seconds(report.stableDtS));
+  }
+
+  // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h).
+  double maxParticlesPerCell = 0, referenceMassKg = 0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    maxParticlesPerCell = std::max(maxParticlesPerCell, scene.bodies[i].particlesPerCell);
+    report.notes.push_back("bodies[" + std::to_string(i) + "]: " + format("%.3g", scene.bodies[i].particlesPerCell) +
+                           " particles per cell");
+  }
+  for (const ParticleSeed& particle : particles) referenceMassKg = std::max(referenceMassKg, double(particle.massKg));
+  const FixedPointScale fixedPoint = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, h, dt);
+  report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +
+                         format("%.2g", fixedPoint.resolution()) + " of the heaviest particle's mass); a node sum may reach " +
+                         format("%.0f", fixedPoint.maxNodeValue()) + " of them, " +
+                         format("%.0f", fixedPoint.maxNodeValue() / std::max(maxParticlesPerCell, 1.0)) +
+                         "× a cell's particles at rest");
+
+  // Bodies that start inside a collider are pushed out violently on the first step.
+  for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+    std::vector<std::size_t> inside(scene.bodies.size(), 0);
+    for (const ParticleSeed& particle : particles) {
+      if (particle.bodyIndex >= 0 && colliderDistanceM(scene.colliders[c], glm::dvec3(particle.positionM)) < 0) {
+        ++inside[std::size_t(particle.bodyIndex)];
+      }
+    }
+    for (std::size_t b = 0; b < inside.size(); ++b) {
+      if (inside[b] == 0) continue;
+      report.warnings.push_back("bodies[" + std::to_string(b) + "]: " + std::to_string(inside[b]) +
+                                " particles start inside colliders[" + std::to_string(c) + "] (a " +
+                                colliderName(scene.colliders[c].shape) + "); they will be pushed out on the first step");
+    }
+  }
+  return report;
+}
+
+}  // namespace firn

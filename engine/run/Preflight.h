@@ -1,0 +1,26 @@
+#pragma once
+// The check before a run (issue "Numerical robustness", pre-flight): the time step against each material's
+// elastic wave bound and the bodies' starting speeds, the particles per cell, bodies that start inside
+// colliders, and the fixed-point headroom. Nothing here needs a GL context.
+#include <string>
+#include <vector>
+
+#include "scene/Scene.h"
+
+namespace firn {
+
+// A fixed dt beyond the stable bound by more than this factor cannot run: the elastic wave would cross this
+// many cells per step. Between 1 and this factor the run is attempted with a warning (the GPU watchdog stops
+// it, exit 3, if it does go unstable).
+constexpr double kPreflightFarBeyondFactor = 4.0;
+
+struct PreflightReport {
+  double stableDtS = 0;              // the smallest bound found
+  std::vector<std::string> notes;    // what a user should know: bounds, particles per cell, fixed point
+  std::vector<std::string> warnings; // what is likely to go wrong
+};
+
+// Throws InputError (exit 2) with the numbers when the scene's dt is far beyond its stable bound.
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles);
+
+}  // namespace firn

@@ -1,0 +1,96 @@
+// The pre-flight check: the time step against the elastic and CFL bounds (warn, or stop when far beyond),
+// and bodies that start inside colliders.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "Error.h"
+#include "run/Preflight.h"
+#include "scene/Scene.h"
+#include "sim/Materials.h"
+
+namespace firn {
+namespace {
+
+Scene sceneWith(const std::string& dt, const std::string& body, const std::string& colliders = "[]") {
+  return parseScene(R"({
+    "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+    "time": { "dt": )" + dt + R"(, "frame_rate": 50, "frames": 1 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ )" + body + R"( ],
+    "colliders": )" + colliders + "}",
+                    "preflight.json");
+}
+
+const char* const kBall = R"({ "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15, "material": "snow" })";
+
+bool contains(const std::vector<std::string>& lines, const std::string& fragment) {
+  for (const std::string& line : lines) {
+    if (line.find(fragment) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// The stomakhin preset's wave speed is 22.35 m/s (MaterialsTest), so h / c = 0.05 / 22.35 = 2.24e-3 s.
+TEST(Preflight, StepWithinTheBoundsRunsQuietly) {
+  const Scene scene = sceneWith("1e-3", kBall);
+  const PreflightReport report = preflight(scene, sampleBodies(scene));
+  EXPECT_NEAR(report.stableDtS, 0.05 / waveSpeedMPerS(scene.materials[0]), 1e-12);
+  EXPECT_TRUE(report.warnings.empty());
+  EXPECT_TRUE(contains(report.notes, "fixed point: "));
+  EXPECT_TRUE(contains(report.notes, "bodies[0]: 8 particles per cell"));
+}
+
+TEST(Preflight, StepBeyondTheBoundWarnsAndFarBeyondStops) {
+  const Scene beyond = sceneWith("4e-3", kBall);  // 1.8 times h / c
+  const PreflightReport report = preflight(beyond, sampleBodies(beyond));
+  EXPECT_TRUE(contains(report.warnings, "time.dt = 0.004 s exceeds the elastic bound h / c = 0.00224 s"))
+      << (report.warnings.empty() ? "" : report.warnings[0]);
+
+  const Scene farBeyond = sceneWith("1e-2", kBall);  // 4.5 times h / c
+  try {
+    preflight(farBeyond, sampleBodies(farBeyond));
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("preflight.json: time.dt: 0.01 s is 4.47 times the elastic bound", 0), 0u) << message;
+    EXPECT_NE(message.find("Set time.dt to at most 0.00224 s"), std::string::npos) << message;
+  }
+}
+
+// A body thrown at 100 m/s crosses two cells per step at dt = 1e-3 s: the CFL bound h / |v| = 5e-4 s is the limit.
+TEST(Preflight, FastBodyIsHeldToTheCflBound) {
+  const Scene scene = sceneWith("1e-3", R"({ "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15,
+                                            "material": "snow", "velocity": [100, 0, 0] })");
+  const PreflightReport report = preflight(scene, sampleBodies(scene));
+  EXPECT_NEAR(report.stableDtS, 5e-4, 1e-9);
+  EXPECT_TRUE(contains(report.warnings, "exceeds the CFL bound h / |v| = 0.0005 s"));
+}
+
+TEST(Preflight, BodyStartingInsideAColliderIsReported) {
+  const Scene scene = sceneWith("1e-3", kBall,
+                                R"([ { "type": "plane", "point": [0, 0.6, 0], "normal": [0, 1, 0] },
+                                     { "type": "sphere", "center": [0.2, 0.2, 0.2], "radius": 0.05 } ])");
+  const std::vector<ParticleSeed> particles = sampleBodies(scene);
+  const PreflightReport report = preflight(scene, particles);
+  // The plane through the ball's centre has about half the ball's particles below it; the sphere none.
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("start inside colliders[0] (a plane)"), std::string::npos) << report.warnings[0];
+  const std::size_t inside = std::stoul(report.warnings[0].substr(report.warnings[0].find(": ") + 2));
+  EXPECT_NEAR(double(inside), 0.5 * double(particles.size()), 0.05 * double(particles.size()));
+}
+
+// Every scene Firn ships passes its own pre-flight check without a warning.
+TEST(Preflight, ShippedScenesAreWithinTheirBounds) {
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(FIRN_SOURCE_DIR) / "assets/scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scene scene = loadScene(entry.path());
+    const PreflightReport report = preflight(scene, sampleBodies(scene));
+    EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
+  }
+}
+
+}  // namespace
+}  // namespace firn
