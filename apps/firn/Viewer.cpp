@@ -226,7 +226,8 @@ class Viewer {
   void advance(int steps) {
     if (steps <= 0 || unstable_) return;
     const auto start = Clock::now();
-    for (int i = 0; i < steps; ++i) simulation_->step(scene_.time.dtS);
+    // The accumulator counts steps of dt; an adaptive scene covers that time in steps of its own choosing.
+    steps = simulation_->advanceTo(simulation_->timeS() + steps * scene_.time.dtS);
     try {
       simulation_->checkWatchdog();  // reads a small buffer, which waits for the steps to finish
     } catch (const SimulationError& error) {
@@ -235,7 +236,7 @@ class Viewer {
       unstable_ = true;
       paused_ = true;
     }
-    const double secondsPerStep = std::chrono::duration<double>(Clock::now() - start).count() / steps;
+    const double secondsPerStep = std::chrono::duration<double>(Clock::now() - start).count() / std::max(steps, 1);
     // The cap follows the measured cost of a step (smoothed), so physics fits its share of each frame.
     stepCostS_ = stepCostS_ == 0 ? secondsPerStep : 0.8 * stepCostS_ + 0.2 * secondsPerStep;
     accumulator_.setMaxStepsPerFrame(std::max(1, int(kPhysicsBudgetPerFrameS / stepCostS_)));

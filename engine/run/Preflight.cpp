@@ -52,46 +52,10 @@ const char* colliderName(ColliderShape shape) {
   return "collider";
 }
 
-}  // namespace
-
-PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles) {
-  PreflightReport report;
+// The parts that do not depend on the time step: particles per cell, fixed point, bodies in colliders.
+PreflightReport finishReport(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport report) {
   const double h = scene.grid.cellSizeM;
   const double dt = scene.time.dtS;
-
-  // The elastic bound dt < h / c for every material as each body uses it (its Lamé scales included).
-  double elasticDt = std::numeric_limits<double>::infinity();
-  std::string stiffest;
-  for (const Body& body : scene.bodies) {
-    const Material& material = scene.materials.at(std::size_t(body.materialIndex));
-    const double bound = elasticStableDtS(material, h, body.lambdaScale, body.muScale);
-    if (bound < elasticDt) {
-      elasticDt = bound;
-      stiffest = "material \"" + material.name + "\" (wave speed c = " +
-                 format("%.4g m/s", waveSpeedMPerS(material, body.lambdaScale, body.muScale)) + ")";
-    }
-  }
-  // The CFL bound dt < h / |v| for the fastest particle at the start.
-  double fastestMPerS = 0;
-  for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
-  const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
-  report.stableDtS = std::min(elasticDt, cflDt);
-  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffest +
-                         (std::isfinite(cflDt) ? ", CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
-                                                     format("%.3g m/s", fastestMPerS) + ")"
-                                               : std::string()) +
-                         "; time.dt = " + seconds(dt));
-  const std::string limit = elasticDt <= cflDt ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffest
-                                               : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
-  if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
-    throw InputError(sceneFile(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
-                     " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
-                     seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
-  }
-  if (dt > report.stableDtS) {
-    report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
-                              ": the run is likely to go unstable; set time.dt to at most " + seconds(report.stableDtS));
-  }
 
   // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h).
   double maxParticlesPerCell = 0, referenceMassKg = 0;
@@ -124,6 +88,55 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
     }
   }
   return report;
+}
+
+}  // namespace
+
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles) {
+  PreflightReport report;
+  const double h = scene.grid.cellSizeM;
+  const double dt = scene.time.dtS;
+
+  // The elastic bound dt < h / c for every material as each body uses it (its Lamé scales included).
+  double elasticDt = std::numeric_limits<double>::infinity();
+  std::string stiffest;
+  for (const Body& body : scene.bodies) {
+    const Material& material = scene.materials.at(std::size_t(body.materialIndex));
+    const double bound = elasticStableDtS(material, h, body.lambdaScale, body.muScale);
+    if (bound < elasticDt) {
+      elasticDt = bound;
+      stiffest = "material \"" + material.name + "\" (wave speed c = " +
+                 format("%.4g m/s", waveSpeedMPerS(material, body.lambdaScale, body.muScale)) + ")";
+    }
+  }
+  // The CFL bound dt < h / |v| for the fastest particle at the start.
+  double fastestMPerS = 0;
+  for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
+  const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
+  report.stableDtS = std::min(elasticDt, cflDt);
+  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffest +
+                         (std::isfinite(cflDt) ? ", CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
+                                                     format("%.3g m/s", fastestMPerS) + ")"
+                                               : std::string()) +
+                         "; time.dt = " + seconds(dt));
+  const std::string limit = elasticDt <= cflDt ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffest
+                                               : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
+  if (scene.time.adaptive) {
+    report.notes.push_back("adaptive time step: each step at most " + seconds(dt) + " and " +
+                           format("%.2g", scene.time.cfl) + " of the bounds");
+    return finishReport(scene, particles, report);
+  }
+  if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
+    throw InputError(sceneFile(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
+                     " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
+                     seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
+  }
+  if (dt > report.stableDtS) {
+    report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
+                              ": the run is likely to go unstable; set time.dt to at most " + seconds(report.stableDtS) +
+                              ", or let \"adaptive\": true choose it");
+  }
+  return finishReport(scene, particles, report);
 }
 
 }  // namespace firn

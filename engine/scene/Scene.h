@@ -34,7 +34,9 @@ struct GridSpec {
 };
 
 struct TimeSpec {
-  double dtS = 1e-4;        // largest step; each frame takes ceil(frame duration / dt) equal steps
+  double dtS = 1e-4;        // fixed: each frame takes ceil(frame duration / dt) equal steps; adaptive: the largest step
+  bool adaptive = false;    // each step as large as the CFL and elastic bounds allow, times `cfl`
+  double cfl = 0.4;         // the fraction of a cell the fastest particle, or the elastic wave, may cross per step
   double frameRateHz = 30;  // frame N is the state at N / frameRateHz
   int frames = 60;
 };

@@ -372,7 +372,7 @@ GridSpec readGrid(const Object& grid) {
 }
 
 TimeSpec readTime(const Object& time) {
-  time.checkKeys({"dt", "frame_rate", "frames"}, {"adaptive", "cfl"}, "\"time\"");
+  time.checkKeys({"dt", "frame_rate", "frames", "adaptive", "cfl"}, {}, "\"time\"");
   TimeSpec spec;
   spec.frameRateHz = time.number("frame_rate", spec.frameRateHz, Interval::greaterThan(0));
   const double frameDurationS = 1.0 / spec.frameRateHz;
@@ -383,6 +383,13 @@ TimeSpec readTime(const Object& time) {
   }
   constexpr int maxFrames = 1000000;  // about nine hours at 30 Hz: more is a typo, not a shot
   spec.frames = time.integer("frames", spec.frames, 0, maxFrames);
+  if (const auto adaptive = time.optional("adaptive")) {
+    if (!adaptive->json().is_boolean()) adaptive->fail("expected true or false (got " + describeValue(adaptive->json()) + ")");
+    spec.adaptive = adaptive->json().get<bool>();
+  }
+  if (time.has("cfl") && !spec.adaptive) time.fail("cfl", "applies only with \"adaptive\": true");
+  // Beyond 1 the fastest particle, or the elastic wave, crosses more than a cell per step.
+  spec.cfl = time.number("cfl", spec.cfl, Interval::openClosed(0, 1));
   return spec;
 }
 

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "Error.h"
 #include "gl/Debug.h"
@@ -94,6 +96,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
+  for (const ParticleSeed& seed : seeds) fastestSpeedMPerS_ = std::max(fastestSpeedMPerS_, double(glm::length(seed.velocityMPerS)));
+  elasticBoundS_ = std::numeric_limits<double>::infinity();
+  for (const Body& body : scene_.bodies) {
+    elasticBoundS_ = std::min(elasticBoundS_, elasticStableDtS(scene_.materials[std::size_t(body.materialIndex)],
+                                                               scene_.grid.cellSizeM, body.lambdaScale, body.muScale));
+  }
   watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog);
   activeRegion_ = gl::Buffer(sizeof(gpu::ActiveRegionData));
 
@@ -130,6 +138,7 @@ void Simulation::buildPrograms() {
     if (present) options.defines.emplace_back(define, "1");
   }
   if (needsDeformationGradient()) options.defines.emplace_back("FIRN_HAS_DEFORMATION_GRADIENT", "1");
+  if (scene_.time.adaptive) options.defines.emplace_back("FIRN_ADAPTIVE_DT", "1");
   if (scene_.solver.atomics == Atomics::Float) {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
@@ -401,7 +410,45 @@ void Simulation::step(double dtS) {
   ++steps_;
 }
 
+// Adaptive stepping (time.adaptive): each step is the largest the CFL condition on the fastest particle and the
+// elastic wave bound allow, times time.cfl, and no larger than time.dt. The fastest speed comes from the GPU
+// (an atomicMax in G2P), one 4-byte read per step; gravity may add |g| dt to it during the step.
+double Simulation::adaptiveDtS() const {
+  const double h = scene_.grid.cellSizeM;
+  const double speedMPerS = fastestSpeedMPerS_ + glm::length(scene_.gravityMPerS2) * scene_.time.dtS;
+  double dtS = std::min(scene_.time.dtS, scene_.time.cfl * elasticBoundS_);
+  if (speedMPerS > 0) dtS = std::min(dtS, scene_.time.cfl * h / speedMPerS);
+  return dtS;
+}
+
+void Simulation::readFastestSpeed() {
+  constexpr std::size_t offset = offsetof(gpu::WatchdogStatus, maxSpeedBits);
+  std::uint32_t bits = 0;
+  watchdog_.download(offset, sizeof bits, &bits);
+  fastestSpeedMPerS_ = glm::uintBitsToFloat(bits);
+  const std::uint32_t zero = 0;
+  watchdog_.upload(offset, sizeof zero, &zero);
+}
+
 int Simulation::advanceTo(double timeS) {
+  if (scene_.time.adaptive) {
+    int steps = 0;
+    while (timeS - timeS_ > 1e-12 * timeS) {
+      const double remainingS = timeS - timeS_;
+      double dtS = adaptiveDtS();
+      // Land on the frame exactly, without a sliver of a last step: the last two steps share what is left.
+      if (remainingS <= dtS) {
+        dtS = remainingS;
+      } else if (remainingS < 2 * dtS) {
+        dtS = remainingS / 2;
+      }
+      step(dtS);
+      readFastestSpeed();
+      ++steps;
+    }
+    timeS_ = timeS;
+    return steps;
+  }
   const double remainingS = timeS - timeS_;
   if (remainingS <= 0) return 0;
   // Equal steps, none larger than dt; the tolerance keeps an exact multiple from taking one step more.

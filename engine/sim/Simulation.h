@@ -54,7 +54,8 @@ class Simulation {
 
   // One step of `dtS` seconds (no larger than the scene's dt): prepare → clear → P2G → grid update → G2P.
   void step(double dtS);
-  // Steps to `timeS` in equal steps no larger than the scene's dt, landing on it exactly; returns the count.
+  // Steps to `timeS`, landing on it exactly; returns the count. Fixed dt: equal steps no larger than the scene's
+  // dt. Adaptive (time.adaptive): each step as large as the CFL and elastic bounds allow (times time.cfl).
   int advanceTo(double timeS);
 
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
@@ -98,6 +99,8 @@ class Simulation {
   void buildPrograms();
   bool needsDeformationGradient() const;
   void allocateParticles();
+  double adaptiveDtS() const;
+  void readFastestSpeed();
   void releaseDueParticles();
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
   void uploadMaterialsAndColliders();
@@ -129,6 +132,8 @@ class Simulation {
 
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
+  double fastestSpeedMPerS_ = 0;  // adaptive dt: from the seeds, then from each step's G2P
+  double elasticBoundS_ = 0;      // h / c of the stiffest material as its bodies use it
 
   gl::Program prepareGrid_;
   gl::Program clearGrid_;

@@ -14,7 +14,7 @@ layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
   int cflParticle;
   uint cflStep;
   float cflCellsPerStep;
-  uint watchdogUnused;
+  uint maxSpeedBits;  // adaptive dt: the fastest particle's speed (m/s), as float bits (reset by the host)
 };
 
 void reportOverflow(uint node, uint channel) {
@@ -37,6 +37,10 @@ void reportCflViolation(uint particle, float cellsPerStep) {
     cflCellsPerStep = cellsPerStep;
   }
 }
+
+// For non-negative floats the order of their bit patterns is their numeric order, so an integer atomicMax
+// finds the largest speed.
+void reportSpeed(float speedMPerS) { atomicMax(maxSpeedBits, floatBitsToUint(speedMPerS)); }
 
 bool allFinite(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 bool allFinite(mat3 m) { return allFinite(m[0]) && allFinite(m[1]) && allFinite(m[2]); }

@@ -80,6 +80,9 @@ void advanceParticle(uint p) {
   }
   float cellsPerStep = length(velocity) * stepDt() / cellSize();
   if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
+#ifdef FIRN_ADAPTIVE_DT
+  reportSpeed(length(velocity));
+#endif
 
   positionMass[p].xyz = newPosition;
   velocityVolume[p].xyz = velocity;

@@ -372,4 +372,38 @@ TEST_F(SimulationTest, EmitterReleasesItsParticlesOverItsWindow) {
   EXPECT_NEAR(grid.massKg, seededKg, double(seeds.size()) * 64 * fp.resolution() * fp.referenceMassKg + 1e-6 * seededKg);
 }
 
+// Adaptive stepping (time.adaptive) runs a scene whose fixed dt is unstable (E = 6e6 Pa: h / c = 3.42e-4 s
+// against dt = 1e-3 s; the CLI test shows it blowing up), taking steps of cfl · h / c = 1.37e-4 s: 0.1 s is
+// 0.1 / 1.367e-4 = 731.5 steps, so 732 or 733 (the last two share what is left), landing exactly on 0.1 s.
+TEST_F(SimulationTest, AdaptiveStepRunsAStiffSceneStablyAndLandsOnFrames) {
+  const Scene scene = sceneFromJson(R"({
+    "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 10, "frames": 1, "adaptive": true, "cfl": 0.4 },
+    "materials": { "snow": { "preset": "stomakhin", "youngs_modulus": 6e6 } },
+    "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15, "material": "snow" } ] })");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const int steps = simulation.advanceTo(0.1);
+  simulation.checkWatchdog();
+  EXPECT_EQ(simulation.timeS(), 0.1);
+  EXPECT_GE(steps, 732);
+  EXPECT_LE(steps, 733);
+}
+
+// A body thrown at 40 m/s: the CFL bound cfl · h / |v| = 0.4 · 0.05 / 40 = 5e-4 s sets the step (the snow's
+// elastic bound is 0.4 · 2.24e-3 s), so 0.02 s takes 40 or 41 steps and no particle crosses more than 0.4 cells.
+TEST_F(SimulationTest, AdaptiveStepFollowsTheFastestParticle) {
+  const Scene scene = sceneFromJson(R"({
+    "grid": { "cells": [32, 24, 24], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 1, "adaptive": true },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "sphere", "center": [0.4, 0.6, 0.6], "radius": 0.15, "material": "snow",
+                  "velocity": [40, 0, 0] } ] })");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const int steps = simulation.advanceTo(0.02);
+  simulation.checkWatchdog();
+  EXPECT_GE(steps, 40);
+  EXPECT_LE(steps, 41);
+  EXPECT_EQ(simulation.timeS(), 0.02);
+}
+
 }  // namespace

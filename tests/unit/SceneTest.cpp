@@ -393,10 +393,23 @@ TEST(SceneLoader, RejectsUnsupportedShapesAndKeys) {
   Json scene = validScene();
   scene["colliders"] = {{{"type", "mesh"}}};
   expectError(scene, "colliders[0].type", "\"mesh\" is part of the scene format but not supported by this build yet");
+}
 
-  scene = validScene();
+TEST(SceneLoader, ReadsAdaptiveTimeStep) {
+  Json scene = validScene();
   scene["time"]["adaptive"] = true;
-  expectError(scene, "time.adaptive", "part of the scene format but not supported by this build yet");
+  scene["time"]["cfl"] = 0.3;
+  const Scene parsed = parseScene(scene.dump(), sceneFile);
+  EXPECT_TRUE(parsed.time.adaptive);
+  EXPECT_DOUBLE_EQ(parsed.time.cfl, 0.3);
+
+  scene["time"]["cfl"] = 1.5;
+  expectError(scene, "time.cfl", "must be in (0, 1] (got 1.5)");
+  scene["time"]["adaptive"] = "yes";
+  expectError(scene, "time.adaptive", "expected true or false");
+  scene["time"]["adaptive"] = false;
+  scene["time"]["cfl"] = 0.3;
+  expectError(scene, "time.cfl", "applies only with \"adaptive\": true");
 }
 
 TEST(SceneLoader, ReportsSyntaxErrorWithLineAndColumn) {
