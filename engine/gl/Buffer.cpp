@@ -43,6 +43,12 @@ void Buffer::download(std::size_t offsetBytes, std::size_t bytes, void* out) con
   glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offsetBytes), static_cast<GLsizeiptr>(bytes), out);
 }
 
+void Buffer::copyFrom(const Buffer& source, std::size_t bytes) {
+  glBindBuffer(GL_COPY_READ_BUFFER, source.id_);
+  glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
+  glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, static_cast<GLsizeiptr>(bytes));
+}
+
 void Buffer::zero() {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
   glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);

@@ -32,6 +32,8 @@ class Buffer {
   void upload(std::size_t offsetBytes, std::size_t bytes, const void* data);
   void download(std::size_t offsetBytes, std::size_t bytes, void* out) const;
   void zero();
+  // Copies the first `bytes` of `source` into this buffer on the GPU (glCopyBufferSubData).
+  void copyFrom(const Buffer& source, std::size_t bytes);
 
   template <typename T>
   std::vector<T> read(std::size_t count, std::size_t firstElement = 0) const {

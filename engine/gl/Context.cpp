@@ -189,6 +189,7 @@ void loadGLFunctions(ContextInfo& info) {
       {"glBufferSubData", reinterpret_cast<const void*>(glBufferSubData)},
       {"glGetBufferSubData", reinterpret_cast<const void*>(glGetBufferSubData)},
       {"glClearBufferData", reinterpret_cast<const void*>(glClearBufferData)},
+      {"glCopyBufferSubData", reinterpret_cast<const void*>(glCopyBufferSubData)},
       {"glCreateShader", reinterpret_cast<const void*>(glCreateShader)},
       {"glCreateProgram", reinterpret_cast<const void*>(glCreateProgram)},
       {"glGetStringi", reinterpret_cast<const void*>(glGetStringi)},

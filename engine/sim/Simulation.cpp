@@ -415,10 +415,39 @@ void Simulation::step(double dtS) {
 // (an atomicMax in G2P), one 4-byte read per step; gravity may add |g| dt to it during the step.
 double Simulation::adaptiveDtS() const {
   const double h = scene_.grid.cellSizeM;
+  const double cfl = scene_.time.cfl * adaptiveStepScale_;
   const double speedMPerS = fastestSpeedMPerS_ + glm::length(scene_.gravityMPerS2) * scene_.time.dtS;
-  double dtS = std::min(scene_.time.dtS, scene_.time.cfl * elasticBoundS_);
-  if (speedMPerS > 0) dtS = std::min(dtS, scene_.time.cfl * h / speedMPerS);
+  double dtS = std::min(scene_.time.dtS * adaptiveStepScale_, cfl * elasticBoundS_);
+  if (speedMPerS > 0) dtS = std::min(dtS, cfl * h / speedMPerS);
   return dtS;
+}
+
+void Simulation::saveState() {
+  if (saved_.buffers.empty()) {
+    for (gl::Buffer* buffer : {&positionMass_, &velocityVolume_, &elasticDeformation_, &kirchhoffStress_,
+                                     &affine_, &plasticState_, &activeRegion_, &watchdog_}) {
+      if (*buffer) saved_.buffers.emplace_back(buffer, gl::Buffer(buffer->bytes()));
+    }
+  }
+  for (auto& [live, copy] : saved_.buffers) copy.copyFrom(*live, live->bytes());
+  saved_.timeS = timeS_;
+  saved_.steps = steps_;
+  saved_.particleCount = particleCount_;
+  saved_.nextPending = nextPending_;
+  saved_.fastestSpeedMPerS = fastestSpeedMPerS_;
+}
+
+void Simulation::restoreState() {
+  if (saved_.buffers.empty()) throw std::logic_error("restoreState: no state was saved");
+  for (auto& [live, copy] : saved_.buffers) live->copyFrom(copy, live->bytes());
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  timeS_ = saved_.timeS;
+  steps_ = saved_.steps;
+  particleCount_ = saved_.particleCount;
+  particleBody_.resize(particleCount_);
+  particleMaterial_.resize(particleCount_);
+  nextPending_ = saved_.nextPending;
+  fastestSpeedMPerS_ = saved_.fastestSpeedMPerS;
 }
 
 void Simulation::readFastestSpeed() {

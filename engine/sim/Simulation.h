@@ -58,6 +58,13 @@ class Simulation {
   // dt. Adaptive (time.adaptive): each step as large as the CFL and elastic bounds allow (times time.cfl).
   int advanceTo(double timeS);
 
+  // A copy of the whole state (particles, emitter progress, time, watchdog) on the GPU, for redoing a stretch
+  // of simulation that went wrong (adaptive stepping retries a failed frame with smaller steps).
+  void saveState();
+  void restoreState();
+  // Adaptive stepping: scales the step it would take (1 normally; a retry halves it).
+  void setAdaptiveStepScale(double scale) { adaptiveStepScale_ = scale; }
+
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
   // fixed-point overflow, a non-finite value or a CFL violation since the start.
   void checkWatchdog() const;
@@ -134,6 +141,18 @@ class Simulation {
   std::uint64_t steps_ = 0;
   double fastestSpeedMPerS_ = 0;  // adaptive dt: from the seeds, then from each step's G2P
   double elasticBoundS_ = 0;      // h / c of the stiffest material as its bodies use it
+  double adaptiveStepScale_ = 1;
+
+  // saveState's copy: the buffers whose contents carry over from step to step, and the counters.
+  struct SavedState {
+    std::vector<std::pair<gl::Buffer*, gl::Buffer>> buffers;  // (live buffer, its copy)
+    double timeS = 0;
+    std::uint64_t steps = 0;
+    std::size_t particleCount = 0;
+    std::size_t nextPending = 0;
+    double fastestSpeedMPerS = 0;
+  };
+  SavedState saved_;
 
   gl::Program prepareGrid_;
   gl::Program clearGrid_;
