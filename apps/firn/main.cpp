@@ -41,7 +41,7 @@ int runCommand(const std::string& scenePath, firn::RunOptions options) {
   const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, std::cerr);
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
-              summary.frames + 1, summary.particles, static_cast<unsigned long long>(summary.steps),
+              summary.frames - summary.firstFrame + 1, summary.particles, static_cast<unsigned long long>(summary.steps),
               outputDir.c_str(), summary.wallS,
               summary.steps > 0 ? 1e3 * summary.simulationWallS / double(summary.steps) : 0.0, summary.renderer.c_str());
   return 0;
@@ -159,6 +159,12 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
       ->default_str("material");
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
+  run->add_option("--checkpoint-every", runOptions.checkpointEvery,
+                  "Write checkpoint_NNNN.firn (the complete state) every K frames")
+      ->check(CLI::Range(1, 1000000));
+  std::string resumePath;
+  run->add_option("--resume", resumePath, "Continue from a checkpoint of this scene, bit for bit as if never interrupted")
+      ->check(CLI::ExistingFile);
 
   firn::ViewOptions viewOptions;
   std::string screenshotPath;
@@ -217,6 +223,7 @@ int main(int argc, char** argv) {
       runOptions.outputDir = outputDir;
       runOptions.writePly = !noPly;
       runOptions.videoPath = videoPath;
+      runOptions.resumePath = resumePath;
       return runCommand(scenePath, runOptions);
     }
     if (view->parsed()) {

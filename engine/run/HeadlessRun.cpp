@@ -10,6 +10,7 @@
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "io/Checkpoint.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/Video.h"
@@ -24,10 +25,11 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// frame_NNNN.<extension>, the names design.md gives the outputs (and assembleVideo reads).
-std::string frameFileName(int frame, const char* extension) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%04d.%s", frame, extension);
+// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names design.md gives
+// the outputs (and assembleVideo reads).
+std::string numberedFileName(const char* prefix, int frame, const char* extension) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%s_%04d.%s", prefix, frame, extension);
   return name;
 }
 
@@ -119,9 +121,9 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.steps = steps;
     row.wallMs = wallMs;
     stats.write(row);
-    if (options.writePly) writePly(options.outputDir / frameFileName(frame, "ply"), toPointCache(particles));
+    if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, "ply"), toPointCache(particles));
     if (pictures) {
-      render::writePng(options.outputDir / frameFileName(frame, "png"),
+      render::writePng(options.outputDir / numberedFileName("frame", frame, "png"),
                        pictures->render(simulation, camera, options.colorMode));
     }
   };
@@ -129,17 +131,32 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   RunSummary summary;
   summary.particles = seeds.size();
   summary.renderer = context.info().renderer;
-  writeFrame(0, 0, secondsSince(runStart) * 1e3);
-  for (int frame = 1; frame <= frames; ++frame) {
+  // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
+  int firstFrame = 0;
+  if (!options.resumePath.empty()) {
+    const Checkpoint checkpoint = readCheckpoint(options.resumePath);
+    simulation.resume(checkpoint, options.resumePath);
+    firstFrame = checkpoint.frame;
+    summary.firstFrame = firstFrame;
+    summary.frames = firstFrame;
+    log << "firn: resumed at frame " << firstFrame << " (t = " << simulation.timeS() << " s) from "
+        << options.resumePath.string() << "\n";
+  }
+  writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
+  for (int frame = firstFrame + 1; frame <= frames; ++frame) {
     const auto frameStart = Clock::now();
     const int steps = advanceFrame(simulation, frame / scene.time.frameRateHz, log);
     summary.simulationWallS += secondsSince(frameStart);
     summary.steps += static_cast<std::uint64_t>(steps);
     writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
+    if (options.checkpointEvery > 0 && frame % options.checkpointEvery == 0) {
+      writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, "firn"),
+                      simulation.checkpoint(frame));
+    }
     summary.frames = frame;
     if (options.showProgress) {
       const double stepsPerS = double(summary.steps) / summary.simulationWallS;
-      const double etaS = summary.simulationWallS / frame * (frames - frame);
+      const double etaS = summary.simulationWallS / (frame - firstFrame) * (frames - frame);
       printProgress(frame, frames, simulation.timeS(), stepsPerS, etaS);
     }
   }

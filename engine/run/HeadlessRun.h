@@ -23,10 +23,13 @@ struct RunOptions {
   glm::ivec2 imageSizePx{1280, 720};
   render::ColorMode colorMode = render::ColorMode::Material;
   std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg
+  int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
+  std::filesystem::path resumePath;  // non-empty: continue from this checkpoint (of the same scene)
 };
 
 struct RunSummary {
-  int frames = 0;                  // frames written after frame 0
+  int firstFrame = 0;              // 0, or the checkpoint's frame for a resumed run
+  int frames = 0;                  // the last frame written
   std::uint64_t steps = 0;
   std::size_t particles = 0;
   double wallS = 0;                // whole run, start-up included
@@ -34,7 +37,8 @@ struct RunSummary {
   std::string renderer;
 };
 
-// Frame N is the state at N / frame_rate; frame 0 is the initial state. Throws InputError (bad scene or
+// Frame N is the state at N / frame_rate; frame 0 is the initial state. A resumed run writes stats.csv and the
+// frames from the checkpoint's frame on. Throws InputError (bad scene or
 // output), SimulationError (unstable: the frames written so far stay on disk) or NoOpenGLError.
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log);
 

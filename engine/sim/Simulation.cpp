@@ -95,6 +95,20 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
+  // What a checkpoint must match: the grid, the step, the materials and every seed, field by field (the struct
+  // has padding, whose bytes are not defined).
+  const MaterialTable table = buildMaterialTable(scene_);
+  sceneFingerprint_ = fingerprint(&gridNodes_, sizeof gridNodes_);
+  for (const double value : {scene_.grid.cellSizeM, scene_.time.dtS, double(particleCapacity_)}) {
+    sceneFingerprint_ = fingerprint(&value, sizeof value, sceneFingerprint_);
+  }
+  sceneFingerprint_ = fingerprint(table.entries.data(), table.entries.size() * sizeof(gpu::MaterialParams), sceneFingerprint_);
+  for (const ParticleSeed& seed : seeds) {
+    sceneFingerprint_ = fingerprint(&seed.positionM, sizeof seed.positionM, sceneFingerprint_);
+    sceneFingerprint_ = fingerprint(&seed.velocityMPerS, sizeof seed.velocityMPerS, sceneFingerprint_);
+    sceneFingerprint_ = fingerprint(&seed.massKg, sizeof seed.massKg, sceneFingerprint_);
+    sceneFingerprint_ = fingerprint(&seed.releaseTimeS, sizeof seed.releaseTimeS, sceneFingerprint_);
+  }
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
   for (const ParticleSeed& seed : seeds) fastestSpeedMPerS_ = std::max(fastestSpeedMPerS_, double(glm::length(seed.velocityMPerS)));
   elasticBoundS_ = std::numeric_limits<double>::infinity();
@@ -424,10 +438,7 @@ double Simulation::adaptiveDtS() const {
 
 void Simulation::saveState() {
   if (saved_.buffers.empty()) {
-    for (gl::Buffer* buffer : {&positionMass_, &velocityVolume_, &elasticDeformation_, &kirchhoffStress_,
-                                     &affine_, &plasticState_, &activeRegion_, &watchdog_}) {
-      if (*buffer) saved_.buffers.emplace_back(buffer, gl::Buffer(buffer->bytes()));
-    }
+    for (gl::Buffer* buffer : stateBuffers(*this)) saved_.buffers.emplace_back(buffer, gl::Buffer(buffer->bytes()));
   }
   for (auto& [live, copy] : saved_.buffers) copy.copyFrom(*live, live->bytes());
   saved_.timeS = timeS_;
@@ -435,6 +446,53 @@ void Simulation::saveState() {
   saved_.particleCount = particleCount_;
   saved_.nextPending = nextPending_;
   saved_.fastestSpeedMPerS = fastestSpeedMPerS_;
+}
+
+Checkpoint Simulation::checkpoint(int frame) const {
+  Checkpoint checkpoint;
+  checkpoint.sceneFingerprint = sceneFingerprint_;
+  checkpoint.frame = frame;
+  checkpoint.timeS = timeS_;
+  checkpoint.steps = steps_;
+  checkpoint.particleCount = particleCount_;
+  checkpoint.releasedEmitterParticles = nextPending_;
+  checkpoint.fastestSpeedMPerS = fastestSpeedMPerS_;
+  for (const gl::Buffer* buffer : stateBuffers(*this)) {
+    std::string bytes(buffer->bytes(), '\0');
+    buffer->download(0, bytes.size(), bytes.data());
+    checkpoint.buffers.push_back(std::move(bytes));
+  }
+  return checkpoint;
+}
+
+void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::path& source) {
+  const std::vector<gl::Buffer*> buffers = stateBuffers(*this);
+  if (checkpoint.sceneFingerprint != sceneFingerprint_ || checkpoint.buffers.size() != buffers.size()) {
+    throw InputError(source.string() + ": the checkpoint was written for another scene (or another version of this "
+                     "one); resume it with the scene it came from");
+  }
+  for (std::size_t i = 0; i < buffers.size(); ++i) {
+    if (checkpoint.buffers[i].size() != buffers[i]->bytes()) {
+      throw InputError(source.string() + ": the checkpoint's buffer " + std::to_string(i) + " has " +
+                       std::to_string(checkpoint.buffers[i].size()) + " bytes, the scene needs " +
+                       std::to_string(buffers[i]->bytes()));
+    }
+  }
+  if (checkpoint.particleCount > particleCapacity_ || checkpoint.releasedEmitterParticles > pendingParticles_.size()) {
+    throw InputError(source.string() + ": the checkpoint holds more particles than the scene makes");
+  }
+  for (std::size_t i = 0; i < buffers.size(); ++i) {
+    buffers[i]->upload(0, checkpoint.buffers[i].size(), checkpoint.buffers[i].data());
+  }
+  timeS_ = checkpoint.timeS;
+  steps_ = checkpoint.steps;
+  fastestSpeedMPerS_ = checkpoint.fastestSpeedMPerS;
+  // The particles present: the first ones, then the emitters' in the order they were released.
+  for (; nextPending_ < checkpoint.releasedEmitterParticles; ++nextPending_) {
+    particleBody_.push_back(pendingParticles_[nextPending_].bodyIndex);
+    particleMaterial_.push_back(pendingParticles_[nextPending_].materialIndex);
+  }
+  particleCount_ = checkpoint.particleCount;
 }
 
 void Simulation::restoreState() {

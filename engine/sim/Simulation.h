@@ -2,6 +2,7 @@
 // The MPM snow simulation on the GPU: owns the particle, grid, material, collider and bookkeeping buffers and
 // the compute programs built for this scene, and runs the step as a flat list of passes in paper order.
 #include <chrono>
+#include <filesystem>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "gl/Context.h"
 #include "gl/Program.h"
 #include "gl/Query.h"
+#include "io/Checkpoint.h"
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuLayout.h"
@@ -65,6 +67,12 @@ class Simulation {
   // Adaptive stepping: scales the step it would take (1 normally; a retry halves it).
   void setAdaptiveStepScale(double scale) { adaptiveStepScale_ = scale; }
 
+  // The complete state as a checkpoint of `frame` (io/Checkpoint.h), and back: resume() must be called on a
+  // Simulation just built from the same scene; it throws InputError naming `source` if the checkpoint belongs
+  // to another scene.
+  Checkpoint checkpoint(int frame) const;
+  void resume(const Checkpoint& checkpoint, const std::filesystem::path& source);
+
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
   // fixed-point overflow, a non-finite value or a CFL violation since the start.
   void checkWatchdog() const;
@@ -106,6 +114,17 @@ class Simulation {
   void buildPrograms();
   bool needsDeformationGradient() const;
   void allocateParticles();
+  // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step), as
+  // pointers to const or mutable buffers after `self`.
+  template <class Self>
+  static auto stateBuffers(Self& self) {
+    std::vector<decltype(&self.positionMass_)> buffers;
+    for (auto* buffer : {&self.positionMass_, &self.velocityVolume_, &self.elasticDeformation_, &self.kirchhoffStress_,
+                         &self.affine_, &self.plasticState_, &self.activeRegion_, &self.watchdog_}) {
+      if (*buffer) buffers.push_back(buffer);
+    }
+    return buffers;
+  }
   double adaptiveDtS() const;
   void readFastestSpeed();
   void releaseDueParticles();
@@ -153,6 +172,7 @@ class Simulation {
     double fastestSpeedMPerS = 0;
   };
   SavedState saved_;
+  std::uint64_t sceneFingerprint_ = 0;
 
   gl::Program prepareGrid_;
   gl::Program clearGrid_;

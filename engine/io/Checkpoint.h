@@ -1,0 +1,33 @@
+#pragma once
+// Checkpoints: the complete state of a run (every particle field, the step and time counters, emitter progress)
+// in a versioned binary file, so that `firn run --resume FILE` continues bit for bit as if never interrupted.
+// The simulation has no random state at run time (the dithered rounding hashes step and position), so nothing
+// else is needed.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace firn {
+
+struct Checkpoint {
+  static constexpr std::uint32_t kVersion = 1;
+  std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
+  std::int32_t frame = 0;              // the frame the state belongs to
+  double timeS = 0;
+  std::uint64_t steps = 0;
+  std::uint64_t particleCount = 0;
+  std::uint64_t releasedEmitterParticles = 0;
+  double fastestSpeedMPerS = 0;
+  std::vector<std::string> buffers;    // the GPU buffers' bytes, in the simulation's order
+};
+
+// Written through a temporary file and a rename. Throws InputError naming the file if it cannot be written.
+void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
+// Throws InputError naming the file for a missing, foreign, wrong-version or truncated file.
+Checkpoint readCheckpoint(const std::filesystem::path& path);
+
+// FNV-1a over bytes: the fingerprint of a scene's state layout and its initial particles.
+std::uint64_t fingerprint(const void* bytes, std::size_t size, std::uint64_t seed = 14695981039346656037ull);
+
+}  // namespace firn
