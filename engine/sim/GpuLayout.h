@@ -111,7 +111,7 @@ struct WatchdogStatus {
   std::int32_t cflParticle;
   std::uint32_t cflStep;
   float cflCellsPerStep;         // how far the first offending particle moved, in cells
-  std::uint32_t maxSpeedBits;    // adaptive dt: the fastest particle's speed (m/s) this step, as float bits
+  std::uint32_t maxSpeedBits;    // adaptive dt: the largest |v| + c (speed plus wave speed, m/s) this step, as float bits
 };
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
 

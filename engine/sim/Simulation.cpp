@@ -110,11 +110,13 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     sceneFingerprint_ = fingerprint(&seed.releaseTimeS, sizeof seed.releaseTimeS, sceneFingerprint_);
   }
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
-  for (const ParticleSeed& seed : seeds) fastestSpeedMPerS_ = std::max(fastestSpeedMPerS_, double(glm::length(seed.velocityMPerS)));
-  elasticBoundS_ = std::numeric_limits<double>::infinity();
+  double fastestWaveMPerS = 0;
   for (const Body& body : scene_.bodies) {
-    elasticBoundS_ = std::min(elasticBoundS_, elasticStableDtS(scene_.materials[std::size_t(body.materialIndex)],
-                                                               scene_.grid.cellSizeM, body.lambdaScale, body.muScale));
+    fastestWaveMPerS = std::max(fastestWaveMPerS, waveSpeedMPerS(scene_.materials[std::size_t(body.materialIndex)],
+                                                                 body.lambdaScale, body.muScale));
+  }
+  for (const ParticleSeed& seed : seeds) {
+    fastestSpeedMPerS_ = std::max(fastestSpeedMPerS_, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
   }
   watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog);
   activeRegion_ = gl::Buffer(sizeof(gpu::ActiveRegionData));
@@ -304,7 +306,11 @@ void Simulation::writeStepUniforms(double dtS) {
   uniforms.gridOriginCellSize = glm::vec4(glm::vec3(scene_.grid.originM), float(h));
   uniforms.gridNodes = glm::ivec4(gridNodes_, 0);
   uniforms.gravityDt = glm::vec4(glm::vec3(scene_.gravityMPerS2), float(dtS));
-  uniforms.fixedPoint = glm::vec4(float(fixedPoint_.referenceMassKg), float(fixedPoint_.momentumUnitKgMPerS),
+  // Adaptive steps shrink with speed, so the momentum unit m_ref·h/Δt follows the step taken: a node's velocity
+  // in cells per step, which the CFL factor keeps below 1, is what the fixed-point bound assumes.
+  const double momentumUnit =
+      scene_.time.adaptive ? fixedPoint_.referenceMassKg * h / dtS : fixedPoint_.momentumUnitKgMPerS;
+  uniforms.fixedPoint = glm::vec4(float(fixedPoint_.referenceMassKg), float(momentumUnit),
                                   float(fixedPoint_.unitsPerValue()), float(fixedPoint_.resolution()));
   // APIC's D_p⁻¹ (Jiang et al. 2015): 4/h² for quadratic, 3/h² for cubic B-splines.
   const double inverseInertia = (scene_.solver.kernel == Kernel::Cubic ? 3.0 : 4.0) / (h * h);
@@ -424,14 +430,16 @@ void Simulation::step(double dtS) {
   ++steps_;
 }
 
-// Adaptive stepping (time.adaptive): each step is the largest the CFL condition on the fastest particle and the
-// elastic wave bound allow, times time.cfl, and no larger than time.dt. The fastest speed comes from the GPU
-// (an atomicMax in G2P), one 4-byte read per step; gravity may add |g| dt to it during the step.
+// Adaptive stepping (time.adaptive): each step is the largest that the CFL condition on the fastest signal,
+// max over particles of |v| + c (the particle's speed plus its material's wave speed in its present, hardened
+// state), allows, times time.cfl, and no larger than time.dt. That maximum comes from the GPU (an atomicMax in
+// G2P), one 4-byte read per step; gravity may add |g| dt during the step. Before the first step it is the seeds'
+// fastest speed plus the stiffest material's wave speed at rest.
 double Simulation::adaptiveDtS() const {
   const double h = scene_.grid.cellSizeM;
   const double cfl = scene_.time.cfl * adaptiveStepScale_;
   const double speedMPerS = fastestSpeedMPerS_ + glm::length(scene_.gravityMPerS2) * scene_.time.dtS;
-  double dtS = std::min(scene_.time.dtS * adaptiveStepScale_, cfl * elasticBoundS_);
+  double dtS = scene_.time.dtS * adaptiveStepScale_;
   if (speedMPerS > 0) dtS = std::min(dtS, cfl * h / speedMPerS);
   return dtS;
 }

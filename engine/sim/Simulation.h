@@ -158,8 +158,7 @@ class Simulation {
 
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
-  double fastestSpeedMPerS_ = 0;  // adaptive dt: from the seeds, then from each step's G2P
-  double elasticBoundS_ = 0;      // h / c of the stiffest material as its bodies use it
+  double fastestSpeedMPerS_ = 0;  // adaptive dt: the largest |v| + c, from the seeds, then from each step's G2P
   double adaptiveStepScale_ = 1;
 
   // saveState's copy: the buffers whose contents carry over from step to step, and the counters.

@@ -81,7 +81,8 @@ void advanceParticle(uint p) {
   float cellsPerStep = length(velocity) * stepDt() / cellSize();
   if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
 #ifdef FIRN_ADAPTIVE_DT
-  reportSpeed(length(velocity));
+  // The next step must keep both the particle and the elastic wave through it within a cell (CFL on |v| + c).
+  reportSpeed(length(velocity) + waveSpeed(materials[state.materialIndex], material.state));
 #endif
 
   positionMass[p].xyz = newPosition;
