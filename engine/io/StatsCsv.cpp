@@ -6,13 +6,21 @@
 #include <stdexcept>
 #include <string>
 
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+
 #include "Error.h"
+#include "scene/Scene.h"
 #include "sim/Simulation.h"
 
 namespace firn {
 
-FrameStats measureFrame(const ParticleSnapshot& particles) {
+FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid) {
   FrameStats stats;
+  // The walls act on grid nodes, so the particles they stop come to rest up to a cell short of the interior's
+  // bounds (about half a cell for the quadratic kernel).
+  const glm::dvec3 wallZoneLowM = grid.interiorMinM() + grid.cellSizeM;
+  const glm::dvec3 wallZoneHighM = grid.interiorMaxM() - grid.cellSizeM;
   stats.particles = particles.size();
   double plasticJSum = 0;
   glm::dvec3 weightedPosition(0.0);
@@ -24,6 +32,10 @@ FrameStats measureFrame(const ParticleSnapshot& particles) {
     stats.kineticEnergyJ += 0.5 * mass * glm::dot(velocity, velocity);
     weightedPosition += mass * glm::dvec3(particles.positionMass[i]);
     plasticJSum += particles.plasticJ[i];
+    const glm::dvec3 position(particles.positionMass[i]);
+    if (glm::any(glm::lessThan(position, wallZoneLowM)) || glm::any(glm::greaterThan(position, wallZoneHighM))) {
+      ++stats.particlesAtWalls;
+    }
   }
   if (particles.size() > 0) {
     stats.meanPlasticJ = plasticJSum / double(particles.size());
@@ -34,7 +46,7 @@ FrameStats measureFrame(const ParticleSnapshot& particles) {
 
 const char* StatsCsvWriter::header() {
   return "frame,time_s,steps,particles,mass_kg,momentum_x,momentum_y,momentum_z,kinetic_energy_j,wall_ms,"
-         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j";
+         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j,particles_at_walls";
 }
 
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path, std::ios::trunc) {
@@ -51,10 +63,11 @@ void StatsCsvWriter::write(const FrameStats& s) {
     if (!std::isfinite(value)) throw std::invalid_argument("stats row for frame " + std::to_string(s.frame) + " is not finite");
   }
   char row[512];
-  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g\n", s.frame,
+  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g,%llu\n", s.frame,
                 s.timeS, static_cast<unsigned long long>(s.steps), static_cast<unsigned long long>(s.particles),
                 s.massKg, s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z, s.kineticEnergyJ, s.wallMs,
-                s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ);
+                s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ,
+                static_cast<unsigned long long>(s.particlesAtWalls));
   out_ << row;
   out_.flush();
   if (!out_) throw InputError(path_.string() + ": writing the stats failed (disk full?)");

@@ -9,6 +9,7 @@
 namespace firn {
 
 struct ParticleSnapshot;
+struct GridSpec;
 
 struct FrameStats {
   int frame = 0;
@@ -21,10 +22,14 @@ struct FrameStats {
   double wallMs = 0;        // wall-clock time since the previous frame
   double meanPlasticJ = 1;  // mean J_P: below 1 the snow has compacted
   glm::dvec3 centerOfMassM{0.0};
+  // Particles held at the domain's walls (within a cell of them). Firn never removes or wraps a particle
+  // that reaches the edge of the grid: the walls stop it, and this count says how many are pressed there.
+  std::uint64_t particlesAtWalls = 0;
 };
 
-// Mass, momentum, kinetic energy, centre of mass and mean J_P of a snapshot, summed in double.
-FrameStats measureFrame(const ParticleSnapshot& particles);
+// Mass, momentum, kinetic energy, centre of mass, mean J_P and the particles at the walls of a snapshot,
+// summed in double.
+FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid);
 
 class StatsCsvWriter {
  public:

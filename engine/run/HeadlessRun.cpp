@@ -115,7 +115,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
-    FrameStats row = measureFrame(particles);
+    FrameStats row = measureFrame(particles, scene.grid);
     row.frame = frame;
     row.timeS = simulation.timeS();
     row.steps = steps;
