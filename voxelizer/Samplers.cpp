@@ -261,6 +261,14 @@ std::vector<glm::dvec3> samplePoissonDisk(const Bounds& box, const InsideTest& i
 
 }  // namespace
 
+double volumePerSampleM3(std::size_t sampleCount, const SamplingOptions& options, const RegionSampler& sampleWith) {
+  const double latticeCellM3 = options.spacingM * options.spacingM * options.spacingM;
+  if (options.sampler == Sampler::Lattice || sampleCount == 0) return latticeCellM3;
+  SamplingOptions lattice = options;
+  lattice.sampler = Sampler::Lattice;
+  return double(sampleWith(lattice).size()) * latticeCellM3 / double(sampleCount);
+}
+
 double poissonDiskRadiusM(double spacingM) {
   checkSpacing(spacingM);
   return poissonRadiusPerSpacing * spacingM;

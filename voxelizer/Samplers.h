@@ -39,4 +39,10 @@ std::vector<glm::dvec3> samplePoints(const Bounds& box, const InsideTest& inside
 // radius 20 s): where the total mass matters, give each particle ρV/N rather than ρs³.
 double poissonDiskRadiusM(double spacingM);
 
+// The volume each of `sampleCount` samples of a region stands for, so that a body's mass is right whatever the
+// sampler: s³ on the lattice; for Poisson-disk samples, which pack a little denser along the surface, the
+// lattice's count of the same region × s³ / sampleCount. `sampleWith` fills the region with the options given.
+using RegionSampler = std::function<std::vector<glm::dvec3>(const SamplingOptions&)>;
+double volumePerSampleM3(std::size_t sampleCount, const SamplingOptions& options, const RegionSampler& sampleWith);
+
 }  // namespace firn::voxelizer

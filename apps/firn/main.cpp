@@ -82,16 +82,11 @@ int voxelizeCommand(const VoxelizeOptions& options) {
     throw firn::InputError(options.meshPath + ": no particles: the mesh is smaller than the spacing " +
                            std::to_string(sampling.spacingM) + " m, or encloses nothing");
   }
-  // The particles share the volume the lattice measures, one s³ per lattice point (Poisson-disk samples
-  // pack a little denser along the surface, so they are not counted as s³ each: voxelizer/Samplers.h).
-  const double cellVolumeM3 = sampling.spacingM * sampling.spacingM * sampling.spacingM;
-  double volumeM3 = double(positions.size()) * cellVolumeM3;
-  if (sampling.sampler == firn::voxelizer::Sampler::PoissonDisk) {
-    firn::voxelizer::SamplingOptions lattice = sampling;
-    lattice.sampler = firn::voxelizer::Sampler::Lattice;
-    volumeM3 = double(firn::voxelizer::voxelize(mesh, lattice).size()) * cellVolumeM3;
-  }
-  const float massKg = float(options.densityKgPerM3 * volumeM3 / double(positions.size()));
+  // Each particle carries its share of the volume the samples fill (voxelizer/Samplers.h).
+  const double volumePerParticleM3 = firn::voxelizer::volumePerSampleM3(
+      positions.size(), sampling, [&](const auto& o) { return firn::voxelizer::voxelize(mesh, o); });
+  const double volumeM3 = volumePerParticleM3 * double(positions.size());
+  const float massKg = float(options.densityKgPerM3 * volumePerParticleM3);
   firn::PointCache cloud;
   for (const glm::dvec3& p : positions) {
     cloud.positionsM.emplace_back(p);

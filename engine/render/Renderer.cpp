@@ -82,14 +82,7 @@ struct Renderer::FrameView {
 Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
   // One entry per entry of the simulation's material table (particles carry that index): the scene's materials,
   // then the variants of bodies with their own Lamé scales, drawn in their base material's colour.
-  const MaterialTable table = buildMaterialTable(scene);
-  std::vector<std::size_t> baseMaterial(table.entries.size());
-  for (std::size_t i = 0; i < scene.materials.size(); ++i) baseMaterial[i] = i;
-  for (std::size_t body = 0; body < scene.bodies.size(); ++body) {
-    baseMaterial[table.bodyEntry[body]] = std::size_t(scene.bodies[body].materialIndex);
-  }
-  for (std::size_t entry = 0; entry < table.entries.size(); ++entry) {
-    const std::size_t i = baseMaterial[entry];
+  for (const std::size_t i : buildMaterialTable(scene).entryMaterial) {
     const Material& material = scene.materials[i];
     // The stress colour scale: Young's modulus, or for water (no E) the stiffness of its pressure, k γ.
     const double stiffnessPa =

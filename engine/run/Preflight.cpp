@@ -52,27 +52,8 @@ const char* colliderName(ColliderShape shape) {
   return "collider";
 }
 
-// The parts that do not depend on the time step: particles per cell, fixed point, bodies in colliders.
-PreflightReport finishReport(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport report) {
-  const double h = scene.grid.cellSizeM;
-  const double dt = scene.time.dtS;
-
-  // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h).
-  double maxParticlesPerCell = 0, referenceMassKg = 0;
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    maxParticlesPerCell = std::max(maxParticlesPerCell, scene.bodies[i].particlesPerCell);
-    report.notes.push_back("bodies[" + std::to_string(i) + "]: " + format("%.3g", scene.bodies[i].particlesPerCell) +
-                           " particles per cell");
-  }
-  for (const ParticleSeed& particle : particles) referenceMassKg = std::max(referenceMassKg, double(particle.massKg));
-  const FixedPointScale fixedPoint = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, h, dt);
-  report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +
-                         format("%.2g", fixedPoint.resolution()) + " of the heaviest particle's mass); a node sum may reach " +
-                         format("%.0f", fixedPoint.maxNodeValue()) + " of them, " +
-                         format("%.0f", fixedPoint.maxNodeValue() / std::max(maxParticlesPerCell, 1.0)) +
-                         "× a cell's particles at rest");
-
-  // Bodies that start inside a collider are pushed out violently on the first step.
+// Warns about bodies that start inside a collider: they are pushed out violently on the first step.
+void warnAboutBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     std::vector<std::size_t> inside(scene.bodies.size(), 0);
     for (const ParticleSeed& particle : particles) {
@@ -87,7 +68,6 @@ PreflightReport finishReport(const Scene& scene, const std::vector<ParticleSeed>
                                 colliderName(scene.colliders[c].shape) + "); they will be pushed out on the first step");
     }
   }
-  return report;
 }
 
 }  // namespace
@@ -97,46 +77,55 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
   const double h = scene.grid.cellSizeM;
   const double dt = scene.time.dtS;
 
-  // The elastic bound dt < h / c for every material as each body uses it (its Lamé scales included).
-  double elasticDt = std::numeric_limits<double>::infinity();
-  std::string stiffest;
-  for (const Body& body : scene.bodies) {
-    const Material& material = scene.materials.at(std::size_t(body.materialIndex));
-    const double bound = elasticStableDtS(material, h, body.lambdaScale, body.muScale);
-    if (bound < elasticDt) {
-      elasticDt = bound;
-      stiffest = "material \"" + material.name + "\" (wave speed c = " +
-                 format("%.4g m/s", waveSpeedMPerS(material, body.lambdaScale, body.muScale)) + ")";
-    }
-  }
-  // The CFL bound dt < h / |v| for the fastest particle at the start.
+  // The elastic bound dt < h / c of the stiffest material as its body uses it, and the CFL bound dt < h / |v| of
+  // the fastest particle at the start.
+  const StiffestBody stiffest = stiffestBody(scene);
+  const double elasticDt = h / stiffest.waveSpeedMPerS;
+  const std::string stiffestName = "material \"" +
+                                   scene.materials.at(std::size_t(scene.bodies.at(std::size_t(stiffest.bodyIndex)).materialIndex)).name +
+                                   "\" (wave speed c = " + format("%.4g m/s", stiffest.waveSpeedMPerS) + ")";
   double fastestMPerS = 0;
   for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
   const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
   report.stableDtS = std::min(elasticDt, cflDt);
-  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffest +
+  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffestName +
                          (std::isfinite(cflDt) ? ", CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
                                                      format("%.3g m/s", fastestMPerS) + ")"
                                                : std::string()) +
                          "; time.dt = " + seconds(dt));
-  const std::string limit = elasticDt <= cflDt ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffest
-                                               : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
   if (scene.time.adaptive) {
     report.notes.push_back("adaptive time step: each step at most " + seconds(dt) + " and " +
                            format("%.2g", scene.time.cfl) + " of the bounds");
-    return finishReport(scene, particles, report);
+  } else {
+    const std::string limit = elasticDt <= cflDt
+                                  ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName
+                                  : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
+    if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
+      throw InputError(sceneFile(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
+                       " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
+                       seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
+    }
+    if (dt > report.stableDtS) {
+      report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
+                                ": the run is likely to go unstable; set time.dt to at most " +
+                                seconds(report.stableDtS) + ", or let \"adaptive\": true choose it");
+    }
   }
-  if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
-    throw InputError(sceneFile(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
-                     " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
-                     seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
+
+  // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h).
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    report.notes.push_back("bodies[" + std::to_string(i) + "]: " + format("%.3g", scene.bodies[i].particlesPerCell) +
+                           " particles per cell");
   }
-  if (dt > report.stableDtS) {
-    report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
-                              ": the run is likely to go unstable; set time.dt to at most " + seconds(report.stableDtS) +
-                              ", or let \"adaptive\": true choose it");
-  }
-  return finishReport(scene, particles, report);
+  const FixedPointScale fixedPoint = fixedPointScaleFor(scene, particles);
+  report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +
+                         format("%.2g", fixedPoint.resolution()) + " of the heaviest particle's mass); a node sum may reach " +
+                         format("%.0f", fixedPoint.maxNodeValue()) + " of them, " +
+                         format("%.0f", fixedPoint.maxNodeValue() / std::max(maxParticlesPerCell(scene), 1.0)) +
+                         "× a cell's particles at rest");
+
+  warnAboutBodiesInColliders(scene, particles, report);
+  return report;
 }
 
 }  // namespace firn

@@ -111,15 +111,14 @@ std::vector<ParticleSeed> sampleBodies(const Scene& scene) {
       throw InputError(message.str());
     }
 
-    // A lattice body has one particle per s³ of material. Poisson-disk samples pack a little denser along the
-    // surface (voxelizer/Samplers.h), so their mass is ρ V / N with V the lattice's measure of the same shape.
-    // A points body brings its own masses.
-    double sampledMassKg = material.densityKgPerM3 * spacingM * spacingM * spacingM;
-    if (options.sampler == voxelizer::Sampler::PoissonDisk) {
-      voxelizer::SamplingOptions lattice = options;
-      lattice.sampler = voxelizer::Sampler::Lattice;
-      sampledMassKg *= double(sampleShape(body, lattice).size()) / double(positionsM.size());
-    }
+    // Each sampled particle carries its share of the shape's volume (voxelizer/Samplers.h); a points body brings
+    // its own masses.
+    const double sampledMassKg =
+        body.shape == BodyShape::Points
+            ? 0
+            : material.densityKgPerM3 * voxelizer::volumePerSampleM3(positionsM.size(), options, [&](const auto& o) {
+                return sampleShape(body, o);
+              });
     const std::size_t first = particles.size();
     for (std::size_t i = 0; i < positionsM.size(); ++i) {
       double massKg = sampledMassKg;

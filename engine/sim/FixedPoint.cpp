@@ -1,11 +1,25 @@
 #include "sim/FixedPoint.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "Error.h"
+#include "scene/Scene.h"
 
 namespace firn {
+
+double maxParticlesPerCell(const Scene& scene) {
+  double densest = 0;
+  for (const Body& body : scene.bodies) densest = std::max(densest, body.particlesPerCell);
+  return densest;
+}
+
+FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<ParticleSeed>& particles) {
+  double referenceMassKg = 0;
+  for (const ParticleSeed& particle : particles) referenceMassKg = std::max(referenceMassKg, double(particle.massKg));
+  return deriveFixedPointScale(referenceMassKg, maxParticlesPerCell(scene), scene.grid.cellSizeM, scene.time.dtS);
+}
 
 double FixedPointScale::unitsPerValue() const { return std::ldexp(1.0, fractionBits); }
 double FixedPointScale::maxNodeValue() const { return std::ldexp(1.0, 31 - fractionBits); }

@@ -4,7 +4,12 @@
 // moving one cell per step). Their bound is known from the scene, so the scale 2^k is chosen to fit it in
 // int32 with headroom, and every remaining bit is resolution.
 
+#include <vector>
+
 namespace firn {
+
+struct Scene;
+struct ParticleSeed;
 
 // A node's mass is about particles-per-cell × m_ref at rest; snow may compress this much before the sums
 // run out of range.
@@ -25,5 +30,10 @@ struct FixedPointScale {
 
 // Throws InputError when the scene's particles per cell leave fewer than 8 bits of resolution.
 FixedPointScale deriveFixedPointScale(double referenceMassKg, double maxParticlesPerCell, double cellSizeM, double dtS);
+
+// The scale for a scene and its particles: m_ref the heaviest particle, the densest body's particles per cell.
+FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<ParticleSeed>& particles);
+// The densest body's particles per cell.
+double maxParticlesPerCell(const Scene& scene);
 
 }  // namespace firn

@@ -87,15 +87,20 @@ struct ColliderParams {
 static_assert(sizeof(ColliderParams) == 64, "std430 ColliderParams");
 
 // The grid region the particles occupy: accumulated by G2P, turned into this step's node box and the
-// indirect dispatch of the grid passes by prepare_grid.comp.
+// indirect dispatch of the grid passes by prepare_grid.comp. Particles added between steps (emitters, the
+// viewer's snowballs) did not take part in the last G2P: the host writes their cell bounds to `added…`,
+// which prepare_grid merges in, so adding particles needs no readback.
 struct ActiveRegionData {
   glm::ivec4 particleCellMin;  // atomicMin of particle cells
   glm::ivec4 particleCellMax;  // atomicMax of particle cells
   glm::ivec4 boxMin;           // first node of the box
   glm::ivec4 boxSize;          // nodes per axis; w = node count
   glm::uvec4 gridDispatch;     // work groups for the grid passes (glDispatchComputeIndirect reads xyz)
+  glm::ivec4 addedCellMin;     // cells of the particles added since the last step (host-written)
+  glm::ivec4 addedCellMax;
 };
-static_assert(sizeof(ActiveRegionData) == 80, "std430 ActiveRegion");
+static_assert(sizeof(ActiveRegionData) == 112, "std430 ActiveRegion");
+constexpr std::size_t kAddedCellsOffset = offsetof(ActiveRegionData, addedCellMin);
 constexpr std::size_t kGridDispatchOffset = offsetof(ActiveRegionData, gridDispatch);
 
 // What the GPU watchdog saw; first events are recorded by the invocation that flips `...Where` from −1.

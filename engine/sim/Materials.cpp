@@ -25,6 +25,17 @@ double elasticStableDtS(const Material& material, double cellSizeM, double lambd
   return cellSizeM / waveSpeedMPerS(material, lambdaScale, muScale);
 }
 
+StiffestBody stiffestBody(const Scene& scene) {
+  StiffestBody stiffest;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& body = scene.bodies[i];
+    const double speedMPerS =
+        waveSpeedMPerS(scene.materials.at(std::size_t(body.materialIndex)), body.lambdaScale, body.muScale);
+    if (speedMPerS > stiffest.waveSpeedMPerS) stiffest = {static_cast<int>(i), speedMPerS};
+  }
+  return stiffest;
+}
+
 namespace {
 
 gpu::MaterialModelCode modelCode(MaterialModel model) {
@@ -70,7 +81,10 @@ gpu::MaterialParams gpuMaterial(const Material& material, double lambdaScale, do
 
 MaterialTable buildMaterialTable(const Scene& scene) {
   MaterialTable table;
-  for (const Material& material : scene.materials) table.entries.push_back(gpuMaterial(material, 1, 1));
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    table.entries.push_back(gpuMaterial(scene.materials[i], 1, 1));
+    table.entryMaterial.push_back(i);
+  }
   for (const Body& body : scene.bodies) {
     if (body.lambdaScale == 1 && body.muScale == 1) {
       table.bodyEntry.push_back(static_cast<std::uint32_t>(body.materialIndex));
@@ -79,6 +93,7 @@ MaterialTable buildMaterialTable(const Scene& scene) {
     table.bodyEntry.push_back(static_cast<std::uint32_t>(table.entries.size()));
     table.entries.push_back(
         gpuMaterial(scene.materials.at(std::size_t(body.materialIndex)), body.lambdaScale, body.muScale));
+    table.entryMaterial.push_back(std::size_t(body.materialIndex));
   }
   return table;
 }

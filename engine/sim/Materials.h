@@ -1,6 +1,7 @@
 #pragma once
 // Material parameter conversions, one tested function each.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,11 +28,20 @@ double waveSpeedMPerS(const Material& material, double lambdaScale = 1, double m
 // The explicit step's elastic stability bound Δt < h / c (CFL on the elastic wave).
 double elasticStableDtS(const Material& material, double cellSizeM, double lambdaScale = 1, double muScale = 1);
 
+// The body whose material, as that body uses it (its Lamé scales included), carries the fastest elastic wave:
+// the scene's elastic stability bound is h / waveSpeedMPerS.
+struct StiffestBody {
+  int bodyIndex = -1;
+  double waveSpeedMPerS = 0;
+};
+StiffestBody stiffestBody(const Scene& scene);
+
 // The materials as the GPU sees them: the scene's, in order, then one variant for each body whose
 // lambda_scale or mu_scale is not 1 (seed 001's per-body modifiers), so no shader needs a per-body table.
 struct MaterialTable {
   std::vector<gpu::MaterialParams> entries;
-  std::vector<std::uint32_t> bodyEntry;  // the entry each body's particles use
+  std::vector<std::size_t> entryMaterial;  // the scene material each entry is, or is a variant of
+  std::vector<std::uint32_t> bodyEntry;    // the entry each body's particles use
 };
 MaterialTable buildMaterialTable(const Scene& scene);
 

@@ -20,6 +20,9 @@ namespace firn {
 namespace {
 
 constexpr GLuint kParticleGroupSize = 128;  // local_size_x of the particle passes
+// Empty cell bounds: any cell lowers the minimum and raises the maximum.
+constexpr glm::ivec4 kNoCellMin(std::numeric_limits<int>::max());
+constexpr glm::ivec4 kNoCellMax(std::numeric_limits<int>::min());
 
 std::string formatNumber(double value) {
   std::ostringstream out;
@@ -82,11 +85,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
                      " this driver allows; use fewer particles_per_cell");
   }
 
-  double referenceMassKg = 0;
-  for (const ParticleSeed& seed : seeds) referenceMassKg = std::max(referenceMassKg, double(seed.massKg));
-  double maxParticlesPerCell = 0;
-  for (const Body& body : scene_.bodies) maxParticlesPerCell = std::max(maxParticlesPerCell, body.particlesPerCell);
-  fixedPoint_ = deriveFixedPointScale(referenceMassKg, maxParticlesPerCell, scene_.grid.cellSizeM, scene_.time.dtS);
+  fixedPoint_ = fixedPointScaleFor(scene_, seeds);
 
   buildPrograms();
   uploadMaterialsAndColliders();
@@ -110,11 +109,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     sceneFingerprint_ = fingerprint(&seed.releaseTimeS, sizeof seed.releaseTimeS, sceneFingerprint_);
   }
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
-  double fastestWaveMPerS = 0;
-  for (const Body& body : scene_.bodies) {
-    fastestWaveMPerS = std::max(fastestWaveMPerS, waveSpeedMPerS(scene_.materials[std::size_t(body.materialIndex)],
-                                                                 body.lambdaScale, body.muScale));
-  }
+  const double fastestWaveMPerS = stiffestBody(scene_).waveSpeedMPerS;
   for (const ParticleSeed& seed : seeds) {
     fastestSpeedMPerS_ = std::max(fastestSpeedMPerS_, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
   }
@@ -241,7 +236,7 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   std::vector<glm::vec3> positions;
   positions.reserve(particles.size());
   for (const ParticleSeed& seed : particles) positions.push_back(seed.positionM);
-  widenActiveRegion(positions);
+  noteAddedParticles(positions);
 }
 
 void Simulation::uploadMaterialsAndColliders() {
@@ -278,26 +273,35 @@ void Simulation::uploadMaterialsAndColliders() {
   colliders_ = gl::Buffer::fromVector(colliders);
 }
 
-void Simulation::seedActiveRegion(const std::vector<glm::vec3>& positions) {
-  gpu::ActiveRegionData region{};
-  region.particleCellMin = glm::ivec4(std::numeric_limits<int>::max());
-  region.particleCellMax = glm::ivec4(std::numeric_limits<int>::min());
-  activeRegion_.upload(0, sizeof region, &region);
-  widenActiveRegion(positions);
-}
-
-// The particle cell bounds the next prepare_grid reads come from the last G2P; particles that did not take
-// part in it are added to them here (one small read and write, only when particles are added).
-void Simulation::widenActiveRegion(const std::vector<glm::vec3>& positions) {
-  gpu::ActiveRegionData region = activeRegion();
+void Simulation::accumulateCells(const std::vector<glm::vec3>& positions, glm::ivec4& cellMin, glm::ivec4& cellMax) const {
   const glm::vec3 origin(scene_.grid.originM);
   const float cellSize = float(scene_.grid.cellSizeM);
   for (const glm::vec3& x : positions) {
-    const glm::ivec3 cell(glm::floor((x - origin) / cellSize));
-    region.particleCellMin = glm::min(region.particleCellMin, glm::ivec4(cell, 0));
-    region.particleCellMax = glm::max(region.particleCellMax, glm::ivec4(cell, 0));
+    const glm::ivec4 cell(glm::ivec3(glm::floor((x - origin) / cellSize)), 0);
+    cellMin = glm::min(cellMin, cell);
+    cellMax = glm::max(cellMax, cell);
   }
+}
+
+// The bounds the next prepare_grid reads, as if the last G2P had seen exactly these particles.
+void Simulation::seedActiveRegion(const std::vector<glm::vec3>& positions) {
+  gpu::ActiveRegionData region{};
+  region.particleCellMin = kNoCellMin;
+  region.particleCellMax = kNoCellMax;
+  accumulateCells(positions, region.particleCellMin, region.particleCellMax);
+  region.addedCellMin = addedCellMin_ = kNoCellMin;
+  region.addedCellMax = addedCellMax_ = kNoCellMax;
   activeRegion_.upload(0, sizeof region, &region);
+}
+
+// Particles added between steps: their cells go to the region's `added…` bounds, which the next prepare_grid
+// merges with what G2P accumulated (an upload, no readback).
+void Simulation::noteAddedParticles(const std::vector<glm::vec3>& positions) {
+  accumulateCells(positions, addedCellMin_, addedCellMax_);
+  const glm::ivec4 added[2] = {addedCellMin_, addedCellMax_};
+  // The last prepare_grid reset these bounds on the GPU: its write must land before this one.
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  activeRegion_.upload(gpu::kAddedCellsOffset, sizeof added, added);
 }
 
 void Simulation::writeStepUniforms(double dtS) {
@@ -401,6 +405,8 @@ void Simulation::runOverParticles(const gl::Program& program) {
 void Simulation::scatterToGrid() {
   bindAll();
   runOnce(prepareGrid_);
+  addedCellMin_ = kNoCellMin;  // consumed (and reset on the GPU) by prepare_grid
+  addedCellMax_ = kNoCellMax;
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   runOverGrid(clearGrid_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -501,6 +507,8 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
     particleMaterial_.push_back(pendingParticles_[nextPending_].materialIndex);
   }
   particleCount_ = checkpoint.particleCount;
+  addedCellMin_ = kNoCellMin;  // written between steps, when nothing was pending
+  addedCellMax_ = kNoCellMax;
 }
 
 void Simulation::restoreState() {
@@ -514,15 +522,15 @@ void Simulation::restoreState() {
   particleMaterial_.resize(particleCount_);
   nextPending_ = saved_.nextPending;
   fastestSpeedMPerS_ = saved_.fastestSpeedMPerS;
+  addedCellMin_ = kNoCellMin;  // saved between steps, when nothing was pending
+  addedCellMax_ = kNoCellMax;
 }
 
 void Simulation::readFastestSpeed() {
   constexpr std::size_t offset = offsetof(gpu::WatchdogStatus, maxSpeedBits);
   std::uint32_t bits = 0;
-  watchdog_.download(offset, sizeof bits, &bits);
+  watchdog_.download(offset, sizeof bits, &bits);  // prepare_grid resets it for the next step
   fastestSpeedMPerS_ = glm::uintBitsToFloat(bits);
-  const std::uint32_t zero = 0;
-  watchdog_.upload(offset, sizeof zero, &zero);
 }
 
 int Simulation::advanceTo(double timeS) {
@@ -577,12 +585,7 @@ void Simulation::checkWatchdog() const {
 
   const double h = scene_.grid.cellSizeM;
   const double dt = scene_.time.dtS;
-  double stableDt = std::numeric_limits<double>::infinity();
-  for (const Material& material : scene_.materials) stableDt = std::min(stableDt, elasticStableDtS(material, h));
-  for (const Body& body : scene_.bodies) {
-    stableDt = std::min(stableDt, elasticStableDtS(scene_.materials[std::size_t(body.materialIndex)], h,
-                                                   body.lambdaScale, body.muScale));
-  }
+  const double stableDt = h / stiffestBody(scene_).waveSpeedMPerS;
   const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDt) +
                                 " s for the stiffest material (scene dt " + formatNumber(dt) + " s)";
   auto when = [&](std::uint32_t step) {

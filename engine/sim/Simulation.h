@@ -131,7 +131,8 @@ class Simulation {
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
   void uploadMaterialsAndColliders();
   void seedActiveRegion(const std::vector<glm::vec3>& positions);
-  void widenActiveRegion(const std::vector<glm::vec3>& positions);
+  void noteAddedParticles(const std::vector<glm::vec3>& positions);
+  void accumulateCells(const std::vector<glm::vec3>& positions, glm::ivec4& cellMin, glm::ivec4& cellMax) const;
   void writeStepUniforms(double dtS);
   void bindAll() const;
   void runOnce(const gl::Program& program);
@@ -158,6 +159,8 @@ class Simulation {
 
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
+  // Cells of the particles added since the last prepare_grid (it resets its GPU copy; scatterToGrid this one).
+  glm::ivec4 addedCellMin_{0}, addedCellMax_{0};
   double fastestSpeedMPerS_ = 0;  // adaptive dt: the largest |v| + c, from the seeds, then from each step's G2P
   double adaptiveStepScale_ = 1;
 

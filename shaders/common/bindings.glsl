@@ -27,6 +27,8 @@ struct ActiveRegionData {
   ivec4 boxMin;
   ivec4 boxSize;  // w: node count
   uvec4 gridDispatch;
+  ivec4 addedCellMin;  // particles added since the last step (written by the host)
+  ivec4 addedCellMax;
 };
 layout(std430, binding = FIRN_BINDING_ACTIVE_REGION) coherent buffer ActiveRegionBuffer { ActiveRegionData region; };
 

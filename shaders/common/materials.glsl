@@ -21,6 +21,15 @@ mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z)
 // F̂ = (I + Δt ∇v) F (Stomakhin 2013 eq. 8; seed 001 eq. 3.6).
 mat3 advanceDeformation(mat3 F, mat3 velocityGradient, float dtS) { return (mat3(1.0) + dtS * velocityGradient) * F; }
 
+#if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
+// The fixed corotated stress (Stomakhin 2013 eq. 6; seed 001 eq. 4.8): ∂Ψ/∂F Fᵀ = 2μ(F − R)Fᵀ + λ(J − 1)J I for
+// F = U Σ Vᵀ and R = U Vᵀ, so R Fᵀ = U Σ Uᵀ.
+mat3 fixedCorotatedStress(mat3 F, mat3 U, vec3 sigma, float mu, float lambda) {
+  float J = sigma.x * sigma.y * sigma.z;
+  return 2.0 * mu * (F * transpose(F) - U * diagonal(sigma) * transpose(U)) + lambda * (J - 1.0) * J * mat3(1.0);
+}
+#endif
+
 #ifdef FIRN_MATERIAL_SNOW
 // Stomakhin 2013: SVD F̂_E = U Σ Vᵀ, Σ clamped to [1 − θc, 1 + θs] (eq. 10–11), J_P ← J_P det F̂_E / det F_E,
 // then the fixed corotated stress of the new F_E with hardened Lamé parameters (eq. 6–7).
@@ -35,32 +44,29 @@ MaterialUpdate updateSnow(mat3 F, float plasticJ, mat3 velocityGradient, float d
   result.volumeCorrection = 0.0;
   // Hardening (eq. 7): μ = μ0 e^{ξ(1−J_P)}, λ = λ0 e^{ξ(1−J_P)}.
   float hardening = exp(m.elastic.z * (1.0 - result.state));
-  float mu = m.elastic.x * hardening;
-  float lambda = m.elastic.y * hardening;
-  // ∂Ψ/∂F_E F_Eᵀ = 2μ(F_E − R_E)F_Eᵀ + λ(J_E − 1)J_E I with R_E = U Vᵀ, so R_E F_Eᵀ = U Σ Uᵀ (eq. 6).
-  float elasticJ = clamped.x * clamped.y * clamped.z;
-  mat3 Fe = result.deformation;
-  result.kirchhoffStress = 2.0 * mu * (Fe * transpose(Fe) - U * diagonal(clamped) * transpose(U)) +
-                           lambda * (elasticJ - 1.0) * elasticJ * mat3(1.0);
+  result.kirchhoffStress =
+      fixedCorotatedStress(result.deformation, U, clamped, m.elastic.x * hardening, m.elastic.y * hardening);
   return result;
 }
 #endif
 
-#ifdef FIRN_MATERIAL_FIXED_COROTATED
-// Seed 001 eq. 4.8: ∂Ψ/∂F = 2μ(F − R) + λ(J − 1)J F⁻ᵀ, so τ = 2μ(F − R)Fᵀ + λ(J − 1)J I, with R = U Vᵀ.
-MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
+// A purely elastic solid's update: F advanced, no scalar state.
+MaterialUpdate elasticUpdate(mat3 F, mat3 kirchhoffStress) {
   MaterialUpdate result;
-  result.deformation = advanceDeformation(F, velocityGradient, dtS);
-  mat3 U, V;
-  vec3 sigma;
-  svd3(result.deformation, U, sigma, V);
-  float J = sigma.x * sigma.y * sigma.z;
-  mat3 Fn = result.deformation;
-  result.kirchhoffStress = 2.0 * m.elastic.x * (Fn * transpose(Fn) - U * diagonal(sigma) * transpose(U)) +
-                           m.elastic.y * (J - 1.0) * J * mat3(1.0);
+  result.deformation = F;
   result.state = 1.0;
   result.volumeCorrection = 0.0;
+  result.kirchhoffStress = kirchhoffStress;
   return result;
+}
+
+#ifdef FIRN_MATERIAL_FIXED_COROTATED
+MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
+  mat3 Fn = advanceDeformation(F, velocityGradient, dtS);
+  mat3 U, V;
+  vec3 sigma;
+  svd3(Fn, U, sigma, V);
+  return elasticUpdate(Fn, fixedCorotatedStress(Fn, U, sigma, m.elastic.x, m.elastic.y));
 }
 #endif
 
@@ -69,13 +75,8 @@ MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, Ma
 // −μ F⁻ᵀ), so τ = μ(F Fᵀ − I) + λ ln J I: no SVD. An inverted F (J ≤ 0) gives a non-finite τ, which the
 // watchdog reports.
 MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
-  MaterialUpdate result;
-  result.deformation = advanceDeformation(F, velocityGradient, dtS);
-  mat3 Fn = result.deformation;
-  result.kirchhoffStress = m.elastic.x * (Fn * transpose(Fn) - mat3(1.0)) + m.elastic.y * log(determinant(Fn)) * mat3(1.0);
-  result.state = 1.0;
-  result.volumeCorrection = 0.0;
-  return result;
+  mat3 Fn = advanceDeformation(F, velocityGradient, dtS);
+  return elasticUpdate(Fn, m.elastic.x * (Fn * transpose(Fn) - mat3(1.0)) + m.elastic.y * log(determinant(Fn)) * mat3(1.0));
 }
 #endif
 

@@ -14,7 +14,7 @@ layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
   int cflParticle;
   uint cflStep;
   float cflCellsPerStep;
-  uint maxSpeedBits;  // adaptive dt: the largest |v| + c over the particles (m/s), as float bits (reset by the host)
+  uint maxSpeedBits;  // adaptive dt: the largest |v| + c over the particles (m/s), as float bits (reset by prepare_grid)
 };
 
 void reportOverflow(uint node, uint channel) {

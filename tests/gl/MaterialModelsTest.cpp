@@ -173,12 +173,7 @@ TEST_F(MaterialModels, AllModelsTogetherStayFinite) {
   simulation.advanceTo(0.2);
   simulation.checkWatchdog();
   const firn::ParticleSnapshot state = simulation.snapshot();
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    ASSERT_TRUE(std::isfinite(state.positionMass[i].x + state.positionMass[i].y + state.positionMass[i].z +
-                              state.velocityVolume[i].x + state.velocityVolume[i].y + state.velocityVolume[i].z +
-                              state.plasticJ[i]))
-        << "particle " << i;
-  }
+  ASSERT_EQ(firn::test::firstNonFiniteParticle(state), state.size()) << "a particle is not finite";
   EXPECT_NEAR(summarize(state).massKg, start.massKg, 1e-6 * start.massKg);
 }
 
