@@ -112,17 +112,19 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
     }
   }
 
-  // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h).
+  // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h; fixed-point atomics only).
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     report.notes.push_back("bodies[" + std::to_string(i) + "]: " + format("%.3g", scene.bodies[i].particlesPerCell) +
                            " particles per cell");
   }
-  const FixedPointScale fixedPoint = fixedPointScaleFor(scene, particles);
-  report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +
-                         format("%.2g", fixedPoint.resolution()) + " of the heaviest particle's mass); a node sum may reach " +
-                         format("%.0f", fixedPoint.maxNodeValue()) + " of them, " +
-                         format("%.0f", fixedPoint.maxNodeValue() / std::max(maxParticlesPerCell(scene), 1.0)) +
-                         "× a cell's particles at rest");
+  if (scene.solver.atomics == Atomics::FixedPoint) {
+    const FixedPointScale fixedPoint = fixedPointScaleFor(scene, particles);
+    report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +
+                           format("%.2g", fixedPoint.resolution()) + " of the heaviest particle's mass); a node sum may reach " +
+                           format("%.0f", fixedPoint.maxNodeValue()) + " of them, " +
+                           format("%.0f", fixedPoint.maxNodeValue() / std::max(maxParticlesPerCell(scene), 1.0)) +
+                           "× a cell's particles at rest");
+  }
 
   warnAboutBodiesInColliders(scene, particles, report);
   return report;

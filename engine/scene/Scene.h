@@ -16,7 +16,9 @@ struct TriangleMesh;
 
 enum class Kernel { Quadratic, Cubic };          // B-spline order: 27 or 64 nodes per particle
 enum class Transfer { PicFlip, Apic };            // seed 002's PIC/FLIP blend, or seed 001's APIC
-enum class Atomics { FixedPoint, Float };         // integer atomics on nondimensional sums, or NV float atomics
+// How P2G sums: integer atomics on nondimensional sums, NV float atomics, or no atomics at all (particles binned
+// into blocks scattered in eight colours, so no two writers share a node: the fastest on CPU renderers).
+enum class Atomics { FixedPoint, Float, None };
 enum class Boundary { Sticky, Slip, Separate };   // seed 001 ch. 5
 enum class BodyShape { Sphere, Box, Mesh, Points };
 enum class BodySampler { Lattice, PoissonDisk };  // how sphere, box and mesh bodies are filled

@@ -401,7 +401,8 @@ SolverSpec readSolver(const Object& solver) {
       solver.choice<Transfer>("transfer", spec.transfer, {{"pic_flip", Transfer::PicFlip}, {"apic", Transfer::Apic}});
   spec.flipRatio = solver.number("flip_ratio", spec.flipRatio, Interval::closed(0, 1));
   spec.atomics =
-      solver.choice<Atomics>("atomics", spec.atomics, {{"fixed", Atomics::FixedPoint}, {"float", Atomics::Float}});
+      solver.choice<Atomics>("atomics", spec.atomics,
+                             {{"fixed", Atomics::FixedPoint}, {"float", Atomics::Float}, {"none", Atomics::None}});
   return spec;
 }
 

@@ -26,6 +26,10 @@ enum StorageBinding : std::uint32_t {
   Colliders = 9,           // ColliderParams[]
   ActiveRegion = 10,       // ActiveRegion
   Watchdog = 11,           // WatchdogStatus
+  Blocks = 12,             // BlockTable (solver.atomics "none"): the particle bins of the coloured P2G
+  ParticleSlots = 13,      // uint per particle: its place within its block's bin
+  BlockParticles = 14,     // uint per particle: particle indices, bin after bin
+  BlockOrder = 15,         // uint per block: each colour's non-empty blocks, fullest first
 };
 
 // Uniform block binding point.
@@ -45,6 +49,10 @@ inline std::vector<std::pair<std::string, std::string>> bindingDefines() {
       {"FIRN_BINDING_COLLIDERS", std::to_string(Colliders)},
       {"FIRN_BINDING_ACTIVE_REGION", std::to_string(ActiveRegion)},
       {"FIRN_BINDING_WATCHDOG", std::to_string(Watchdog)},
+      {"FIRN_BINDING_BLOCKS", std::to_string(Blocks)},
+      {"FIRN_BINDING_PARTICLE_SLOTS", std::to_string(ParticleSlots)},
+      {"FIRN_BINDING_BLOCK_PARTICLES", std::to_string(BlockParticles)},
+      {"FIRN_BINDING_BLOCK_ORDER", std::to_string(BlockOrder)},
       {"FIRN_BINDING_STEP_UNIFORMS", std::to_string(StepUniformsBlock)},
   };
 }
@@ -102,6 +110,30 @@ struct ActiveRegionData {
 static_assert(sizeof(ActiveRegionData) == 112, "std430 ActiveRegion");
 constexpr std::size_t kAddedCellsOffset = offsetof(ActiveRegionData, addedCellMin);
 constexpr std::size_t kGridDispatchOffset = offsetof(ActiveRegionData, gridDispatch);
+
+// P2G without atomics (solver.atomics "none", shaders/common/blocks.glsl): particles are binned into blocks of
+// kBlockCells³ cells; the blocks of one colour (the parities of their coordinates) are far enough apart that no
+// two of them reach the same node, so one colour at a time, each block's particles are scattered by one
+// invocation with plain additions. bin_scan.comp writes the header; the bins follow it, one per block of the
+// domain. The block order lists each colour's non-empty blocks.
+constexpr int kBlockCells = 4;  // > 2: a particle in cell c reaches nodes c − 1 … c + 2 with either kernel
+constexpr int kBlockColors = 8;
+struct BlockColor {
+  glm::uvec4 dispatch;  // xyz: work groups of this colour's pass (glDispatchComputeIndirect), w unused
+  glm::ivec4 first;     // x: the colour's first entry in the block order
+  glm::ivec4 count;     // w: its non-empty blocks
+};
+struct BlockTableHeader {
+  BlockColor colors[kBlockColors];
+  glm::ivec4 blocksPerAxis;  // xyz: blocks over the domain's nodes
+};
+static_assert(sizeof(BlockTableHeader) == kBlockColors * 48 + 16, "std430 BlockTable header");
+constexpr std::size_t kBlockColorStride = sizeof(BlockColor);
+// p2g_blocks.comp spends 1 + 4² loop iterations per particle, and llvmpipe ends a shader invocation's loops
+// after 65,535 iterations in all, so bin_scan.comp reports a fuller bin on watchdog overflow channel 7.
+constexpr int kMaxBinParticles = 64 * kBlockCells * kBlockCells * kBlockCells;
+constexpr std::uint32_t kBinOverflowChannel = 7;
+// Per block after the header: uvec2 (first entry in BlockParticles, particle count).
 
 // What the GPU watchdog saw; first events are recorded by the invocation that flips `...Where` from −1.
 struct WatchdogStatus {

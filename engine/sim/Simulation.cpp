@@ -94,6 +94,14 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
+  if (binsParticles()) {
+    gpu::BlockTableHeader header{};
+    header.blocksPerAxis = glm::ivec4((gridNodes_ + gpu::kBlockCells - 1) / gpu::kBlockCells, 0);
+    const std::size_t blocks = std::size_t(header.blocksPerAxis.x) * header.blocksPerAxis.y * header.blocksPerAxis.z;
+    blocks_ = gl::Buffer(sizeof header + blocks * sizeof(glm::uvec2));
+    blocks_.upload(0, sizeof header, &header);
+    blockOrder_ = gl::Buffer(blocks * sizeof(std::uint32_t));
+  }
   // What a checkpoint must match: the grid, the step, the materials and every seed, field by field (the struct
   // has padding, whose bytes are not defined).
   const MaterialTable table = buildMaterialTable(scene_);
@@ -154,10 +162,18 @@ void Simulation::buildPrograms() {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
   }
+  if (binsParticles()) options.defines.emplace_back("FIRN_P2G_BLOCKS", "1");
   const gl::ShaderLibrary library;
   prepareGrid_ = gl::Program::compute(library, "sim/prepare_grid.comp", options);
   clearGrid_ = gl::Program::compute(library, "sim/clear_grid.comp", options);
-  particleToGrid_ = gl::Program::compute(library, "sim/p2g.comp", options);
+  if (binsParticles()) {
+    binCount_ = gl::Program::compute(library, "sim/bin_count.comp", options);
+    binScan_ = gl::Program::compute(library, "sim/bin_scan.comp", options);
+    binPlace_ = gl::Program::compute(library, "sim/bin_place.comp", options);
+    particleToGridBlocks_ = gl::Program::compute(library, "sim/p2g_blocks.comp", options);
+  } else {
+    particleToGrid_ = gl::Program::compute(library, "sim/p2g.comp", options);
+  }
   updateGrid_ = gl::Program::compute(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::Program::compute(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::Program::compute(library, "sim/compute_volumes.comp", options);
@@ -177,6 +193,10 @@ void Simulation::allocateParticles() {
   if (needsDeformationGradient()) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   if (scene_.solver.transfer == Transfer::Apic) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  if (binsParticles()) {
+    particleSlots_ = gl::Buffer(n * sizeof(std::uint32_t));
+    blockParticles_ = gl::Buffer(n * sizeof(std::uint32_t));
+  }
   particleBody_.reserve(n);
   particleMaterial_.reserve(n);
 }
@@ -337,6 +357,12 @@ void Simulation::bindAll() const {
   colliders_.bindStorage(gpu::Colliders);
   activeRegion_.bindStorage(gpu::ActiveRegion);
   watchdog_.bindStorage(gpu::Watchdog);
+  if (blocks_) {
+    blocks_.bindStorage(gpu::Blocks);
+    particleSlots_.bindStorage(gpu::ParticleSlots);
+    blockParticles_.bindStorage(gpu::BlockParticles);
+    blockOrder_.bindStorage(gpu::BlockOrder);
+  }
 }
 
 void Simulation::bindParticleBuffers() const {
@@ -410,8 +436,32 @@ void Simulation::scatterToGrid() {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   runOverGrid(clearGrid_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  runOverParticles(particleToGrid_);
+  if (binsParticles()) {
+    scatterInBlocks();
+  } else {
+    runOverParticles(particleToGrid_);
+  }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+// P2G without atomics (shaders/common/blocks.glsl): bin the particles by block, then scatter the blocks one
+// colour at a time, each colour's blocks far enough apart that none shares a node with another.
+void Simulation::scatterInBlocks() {
+  runOverParticles(binCount_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  runOnce(binScan_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  runOverParticles(binPlace_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  particleToGridBlocks_.use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, blocks_.id());
+  for (int color = 0; color < gpu::kBlockColors; ++color) {
+    particleToGridBlocks_.set("blockColor", color);
+    beginPass();
+    glDispatchComputeIndirect(static_cast<GLintptr>(color * gpu::kBlockColorStride));
+    endPass(particleToGridBlocks_);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
 }
 
 void Simulation::releaseDueParticles() {
@@ -594,7 +644,15 @@ void Simulation::checkWatchdog() const {
 
   // Listed in the order they happened: the first is the cause, the others often its consequences.
   std::vector<std::pair<std::uint32_t, std::string>> events;
-  if (status.overflowCount > 0) {
+  if (status.overflowCount > 0 && status.overflowChannel == gpu::kBinOverflowChannel) {
+    const int blockCells = gpu::kBlockCells * gpu::kBlockCells * gpu::kBlockCells;
+    events.emplace_back(status.overflowStep,
+                        when(status.overflowStep) + ": a block of " + std::to_string(blockCells) +
+                            " cells held more than " + std::to_string(gpu::kMaxBinParticles) +
+                            " particles, more than P2G without atomics can scatter in one invocation on llvmpipe "
+                            "(which ends a shader's loops after 65,535 iterations). Set solver.atomics to \"fixed\", "
+                            "or lower particles_per_cell.");
+  } else if (status.overflowCount > 0) {
     events.emplace_back(status.overflowStep,
                         when(status.overflowStep) + ": fixed-point overflow of the P2G " +
                             channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
@@ -680,6 +738,42 @@ GridTotals Simulation::transferToGrid() {
 
 void Simulation::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
   velocityVolume_.upload(particle * sizeof(glm::vec4), sizeof(glm::vec3), &velocityMPerS);
+}
+
+std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
+  const ParticleSnapshot state = snapshot();
+  std::vector<glm::vec3> positions;
+  positions.reserve(state.size());
+  for (const glm::vec4& p : state.positionMass) positions.emplace_back(p);
+
+  seedActiveRegion(positions);
+  writeStepUniforms(scene_.time.dtS);
+  scatterToGrid();
+  const gpu::ActiveRegionData region = activeRegion();
+  std::vector<GridNodeSums> nodes;
+  if (region.boxSize.w > 0) {
+    auto linear = [&](const glm::ivec3& node) {
+      return static_cast<std::size_t>(node.x + gridNodes_.x * (node.y + gridNodes_.y * node.z));
+    };
+    const glm::ivec3 boxFirst(region.boxMin);
+    const glm::ivec3 boxLast = boxFirst + glm::ivec3(region.boxSize) - 1;
+    const std::size_t spanFirst = linear(boxFirst);
+    const std::vector<glm::ivec4> stored = gridMomentumMass_.read<glm::ivec4>(linear(boxLast) - spanFirst + 1, spanFirst);
+    nodes.reserve(static_cast<std::size_t>(region.boxSize.w));
+    for (int z = boxFirst.z; z <= boxLast.z; ++z)
+      for (int y = boxFirst.y; y <= boxLast.y; ++y)
+        for (int x = boxFirst.x; x <= boxLast.x; ++x) {
+          const glm::ivec4& value = stored[linear(glm::ivec3(x, y, z)) - spanFirst];
+          // Nondimensional sums (grid.glsl): integers times 2^−k, or the floats themselves.
+          const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
+                                      ? glm::dvec4(value) * fixedPoint_.resolution()
+                                      : glm::dvec4(glm::intBitsToFloat(value));
+          nodes.push_back({glm::ivec3(x, y, z), sums.w * fixedPoint_.referenceMassKg,
+                           glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS});
+        }
+  }
+  seedActiveRegion(positions);  // prepare_grid consumed the bounds the next step needs
+  return nodes;
 }
 
 }  // namespace firn

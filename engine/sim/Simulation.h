@@ -36,6 +36,13 @@ struct GridTotals {
   std::uint64_t activeNodes = 0;  // nodes in the active box
 };
 
+// One node of the active box after P2G (readGridAfterTransfer), converted from the fixed-point or float storage.
+struct GridNodeSums {
+  glm::ivec3 node{0};                  // node index per axis
+  double massKg = 0;                   // Σ_p w_ip m_p
+  glm::dvec3 momentumKgMPerS{0.0};     // Σ_p w_ip m_p v_p (APIC: plus the affine part and the elastic impulse)
+};
+
 // Which material models the programs are built for: the scene's (the default, design.md: "a scene pays only for
 // what it uses"), or every model with F for all, as one general build would: for measuring what that costs.
 enum class MaterialPrograms { SceneModels, EveryModel };
@@ -110,6 +117,11 @@ class Simulation {
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
+  // Runs prepare → clear → P2G on the current state, as transferToGrid does, and returns every node of the active
+  // box with its sums in kg and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
+  // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
+  std::vector<GridNodeSums> readGridAfterTransfer();
+
  private:
   void buildPrograms();
   bool needsDeformationGradient() const;
@@ -141,6 +153,8 @@ class Simulation {
   void beginPass();
   void endPass(const gl::Program& program);
   void scatterToGrid();
+  void scatterInBlocks();
+  bool binsParticles() const { return scene_.solver.atomics == Atomics::None; }
   std::string describeNode(std::int32_t node) const;
   std::string describeParticle(std::int32_t particle) const;
 
@@ -182,6 +196,11 @@ class Simulation {
   gl::Program updateGrid_;
   gl::Program gridToParticle_;
   gl::Program computeVolumes_;
+  // P2G without atomics (solver.atomics "none"): binning and the coloured scatter.
+  gl::Program binCount_;
+  gl::Program binScan_;
+  gl::Program binPlace_;
+  gl::Program particleToGridBlocks_;
 
   gl::Buffer positionMass_;
   gl::Buffer velocityVolume_;
@@ -196,6 +215,10 @@ class Simulation {
   gl::Buffer activeRegion_;
   gl::Buffer watchdog_;
   gl::Buffer stepUniforms_;
+  gl::Buffer blocks_;          // BlockTable (solver.atomics "none")
+  gl::Buffer particleSlots_;   // "none": each particle's place in its bin
+  gl::Buffer blockParticles_;  // "none": particle indices, bin after bin
+  gl::Buffer blockOrder_;      // "none": each colour's non-empty blocks
 
   bool timingPasses_ = false;
   gl::TimerQuery passTimer_;

@@ -1,21 +1,30 @@
 // Grid node storage and the P2G scatter, in nondimensional units (design.md, "Fixed-point atomics"):
 // mass in units of m_ref, momentum and impulse in units of m_ref·h/Δt_ref (a node moving one cell per step).
 //
-// FIRN_FLOAT_ATOMICS: float atomicAdd from GL_NV_shader_atomic_float. Otherwise each value is scaled by 2^k
-// and rounded to int32; integer sums are exact and order-independent, so runs are bitwise deterministic.
-// atomicAdd returns the old value, so a sum that leaves the int32 range is caught the moment it happens.
+// FIRN_FLOAT_ATOMICS: float atomicAdd from GL_NV_shader_atomic_float. FIRN_P2G_BLOCKS: plain float additions,
+// race-free because no two invocations of a pass reach one node, in a fixed order (common/blocks.glsl).
+// Otherwise each value is scaled by 2^k and rounded to int32; integer sums are exact and order-independent, so
+// runs are bitwise deterministic. atomicAdd returns the old value, so a sum that leaves the int32 range is
+// caught the moment it happens.
 //
-// Rounding to 2^-k is dithered, floor(x·2^k + u) with u uniform in [0, 1) from a hash of (particle position,
-// node, channel, step): its expectation is x, so slow motion — a small fraction of a cell per step, whose
-// contributions are a few quanta each — does not lose momentum to rounding bias (plain rounding measurably
-// slowed a freely falling block by 1e-4 in 200 steps). The dither depends only on which contribution it is,
-// so sums stay exact, order-independent and deterministic.
+// Rounding to 2^-k is dithered, floor(x·2^k + u) with u uniform in [0, 1): its expectation is x, so slow
+// motion — a small fraction of a cell per step, whose contributions are a few quanta each — does not lose
+// momentum to rounding bias (plain rounding measurably slowed a freely falling block by 1e-4 in 200 steps).
+// u is one hash per particle and step (of its position, not its index, so reordering the particles changes no
+// sum), spread over its stencil nodes and channels by additive recurrences with irrational steps, u_nc =
+// fract(u_p + n·φ + c·ψ): each u_nc is uniform over particles, which is all unbiased rounding needs, and it
+// costs an add per contribution where a hash per contribution cost 40% of P2G on llvmpipe. The dither depends
+// only on which contribution it is, so sums stay exact, order-independent and deterministic.
 //
 // After update_grid.comp the same storage holds floats: (velocity m/s, mass kg) and, for PIC/FLIP, the
 // velocity before forces. FIRN_TRANSFER_APIC needs no second buffer: impulse goes straight into momentum.
 #include "common/watchdog.glsl"
 
-#ifdef FIRN_FLOAT_ATOMICS
+#if defined(FIRN_FLOAT_ATOMICS) || defined(FIRN_P2G_BLOCKS)
+#define FIRN_FLOAT_GRID_SUMS
+#endif
+
+#ifdef FIRN_FLOAT_GRID_SUMS
 #define GridVector vec4
 #else
 #define GridVector ivec4
@@ -32,11 +41,16 @@ const uint CHANNEL_MASS = 0u;
 const uint CHANNEL_MOMENTUM = 1u;
 const uint CHANNEL_IMPULSE = 4u;
 
-#ifdef FIRN_FLOAT_ATOMICS
+#ifdef FIRN_FLOAT_GRID_SUMS
 
+#ifdef FIRN_P2G_BLOCKS
+#define FIRN_SCATTER(member, value, node, channel, dither) member += value
+#else
 #define FIRN_SCATTER(member, value, node, channel, dither) atomicAdd(member, value)
+#endif
 
-uint contributionSeed(vec3 particlePosition, uint node) { return 0u; }  // float sums are not dithered
+float particleDither(vec3 particlePosition) { return 0.0; }  // float sums are not dithered
+float contributionDither(float particleU, int stencilNode) { return 0.0; }
 vec4 storedToNondimensional(vec4 stored) { return stored; }
 vec4 storedFloats(vec4 stored) { return stored; }
 vec4 floatsToStored(vec4 values) { return values; }
@@ -56,17 +70,19 @@ uint mixBits(uint x) {
   return x;
 }
 
-// The dither seed of one particle's contributions to one node in this step. It hashes the particle's
-// position rather than its index, so reordering the particles changes no sum.
-uint contributionSeed(vec3 particlePosition, uint node) {
+// u_p: the particle's dither in this step, uniform in [0, 1).
+float particleDither(vec3 particlePosition) {
   uvec3 bits = floatBitsToUint(particlePosition);
-  uint particle = mixBits(bits.x ^ mixBits(bits.y ^ mixBits(bits.z)));
-  return mixBits(particle ^ mixBits(node ^ mixBits(stepIndex())));
+  uint hash = mixBits(bits.x ^ mixBits(bits.y ^ mixBits(bits.z ^ mixBits(stepIndex()))));
+  return float(hash >> 8) * (1.0 / 16777216.0);  // 24 bits
 }
 
-int toFixedPoint(float value, uint node, uint channel, uint seed) {
-  float dither = float(mixBits(seed + channel) >> 8) * (1.0 / 16777216.0);  // uniform in [0, 1), 24 bits
-  float scaled = floor(value * fixedPoint.z + dither);
+// The dither of the particle's contributions to stencil node n (channel 0), by the golden-ratio recurrence.
+float contributionDither(float particleU, int stencilNode) { return fract(particleU + float(stencilNode) * 0.61803399); }
+
+int toFixedPoint(float value, uint node, uint channel, float dither) {
+  // Channels step by 1/ρ (ρ the plastic number), incommensurate with the nodes' φ.
+  float scaled = floor(value * fixedPoint.z + fract(dither + float(channel) * 0.75487767));
   if (!(abs(scaled) <= FIXED_POINT_LIMIT)) {  // also catches NaN
     reportOverflow(node, channel);
     return 0;
@@ -75,9 +91,9 @@ int toFixedPoint(float value, uint node, uint channel, uint seed) {
 }
 
 // Signed overflow of old + add happened iff old and add share a sign that the sum does not.
-#define FIRN_SCATTER(member, value, node, channel, seed)                  \
+#define FIRN_SCATTER(member, value, node, channel, dither)                \
   {                                                                       \
-    int addend = toFixedPoint(value, node, channel, seed);                \
+    int addend = toFixedPoint(value, node, channel, dither);              \
     int previous = atomicAdd(member, addend);                             \
     if (((previous ^ (previous + addend)) & (addend ^ (previous + addend))) < 0) reportOverflow(node, channel); \
   }
@@ -88,20 +104,20 @@ ivec4 floatsToStored(vec4 values) { return floatBitsToInt(values); }
 
 #endif
 
-// P2G: adds a particle's nondimensional contribution (momentum xyz, mass w) to a node; `seed` is the
-// contribution's contributionSeed().
-void scatterMomentumMass(uint node, vec4 momentumMass, uint seed) {
-  FIRN_SCATTER(gridMomentumMass[node].x, momentumMass.x, node, CHANNEL_MOMENTUM + 0u, seed);
-  FIRN_SCATTER(gridMomentumMass[node].y, momentumMass.y, node, CHANNEL_MOMENTUM + 1u, seed);
-  FIRN_SCATTER(gridMomentumMass[node].z, momentumMass.z, node, CHANNEL_MOMENTUM + 2u, seed);
-  FIRN_SCATTER(gridMomentumMass[node].w, momentumMass.w, node, CHANNEL_MASS, seed);
+// P2G: adds a particle's nondimensional contribution (momentum xyz, mass w) to a node; `dither` is the
+// contribution's contributionDither().
+void scatterMomentumMass(uint node, vec4 momentumMass, float dither) {
+  FIRN_SCATTER(gridMomentumMass[node].x, momentumMass.x, node, CHANNEL_MOMENTUM + 0u, dither);
+  FIRN_SCATTER(gridMomentumMass[node].y, momentumMass.y, node, CHANNEL_MOMENTUM + 1u, dither);
+  FIRN_SCATTER(gridMomentumMass[node].z, momentumMass.z, node, CHANNEL_MOMENTUM + 2u, dither);
+  FIRN_SCATTER(gridMomentumMass[node].w, momentumMass.w, node, CHANNEL_MASS, dither);
 }
 
 #ifndef FIRN_TRANSFER_APIC
-void scatterImpulse(uint node, vec3 impulse, uint seed) {
-  FIRN_SCATTER(gridImpulse[node].x, impulse.x, node, CHANNEL_IMPULSE + 0u, seed);
-  FIRN_SCATTER(gridImpulse[node].y, impulse.y, node, CHANNEL_IMPULSE + 1u, seed);
-  FIRN_SCATTER(gridImpulse[node].z, impulse.z, node, CHANNEL_IMPULSE + 2u, seed);
+void scatterImpulse(uint node, vec3 impulse, float dither) {
+  FIRN_SCATTER(gridImpulse[node].x, impulse.x, node, CHANNEL_IMPULSE + 0u, dither);
+  FIRN_SCATTER(gridImpulse[node].y, impulse.y, node, CHANNEL_IMPULSE + 1u, dither);
+  FIRN_SCATTER(gridImpulse[node].z, impulse.z, node, CHANNEL_IMPULSE + 2u, dither);
 }
 #endif
 

@@ -1,0 +1,50 @@
+// A particle's P2G contribution: mass, momentum and the elastic impulse −Δt V0 τ ∇w_ip (Stomakhin 2013 eq. 6,
+// the force of the stress left by the last deformation update) to the nodes of its stencil, in the
+// nondimensional units of grid.glsl. p2g.comp adds a particle to all its nodes with atomics; p2g_blocks.comp
+// adds it one node per invocation with plain additions.
+// Reads: positionMass, velocityVolume, kirchhoffStress, affine (APIC). Writes: grid accumulators.
+
+struct Contribution {
+  bool finite;
+  vec3 x;
+  float massUnits;
+  vec3 momentumUnits;
+  mat3 impulseUnits;          // times ∇w_ip: the node's impulse
+#ifdef FIRN_TRANSFER_APIC
+  mat3 affineMomentumUnits;   // times (x_i − x_p): APIC's affine momentum
+#endif
+  float particleU;            // the particle's rounding dither (grid.glsl)
+};
+
+Contribution particleContribution(uint p) {
+  Contribution c;
+  c.x = positionMass[p].xyz;
+  float massKg = positionMass[p].w;
+  vec4 velocityVolumeP = velocityVolume[p];
+  mat3 stress = kirchhoffStress[p];
+  // G2P never stores a non-finite state, so one here came from outside (an upload): report it, scatter nothing.
+  c.finite = allFinite(c.x) && allFinite(velocityVolumeP.xyz) && allFinite(stress);
+  c.massUnits = massKg / fixedPoint.x;
+  c.momentumUnits = velocityVolumeP.xyz * (massKg / fixedPoint.y);
+  c.impulseUnits = (-stepDt() * velocityVolumeP.w / fixedPoint.y) * stress;
+#ifdef FIRN_TRANSFER_APIC
+  // APIC (Jiang et al. 2015): momentum m w (v + C (x_i − x_p)).
+  c.affineMomentumUnits = affine[p] * (massKg / fixedPoint.y);
+#endif
+  c.particleU = particleDither(c.x);
+  return c;
+}
+
+// Adds the contribution to `node`, n-th of the stencil, with weight w and gradient ∇w.
+void scatterToNode(Contribution c, ivec3 node, int n, float w, vec3 gradient) {
+  uint i = nodeIndex(node);
+  float dither = contributionDither(c.particleU, n);
+  vec3 impulse = c.impulseUnits * gradient;
+#ifdef FIRN_TRANSFER_APIC
+  vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x)) + impulse;
+  scatterMomentumMass(i, vec4(momentum, w * c.massUnits), dither);
+#else
+  scatterMomentumMass(i, vec4(w * c.momentumUnits, w * c.massUnits), dither);
+  scatterImpulse(i, impulse, dither);
+#endif
+}
