@@ -43,11 +43,7 @@ const uint CHANNEL_IMPULSE = 4u;
 
 #ifdef FIRN_FLOAT_GRID_SUMS
 
-#ifdef FIRN_P2G_BLOCKS
-#define FIRN_SCATTER(member, value, node, channel, dither) member += value
-#else
 #define FIRN_SCATTER(member, value, node, channel, dither) atomicAdd(member, value)
-#endif
 
 float particleDither(vec3 particlePosition) { return 0.0; }  // float sums are not dithered
 float contributionDither(float particleU, int stencilNode) { return 0.0; }
@@ -106,6 +102,13 @@ ivec4 floatsToStored(vec4 values) { return floatBitsToInt(values); }
 
 // P2G: adds a particle's nondimensional contribution (momentum xyz, mass w) to a node; `dither` is the
 // contribution's contributionDither().
+#ifdef FIRN_P2G_BLOCKS
+// Whole vectors: no other invocation reaches the node meanwhile (blocks.glsl).
+void scatterMomentumMass(uint node, vec4 momentumMass, float dither) { gridMomentumMass[node] += momentumMass; }
+#ifndef FIRN_TRANSFER_APIC
+void scatterImpulse(uint node, vec3 impulse, float dither) { gridImpulse[node].xyz += impulse; }
+#endif
+#else
 void scatterMomentumMass(uint node, vec4 momentumMass, float dither) {
   FIRN_SCATTER(gridMomentumMass[node].x, momentumMass.x, node, CHANNEL_MOMENTUM + 0u, dither);
   FIRN_SCATTER(gridMomentumMass[node].y, momentumMass.y, node, CHANNEL_MOMENTUM + 1u, dither);
@@ -119,6 +122,7 @@ void scatterImpulse(uint node, vec3 impulse, float dither) {
   FIRN_SCATTER(gridImpulse[node].y, impulse.y, node, CHANNEL_IMPULSE + 1u, dither);
   FIRN_SCATTER(gridImpulse[node].z, impulse.z, node, CHANNEL_IMPULSE + 2u, dither);
 }
+#endif
 #endif
 
 // After P2G: the node's nondimensional mass (units of m_ref).
