@@ -15,6 +15,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "Bench.h"
 #include "Error.h"
 #include "Viewer.h"
 #include "gl/Context.h"
@@ -105,6 +106,37 @@ int voxelizeCommand(const VoxelizeOptions& options) {
               firn::voxelizer::signedVolume(mesh));
   std::printf("firn voxelize: wrote %s in %.2f s (load %.2f s, sample %.2f s)\n", options.outputPath.c_str(),
               seconds(Clock::now() - start), seconds(loaded - start), seconds(sampled - loaded));
+  return 0;
+}
+
+struct BenchCommand {
+  firn::bench::BenchOptions options;
+  std::string outputDir;
+  std::string assetsDir;
+  std::string thesisCloud;
+  std::string plotsOnly;
+  bool quick = false;
+  bool tiny = false;
+  bool noPlots = false;
+};
+
+int benchCommand(BenchCommand command) {
+  if (!command.plotsOnly.empty()) {
+    if (!std::filesystem::is_directory(command.plotsOnly)) {
+      throw firn::InputError("--plots-only: " + command.plotsOnly + ": no such folder");
+    }
+    return firn::bench::makePlots(command.plotsOnly, std::cerr) ? 0 : static_cast<int>(firn::ExitCode::BadInput);
+  }
+  firn::bench::BenchOptions& options = command.options;
+  options.size = command.tiny    ? firn::bench::BenchSize::Tiny
+                 : command.quick ? firn::bench::BenchSize::Quick
+                                 : firn::bench::BenchSize::Default;
+  options.outputDir = command.outputDir;
+  options.assetsDir = command.assetsDir;
+  options.thesisCloud = command.thesisCloud;
+  const std::string summary = firn::bench::runBench(options, std::cerr);
+  if (!command.noPlots) firn::bench::makePlots(options.outputDir, std::cerr);
+  std::printf("%s", summary.c_str());
   return 0;
 }
 
@@ -204,6 +236,41 @@ int main(int argc, char** argv) {
   voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³ of the particles' masses (density · s³ on the lattice)")
       ->check(CLI::PositiveNumber)->capture_default_str();
 
+  BenchCommand benchOptions;
+  benchOptions.outputDir = benchOptions.options.outputDir.string();
+  benchOptions.assetsDir = firn::bench::defaultAssetsDir().string();
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Measure time per step against particles and grid size, per-pass times, fixed-point against float "
+               "atomics and the speed/accuracy trade; write CSV tables and their plots (benchmarks/README.md)");
+  CLI::Option* quick = bench->add_flag(
+      "--quick", benchOptions.quick, "Sizes for a CPU renderer (llvmpipe on 2 cores: about 5 minutes); the default sizes "
+                                     "are for GPUs, up to millions of particles");
+  bench->add_flag("--tiny", benchOptions.tiny, "For tests: the smallest sizes, which check the machinery and measure nothing")
+      ->excludes(quick);
+  bench->add_option("--out", benchOptions.outputDir, "Output folder for the tables, machine.txt, summary.txt and plots")
+      ->capture_default_str();
+  bench->add_option("--repeats", benchOptions.options.repeats, "Timed runs per configuration; each table gives their median")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
+  bench->add_option("--steps", benchOptions.options.stepsPerRepeat, "Steps per timed run (default: the sizes' own)")
+      ->check(CLI::Range(1, 1000000));
+  bench->add_option("--only", benchOptions.options.tables, "Only these tables (comma-separated)")
+      ->check(CLI::IsMember(firn::bench::tableNames()))->delimiter(',');
+  bench->add_option("--assets", benchOptions.assetsDir, "Firn's assets folder (scenes/bunny_thesis.json, meshes/bunny.obj)")
+      ->capture_default_str();
+  bench->add_option("--thesis-cloud", benchOptions.thesisCloud,
+                    "The thesis implementation's bunny, a point cloud (x,y,z per line): adds thesis.csv, the same scene in "
+                    "Firn against the thesis's 546 ms per step")
+      ->check(CLI::ExistingFile);
+  bench->add_option("--thesis-dt", benchOptions.options.thesisDtS,
+                    "Time step of thesis.csv in seconds (the thesis's 1e-3 is beyond Firn's explicit elastic bound)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  bench->add_option("--atomics", benchOptions.options.atomics,
+                    "How P2G sums in the particle, grid, passes and thesis tables, a series each (comma-separated: "
+                    "fixed, float, none); default: fixed, and none on a CPU renderer or float on a GPU")
+      ->check(CLI::IsMember({"fixed", "float", "none"}))->delimiter(',');
+  bench->add_flag("--no-plots", benchOptions.noPlots, "Write the tables only");
+  bench->add_option("--plots-only", benchOptions.plotsOnly, "Measure nothing: plot the tables already in this folder");
+
   app.add_subcommand("info", "Show the OpenGL context Firn gets (set FIRN_EGL_DEVICE=N to pick an EGL device)");
 
   try {
@@ -233,6 +300,7 @@ int main(int argc, char** argv) {
       if (translateM.size() == 3) voxelizeOptions.placement.translateM = {translateM[0], translateM[1], translateM[2]};
       return voxelizeCommand(voxelizeOptions);
     }
+    if (bench->parsed()) return benchCommand(benchOptions);
     return infoCommand();
   } catch (const firn::Error& error) {
     std::fprintf(stderr, "\nfirn: error: %s\n", error.what());

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ElasticBar.h"
 #include "GlTest.h"
 #include "scene/Scene.h"
 #include "sim/Simulation.h"
@@ -17,15 +18,19 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
+using firn::bench::barAnalyticPeriodS;
+using firn::bench::BarVibration;
+using firn::bench::kBarDensityKgPerM3;
+using firn::bench::kBarLengthM;
+using firn::bench::kBarWidthM;
+using firn::bench::kBarYoungsModulusPa;
+using firn::bench::stayedElastic;
+
 // A number as JSON text, with every digit a double needs.
 std::string jsonNumber(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
-}
-
-std::string jsonVector(double x, double y, double z) {
-  return "[" + jsonNumber(x) + ", " + jsonNumber(y) + ", " + jsonNumber(z) + "]";
 }
 
 // λ + 2μ = E (1 − ν) / ((1 + ν)(1 − 2ν)), the modulus of the dilatational (P) wave.
@@ -63,15 +68,6 @@ Spin spinAboutZ(const firn::ParticleSnapshot& s) {
     spin.inertia += m * (r.x * r.x + r.y * r.y);
   }
   return spin;
-}
-
-// Whether the plasticity clamps never acted: J_P ← J_P det F̂_E / det F_E stays 1 up to the float rounding of
-// that quotient (about one ulp, 6e-8, per step; measured at most 3e-6 after 100 steps). Bound 1e-4.
-bool allElastic(const firn::ParticleSnapshot& s) {
-  for (float plasticJ : s.plasticJ) {
-    if (std::abs(plasticJ - 1.0f) > 1e-4f) return false;
-  }
-  return true;
 }
 
 class Validation : public ::testing::Test {
@@ -145,7 +141,7 @@ TEST_F(Validation, ApicKeepsAngularMomentumWherePicDampsIt) {
     }
     meanApicDrift /= samples;
     apic.checkWatchdog();
-    EXPECT_TRUE(allElastic(apic.snapshot())) << kernel << ": the clamps acted; the test needs a purely elastic body";
+    EXPECT_TRUE(stayedElastic(apic.snapshot())) << kernel << ": the clamps acted; the test needs a purely elastic body";
     EXPECT_LT(worstApicDrift, 1e-3) << kernel;
     EXPECT_LT(std::abs(meanApicDrift), 1e-4) << kernel;
 
@@ -171,95 +167,17 @@ TEST_F(Validation, ApicKeepsAngularMomentumWherePicDampsIt) {
   }
 }
 
-// The vibrating bar of ElasticBarVibratesAtAnalyticPeriod: L = 0.72 m along x, a 0.12 m square section,
-// E = 1e6 Pa, ρ = 400 kg/m³, started in its fundamental mode at 0.25 m/s (strain amplitude v0 / c = 0.5 %).
-constexpr double barLengthM = 0.72, barWidthM = 0.12;
-constexpr double barYoungsModulusPa = 1e6, barDensityKgPerM3 = 400, barSpeedAmplitudeMPerS = 0.25;
-
-struct BarVibration {
-  double periodS = 0;  // the second zero crossing of the modal displacement; 0 if there was none
-  double kappa = 0;    // the Rayleigh quotient's volume factor Σ V0 sin² / Σ (m/ρ) sin²
-  bool elastic = false;
-};
-
-// Runs the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero
-// twice (one period: q starts at 0), or for 1.2 analytic periods.
+// The vibrating bar (benchmarks/ElasticBar.h, shared with `firn bench`'s speed/accuracy table), measured over
+// one period with APIC, fixed-point atomics, 8 particles per cell and dt = 0.4 h / c.
 // `model` is "snow" (with hardening 0 and clamps it never reaches) or "fixed_corotated".
 BarVibration measureBarPeriod(const std::string& kernel, int cellsAlongBar, double poissonRatio, const std::string& model,
                               const firn::gl::ContextInfo& gl) {
-  constexpr int marginCells = 5;  // 2 wall cells, the stencil, and room for the ends' motion
-  const double cellSizeM = barLengthM / cellsAlongBar;
-  const int crossCells = int(std::lround(barWidthM / cellSizeM));
-  const double startM = marginCells * cellSizeM;
-  // The initial velocity v0 cos(π x / L), one box body per cell-thick slab at its centre's velocity; bodies
-  // of one material merge on the grid.
-  std::string bodies;
-  for (int k = 0; k < cellsAlongBar; ++k) {
-    const double velocity = barSpeedAmplitudeMPerS * std::cos(pi * (k + 0.5) / cellsAlongBar);
-    bodies += std::string(k > 0 ? ", " : "") + R"({ "shape": "box", "material": "snow", "min": )" +
-              jsonVector(startM + k * cellSizeM, startM, startM) + R"(, "max": )" +
-              jsonVector(startM + (k + 1) * cellSizeM, startM + barWidthM, startM + barWidthM) +
-              R"(, "velocity": )" + jsonVector(velocity, 0, 0) + " }";
-  }
-  // dt = 0.4 h / c with c the dilatational speed sqrt((λ + 2μ)/ρ), inside the elastic bound h / c. Symplectic
-  // Euler shortens the period by (ω dt)²/24 ≤ 2e-4 (ω dt ≤ 0.4 π h / L), negligible here.
-  const double dilatationalSpeed = std::sqrt(pWaveModulus(barYoungsModulusPa, poissonRatio) / barDensityKgPerM3);
-  const double dtS = 0.4 * cellSizeM / dilatationalSpeed;
-  const std::string plasticityKeys =
-      model == "snow" ? R"(, "critical_compression": 0.9, "critical_stretch": 10, "hardening": 0)" : "";
-  const double crossAxisCells = crossCells + 2 * marginCells;
-  const firn::Scene scene = firn::parseScene(R"({
-    "grid": { "cells": )" + jsonVector(cellsAlongBar + 2 * marginCells, crossAxisCells, crossAxisCells) +
-                                                 R"(, "cell_size": )" + jsonNumber(cellSizeM) + R"( },
-    "time": { "dt": )" + jsonNumber(dtS) + R"(, "frame_rate": 50, "frames": 1 },
-    "gravity": [0, 0, 0],
-    "solver": { "kernel": ")" + kernel + R"(", "transfer": "apic" },
-    "materials": { "snow": { "model": ")" + model + R"(", "youngs_modulus": )" + jsonNumber(barYoungsModulusPa) + R"(,
-                             "poisson_ratio": )" + jsonNumber(poissonRatio) + R"(,
-                             "density": )" + jsonNumber(barDensityKgPerM3) + plasticityKeys + R"( } },
-    "bodies": [ )" + bodies + "] }", "vibrating bar");
-  firn::Simulation simulation(scene, firn::sampleBodies(scene), gl);
-
-  const firn::ParticleSnapshot rest = simulation.snapshot();
-  std::vector<double> modeShape(rest.size());
-  double modalMass = 0, strainWeightedVolume = 0, strainWeightedTrueVolume = 0;
-  for (std::size_t i = 0; i < rest.size(); ++i) {
-    const double phase = pi * (rest.positionMass[i].x - startM) / barLengthM;
-    const double m = rest.positionMass[i].w;
-    const double strainWeight = std::sin(phase) * std::sin(phase);
-    modeShape[i] = std::cos(phase);
-    modalMass += m * modeShape[i] * modeShape[i];
-    strainWeightedVolume += rest.velocityVolume[i].w * strainWeight;
-    strainWeightedTrueVolume += m / barDensityKgPerM3 * strainWeight;
-  }
-  const auto modalDisplacement = [&](const firn::ParticleSnapshot& s) {
-    double sum = 0;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      sum += s.positionMass[i].w * (s.positionMass[i].x - rest.positionMass[i].x) * modeShape[i];
-    }
-    return sum / modalMass;
-  };
-
-  BarVibration result;
-  result.kappa = strainWeightedVolume / strainWeightedTrueVolume;
-  const double analyticPeriodS = 2 * barLengthM / std::sqrt(barYoungsModulusPa / barDensityKgPerM3);
-  const int maxSteps = int(1.2 * analyticPeriodS / dtS);
-  int crossings = 0;
-  double previousQ = 0;
-  for (int step = 1; step <= maxSteps && crossings < 2; ++step) {
-    simulation.step(dtS);
-    const double q = modalDisplacement(simulation.snapshot());
-    if (step > 1 && (q > 0) != (previousQ > 0)) {
-      ++crossings;
-      // Linear interpolation between the two steps: q is nearly straight at its zeros, where its curvature
-      // vanishes.
-      if (crossings == 2) result.periodS = (step - 1 + previousQ / (previousQ - q)) * dtS;
-    }
-    previousQ = q;
-  }
-  simulation.checkWatchdog();
-  result.elastic = allElastic(simulation.snapshot());
-  return result;
+  firn::bench::BarSetup setup;
+  setup.model = model;
+  setup.poissonRatio = poissonRatio;
+  setup.kernel = kernel;
+  setup.cellsAlongBar = cellsAlongBar;
+  return firn::bench::measureBarVibration(setup, gl);
 }
 
 // The longitudinal vibration of a free–free bar, L = 0.72 m by 0.12 m by 0.12 m, started in its fundamental
@@ -288,7 +206,7 @@ BarVibration measureBarPeriod(const std::string& kernel, int cellsAlongBar, doub
 // Asserted: below 2 % at L/18 and 1 % at L/36 (about twice the measured errors), and shrinking by at least
 // 0.6× when h halves.
 TEST_F(Validation, ElasticBarVibratesAtAnalyticPeriod) {
-  const double analyticPeriodS = 2 * barLengthM / std::sqrt(barYoungsModulusPa / barDensityKgPerM3);
+  const double analyticPeriodS = barAnalyticPeriodS();
   for (const std::string kernel : {"quadratic", "cubic"}) {
     std::vector<double> errors;
     for (const int cellsAlongBar : {18, 36}) {
@@ -314,7 +232,7 @@ TEST_F(Validation, ElasticBarVibratesAtAnalyticPeriod) {
 // periods differ by 4e-6 (quadratic) and 3.6e-5 (cubic) of T; tolerance 4e-4, about 10× that. The fixed
 // corotated bar also meets ElasticBarVibratesAtAnalyticPeriod's tolerance at this resolution (2 % from T / √κ).
 TEST_F(Validation, FixedCorotatedBarVibratesLikeSnowWithoutPlasticity) {
-  const double analyticPeriodS = 2 * barLengthM / std::sqrt(barYoungsModulusPa / barDensityKgPerM3);
+  const double analyticPeriodS = barAnalyticPeriodS();
   for (const std::string kernel : {"quadratic", "cubic"}) {
     const BarVibration snow = measureBarPeriod(kernel, 18, 0.0, "snow", gl());
     const BarVibration fixedCorotated = measureBarPeriod(kernel, 18, 0.0, "fixed_corotated", gl());
@@ -339,12 +257,12 @@ TEST_F(Validation, ThinBarVibratesAtBarSpeed) {
   const BarVibration bar = measureBarPeriod("quadratic", 18, poissonRatio, "snow", gl());
   EXPECT_TRUE(bar.elastic);
   ASSERT_GT(bar.periodS, 0) << "no full period";
-  const double radiusOfGyrationSquared = barWidthM * barWidthM / 6;
+  const double radiusOfGyrationSquared = kBarWidthM * kBarWidthM / 6;
   const double rayleighLove =
-      1 + poissonRatio * poissonRatio * pi * pi * radiusOfGyrationSquared / (2 * barLengthM * barLengthM);
-  const double barPeriodS = 2 * barLengthM / std::sqrt(barYoungsModulusPa / barDensityKgPerM3) * rayleighLove;
+      1 + poissonRatio * poissonRatio * pi * pi * radiusOfGyrationSquared / (2 * kBarLengthM * kBarLengthM);
+  const double barPeriodS = barAnalyticPeriodS() * rayleighLove;
   const double dilatationalPeriodS =
-      2 * barLengthM / std::sqrt(pWaveModulus(barYoungsModulusPa, poissonRatio) / barDensityKgPerM3);
+      2 * kBarLengthM / std::sqrt(pWaveModulus(kBarYoungsModulusPa, poissonRatio) / kBarDensityKgPerM3);
   // The period the bar would have with its true volumes (κ as in ElasticBarVibratesAtAnalyticPeriod).
   const double volumeCorrectedPeriodS = bar.periodS * std::sqrt(bar.kappa);
   const double error = volumeCorrectedPeriodS / barPeriodS - 1;

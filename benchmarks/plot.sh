@@ -1,0 +1,123 @@
+#!/usr/bin/env bash
+# Plots the tables `firn bench` writes: DIR/particles.csv → DIR/particles.png, and so on for grid, passes,
+# tradeoff and p2g_atomics (each table that is there). `firn bench` runs this at its end; by hand:
+#   bash benchmarks/plot.sh DIR
+# Needs gnuplot (Debian: apt-get install gnuplot-nox). Only rows whose status is "ok" are plotted.
+set -euo pipefail
+
+if [ $# -ne 1 ] || [ ! -d "$1" ]; then
+  echo "usage: $0 DIR (a folder of firn bench tables)" >&2
+  exit 2
+fi
+dir=$1
+if ! command -v gnuplot > /dev/null; then
+  echo "plot.sh: gnuplot is not installed (Debian: apt-get install gnuplot-nox)" >&2
+  exit 1
+fi
+
+# The renderer the tables were measured on, for the titles (machine.txt's first line).
+renderer=""
+if [ -f "$dir/machine.txt" ]; then
+  renderer=$(sed -n 's/^renderer: //p' "$dir/machine.txt" | head -n 1)
+fi
+
+# Common settings: CSV with a header row (columns are read by name), PNG through cairo.
+preamble() {
+  cat <<EOF
+set datafile separator ","
+set datafile columnheaders
+set terminal pngcairo size 960,640 noenhanced font ",11"
+set grid
+set key top left
+ok = 'strcol("status") eq "ok"'
+EOF
+}
+
+plot_table() {
+  local name=$1 script=$2
+  if [ ! -f "$dir/$name.csv" ]; then return; fi
+  { preamble; printf 'set output "%s"\nfile = "%s"\nrenderer = "%s"\n' "$dir/$name.png" "$dir/$name.csv" \
+      "${renderer//\"/}"; echo "$script"; } | gnuplot
+  echo "plot.sh: wrote $dir/$name.png" >&2
+}
+
+plot_table particles '
+set title "Time per step against particles (the bunny on the thesis grid)\n".renderer
+set logscale xy
+set xlabel "particles"
+set ylabel "ms per step (median)"
+series(name, atomics) = (strcol("series") eq name && strcol("atomics") eq atomics && @ok) ? column("particles") : NaN
+stats file using (@ok ? log(column("particles")) : NaN) name "logParticles" nooutput
+stats file using (@ok ? log(column("ms_per_step")) : NaN) name "logMs" nooutput
+guide(x) = exp(logMs_mean) * x / exp(logParticles_mean)
+set style line 1 lc rgb "#1f77b4" pt 7
+set style line 2 lc rgb "#1f77b4" pt 5 dashtype 3
+set style line 3 lc rgb "#d62728" pt 7
+set style line 4 lc rgb "#d62728" pt 5 dashtype 3
+set style line 5 lc rgb "#2ca02c" pt 7
+set style line 6 lc rgb "#2ca02c" pt 5 dashtype 3
+plot for [i=1:3] file using (series("unscaled", word("fixed none float", i))):"ms_per_step" with linespoints \
+       ls 2*i-1 title word("fixed none float", i)." atomics, unscaled (one bunny, 4, 8, 16 … per cell)", \
+     for [i=1:3] file using (series("scaled", word("fixed none float", i))):"ms_per_step" with linespoints \
+       ls 2*i title word("fixed none float", i)." atomics, scaled (8 per cell, larger bunny)", \
+     guide(x) with lines dashtype 2 lc rgb "gray40" title "slope 1 (linear)"
+'
+
+plot_table grid '
+set title "Time per step against grid size, the same particles\n".renderer
+set logscale x
+set yrange [0:*]
+set xlabel "grid nodes"
+set ylabel "ms per step (median)"
+set key bottom right
+series(atomics) = (strcol("atomics") eq atomics && @ok) ? column("grid_cells") : NaN
+plot for [i=1:3] file using (series(word("fixed none float", i))):"ms_per_step" with linespoints pt 7 \
+       title word("fixed none float", i)." atomics"
+'
+
+plot_table passes '
+set title "Time per pass, each timed alone (reference bunny)\n".renderer
+set style data histograms
+set style histogram clustered gap 1
+set style fill solid 0.8 border -1
+set yrange [0:*]
+set ylabel "ms per step"
+set key top right
+set xtics rotate by -30
+plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics").")") title "wall (dispatch to glFinish)", \
+     file using "gpu_ms" title "GL_TIME_ELAPSED"
+'
+
+plot_table tradeoff '
+set title "Elastic bar: period error against cost (Pareto front highlighted)\n".renderer
+set logscale xy
+set xlabel "ms of computing per simulated second"
+set ylabel "relative period error against T/sqrt(kappa)"
+set key top right
+measured(front) = (@ok && column("error") > 0 && column("pareto") == front) ? column("ms_per_simulated_second") : NaN
+plot file using (measured(0)):"error" with points pt 6 ps 1.5 lc rgb "gray50" title "configuration", \
+     file using (measured(1)):"error" with points pt 7 ps 2 lc rgb "red" title "Pareto front", \
+     file using (@ok && column("error") > 0 ? column("ms_per_simulated_second") : NaN):"error":"configuration" \
+       with labels offset char 1,0.6 left font ",9" notitle
+'
+
+plot_table p2g_atomics '
+set style data histograms
+set style histogram clustered gap 1
+set style fill solid 0.8 border -1
+set multiplot layout 1,2 title "P2G with fixed-point and float atomics (reference bunny)\n".renderer
+set yrange [0:*]
+set ylabel "P2G ms per step (wall)"
+set key top right
+plot file using "p2g_ms":xtic(1) title "P2G time"
+set logscale y
+set yrange [*:*]
+set format y "%.0e"
+set ylabel "relative error against a double-precision sum"
+set key top right font ",9"
+plot file using "mass_max_rel_error":xtic(1) title "mass, max", \
+     file using "mass_rms_rel_error" title "mass, RMS", \
+     file using "momentum_max_rel_error" title "momentum, max", \
+     file using "momentum_rms_rel_error" title "momentum, RMS"
+unset multiplot
+'

@@ -1,0 +1,121 @@
+// `firn bench` as a user runs it, at the test-only --tiny sizes: every table is written with its header and
+// finite numbers, and bad options exit with 2 before anything is measured.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "Cli.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using firn::test::freshDirectory;
+using firn::test::Result;
+using firn::test::runFirn;
+
+// RFC 4180 rows: a quoted cell may hold commas, and "" stands for a quote.
+std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = !quoted;
+      } else if (c == ',' && !quoted) {
+        cells.emplace_back();
+      } else {
+        cells.back() += c;
+      }
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// Whether the whole cell is a number (strtod reads "nan" and "inf" too, which is what must not be there).
+bool isNumber(const std::string& cell, double& value) {
+  if (cell.empty()) return false;
+  char* end = nullptr;
+  value = std::strtod(cell.c_str(), &end);
+  return end == cell.c_str() + cell.size();
+}
+
+TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
+  const fs::path out = freshDirectory("bench_tiny") / "tables";
+  const Result result = runFirn("bench --tiny --repeats 2 --no-plots --out " + out.string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+
+  const std::map<std::string, std::vector<std::string>> leadingColumns = {
+      {"particles.csv", {"series", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
+      {"grid.csv", {"grid_cells", "grid_dims", "particles", "active_nodes"}},
+      {"passes.csv", {"pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
+      {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
+                           "momentum_max_rel_error", "momentum_rms_rel_error"}},
+      {"tradeoff.csv", {"configuration", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
+                        "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
+                        "ms_per_simulated_second", "period_s", "error"}},
+  };
+  for (const auto& [file, columns] : leadingColumns) {
+    const auto rows = readCsv(out / file);
+    ASSERT_GE(rows.size(), 2u) << file << ": no rows";
+    for (std::size_t i = 0; i < columns.size(); ++i) EXPECT_EQ(rows[0].at(i), columns[i]) << file;
+    EXPECT_EQ(rows[0].back(), "renderer") << file;
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      ASSERT_EQ(rows[r].size(), rows[0].size()) << file << " row " << r;
+      for (std::size_t c = 0; c < rows[r].size(); ++c) {
+        double value = 0;
+        if (isNumber(rows[r][c], value)) {
+          EXPECT_TRUE(std::isfinite(value)) << file << " row " << r << " " << rows[0][c];
+        }
+        EXPECT_EQ(rows[r][c].find("nan"), std::string::npos) << file << " row " << r << " " << rows[0][c];
+      }
+    }
+  }
+  // Every configuration of the tiny sizes runs on llvmpipe: each row says "ok" and has its time.
+  for (const std::string file : {"particles.csv", "grid.csv", "tradeoff.csv"}) {
+    const auto rows = readCsv(out / file);
+    std::size_t status = 0, time = 0;
+    for (std::size_t c = 0; c < rows[0].size(); ++c) {
+      if (rows[0][c] == "status") status = c;
+      if (rows[0][c] == "ms_per_step") time = c;
+    }
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      EXPECT_EQ(rows[r][status], "ok") << file << " row " << r;
+      double ms = 0;
+      EXPECT_TRUE(isNumber(rows[r][time], ms) && ms > 0) << file << " row " << r;
+    }
+  }
+  for (const std::string file : {"machine.txt", "summary.txt"}) EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
+  EXPECT_NE(result.output.find("particles: exponent"), std::string::npos) << result.output;
+}
+
+TEST(BenchCli, BadOptionsExitWithTwo) {
+  const fs::path directory = freshDirectory("bench_bad");
+  const Result noParent = runFirn("bench --tiny --out " + (directory / "missing" / "tables").string());
+  EXPECT_EQ(noParent.exitCode, 2) << noParent.output;
+  EXPECT_NE(noParent.output.find("does not exist"), std::string::npos) << noParent.output;
+
+  const Result noAssets =
+      runFirn("bench --tiny --only particles --out " + (directory / "out").string() + " --assets " + directory.string());
+  EXPECT_EQ(noAssets.exitCode, 2) << noAssets.output;
+  EXPECT_NE(noAssets.output.find("bunny.obj"), std::string::npos) << noAssets.output;
+  EXPECT_NE(noAssets.output.find("--assets"), std::string::npos) << noAssets.output;
+
+  const Result badTable = runFirn("bench --tiny --only meshes --out " + (directory / "out").string());
+  EXPECT_EQ(badTable.exitCode, 2) << badTable.output;
+}
+
+}  // namespace
