@@ -59,9 +59,9 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
 
   const std::map<std::string, std::vector<std::string>> leadingColumns = {
-      {"particles.csv", {"series", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
-      {"grid.csv", {"grid_cells", "grid_dims", "particles", "active_nodes"}},
-      {"passes.csv", {"pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
+      {"particles.csv", {"series", "atomics", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
+      {"grid.csv", {"atomics", "grid_cells", "grid_dims", "particles", "active_nodes"}},
+      {"passes.csv", {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
       {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
       {"tradeoff.csv", {"configuration", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
