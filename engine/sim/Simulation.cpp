@@ -695,44 +695,14 @@ ParticleSnapshot Simulation::snapshot() const {
 gpu::ActiveRegionData Simulation::activeRegion() const { return activeRegion_.read<gpu::ActiveRegionData>(1)[0]; }
 
 GridTotals Simulation::transferToGrid() {
-  const ParticleSnapshot state = snapshot();
-  std::vector<glm::vec3> positions;
-  positions.reserve(state.size());
-  for (const glm::vec4& p : state.positionMass) positions.emplace_back(p);
-
-  seedActiveRegion(positions);
-  writeStepUniforms(scene_.time.dtS);
-  scatterToGrid();
-  const gpu::ActiveRegionData region = activeRegion();
+  // Added in node order: the same node sums (fixed point's do not depend on the particles' order) give the same
+  // totals to the last bit.
   GridTotals totals;
-  totals.activeNodes = static_cast<std::uint64_t>(region.boxSize.w);
-  if (totals.activeNodes == 0) return totals;
-
-  // One readback of the node span the box lies in, summed over the box's nodes. Integer sums are exact, so
-  // they are added as integers and the totals carry no rounding of their own.
-  auto linear = [&](const glm::ivec3& node) {
-    return static_cast<std::size_t>(node.x + gridNodes_.x * (node.y + gridNodes_.y * node.z));
-  };
-  const glm::ivec3 boxFirst(region.boxMin);
-  const glm::ivec3 boxLast = boxFirst + glm::ivec3(region.boxSize) - 1;
-  const std::size_t spanFirst = linear(boxFirst);
-  const std::vector<glm::ivec4> stored = gridMomentumMass_.read<glm::ivec4>(linear(boxLast) - spanFirst + 1, spanFirst);
-  glm::i64vec4 fixedSum(0);
-  glm::dvec4 floatSum(0.0);
-  for (int z = boxFirst.z; z <= boxLast.z; ++z)
-    for (int y = boxFirst.y; y <= boxLast.y; ++y)
-      for (int x = boxFirst.x; x <= boxLast.x; ++x) {
-        const glm::ivec4& value = stored[linear(glm::ivec3(x, y, z)) - spanFirst];
-        fixedSum += glm::i64vec4(value);
-        floatSum += glm::dvec4(glm::intBitsToFloat(value));
-      }
-  const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
-                              ? glm::dvec4(fixedSum) * fixedPoint_.resolution()
-                              : floatSum;
-  totals.massKg = sums.w * fixedPoint_.referenceMassKg;
-  totals.momentumKgMPerS = glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS;
-
-  seedActiveRegion(positions);  // prepare_grid consumed the bounds the next step needs
+  for (const GridNodeSums& node : readGridAfterTransfer()) {
+    totals.massKg += node.massKg;
+    totals.momentumKgMPerS += node.momentumKgMPerS;
+    ++totals.activeNodes;
+  }
   return totals;
 }
 

@@ -89,7 +89,7 @@ class Simulation {
   // PlasticState, KirchhoffStress), for passes outside the step that read particles in place: the renderer
   // draws straight from them. The first particleCount() entries are live.
   void bindParticleBuffers() const;
-  // Runs prepare → clear → P2G on the current state and sums the grid (a diagnostic: conservation tests).
+  // readGridAfterTransfer's nodes, summed (a diagnostic: conservation tests).
   GridTotals transferToGrid();
   // The active node box of the last step (its node count is what the grid passes cost).
   gpu::ActiveRegionData activeRegion() const;
@@ -117,8 +117,8 @@ class Simulation {
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
-  // Runs prepare → clear → P2G on the current state, as transferToGrid does, and returns every node of the active
-  // box with its sums in kg and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
+  // Runs prepare → clear → P2G on the current state and returns every node of the active box with its sums in kg
+  // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
   std::vector<GridNodeSums> readGridAfterTransfer();
 
