@@ -52,7 +52,8 @@ Scene barScene(const BarSetup& setup) {
   if (setup.model == "snow") {
     materialKeys.update({{"critical_compression", 0.9}, {"critical_stretch", 10}, {"hardening", 0}});
   }
-  Json solver = {{"kernel", setup.kernel}, {"transfer", setup.transfer}, {"atomics", setup.atomics}};
+  Json solver = {{"kernel", setup.kernel}, {"transfer", setup.transfer}, {"atomics", setup.atomics},
+                 {"particle_volume", setup.particleVolume}};
   if (setup.transfer != "apic") solver["flip_ratio"] = setup.flipRatio;
   const int crossAxisCells = crossCells + 2 * kMarginCells;
   const Json scene = {

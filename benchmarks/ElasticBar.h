@@ -34,6 +34,7 @@ struct BarSetup {
   std::string transfer = "apic";  // or "pic_flip", with flipRatio (0: pure PIC)
   double flipRatio = 0.95;
   std::string atomics = "fixed";
+  std::string particleVolume = "grid_density";  // or "material_density": V0 = m / ρ, κ = 1
   int cellsAlongBar = 18;         // h = L / cellsAlongBar
   double particlesPerCell = 8;
   double dtFraction = 0.4;        // dt as a fraction of the elastic bound h / c (sim/Materials.h)

@@ -20,6 +20,10 @@ enum class Transfer { PicFlip, Apic };            // seed 002's PIC/FLIP blend, 
 // into blocks scattered in eight colours, so no two writers share a node: the fastest on CPU renderers).
 enum class Atomics { FixedPoint, Float, None };
 enum class Boundary { Sticky, Slip, Separate };   // seed 001 ch. 5
+// Where the particles' initial volumes V0 come from: the grid density after a first P2G of mass, V0 = m / ρ_grid
+// (Stomakhin 2013 §6 step 2; too large near free surfaces, where the kernel reads the density low), or the
+// material's density, V0 = m / ρ (exact where the body is filled at that density, as sampled bodies are).
+enum class ParticleVolume { GridDensity, MaterialDensity };
 enum class BodyShape { Sphere, Box, Mesh, Points };
 enum class BodySampler { Lattice, PoissonDisk };  // how sphere, box and mesh bodies are filled
 enum class ColliderShape { Plane, Sphere, Box };
@@ -48,6 +52,7 @@ struct SolverSpec {
   Transfer transfer = Transfer::PicFlip;
   double flipRatio = 0.95;  // α in v = α v_FLIP + (1 − α) v_PIC
   Atomics atomics = Atomics::FixedPoint;
+  ParticleVolume particleVolume = ParticleVolume::GridDensity;
 };
 
 // The material families of the source theses (design.md's table of models and keys).

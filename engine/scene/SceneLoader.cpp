@@ -394,7 +394,7 @@ TimeSpec readTime(const Object& time) {
 }
 
 SolverSpec readSolver(const Object& solver) {
-  solver.checkKeys({"kernel", "transfer", "flip_ratio", "atomics"}, {}, "\"solver\"");
+  solver.checkKeys({"kernel", "transfer", "flip_ratio", "atomics", "particle_volume"}, {}, "\"solver\"");
   SolverSpec spec;
   spec.kernel = solver.choice<Kernel>("kernel", spec.kernel, {{"quadratic", Kernel::Quadratic}, {"cubic", Kernel::Cubic}});
   spec.transfer =
@@ -403,6 +403,9 @@ SolverSpec readSolver(const Object& solver) {
   spec.atomics =
       solver.choice<Atomics>("atomics", spec.atomics,
                              {{"fixed", Atomics::FixedPoint}, {"float", Atomics::Float}, {"none", Atomics::None}});
+  spec.particleVolume = solver.choice<ParticleVolume>(
+      "particle_volume", spec.particleVolume,
+      {{"grid_density", ParticleVolume::GridDensity}, {"material_density", ParticleVolume::MaterialDensity}});
   return spec;
 }
 

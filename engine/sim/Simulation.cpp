@@ -90,7 +90,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   buildPrograms();
   uploadMaterialsAndColliders();
   allocateParticles();
-  writeParticles(0, particles, false);
+  writeParticles(0, particles, scene_.solver.particleVolume == ParticleVolume::MaterialDensity);
   gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   if (scene_.solver.transfer == Transfer::PicFlip) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
@@ -129,11 +129,14 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   for (const ParticleSeed& seed : particles) positions.push_back(seed.positionM);
   seedActiveRegion(positions);
 
-  // Initial volumes (Stomakhin 2013 §6 step 2): one P2G of mass, then V0 = m / ρ from the grid density.
-  writeStepUniforms(scene_.time.dtS);
-  scatterToGrid();
-  runOverParticles(computeVolumes_);
-  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  // Initial volumes (Stomakhin 2013 §6 step 2): one P2G of mass, then V0 = m / ρ from the grid density, unless
+  // the scene takes them from the materials' densities (written above).
+  if (scene_.solver.particleVolume == ParticleVolume::GridDensity) {
+    writeStepUniforms(scene_.time.dtS);
+    scatterToGrid();
+    runOverParticles(computeVolumes_);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
 }
 
 void Simulation::buildPrograms() {

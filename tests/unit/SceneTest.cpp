@@ -77,7 +77,8 @@ TEST(SceneLoader, ParsesEveryValueOfAFullScene) {
     "grid": { "origin": [-1, 0, 0.5], "cells": [40, 30, 20], "cell_size": 0.1 },
     "time": { "dt": 5e-4, "frame_rate": 25, "frames": 7 },
     "gravity": [0, 0, -3],
-    "solver": { "kernel": "quadratic", "transfer": "apic", "flip_ratio": 0.5, "atomics": "float" },
+    "solver": { "kernel": "quadratic", "transfer": "apic", "flip_ratio": 0.5, "atomics": "float",
+                "particle_volume": "material_density" },
     "materials": {
       "zeta": { "model": "snow", "youngs_modulus": 2e5, "poisson_ratio": 0.3, "density": 350,
                 "critical_compression": 0.03, "critical_stretch": 0.006, "hardening": 12 },
@@ -110,6 +111,7 @@ TEST(SceneLoader, ParsesEveryValueOfAFullScene) {
   EXPECT_EQ(scene.solver.transfer, Transfer::Apic);
   EXPECT_DOUBLE_EQ(scene.solver.flipRatio, 0.5);
   EXPECT_EQ(scene.solver.atomics, Atomics::Float);
+  EXPECT_EQ(scene.solver.particleVolume, ParticleVolume::MaterialDensity);
 
   // In the file's order, not alphabetical.
   ASSERT_EQ(scene.materials.size(), 2u);
@@ -169,6 +171,7 @@ TEST(SceneLoader, OptionalKeysTakeTheirDefaults) {
   EXPECT_EQ(scene.solver.transfer, Transfer::PicFlip);
   EXPECT_DOUBLE_EQ(scene.solver.flipRatio, 0.95);
   EXPECT_EQ(scene.solver.atomics, Atomics::FixedPoint);
+  EXPECT_EQ(scene.solver.particleVolume, ParticleVolume::GridDensity);
   EXPECT_DOUBLE_EQ(scene.bodies[0].particlesPerCell, 8);
   expectVec3(scene.bodies[0].velocityMPerS, {0, 0, 0});
   EXPECT_TRUE(scene.colliders.empty());
