@@ -129,33 +129,51 @@ TEST_F(MaterialModels, WaterDamBreakFrontFollowsMartinAndMoyce) {
   for (float J : state.plasticJ) ASSERT_NEAR(J, 1.0f, 0.05f);
 }
 
-// A column of sand collapses and spreads, then stops: friction holds a heap, unlike water. Lube et al. 2005 put
-// the runout of a column of aspect ratio a < 3 at (L∞ − L0)/L0 ≈ 1.2 a. This is a sanity bound, not that
-// validation: Firn's sand runs out about half as far as Lube's relation says (measured 1.30 against 2.48 here,
-// at 4 cells across the column; 0.73 against 1.2 for a = 1 in a quasi-2-D channel of 2 cm cells), so the check
-// is that the runout is of that order (between 0.3 and 3 times it) and that the heap is at rest at the end.
-// Two findings toward the validation (issue 5, open): the Drucker–Prager cone here (Klár et al. 2016) matches
-// Mohr–Coulomb in triaxial compression and is 1.44× too strong in plane strain at 30° (a channel flow: the
-// plane-strain 30° is friction_angle_deg 21.4); and the runout is not converged in dt: in the quasi-2-D
-// channel at a = 2 with 21.4°, it is 3.19, 2.79, 2.47, 2.17 for dt = 4, 2, 1, 0.5 × 1e-4 s (Lube: 2.43),
-// first order in dt, extrapolating to about 1.9 (0.77 of Lube's) as dt → 0.
-TEST_F(MaterialModels, SandColumnCollapsesIntoAHeapAndStops) {
-  const Scene scene = sceneWith(R"("sand": { "model": "drucker_prager", "youngs_modulus": 3.537e5, "poisson_ratio": 0.3,
-                                             "density": 2200, "friction_angle_deg": 30 })",
-                                R"({ "shape": "box", "min": [0.1, 0.1, 0.4], "max": [0.26, 0.42, 0.8], "material": "sand" })");
+// A column of sand collapses and spreads: Lube et al. 2005 (Phys. Rev. E 72, 041301), collapsing columns in a
+// narrow channel, found the runout (L∞ − L0)/L0 ≈ 1.2 a for aspect ratios a = H/L0 below about 2.3, whatever
+// the granular material. Here the same quasi-2-D set-up: a column of a = 2 against a wall in a 4-cell-deep
+// channel (frictionless side walls), 2 cm cells, 8 particles per cell, the runout at t = 1 s.
+//
+// Friction, inside and at the base, of a 30° sand (Lube's materials lie at 30–37°):
+// - Firn's Drucker–Prager cone (Klár et al. 2016) matches Mohr–Coulomb in triaxial compression, α_c(φ) =
+//   2 sin φ / (√3 (3 − sin φ)); a channel flow is plane strain, where the matching cone is α_ps(φ) =
+//   tan φ / √(9 + 12 tan² φ), 0.69 of α_c at 30°. A plane-strain 30° is friction_angle_deg =
+//   asin(3√3 α_ps / (2 + √3 α_ps)) = 21.4° (with 30° in the compression cone the sand is 1.44× too strong
+//   and runs out 0.6 of Lube's).
+// - The base is rough: Coulomb friction μ = tan 30° (slip). A sticky base is not a rough one in MPM: zeroing the
+//   ground nodes every step drains the flow through the stencil once per step, so the runout shrank with dt at
+//   first order (3.19, 2.79, 2.47, 2.17 for dt = 4, 2, 1, 0.5 × 1e-4 s). With Coulomb friction it is 2.74,
+//   2.55, 2.61 for dt = 2, 1, 0.5 × 1e-4 s: converged to ±2.5% at dt = 1e-4 s.
+//
+// Tolerance 20%: Lube's materials scatter by about 15% about the fit, the front is resolved to a particle
+// spacing (1 cm, 5% of L0), and the dt dependence above. Measured: 1.05 of Lube's. Not asserted, because not
+// converged in dt: at a = 1 the runout is 1.28, 1.12, 0.99 for dt = 2, 1, 0.5 × 1e-4 s (Lube 1.22; issue 5).
+TEST_F(MaterialModels, SandColumnRunoutFollowsLube) {
+  const double wallX = 0.04, heightM = 0.4;
+  const Scene scene = firn::parseScene(R"({
+    "grid": { "cells": [90, 30, 8], "cell_size": 0.02 },
+    "time": { "dt": 1e-4, "frame_rate": 10, "frames": 10 },
+    "solver": { "kernel": "quadratic", "transfer": "apic" },
+    "materials": { "sand": { "model": "drucker_prager", "youngs_modulus": 3.537e5, "poisson_ratio": 0.3,
+                             "density": 2200, "friction_angle_deg": 21.4 } },
+    "bodies": [ { "shape": "box", "min": [0.04, 0.06, 0.04], "max": [0.2375, 0.46, 0.12], "material": "sand",
+                  "particles_per_cell": 8 } ],
+    "colliders": [ { "type": "plane", "point": [0, 0.06, 0], "normal": [0, 1, 0], "friction": 0.577,
+                     "boundary": "slip" } ] })",
+                                       "sand column");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   const Summary start = summarize(simulation.snapshot());
-  simulation.advanceTo(0.8);
+  simulation.advanceTo(1.0);
   simulation.checkWatchdog();
   const Summary end = summarize(simulation.snapshot());
-  const double initialLengthM = start.maxX - 0.1;  // against the wall at x = 0.1 m
-  const double aspect = 0.32 / initialLengthM;
+  const double initialLengthM = start.maxX - wallX;
+  const double aspect = heightM / initialLengthM;
   const double runout = (end.maxX - start.maxX) / initialLengthM;
-  std::printf("sand column: aspect %.2f, runout (L - L0)/L0 = %.2f (Lube et al. 2005: %.2f)\n", aspect, runout,
-              1.2 * aspect);
-  EXPECT_GT(runout, 0.3 * 1.2 * aspect) << "runout " << runout << " for aspect " << aspect;
-  EXPECT_LT(runout, 3.0 * 1.2 * aspect) << "runout " << runout << " for aspect " << aspect;
+  std::printf("sand column: aspect %.2f, runout (L - L0)/L0 = %.2f (Lube et al. 2005: %.2f), centre moving at %.3f m/s\n",
+              aspect, runout, 1.2 * aspect, glm::length(end.velocityMPerS));
+  EXPECT_NEAR(runout / (1.2 * aspect), 1.0, 0.2) << "aspect " << aspect;
   EXPECT_LT(glm::length(end.velocityMPerS), 0.05) << "the heap has stopped";
+  EXPECT_NEAR(end.massKg, start.massKg, 1e-6 * start.massKg);
 }
 
 // Every model in one scene, interacting through the shared grid: no NaN, mass unchanged, the watchdog quiet.
