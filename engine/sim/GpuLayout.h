@@ -130,8 +130,9 @@ struct BlockTableHeader {
 static_assert(sizeof(BlockTableHeader) == kBlockColors * 48 + 16, "std430 BlockTable header");
 constexpr std::size_t kBlockColorStride = sizeof(BlockColor);
 // p2g_blocks.comp spends 1 + 4² loop iterations per particle, and llvmpipe ends a shader invocation's loops
-// after 65,535 iterations in all, so bin_scan.comp reports a fuller bin on watchdog overflow channel 7.
-constexpr int kMaxBinParticles = 64 * kBlockCells * kBlockCells * kBlockCells;
+// after 65,535 iterations in all (3,855 particles), so bin_scan.comp reports a fuller bin on watchdog overflow
+// channel 7: 60 particles per cell of the block.
+constexpr int kMaxBinParticles = 60 * kBlockCells * kBlockCells * kBlockCells;
 constexpr std::uint32_t kBinOverflowChannel = 7;
 // Per block after the header: uvec2 (first entry in BlockParticles, particle count).
 

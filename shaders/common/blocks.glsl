@@ -13,9 +13,10 @@
 
 const int BLOCK_CELLS = 4;  // kBlockCells
 const int BLOCK_COLORS = 8;
-// p2g_blocks.comp spends 1 + KERNEL_WIDTH² loop iterations per particle of a bin, and llvmpipe ends any
-// invocation's loops after 65,535 iterations in all: bin_scan.comp reports fuller bins (64 particles per cell).
-const int MAX_BIN_PARTICLES = 64 * BLOCK_CELLS * BLOCK_CELLS * BLOCK_CELLS;
+// p2g_blocks.comp spends 1 + KERNEL_WIDTH² loop iterations per particle of a bin (17 with the cubic kernel), and
+// llvmpipe ends any invocation's loops after 65,535 iterations in all, 3,855 particles: bin_scan.comp reports
+// fuller bins than 60 particles per cell (kMaxBinParticles).
+const int MAX_BIN_PARTICLES = 60 * BLOCK_CELLS * BLOCK_CELLS * BLOCK_CELLS;
 const uint CHANNEL_BIN = 7u;  // the watchdog's overflow channel for a bin over MAX_BIN_PARTICLES
 
 struct BlockColor {
