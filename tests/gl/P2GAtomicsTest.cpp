@@ -1,5 +1,6 @@
 // The P2G sums on the GPU against the same contributions added in double on the CPU (benchmarks/P2GReference.h),
-// for fixed-point and float atomics: each must stay within what its number format can lose.
+// for fixed-point atomics, float atomics and P2G without atomics: each must stay within what its number format
+// can lose.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -83,7 +84,8 @@ TEST(P2GAtomics, FixedPointSumsMatchDoubleWithinResolution) {
   }
 }
 
-// Float atomics add n contributions in whatever order the GPU's invocations arrive; each addition rounds to
+// Float atomics add n contributions in whatever order the GPU's invocations arrive, and P2G without atomics in
+// the order of its bins (solver.atomics "none"); each addition rounds to
 // within u of the running sum, so the sum is within (n − 1)·u·Σ|c| of the exact one (Higham, Accuracy and
 // Stability of Numerical Algorithms, §4.2), plus kContributionMismatch·Σ|c| for the contributions themselves.
 // That worst case aligns every rounding. They are independent and of either sign, each uniform within half an ulp
@@ -92,25 +94,29 @@ TEST(P2GAtomics, FixedPointSumsMatchDoubleWithinResolution) {
 // RMS relative error over the nodes holding a particle's mass or more (SumErrorSummary) below 1e-6.
 // Measured: 2e-7 to 3e-7.
 TEST(P2GAtomics, FloatSumsMatchDoubleWithinRounding) {
-  if (!firn::test::glContext().info().hasFloatAtomics) GTEST_SKIP() << "no GL_NV_shader_atomic_float";
-  for (const auto& [kernel, transfer] : kKernelTransfers) {
-    const Comparison comparison = compareOnGpu(snowball(kernel, transfer, "float"));
-    ASSERT_FALSE(comparison.nodes.empty());
-    double worstMass = 0, worstMomentum = 0;
-    for (const firn::bench::NodeSumError& node : comparison.nodes) {
-      const double relativeBound = (node.reference.contributions - 1) * kUnitRoundoff + kContributionMismatch;
-      worstMass = std::max(worstMass, node.massErrorUnits / (relativeBound * node.reference.massUnits));
-      worstMomentum =
-          std::max(worstMomentum, node.momentumErrorUnits / (relativeBound * node.reference.momentumScaleUnits));
+  for (const std::string atomics : {"float", "none"}) {
+    // Float atomics need GL_NV_shader_atomic_float.
+    if (atomics == "float" && !firn::test::glContext().info().hasFloatAtomics) continue;
+    for (const auto& [kernel, transfer] : kKernelTransfers) {
+      const Comparison comparison = compareOnGpu(snowball(kernel, transfer, atomics));
+      ASSERT_FALSE(comparison.nodes.empty());
+      double worstMass = 0, worstMomentum = 0;
+      for (const firn::bench::NodeSumError& node : comparison.nodes) {
+        const double relativeBound = (node.reference.contributions - 1) * kUnitRoundoff + kContributionMismatch;
+        worstMass = std::max(worstMass, node.massErrorUnits / (relativeBound * node.reference.massUnits));
+        worstMomentum =
+            std::max(worstMomentum, node.momentumErrorUnits / (relativeBound * node.reference.momentumScaleUnits));
+      }
+      const firn::bench::SumErrorSummary summary = firn::bench::summarizeErrors(comparison.nodes);
+      std::printf("[ measured ] %s atomics, %s, %s: worst node error / bound: mass %.3f, momentum %.3f; RMS relative "
+                  "error: mass %.2e, momentum %.2e\n",
+                  atomics.c_str(), kernel, transfer, worstMass, worstMomentum, summary.massRmsRelative,
+                  summary.momentumRmsRelative);
+      EXPECT_LE(worstMass, 1.0) << atomics << ", " << kernel << ", " << transfer;
+      EXPECT_LE(worstMomentum, 1.0) << atomics << ", " << kernel << ", " << transfer;
+      EXPECT_LT(summary.massRmsRelative, 1e-6) << atomics << ", " << kernel << ", " << transfer;
+      EXPECT_LT(summary.momentumRmsRelative, 1e-6) << atomics << ", " << kernel << ", " << transfer;
     }
-    const firn::bench::SumErrorSummary summary = firn::bench::summarizeErrors(comparison.nodes);
-    std::printf("[ measured ] %s, %s: worst node error / bound: mass %.3f, momentum %.3f; RMS relative error: mass "
-                "%.2e, momentum %.2e\n",
-                kernel, transfer, worstMass, worstMomentum, summary.massRmsRelative, summary.momentumRmsRelative);
-    EXPECT_LE(worstMass, 1.0) << kernel << ", " << transfer;
-    EXPECT_LE(worstMomentum, 1.0) << kernel << ", " << transfer;
-    EXPECT_LT(summary.massRmsRelative, 1e-6) << kernel << ", " << transfer;
-    EXPECT_LT(summary.momentumRmsRelative, 1e-6) << kernel << ", " << transfer;
   }
 }
 
