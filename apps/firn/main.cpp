@@ -240,8 +240,8 @@ int main(int argc, char** argv) {
   benchOptions.outputDir = benchOptions.options.outputDir.string();
   benchOptions.assetsDir = firn::bench::defaultAssetsDir().string();
   CLI::App* bench = app.add_subcommand(
-      "bench", "Measure time per step against particles and grid size, per-pass times, fixed-point against float "
-               "atomics and the speed/accuracy trade; write CSV tables and their plots (benchmarks/README.md)");
+      "bench", "Measure time per step against particles and grid size, per-pass times, P2G with fixed, float and "
+               "no atomics, and the speed/accuracy trade; write CSV tables and their plots (benchmarks/README.md)");
   CLI::Option* quick = bench->add_flag(
       "--quick", benchOptions.quick, "Sizes for a CPU renderer (llvmpipe on 2 cores: about 5 minutes); the default sizes "
                                      "are for GPUs, up to millions of particles");
