@@ -583,17 +583,16 @@ class BenchRun {
             summarizeErrors(compareWithReference(simulation.readGridAfterTransfer(), reference, scene, scale));
         const std::vector<PassTiming> timings = timePasses(simulation, sizes_.timing);
         // P2G is one pass with atomics, binning and the coloured scatter without ("none").
-        PassTiming p2gTiming{"p2g"};
+        PassTiming p2g{"p2g"};
         for (const PassTiming& timing : timings) {
           if (timing.pass == "p2g" || timing.pass == "p2g_blocks" || timing.pass.rfind("bin_", 0) == 0) {
-            p2gTiming.wallMs += timing.wallMs;
-            p2gTiming.gpuMs += timing.gpuMs;
+            p2g.wallMs += timing.wallMs;
+            p2g.gpuMs += timing.gpuMs;
           }
         }
-        if (p2gTiming.wallMs == 0) throw std::logic_error("no p2g pass among the timed passes");
-        const PassTiming* p2g = &p2gTiming;
-        row.set("p2g_ms", p2g->wallMs)
-            .set("p2g_gpu_ms", p2g->gpuMs)
+        if (p2g.wallMs == 0) throw std::logic_error("no p2g pass among the timed passes");
+        row.set("p2g_ms", p2g.wallMs)
+            .set("p2g_gpu_ms", p2g.gpuMs)
             .set("mass_max_rel_error", errors.massMaxRelative)
             .set("mass_rms_rel_error", errors.massRmsRelative)
             .set("momentum_max_rel_error", errors.momentumMaxRelative)
@@ -605,7 +604,7 @@ class BenchRun {
             .setCount("particles", std::int64_t(seeds.size()))
             .setText("status", "ok");
         if (atomics == "fixed") row.setCount("fraction_bits", scale.fractionBits).set("resolution_units", scale.resolution());
-        const std::string line = atomics + ": P2G " + fixed(p2g->wallMs, 2) + " ms, relative error max/RMS mass " +
+        const std::string line = atomics + ": P2G " + fixed(p2g.wallMs, 2) + " ms, relative error max/RMS mass " +
                                  formatNumber(errors.massMaxRelative) + "/" + formatNumber(errors.massRmsRelative) +
                                  ", momentum " + formatNumber(errors.momentumMaxRelative) + "/" +
                                  formatNumber(errors.momentumRmsRelative);
@@ -730,7 +729,7 @@ class BenchRun {
       CsvTable::Row& row = table.addRow();
       row.setText("atomics", atomics_[i])
           .setCount("particles", std::int64_t(timed[i].particles))
-          .setText("grid_dims", nodeDims(glm::ivec3(201)))
+          .setText("grid_dims", nodeDims(glm::ivec3(kThesisGridCells)))
           .set("dt_s", options_.thesisDtS)
           .set("thesis_ms_per_step", kThesisMsPerStep)
           .set("thesis_dt_s", kThesisDtS)

@@ -98,7 +98,7 @@ Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const
   constexpr double particleMassKg = 6.25e-3;
   const Json scene = {
       {"name", "thesis bunny"},
-      {"grid", {{"cells", {201, 201, 201}}, {"cell_size", 0.05}}},
+      {"grid", {{"cells", {kThesisGridCells, kThesisGridCells, kThesisGridCells}}, {"cell_size", 0.05}}},
       {"time", {{"dt", dtS}, {"frame_rate", 30}, {"frames", 1}}},
       {"solver", {{"kernel", "cubic"}, {"transfer", "pic_flip"}, {"flip_ratio", 0.95}, {"atomics", atomics}}},
       {"materials",

@@ -47,6 +47,9 @@ class BunnyScenes {
   double groundHeightM_ = 0;                   // the highest upward-facing plane collider, else the walls
 };
 
+// The thesis implementation's grid: 201³ cells of 0.05 m.
+constexpr int kThesisGridCells = 201;
+
 // What the thesis implementation runs (reference/README.md in the project's shared folder): its 91,897-particle
 // bunny cloud scaled by 15.74 and offset by (5, 0, 5) into 201³ cells of 0.05 m, 6.25e-3 kg per particle, cubic
 // B-splines, PIC/FLIP 0.95, E = 6e6 Pa, ν = 0.2, ξ = 30, θc = 1e-2, θs = 1e-3, at `dtS`, with P2G summing by

@@ -165,7 +165,13 @@ void Simulation::buildPrograms() {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
   }
-  if (binsParticles()) options.defines.emplace_back("FIRN_P2G_BLOCKS", "1");
+  if (binsParticles()) {
+    options.defines.emplace_back("FIRN_P2G_BLOCKS", "1");
+    options.defines.emplace_back("FIRN_BLOCK_CELLS", std::to_string(gpu::kBlockCells));
+    options.defines.emplace_back("FIRN_BLOCK_COLORS", std::to_string(gpu::kBlockColors));
+    options.defines.emplace_back("FIRN_MAX_BIN_PARTICLES", std::to_string(gpu::kMaxBinParticles));
+    options.defines.emplace_back("FIRN_BIN_OVERFLOW_CHANNEL", std::to_string(gpu::kBinOverflowChannel));
+  }
   const gl::ShaderLibrary library;
   prepareGrid_ = gl::Program::compute(library, "sim/prepare_grid.comp", options);
   clearGrid_ = gl::Program::compute(library, "sim/clear_grid.comp", options);

@@ -11,13 +11,13 @@
 // one colour at a time. The sums' order within a bin follows bin_count's atomics, so like float atomics, and
 // unlike fixed point, runs are not bitwise deterministic.
 
-const int BLOCK_CELLS = 4;  // kBlockCells
-const int BLOCK_COLORS = 8;
-// p2g_blocks.comp spends 1 + KERNEL_WIDTH² loop iterations per particle of a bin (17 with the cubic kernel), and
-// llvmpipe ends any invocation's loops after 65,535 iterations in all, 3,855 particles: bin_scan.comp reports
-// fuller bins than 60 particles per cell (kMaxBinParticles).
-const int MAX_BIN_PARTICLES = 60 * BLOCK_CELLS * BLOCK_CELLS * BLOCK_CELLS;
-const uint CHANNEL_BIN = 7u;  // the watchdog's overflow channel for a bin over MAX_BIN_PARTICLES
+// The sizes come from the host (engine/sim/GpuLayout.h), so they are written once: the block's cells per axis,
+// the colours, the fullest bin p2g_blocks.comp can scatter under llvmpipe's loop limit, and the watchdog's
+// overflow channel for a fuller one.
+const int BLOCK_CELLS = FIRN_BLOCK_CELLS;
+const int BLOCK_COLORS = FIRN_BLOCK_COLORS;
+const int MAX_BIN_PARTICLES = FIRN_MAX_BIN_PARTICLES;
+const uint CHANNEL_BIN = uint(FIRN_BIN_OVERFLOW_CHANNEL);
 
 struct BlockColor {
   uvec4 dispatch;  // work groups of this colour's pass

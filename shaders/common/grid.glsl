@@ -2,7 +2,7 @@
 // mass in units of m_ref, momentum and impulse in units of m_ref·h/Δt_ref (a node moving one cell per step).
 //
 // FIRN_FLOAT_ATOMICS: float atomicAdd from GL_NV_shader_atomic_float. FIRN_P2G_BLOCKS: plain float additions,
-// race-free because no two invocations of a pass reach one node, in a fixed order (common/blocks.glsl).
+// race-free because no two invocations of a pass reach one node (common/blocks.glsl).
 // Otherwise each value is scaled by 2^k and rounded to int32; integer sums are exact and order-independent, so
 // runs are bitwise deterministic. atomicAdd returns the old value, so a sum that leaves the int32 range is
 // caught the moment it happens.

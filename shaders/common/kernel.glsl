@@ -37,20 +37,14 @@ float kernelSlope(float d) {
 #endif
 }
 
-// The first node of the stencil on each axis.
-ivec3 stencilBase(vec3 positionM) {
-  vec3 positionInCells = (positionM - gridOrigin()) / cellSize();
-#if defined(FIRN_KERNEL_CUBIC)
-  return ivec3(floor(positionInCells)) - 1;
-#else
-  return ivec3(floor(positionInCells - 0.5));
-#endif
-}
-
 Stencil particleStencil(vec3 positionM) {
   vec3 positionInCells = (positionM - gridOrigin()) / cellSize();
   Stencil stencil;
-  stencil.baseNode = stencilBase(positionM);
+#if defined(FIRN_KERNEL_CUBIC)
+  stencil.baseNode = ivec3(floor(positionInCells)) - 1;
+#else
+  stencil.baseNode = ivec3(floor(positionInCells - 0.5));
+#endif
   for (int k = 0; k < KERNEL_WIDTH; ++k) {
     vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
     stencil.weight[k] = vec3(kernelWeight(offsetInCells.x), kernelWeight(offsetInCells.y), kernelWeight(offsetInCells.z));
@@ -66,4 +60,3 @@ vec3 stencilGradient(Stencil s, ivec3 k) {
   return vec3(s.slope[k.x].x * s.weight[k.y].y * s.weight[k.z].z, s.weight[k.x].x * s.slope[k.y].y * s.weight[k.z].z,
               s.weight[k.x].x * s.weight[k.y].y * s.slope[k.z].z);
 }
-

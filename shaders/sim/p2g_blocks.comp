@@ -28,7 +28,7 @@ void main() {
     }
     Stencil stencil = particleStencil(contribution.x);
     // Rows of KERNEL_WIDTH nodes along x written out, so that a particle costs KERNEL_WIDTH² loop iterations
-    // rather than KERNEL_NODES (blocks.glsl: MAX_BIN_PARTICLES).
+    // rather than KERNEL_NODES (llvmpipe's loop limit: kMaxBinParticles in engine/sim/GpuLayout.h).
     for (int row = 0; row < KERNEL_WIDTH * KERNEL_WIDTH; ++row) {
       ivec3 k = ivec3(0, row % KERNEL_WIDTH, row / KERNEL_WIDTH);
       int n = row * KERNEL_WIDTH;

@@ -16,34 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
+using firn::test::readCsv;
 using firn::test::Result;
 using firn::test::runFirn;
-
-// RFC 4180 rows: a quoted cell may hold commas, and "" stands for a quote.
-std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
-  std::vector<std::vector<std::string>> rows;
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells(1);
-    bool quoted = false;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-      const char c = line[i];
-      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = !quoted;
-      } else if (c == ',' && !quoted) {
-        cells.emplace_back();
-      } else {
-        cells.back() += c;
-      }
-    }
-    rows.push_back(cells);
-  }
-  return rows;
-}
 
 // Whether the whole cell is a number (strtod reads "nan" and "inf" too, which is what must not be there).
 bool isNumber(const std::string& cell, double& value) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace firn::test {
 
@@ -42,6 +43,32 @@ inline std::filesystem::path writeScene(const std::filesystem::path& directory, 
   const std::filesystem::path path = directory / name;
   std::ofstream(path) << json;
   return path;
+}
+
+// A CSV file's rows (RFC 4180): a quoted cell may hold commas, and "" stands for a quote.
+inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = !quoted;
+      } else if (c == ',' && !quoted) {
+        cells.emplace_back();
+      } else {
+        cells.back() += c;
+      }
+    }
+    rows.push_back(cells);
+  }
+  return rows;
 }
 
 // Whether `program` is an executable on the PATH.

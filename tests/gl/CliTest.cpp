@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,23 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
+using firn::test::readCsv;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
-
-std::vector<std::vector<std::string>> readCsv(const fs::path& path) {
-  std::vector<std::vector<std::string>> rows;
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream cellStream(line);
-    std::string cell;
-    while (std::getline(cellStream, cell, ',')) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
 
 const char* const kSmallScene = R"({
   "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },

@@ -148,19 +148,25 @@ TEST_F(SimulationTest, ParticleToGridWithoutAtomicsFollowsFixedPoint) {
   }
 }
 
+// P2G without atomics (solver.atomics "none") with a box of snow that fills exactly one bin, the 4³-cell block
+// from cell 4 to cell 7 on each axis.
+std::string oneBlockScene(const std::string& kernel, double particlesPerCell) {
+  return R"({
+    "grid": { "origin": [0, 0, 0], "cells": [16, 16, 16], "cell_size": 0.05 },
+    "time": { "dt": 1e-4, "frame_rate": 50, "frames": 1 },
+    "solver": { "kernel": ")" + kernel + R"(", "atomics": "none" },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": [0.2, 0.2, 0.2], "max": [0.4, 0.4, 0.4], "material": "snow",
+                  "particles_per_cell": )" + std::to_string(particlesPerCell) + " } ] }";
+}
+
 // P2G without atomics scatters every particle of a bin nearly as full as it allows (the box fills one 4³-cell
 // block at 60 particles per cell: 3,595 particles of the jittered lattice, 94% of kMaxBinParticles and 61,115
 // loop iterations of llvmpipe's 65,535), with the cubic kernel (the most loop iterations per
 // particle): the grid's mass is the particles' to float32 accumulation (2e-5, as above). A bin cut short by
 // llvmpipe's loop limit loses the particles beyond it: at 64 per cell (4,096) the grid held 11% too little mass.
 TEST_F(SimulationTest, FullestBinIsScatteredWhole) {
-  const Scene scene = sceneFromJson(R"({
-    "grid": { "origin": [0, 0, 0], "cells": [16, 16, 16], "cell_size": 0.05 },
-    "time": { "dt": 1e-4, "frame_rate": 50, "frames": 1 },
-    "solver": { "kernel": "cubic", "atomics": "none" },
-    "materials": { "snow": { "preset": "stomakhin" } },
-    "bodies": [ { "shape": "box", "min": [0.2, 0.2, 0.2], "max": [0.4, 0.4, 0.4], "material": "snow",
-                  "particles_per_cell": 60 } ] })");
+  const Scene scene = sceneFromJson(oneBlockScene("cubic", 60));
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   ASSERT_GT(simulation.particleCount(), 3500u) << simulation.particleCount();
   ASSERT_LE(simulation.particleCount(), std::size_t(firn::gpu::kMaxBinParticles));
@@ -172,13 +178,7 @@ TEST_F(SimulationTest, FullestBinIsScatteredWhole) {
 
 // A bin fuller than P2G without atomics can scatter (kMaxBinParticles: llvmpipe's loop limit) stops the run with a message that says what to change, rather than dropping particles.
 TEST_F(SimulationTest, OverfullBinIsReported) {
-  const Scene scene = sceneFromJson(R"({
-    "grid": { "origin": [0, 0, 0], "cells": [16, 16, 16], "cell_size": 0.05 },
-    "time": { "dt": 1e-4, "frame_rate": 50, "frames": 1 },
-    "solver": { "kernel": "quadratic", "atomics": "none" },
-    "materials": { "snow": { "preset": "stomakhin" } },
-    "bodies": [ { "shape": "box", "min": [0.2, 0.2, 0.2], "max": [0.4, 0.4, 0.4], "material": "snow",
-                  "particles_per_cell": 125 } ] })");
+  const Scene scene = sceneFromJson(oneBlockScene("quadratic", 125));
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   simulation.step(scene.time.dtS);
   const std::string message = watchdogMessage(simulation);
