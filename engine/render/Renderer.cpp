@@ -110,7 +110,6 @@ Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleM
 
 void Renderer::buildPrograms() {
   gl::ShaderOptions options;
-  options.defines = gpu::bindingDefines();
   // GLSL has no empty arrays: a scene without materials (and so without particles) still declares one.
   options.defines.emplace_back("FIRN_MATERIAL_COUNT", std::to_string(std::max<std::size_t>(materialColors_.size(), 1)));
   options.defines.emplace_back("FIRN_COLOR_MODE_MATERIAL", std::to_string(int(ColorMode::Material)));

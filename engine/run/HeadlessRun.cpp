@@ -54,37 +54,6 @@ void printProgress(int frame, int frames, double simulatedS, double stepsPerS, d
   std::fflush(stderr);
 }
 
-// With adaptive stepping, a frame the watchdog rejects is redone from the state saved at its start with steps
-// half as large, up to this many times, before the run stops.
-constexpr int kAdaptiveRetries = 3;
-
-// Advances to the frame's time and reads the watchdog, once a frame: a bad step stops the run (exit 3) before
-// its frame is written. Returns the steps taken.
-int advanceFrame(Simulation& simulation, double frameTimeS, std::ostream& log) {
-  if (!simulation.scene().time.adaptive) {
-    const int steps = simulation.advanceTo(frameTimeS);
-    simulation.checkWatchdog();
-    return steps;
-  }
-  simulation.saveState();
-  double scale = 1;
-  for (int attempt = 0;; ++attempt) {
-    simulation.setAdaptiveStepScale(scale);
-    const int steps = simulation.advanceTo(frameTimeS);
-    try {
-      simulation.checkWatchdog();
-      simulation.setAdaptiveStepScale(1);
-      return steps;
-    } catch (const SimulationError&) {
-      if (attempt == kAdaptiveRetries) throw;
-      scale /= 2;
-      log << "\nfirn: the frame ending at t = " << frameTimeS << " s went unstable; redoing it with steps " << scale
-          << " times as large\n";
-      simulation.restoreState();
-    }
-  }
-}
-
 }  // namespace
 
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log) {
@@ -145,7 +114,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   for (int frame = firstFrame + 1; frame <= frames; ++frame) {
     const auto frameStart = Clock::now();
-    const int steps = advanceFrame(simulation, frame / scene.time.frameRateHz, log);
+    const int steps = simulation.advanceFrame(frame / scene.time.frameRateHz, log);
     summary.simulationWallS += secondsSince(frameStart);
     summary.steps += static_cast<std::uint64_t>(steps);
     writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);

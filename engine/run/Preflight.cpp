@@ -12,7 +12,9 @@
 
 #include "Error.h"
 #include "sim/FixedPoint.h"
+#include "sim/GpuFunctions.h"
 #include "sim/Materials.h"
+#include "sim/SceneUpload.h"
 
 namespace firn {
 namespace {
@@ -29,20 +31,6 @@ std::string sceneFile(const Scene& scene) {
   return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
 }
 
-// Signed distance to a collider's surface, negative inside its solid (the GLSL SDFs of colliders.glsl).
-double colliderDistanceM(const Collider& collider, const glm::dvec3& pointM) {
-  switch (collider.shape) {
-    case ColliderShape::Plane: return glm::dot(pointM - collider.pointM, glm::normalize(collider.normal));
-    case ColliderShape::Sphere: return glm::length(pointM - collider.centerM) - collider.radiusM;
-    case ColliderShape::Box: {
-      const glm::dvec3 center = 0.5 * (collider.minM + collider.maxM);
-      const glm::dvec3 q = glm::abs(pointM - center) - 0.5 * (collider.maxM - collider.minM);
-      return glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0);
-    }
-  }
-  return std::numeric_limits<double>::infinity();
-}
-
 const char* colliderName(ColliderShape shape) {
   switch (shape) {
     case ColliderShape::Plane: return "plane";
@@ -54,10 +42,12 @@ const char* colliderName(ColliderShape shape) {
 
 // Warns about bodies that start inside a collider: they are pushed out violently on the first step.
 void warnAboutBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
+  const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene);
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     std::vector<std::size_t> inside(scene.bodies.size(), 0);
     for (const ParticleSeed& particle : particles) {
-      if (particle.bodyIndex >= 0 && colliderDistanceM(scene.colliders[c], glm::dvec3(particle.positionM)) < 0) {
+      glm::vec3 normal;
+      if (particle.bodyIndex >= 0 && gpu::colliderDistance(colliders[c], particle.positionM, 0.0f, normal) < 0) {
         ++inside[std::size_t(particle.bodyIndex)];
       }
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "scene/Scene.h"
+#include "sim/GpuFunctions.h"
 
 namespace firn {
 
@@ -13,12 +14,13 @@ LameParameters lameParameters(double youngsModulusPa, double poissonRatio) {
 
 double waveSpeedMPerS(const Material& material, double lambdaScale, double muScale) {
   if (material.model == MaterialModel::Water) {
-    return std::sqrt(material.bulkModulusPa * material.gamma / material.densityKgPerM3);
+    return gpu::waterWaveSpeed(material.bulkModulusPa, material.gamma, material.densityKgPerM3);
   }
   const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
+  // Snow at the compression limit J_P = 1 − θc.
   const double hardening =
       material.model == MaterialModel::Snow ? std::exp(material.hardening * material.criticalCompression) : 1.0;
-  return std::sqrt((lambdaScale * lame.lambdaPa + 2.0 * muScale * lame.muPa) * hardening / material.densityKgPerM3);
+  return gpu::pressureWaveSpeed(lambdaScale * lame.lambdaPa, muScale * lame.muPa, hardening, material.densityKgPerM3);
 }
 
 double elasticStableDtS(const Material& material, double cellSizeM, double lambdaScale, double muScale) {
@@ -38,20 +40,20 @@ StiffestBody stiffestBody(const Scene& scene) {
 
 namespace {
 
-gpu::MaterialModelCode modelCode(MaterialModel model) {
+int modelCode(MaterialModel model) {
   switch (model) {
-    case MaterialModel::Snow: return gpu::MaterialModelCode::Snow;
-    case MaterialModel::FixedCorotated: return gpu::MaterialModelCode::FixedCorotated;
-    case MaterialModel::NeoHookean: return gpu::MaterialModelCode::NeoHookean;
-    case MaterialModel::Water: return gpu::MaterialModelCode::Water;
-    case MaterialModel::DruckerPrager: return gpu::MaterialModelCode::DruckerPrager;
+    case MaterialModel::Snow: return gpu::MODEL_SNOW;
+    case MaterialModel::FixedCorotated: return gpu::MODEL_FIXED_COROTATED;
+    case MaterialModel::NeoHookean: return gpu::MODEL_NEO_HOOKEAN;
+    case MaterialModel::Water: return gpu::MODEL_WATER;
+    case MaterialModel::DruckerPrager: return gpu::MODEL_DRUCKER_PRAGER;
   }
-  return gpu::MaterialModelCode::Snow;
+  return gpu::MODEL_SNOW;
 }
 
 gpu::MaterialParams gpuMaterial(const Material& material, double lambdaScale, double muScale) {
   gpu::MaterialParams params{};
-  params.model.x = static_cast<std::int32_t>(modelCode(material.model));
+  params.model.x = modelCode(material.model);
   const double radiansPerDegree = 3.14159265358979323846 / 180;
   switch (material.model) {
     case MaterialModel::Water:

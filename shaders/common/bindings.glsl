@@ -1,35 +1,13 @@
-// Buffers and the step's uniform block, mirroring engine/sim/GpuLayout.h. Binding points come from the
-// host as FIRN_BINDING_* defines, so they are written once. Particle buffers live in particles.glsl (the
-// renderer's vertex shader reads them too), grid buffers in grid.glsl.
+// The step's uniform block and the buffers every simulation pass reads, declared from the GPU contract
+// (common/gpu_contract.h: binding points, structs and codes, shared with the host). Particle buffers live in
+// particles.glsl (the renderer's vertex shader reads them too), grid buffers in grid.glsl.
+#include "common/gpu_contract.h"
 
-layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniforms {
-  vec4 gridOriginCellSize;  // origin (m), h (m)
-  ivec4 gridNodes;          // nodes per axis
-  vec4 gravityDt;           // g (m/s²), Δt of this step (s)
-  vec4 fixedPoint;          // m_ref (kg), momentum unit m_ref·h/Δt_ref (kg·m/s), 2^k, 2^-k
-  vec4 transfer;            // FLIP ratio α, time at the start of the step (s), APIC D⁻¹ (1/m²)
-  uvec4 counts;             // particles, colliders, step index
-};
+layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniformsBlock { FIRN_MEMBERS(FIRN_STEP_UNIFORMS) };
 
 #include "common/particles.glsl"
 
-struct MaterialParams {
-  vec4 elastic;  // μ0 (Pa), λ0 (Pa), snow hardening ξ, density (kg/m³)
-  vec4 plastic;  // snow: 1 − θc, 1 + θs; sand: h0, h1 (rad), h2, h3 (rad)
-  vec4 fluid;    // water: bulk modulus k (Pa), γ, viscosity (Pa·s)
-  ivec4 model;   // x: MODEL_* (materials.glsl)
-};
 layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
-
-struct ActiveRegionData {
-  ivec4 particleCellMin;
-  ivec4 particleCellMax;
-  ivec4 boxMin;
-  ivec4 boxSize;  // w: node count
-  uvec4 gridDispatch;
-  ivec4 addedCellMin;  // particles added since the last step (written by the host)
-  ivec4 addedCellMax;
-};
 layout(std430, binding = FIRN_BINDING_ACTIVE_REGION) coherent buffer ActiveRegionBuffer { ActiveRegionData region; };
 
 float cellSize() { return gridOriginCellSize.w; }

@@ -1,4 +1,4 @@
-// P2G without atomics (solver.atomics "none"), mirroring engine/sim/GpuLayout.h. Particles are binned into
+// P2G without atomics (solver.atomics "none"); its sizes and table are in common/gpu_contract.h. Particles are binned into
 // blocks of BLOCK_CELLS³ cells. A particle in cell c reaches nodes c − 1 … c + 2 on each axis with either kernel
 // (kernel.glsl), so a block's particles reach at most BLOCK_CELLS + 3 nodes per axis, and two blocks whose
 // coordinates have the same parities (one "colour") lie 2·BLOCK_CELLS > BLOCK_CELLS + 3 nodes apart: no node is
@@ -11,23 +11,8 @@
 // one colour at a time. The sums' order within a bin follows bin_count's atomics, so like float atomics, and
 // unlike fixed point, runs are not bitwise deterministic.
 
-// The sizes come from the host (engine/sim/GpuLayout.h), so they are written once: the block's cells per axis,
-// the colours, the fullest bin p2g_blocks.comp can scatter under llvmpipe's loop limit, and the watchdog's
-// overflow channel for a fuller one.
-const int BLOCK_CELLS = FIRN_BLOCK_CELLS;
-const int BLOCK_COLORS = FIRN_BLOCK_COLORS;
-const int MAX_BIN_PARTICLES = FIRN_MAX_BIN_PARTICLES;
-const uint CHANNEL_BIN = uint(FIRN_BIN_OVERFLOW_CHANNEL);
-
-struct BlockColor {
-  uvec4 dispatch;  // work groups of this colour's pass
-  ivec4 first;     // x: the colour's first entry in blockOrder
-  ivec4 count;     // w: its non-empty blocks
-};
-
 layout(std430, binding = FIRN_BINDING_BLOCKS) coherent buffer BlockTableBuffer {
-  BlockColor blockColors[BLOCK_COLORS];
-  ivec4 blocksPerAxis;
+  FIRN_MEMBERS(FIRN_BLOCK_TABLE_HEADER)
   uvec2 bins[];  // per block: first entry in blockParticles, particle count
 };
 layout(std430, binding = FIRN_BINDING_PARTICLE_SLOTS) buffer ParticleSlotBuffer { uint particleSlots[]; };

@@ -1,49 +1,9 @@
 // Signed-distance colliders and the boundary response shared by grid nodes and particles
 // (Stomakhin 2013 §8; seed 001 ch. 5; seed 002 §4.4). Colliders translate at their velocity.
 
-struct ColliderParams {
-  vec4 geometryA;         // plane: point; sphere: centre, w radius; box: min corner (at t = 0)
-  vec4 geometryB;         // plane: unit normal; box: max corner (at t = 0)
-  vec4 velocityFriction;  // xyz velocity (m/s), w Coulomb μ
-  ivec4 shapeBoundary;    // x shape, y boundary
-};
+#include "common/shared_functions.h"
+
 layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer { ColliderParams colliders[]; };
-
-const int SHAPE_PLANE = 0;
-const int SHAPE_SPHERE = 1;
-const int SHAPE_BOX = 2;
-const int BOUNDARY_STICKY = 0;
-const int BOUNDARY_SLIP = 1;
-const int BOUNDARY_SEPARATE = 2;
-
-// Signed distance φ (m, negative inside the solid) and outward unit normal at x, at time timeS.
-float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
-  vec3 displacement = c.velocityFriction.xyz * timeS;
-  if (c.shapeBoundary.x == SHAPE_PLANE) {
-    normal = c.geometryB.xyz;
-    return dot(x - (c.geometryA.xyz + displacement), normal);
-  }
-  if (c.shapeBoundary.x == SHAPE_SPHERE) {
-    vec3 fromCentre = x - (c.geometryA.xyz + displacement);
-    float distanceToCentre = length(fromCentre);
-    normal = distanceToCentre > 0.0 ? fromCentre / distanceToCentre : vec3(0.0, 1.0, 0.0);
-    return distanceToCentre - c.geometryA.w;
-  }
-  vec3 centre = 0.5 * (c.geometryA.xyz + c.geometryB.xyz) + displacement;
-  vec3 halfExtent = 0.5 * (c.geometryB.xyz - c.geometryA.xyz);
-  vec3 fromCentre = x - centre;
-  vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
-  if (any(greaterThan(excess, vec3(0.0)))) {
-    vec3 outside = max(excess, vec3(0.0)) * sign(fromCentre);
-    normal = normalize(outside);
-    return length(outside);
-  }
-  // Inside: the nearest face decides the normal.
-  int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
-  normal = vec3(0.0);
-  normal[axis] = fromCentre[axis] >= 0.0 ? 1.0 : -1.0;
-  return excess[axis];
-}
 
 // Velocity after meeting a boundary whose surface moves at boundaryVelocity (Stomakhin 2013 §8):
 // sticky takes the boundary's velocity; slip removes the normal part of the relative velocity; separate

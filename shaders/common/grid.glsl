@@ -37,10 +37,6 @@ layout(std430, binding = FIRN_BINDING_GRID_MOMENTUM_MASS) coherent buffer GridMo
 layout(std430, binding = FIRN_BINDING_GRID_IMPULSE) coherent buffer GridImpulseBuffer { GridVector gridImpulse[]; };
 #endif
 
-const uint CHANNEL_MASS = 0u;
-const uint CHANNEL_MOMENTUM = 1u;
-const uint CHANNEL_IMPULSE = 4u;
-
 #ifdef FIRN_FLOAT_GRID_SUMS
 
 #define FIRN_SCATTER(member, value, node, channel, dither) atomicAdd(member, value)

@@ -1,18 +1,13 @@
 // The constitutive models (design.md's table): for each, the deformation update of one particle and its
 // Kirchhoff stress τ = (∂Ψ/∂F) Fᵀ, which P2G turns into nodal forces. Only the models a scene uses are compiled
 // in (FIRN_MATERIAL_* defines), so a snow-only scene carries no code for the others.
+#include "common/shared_functions.h"
 #include "common/svd3.glsl"
-
-const int MODEL_SNOW = 0;
-const int MODEL_FIXED_COROTATED = 1;
-const int MODEL_NEO_HOOKEAN = 2;
-const int MODEL_WATER = 3;
-const int MODEL_DRUCKER_PRAGER = 4;
 
 struct MaterialUpdate {
   mat3 deformation;        // F after the step (F_E for snow and sand); water keeps none
-  float state;             // PlasticState.plasticJ: snow J_P, water J, sand q
-  float volumeCorrection;  // PlasticState.volumeCorrection: sand V_c
+  float state;             // ParticlePlasticState.plasticJ: snow J_P, water J, sand q
+  float volumeCorrection;  // ParticlePlasticState.volumeCorrection: sand V_c
   mat3 kirchhoffStress;    // τ (Pa)
 };
 
@@ -149,13 +144,13 @@ MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3
 // sqrt((λ + 2μ) / ρ), with snow's moduli as hardened now, not at rest (compacted snow stiffens by
 // e^{ξ(1 − J_P)}, by 148× at J_P = 0.5 with ξ = 10), and sqrt(k γ / ρ) for water.
 float waveSpeed(MaterialParams m, float state) {
-  if (m.model.x == MODEL_WATER) return sqrt(m.fluid.x * m.fluid.y / m.elastic.w);
+  if (m.model.x == MODEL_WATER) return waterWaveSpeed(m.fluid.x, m.fluid.y, m.elastic.w);
   float stiffening = m.model.x == MODEL_SNOW ? exp(m.elastic.z * (1.0 - state)) : 1.0;
-  return sqrt((m.elastic.y + 2.0 * m.elastic.x) * stiffening / m.elastic.w);
+  return pressureWaveSpeed(m.elastic.y, m.elastic.x, stiffening, m.elastic.w);
 }
 
 // The update of the particle's material; `F` is ignored by water.
-MaterialUpdate updateMaterial(mat3 F, PlasticState state, mat3 velocityGradient, float dtS, MaterialParams m) {
+MaterialUpdate updateMaterial(mat3 F, ParticlePlasticState state, mat3 velocityGradient, float dtS, MaterialParams m) {
   switch (m.model.x) {
 #ifdef FIRN_MATERIAL_SNOW
     case MODEL_SNOW: return updateSnow(F, state.plasticJ, velocityGradient, dtS, m);

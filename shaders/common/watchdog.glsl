@@ -2,20 +2,7 @@
 // particle state, and particles moving more than a cell per step (CFL). Counting is an atomic on a rarely
 // touched buffer; the first event of each kind is recorded by the invocation that claims its slot.
 
-layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
-  uint overflowCount;
-  int overflowNode;
-  uint overflowStep;
-  uint overflowChannel;  // 0 mass, 1–3 momentum, 4–6 impulse
-  uint nonFiniteCount;
-  int nonFiniteParticle;
-  uint nonFiniteStep;
-  uint cflCount;
-  int cflParticle;
-  uint cflStep;
-  float cflCellsPerStep;
-  uint maxSpeedBits;  // adaptive dt: the largest |v| + c over the particles (m/s), as float bits (reset by prepare_grid)
-};
+layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer { FIRN_MEMBERS(FIRN_WATCHDOG_STATUS) };
 
 void reportOverflow(uint node, uint channel) {
   atomicAdd(overflowCount, 1u);

@@ -50,7 +50,7 @@ void advanceParticle(uint p) {
   vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, transfer.x);
 #endif
 
-  PlasticState state = plasticState[p];
+  ParticlePlasticState state = plasticState[p];
 #ifdef FIRN_HAS_DEFORMATION_GRADIENT
   mat3 deformation = elasticDeformation[p];
 #else

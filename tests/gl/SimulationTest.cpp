@@ -169,7 +169,7 @@ TEST_F(SimulationTest, FullestBinIsScatteredWhole) {
   const Scene scene = sceneFromJson(oneBlockScene("cubic", 60));
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   ASSERT_GT(simulation.particleCount(), 3500u) << simulation.particleCount();
-  ASSERT_LE(simulation.particleCount(), std::size_t(firn::gpu::kMaxBinParticles));
+  ASSERT_LE(simulation.particleCount(), std::size_t(firn::gpu::MAX_BIN_PARTICLES));
   const Totals particles = particleTotals(simulation.snapshot());
   const firn::GridTotals grid = simulation.transferToGrid();
   simulation.checkWatchdog();
@@ -182,7 +182,7 @@ TEST_F(SimulationTest, OverfullBinIsReported) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   simulation.step(scene.time.dtS);
   const std::string message = watchdogMessage(simulation);
-  EXPECT_NE(message.find("more than " + std::to_string(firn::gpu::kMaxBinParticles) + " particles"), std::string::npos)
+  EXPECT_NE(message.find("more than " + std::to_string(firn::gpu::MAX_BIN_PARTICLES) + " particles"), std::string::npos)
       << message;
   EXPECT_NE(message.find("solver.atomics to \"fixed\""), std::string::npos) << message;
 }

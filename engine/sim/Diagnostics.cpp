@@ -1,0 +1,115 @@
+#include "sim/Diagnostics.h"
+
+#include <algorithm>
+#include <sstream>
+#include <utility>
+
+#include "Error.h"
+#include "sim/GpuState.h"
+#include "sim/Materials.h"
+
+namespace firn {
+
+namespace {
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(4);
+  out << value;
+  return out.str();
+}
+
+const char* channelName(std::uint32_t channel) {
+  static const char* const names[gpu::CHANNEL_COUNT] = {"mass",      "momentum x", "momentum y", "momentum z",
+                                                        "impulse x", "impulse y",  "impulse z",  "bin"};
+  return channel < gpu::CHANNEL_COUNT ? names[channel] : "unknown";
+}
+
+}  // namespace
+
+Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
+    : grid_(scene.grid), dtS_(scene.time.dtS),
+      stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
+      maxNodeValue_(fixedPoint.maxNodeValue()) {
+  for (const Material& material : scene.materials) materialNames_.push_back(material.name);
+}
+
+void Diagnostics::noteParticles(const std::vector<ParticleSeed>& seeds) {
+  for (const ParticleSeed& seed : seeds) {
+    particleBody_.push_back(seed.bodyIndex);
+    particleMaterial_.push_back(seed.materialIndex);
+  }
+}
+
+void Diagnostics::keepParticles(std::size_t count) {
+  particleBody_.resize(count);
+  particleMaterial_.resize(count);
+}
+
+std::string Diagnostics::describeNode(std::int32_t node) const {
+  const glm::ivec3 nodes = grid_.cells + 1;
+  const glm::ivec3 index(node % nodes.x, (node / nodes.x) % nodes.y, node / (nodes.x * nodes.y));
+  const glm::dvec3 position = grid_.originM + glm::dvec3(index) * grid_.cellSizeM;
+  return "grid node (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ", " + std::to_string(index.z) +
+         ") at (" + formatNumber(position.x) + ", " + formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+}
+
+std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState& state) const {
+  const glm::vec3 position = state.particlePosition(static_cast<std::size_t>(particle));
+  const int body = particleBody_[static_cast<std::size_t>(particle)];
+  const int material = particleMaterial_[static_cast<std::size_t>(particle)];
+  const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";
+  return "particle " + std::to_string(particle) + " " + origin + " (material \"" +
+         materialNames_[static_cast<std::size_t>(material)] + "\") near (" + formatNumber(position.x) + ", " +
+         formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+}
+
+void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state) const {
+  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0) return;
+
+  const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDtS_) +
+                                " s for the stiffest material (scene dt " + formatNumber(dtS_) + " s)";
+  auto when = [&](std::uint32_t step) {
+    return "step " + std::to_string(step) + " (t ≈ " + formatNumber(double(step) * dtS_) + " s)";
+  };
+
+  // Listed in the order they happened: the first is the cause, the others often its consequences.
+  std::vector<std::pair<std::uint32_t, std::string>> events;
+  if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_BIN) {
+    const int blockCells = gpu::BLOCK_CELLS * gpu::BLOCK_CELLS * gpu::BLOCK_CELLS;
+    events.emplace_back(status.overflowStep,
+                        when(status.overflowStep) + ": a block of " + std::to_string(blockCells) +
+                            " cells held more than " + std::to_string(gpu::MAX_BIN_PARTICLES) +
+                            " particles, more than P2G without atomics can scatter in one invocation on llvmpipe "
+                            "(which ends a shader's loops after 65,535 iterations). Set solver.atomics to \"fixed\", "
+                            "or lower particles_per_cell.");
+  } else if (status.overflowCount > 0) {
+    events.emplace_back(status.overflowStep,
+                        when(status.overflowStep) + ": fixed-point overflow of the P2G " +
+                            channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
+                            std::to_string(status.overflowCount) + " overflowing additions). A node sum may reach ±" +
+                            formatNumber(maxNodeValue_) +
+                            " reference masses (or that many times a node moving one cell per step); the particles "
+                            "moved or compressed far beyond that. Reduce time.dt, lower the body velocities or "
+                            "particles_per_cell, or set solver.atomics to \"float\"; " + stiffness + ".");
+  }
+  if (status.nonFiniteCount > 0) {
+    events.emplace_back(status.nonFiniteStep,
+                        when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle, state) +
+                            " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
+                            " particle updates rejected). Reduce time.dt or youngs_modulus; " + stiffness + ".");
+  }
+  if (status.cflCount > 0) {
+    events.emplace_back(status.cflStep,
+                        when(status.cflStep) + ": " + describeParticle(status.cflParticle, state) + " moved " +
+                            formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
+                            std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower "
+                            "the body velocities; " + stiffness + ".");
+  }
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string message = "the simulation became unstable:";
+  for (const auto& event : events) message += "\n  - " + event.second;
+  throw SimulationError(message);
+}
+
+}  // namespace firn

@@ -1,0 +1,43 @@
+#pragma once
+// What the GPU watchdog's findings mean to the person running the scene: which step, which particle of which
+// body or which grid node, and which key of the scene to change. The watchdog itself is common/watchdog.glsl.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/Scene.h"
+#include "sim/FixedPoint.h"
+#include "sim/GpuLayout.h"
+
+namespace firn {
+
+class GpuState;
+
+class Diagnostics {
+ public:
+  Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint);
+
+  // Records the body and material of particles as they are written, in order; forgets those beyond `count`
+  // (a restored state holds fewer).
+  void noteParticles(const std::vector<ParticleSeed>& seeds);
+  void keepParticles(std::size_t count);
+
+  // Throws SimulationError (exit 3) listing, in the order they happened, the fixed-point overflows, non-finite
+  // values and CFL violations `status` records; `state` gives the positions of the particles it names.
+  void check(const gpu::WatchdogStatus& status, const GpuState& state) const;
+
+ private:
+  std::string describeNode(std::int32_t node) const;
+  std::string describeParticle(std::int32_t particle, const GpuState& state) const;
+
+  GridSpec grid_;
+  double dtS_ = 0;
+  double stableDtS_ = 0;      // h / c of the stiffest material
+  double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
+  std::vector<std::string> materialNames_;
+  std::vector<int> particleBody_;      // body of each particle (−1: added while running)
+  std::vector<int> particleMaterial_;  // material of each particle
+};
+
+}  // namespace firn

@@ -1,0 +1,78 @@
+#include "sim/SceneUpload.h"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+#include "io/Checkpoint.h"
+
+namespace firn {
+
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene) {
+  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene.colliders.size(), 1), gpu::ColliderParams{});
+  for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& c = scene.colliders[i];
+    gpu::ColliderParams& out = colliders[i];
+    switch (c.shape) {
+      case ColliderShape::Plane:
+        out.geometryA = glm::vec4(glm::vec3(c.pointM), 0);
+        out.geometryB = glm::vec4(glm::vec3(glm::normalize(c.normal)), 0);
+        out.shapeBoundary.x = gpu::SHAPE_PLANE;
+        break;
+      case ColliderShape::Sphere:
+        out.geometryA = glm::vec4(glm::vec3(c.centerM), float(c.radiusM));
+        out.shapeBoundary.x = gpu::SHAPE_SPHERE;
+        break;
+      case ColliderShape::Box:
+        out.geometryA = glm::vec4(glm::vec3(c.minM), 0);
+        out.geometryB = glm::vec4(glm::vec3(c.maxM), 0);
+        out.shapeBoundary.x = gpu::SHAPE_BOX;
+        break;
+    }
+    out.velocityFriction = glm::vec4(glm::vec3(c.velocityMPerS), float(c.friction));
+    out.shapeBoundary.y = c.boundary == Boundary::Sticky ? gpu::BOUNDARY_STICKY
+                          : c.boundary == Boundary::Slip ? gpu::BOUNDARY_SLIP
+                                                         : gpu::BOUNDARY_SEPARATE;
+  }
+  return colliders;
+}
+
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
+                                bool volumeFromDensity) {
+  ParticleRecords records;
+  records.positionMass.reserve(seeds.size());
+  records.velocityVolume.reserve(seeds.size());
+  records.plastic.reserve(seeds.size());
+  for (const ParticleSeed& seed : seeds) {
+    const Material& material = scene.materials.at(std::size_t(seed.materialIndex));
+    records.positionMass.emplace_back(seed.positionM, seed.massKg);
+    const double volumeM3 = volumeFromDensity ? seed.massKg / material.densityKgPerM3 : 0.0;
+    records.velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
+    // Particles added while running (bodyIndex −1) use their material's own entry.
+    const std::uint32_t entry = seed.bodyIndex >= 0 ? table.bodyEntry.at(std::size_t(seed.bodyIndex))
+                                                    : static_cast<std::uint32_t>(seed.materialIndex);
+    // Sand's hardening state q starts at 0; J_P (snow) and J (water) start at 1.
+    const bool sand = material.model == MaterialModel::DruckerPrager;
+    records.plastic.push_back({sand ? 0.0f : 1.0f, entry, 0.0f, 0.0f});
+  }
+  return records;
+}
+
+std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,
+                               const std::vector<ParticleSeed>& seeds) {
+  const glm::ivec3 gridNodes = scene.grid.cells + 1;
+  std::uint64_t hash = fingerprint(&gridNodes, sizeof gridNodes);
+  for (const double value : {scene.grid.cellSizeM, scene.time.dtS, double(particleCapacity)}) {
+    hash = fingerprint(&value, sizeof value, hash);
+  }
+  hash = fingerprint(table.entries.data(), table.entries.size() * sizeof(gpu::MaterialParams), hash);
+  for (const ParticleSeed& seed : seeds) {
+    hash = fingerprint(&seed.positionM, sizeof seed.positionM, hash);
+    hash = fingerprint(&seed.velocityMPerS, sizeof seed.velocityMPerS, hash);
+    hash = fingerprint(&seed.massKg, sizeof seed.massKg, hash);
+    hash = fingerprint(&seed.releaseTimeS, sizeof seed.releaseTimeS, hash);
+  }
+  return hash;
+}
+
+}  // namespace firn

@@ -1,0 +1,35 @@
+#pragma once
+// The scene as the GPU stores it: the collider table, the particle records of new particles, and the fingerprint
+// that ties a checkpoint to the scene it came from. (The material table is sim/Materials.h's.)
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "scene/Scene.h"
+#include "sim/GpuLayout.h"
+#include "sim/Materials.h"
+
+namespace firn {
+
+// One entry per collider, at least one (zeroed) so the binding is always a valid buffer.
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene);
+
+// New particles as their buffers hold them: undeformed, unstressed, at rest relative to their seed velocity.
+struct ParticleRecords {
+  std::vector<glm::vec4> positionMass;    // x (m), m (kg)
+  std::vector<glm::vec4> velocityVolume;  // v (m/s), V0 (m³)
+  std::vector<gpu::ParticlePlasticState> plastic;
+  std::size_t size() const { return positionMass.size(); }
+};
+// V0 = m / ρ of the particle's material when `volumeFromDensity`; otherwise 0, for compute_volumes.comp to fill
+// from the grid density (Stomakhin et al. 2013 §6 step 2).
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
+                                bool volumeFromDensity);
+
+// What a checkpoint must match: the grid, the step, the capacity, the material table and every seed, field by
+// field (ParticleSeed has padding, whose bytes are not defined).
+std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,
+                               const std::vector<ParticleSeed>& seeds);
+
+}  // namespace firn

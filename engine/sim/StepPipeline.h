@@ -1,0 +1,59 @@
+#pragma once
+// The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the grid
+// box for this step, cleared; particle to grid; the grid update (forces, gravity, colliders, walls); grid to
+// particle with the deformation update, plasticity and advection. The programs are built for the scene: its
+// kernel, transfer, atomics, colliders and material models, and nothing else.
+#include <cstddef>
+#include <cstdint>
+
+#include "gl/Context.h"
+#include "scene/Scene.h"
+#include "sim/ComputePass.h"
+#include "sim/FixedPoint.h"
+#include "sim/GpuLayout.h"
+#include "sim/GpuState.h"
+
+namespace firn {
+
+// Which material models the programs are built for: the scene's (the default: a scene pays only for what it
+// uses), or every model with F for all, as one general build would: for measuring what that costs.
+enum class MaterialPrograms { SceneModels, EveryModel };
+
+// Whether the scene's particles carry a deformation gradient F (every model but water needs one).
+bool needsDeformationGradient(const Scene& scene, MaterialPrograms programs);
+
+// The uniform block of one step of `dtS` seconds starting at `timeS`.
+gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedPoint, double dtS, double timeS,
+                               std::size_t particles, std::uint64_t step);
+
+class StepPipeline {
+ public:
+  // Throws InputError when the scene asks for what the driver lacks (float atomics).
+  StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl);
+
+  // Steps 1–2 of §6: the grid box for this step, cleared, then particle to grid.
+  void transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  // One whole step: transferToGrid, the grid update, grid to particle.
+  void step(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
+  void computeVolumes(GpuState& state, std::size_t particles, PassTimer& timer) const;
+
+ private:
+  void scatterInBlocks(GpuState& state, std::size_t particles, PassTimer& timer) const;
+
+  int maxWorkGroupsX_ = 65535;
+  bool binsParticles_ = false;
+  ComputePass prepareGrid_;
+  ComputePass clearGrid_;
+  ComputePass particleToGrid_;
+  // P2G without atomics (solver.atomics "none"): binning, then the coloured scatter.
+  ComputePass binCount_;
+  ComputePass binScan_;
+  ComputePass binPlace_;
+  ComputePass particleToGridBlocks_;
+  ComputePass updateGrid_;
+  ComputePass gridToParticle_;
+  ComputePass computeVolumes_;
+};
+
+}  // namespace firn
