@@ -1,5 +1,5 @@
 #pragma once
-// Firn's failures carry the process exit status of the command-line contract (design.md):
+// Firn's failures carry the process exit status of the command-line contract (docs/command-line.md, Exit status):
 // 2 bad input, 3 the simulation became unstable or overflowed, 4 no usable OpenGL 4.3.
 #include <stdexcept>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The point-sprite renderer (design.md, engine/render): particles drawn in place from the simulation's
+// The point-sprite renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's
 // buffers as lit sphere impostors, the colliders, the ground with the particles' soft shadow, the domain's
 // edges; and offscreen capture into an Image.
 #include <cstddef>

@@ -1,5 +1,5 @@
 #pragma once
-// Fixed-point scales for the P2G sums (design.md, "Fixed-point atomics"). The GPU adds nondimensional values:
+// Fixed-point scales for the P2G sums (docs/numerics.md, Fixed-point atomics). The GPU adds nondimensional values:
 // mass in units of the reference particle mass m_ref, momentum and impulse in units of m_ref·h/Δt (a node
 // moving one cell per step). Their bound is known from the scene, so the scale 2^k is chosen to fit it in
 // int32 with headroom, and every remaining bit is resolution.

@@ -17,7 +17,7 @@ struct LameParameters {
   double lambdaPa;  // Lamé's first parameter λ
 };
 
-// μ = E / (2(1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)) (Stomakhin 2013 §7; seed 001 §4.2).
+// μ = E / (2(1 + ν)), λ = E ν / ((1 + ν)(1 − 2ν)) (Stomakhin 2013 §7; Blažević 2022 eq. 4.4).
 LameParameters lameParameters(double youngsModulusPa, double poissonRatio);
 
 // Speed of the fastest elastic (pressure) wave: sqrt((λ + 2μ) / ρ) for solids and sand, at the stiffest state
@@ -37,7 +37,7 @@ struct StiffestBody {
 StiffestBody stiffestBody(const Scene& scene);
 
 // The materials as the GPU sees them: the scene's, in order, then one variant for each body whose
-// lambda_scale or mu_scale is not 1 (seed 001's per-body modifiers), so no shader needs a per-body table.
+// lambda_scale or mu_scale is not 1 (Blažević 2022 §6.2's per-body modifiers), so no shader needs a per-body table.
 struct MaterialTable {
   std::vector<gpu::MaterialParams> entries;
   std::vector<std::size_t> entryMaterial;  // the scene material each entry is, or is a variant of

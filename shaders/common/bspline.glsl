@@ -2,7 +2,7 @@
 // Written in the subset GLSL shares with C++/GLM: the unit tests include this very file, so the weights the
 // GPU uses are the ones the tests check (partition of unity, slopes against finite differences).
 
-// Quadratic B-spline, support |d| < 1.5 (seed 001 §3.2; Jiang et al. 2016 eq. 123).
+// Quadratic B-spline, support |d| < 1.5 (Blažević 2022 eq. 3.10; Jiang et al. 2016 eq. 123).
 float quadraticBSpline(float d) {
   float a = abs(d);
   if (a < 0.5) return 0.75 - a * a;
@@ -17,7 +17,7 @@ float quadraticBSplineSlope(float d) {
   return 0.0;
 }
 
-// Cubic B-spline, support |d| < 2 (Stomakhin et al. 2013 eq. 4; seed 002).
+// Cubic B-spline, support |d| < 2 (Stomakhin et al. 2013 eq. 4; Snow thesis 2015 eq. 18).
 float cubicBSpline(float d) {
   float a = abs(d);
   if (a < 1.0) return 0.5 * a * a * a - a * a + 2.0 / 3.0;

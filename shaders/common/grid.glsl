@@ -1,4 +1,4 @@
-// Grid node storage and the P2G scatter, in nondimensional units (design.md, "Fixed-point atomics"):
+// Grid node storage and the P2G scatter, in nondimensional units (docs/numerics.md, Fixed-point atomics):
 // mass in units of m_ref, momentum and impulse in units of m_ref·h/Δt_ref (a node moving one cell per step).
 //
 // FIRN_FLOAT_ATOMICS: float atomicAdd from GL_NV_shader_atomic_float. FIRN_P2G_BLOCKS: plain float additions,

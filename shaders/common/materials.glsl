@@ -1,6 +1,6 @@
-// The constitutive models (design.md's table): for each, the deformation update of one particle and its
-// Kirchhoff stress τ = (∂Ψ/∂F) Fᵀ, which P2G turns into nodal forces. Only the models a scene uses are compiled
-// in (FIRN_MATERIAL_* defines), so a snow-only scene carries no code for the others.
+// The constitutive models (docs/algorithm.md, Material models): for each, the deformation update of one particle
+// and its Kirchhoff stress τ = (∂Ψ/∂F) Fᵀ, which P2G turns into nodal forces. Only the models a scene uses are
+// compiled in (FIRN_MATERIAL_* defines), so a snow-only scene carries no code for the others.
 #include "common/shared_functions.h"
 #include "common/svd3.glsl"
 
@@ -13,11 +13,11 @@ struct MaterialUpdate {
 
 mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
 
-// F̂ = (I + Δt ∇v) F (Stomakhin 2013 eq. 8; seed 001 eq. 3.6).
+// F̂ = (I + Δt ∇v) F (Stomakhin 2013 eq. 8; Blažević 2022 eq. 3.19).
 mat3 advanceDeformation(mat3 F, mat3 velocityGradient, float dtS) { return (mat3(1.0) + dtS * velocityGradient) * F; }
 
 #if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
-// The fixed corotated stress (Stomakhin 2013 eq. 6; seed 001 eq. 4.8): ∂Ψ/∂F Fᵀ = 2μ(F − R)Fᵀ + λ(J − 1)J I for
+// The fixed corotated stress (Stomakhin 2013 eq. 6; Blažević 2022 eq. 4.8): ∂Ψ/∂F Fᵀ = 2μ(F − R)Fᵀ + λ(J − 1)J I for
 // F = U Σ Vᵀ and R = U Vᵀ, so R Fᵀ = U Σ Uᵀ.
 mat3 fixedCorotatedStress(mat3 F, mat3 U, vec3 sigma, float mu, float lambda) {
   float J = sigma.x * sigma.y * sigma.z;
@@ -66,7 +66,7 @@ MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, Ma
 #endif
 
 #ifdef FIRN_MATERIAL_NEO_HOOKEAN
-// Seed 001 eq. 4.3: ∂Ψ/∂F = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ (the thesis prints F − Fᵀ; the derivative of −μ ln J is
+// Blažević 2022 eq. 4.5: ∂Ψ/∂F = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ (the thesis prints F − Fᵀ; the derivative of −μ ln J is
 // −μ F⁻ᵀ), so τ = μ(F Fᵀ − I) + λ ln J I: no SVD. An inverted F (J ≤ 0) gives a non-finite τ, which the
 // watchdog reports.
 MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
@@ -76,7 +76,7 @@ MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, Materi
 #endif
 
 #ifdef FIRN_MATERIAL_WATER
-// Seed 001 §4.1: only J = det F is kept, J ← (1 + Δt tr ∇v) J; p = −∂Ψ/∂J = k(J^−γ − 1), τ = −p J I. The
+// Blažević 2022 §4.1: only J = det F is kept, J ← (1 + Δt tr ∇v) J; p = −∂Ψ/∂J = k(J^−γ − 1), τ = −p J I. The
 // optional viscous stress is Newtonian, σ = η(∇v + ∇vᵀ), so τ = J η(∇v + ∇vᵀ).
 MaterialUpdate updateWater(float J, mat3 velocityGradient, float dtS, MaterialParams m) {
   MaterialUpdate result;
@@ -92,7 +92,7 @@ MaterialUpdate updateWater(float J, mat3 velocityGradient, float dtS, MaterialPa
 #endif
 
 #ifdef FIRN_MATERIAL_DRUCKER_PRAGER
-// Klár et al. 2016 sand (seed 001 §4.4): Hencky elasticity Ψ = μ tr((ln Σ)²) + λ/2 (tr ln Σ)² (eq. 4.12) on
+// Klár et al. 2016 sand (Blažević 2022 §4.4): Hencky elasticity Ψ = μ tr((ln Σ)²) + λ/2 (tr ln Σ)² (eq. 4.12) on
 // F_E, whose log-strain ε = ln Σ + V_c/3 is projected onto the Drucker–Prager cone of friction coefficient α
 // (eq. 4.14–4.15), with hardening q (eq. 4.16–4.18) and the log-volume correction V_c of the pseudocode 7.
 float frictionCoefficient(float q, MaterialParams m) {

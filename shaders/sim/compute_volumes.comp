@@ -1,6 +1,6 @@
 #version 430 core
 // Initial particle volumes, once, after a P2G of mass: ρ_p = Σ_i m_i w_ip / h³, V0_p = m_p / ρ_p
-// (Stomakhin 2013 §6 step 2; seed 002). Also seeds the active-region bounds for the first step.
+// (Stomakhin 2013 §6 step 2; Snow thesis 2015 §3.4 step 2). Also seeds the active-region bounds for the first step.
 // Reads: positionMass, grid mass. Writes: velocityVolume.w, region bounds.
 #include "common/bindings.glsl"
 #include "common/active_region.glsl"

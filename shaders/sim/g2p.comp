@@ -46,7 +46,7 @@ void advanceParticle(uint p) {
   vec3 velocity = picVelocity;
   mat3 newAffine = affineMoment * transfer.z;  // C_p = B_p D_p⁻¹ (Jiang et al. 2015)
 #else
-  // v_p = α (v_p + Σ w Δv_i) + (1 − α) Σ w v_i (seed 002, PIC/FLIP blend)
+  // v_p = α (v_p + Σ w Δv_i) + (1 − α) Σ w v_i (Snow thesis 2015 §3.4 step 8)
   vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, transfer.x);
 #endif
 

@@ -1,4 +1,4 @@
-// libFuzzer target for the scene parser (design.md, "The scene file"). The contract it checks: any text either
+// libFuzzer target for the scene parser (docs/scene-format.md). The contract it checks: any text either
 // parses into a Scene or throws InputError (bad input, exit status 2). Anything else is a defect: another
 // exception type, a crash, a sanitizer report, a hang (-timeout) or a huge allocation (-rss_limit_mb). Only
 // InputError is caught; any other exception leaves this function, and std::terminate's abort (after it prints

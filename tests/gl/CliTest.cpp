@@ -1,4 +1,4 @@
-// The `firn` command line as a user runs it: outputs, exit codes and messages (design.md's contract).
+// The `firn` command line as a user runs it: outputs, exit codes and messages (docs/command-line.md).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -159,7 +159,8 @@ TEST(Cli, HelpDescribesCommands) {
   EXPECT_NE(run.output.find("--out"), std::string::npos) << run.output;
 }
 
-// design.md: `--checkpoint-every K` writes checkpoint_NNNN.firn every K frames, and `--resume FILE` continues from
+// docs/command-line.md, Checkpoints: `--checkpoint-every K` writes checkpoint_NNNN.firn every K frames, and
+// `--resume FILE` continues from
 // one bit for bit as if never interrupted: the frames after the checkpoint are byte-identical to the
 // uninterrupted run's, here with an emitter half-way through its release at the checkpoint. A checkpoint of
 // another scene, a truncated one and a file that is not one are bad input (exit 2) naming the file.

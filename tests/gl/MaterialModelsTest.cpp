@@ -1,5 +1,5 @@
-// The material models of seed 001 on the GPU (design.md's table): each runs alone and mixed, with its physics
-// checked where a short, small run can check it.
+// The material models of Blažević 2022 on the GPU (docs/algorithm.md, Material models): each runs alone and
+// mixed, with its physics checked where a short, small run can check it.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
 // Meshes and point clouds from the command line: `firn voxelize`, and scenes with mesh and points bodies run
-// end to end (design.md: `firn voxelize MESH --spacing S --out FILE.ply`, `"shape": "mesh"`, `"shape": "points"`).
+// end to end (docs/command-line.md: `firn voxelize MESH --spacing S --out FILE.ply`; docs/scene-format.md:
+// `"shape": "mesh"`, `"shape": "points"`).
 #include <gtest/gtest.h>
 
 #include <cmath>

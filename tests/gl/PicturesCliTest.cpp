@@ -1,5 +1,6 @@
-// Pictures from the command line (design.md: `firn run … --png`, `firn view [--frames N --screenshot FILE]`):
-// offscreen frames, the video, and the window under a virtual X server (xvfb-run), as a user runs them.
+// Pictures from the command line (docs/command-line.md: `firn run … --png`,
+// `firn view [--frames N --screenshot FILE]`): offscreen frames, the video, and the window under a virtual X server
+// (xvfb-run), as a user runs them.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -111,7 +112,8 @@ TEST(Pictures, Mp4WithoutFfmpegSaysSoBeforeRunning) {
   EXPECT_FALSE(fs::exists(folder / "out" / "stats.csv")) << "nothing is simulated before the problem is reported";
 }
 
-// design.md: `xvfb-run -a -s "-screen 0 1280x720x24" firn view …` is how the viewer is tested.
+// docs/platform.md, The viewer under Xvfb: `xvfb-run -a -s "-screen 0 1280x720x24" firn view …` is how the viewer is
+// tested.
 TEST(Viewer, RunsUnderXvfbAndWritesANonBlankScreenshot) {
   if (!onPath("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs the xvfb package)";
   const fs::path folder = freshDirectory("view");

@@ -254,7 +254,7 @@ TEST_F(Validation, ElasticBarWithMaterialVolumesVibratesAtTwoLengthsOverWaveSpee
   }
 }
 
-// The same bar made of the fixed corotated material (seed 001 §4.2.2) rather than of snow without plasticity,
+// The same bar made of the fixed corotated material (Blažević 2022 §4.2.2) rather than of snow without plasticity,
 // at h = L/18 with each kernel. The two are one energy (Stomakhin 2013 eq. 6 with ξ = 0 and no clamping) and
 // differ only in float rounding (snow rebuilds F_E = U Σ Vᵀ from its SVD, fixed corotated keeps F̂): measured
 // periods differ by 4e-6 (quadratic) and 3.6e-5 (cubic) of T; tolerance 4e-4, about 10× that. The fixed

@@ -1,4 +1,4 @@
-// Per-body motion and modifiers (design.md: "angular_velocity", "lambda_scale", "mu_scale", "mass_scale",
+// Per-body motion and modifiers (docs/scene-format.md: "angular_velocity", "lambda_scale", "mu_scale", "mass_scale",
 // "start_frame", "duration_frames"): what the sampled particles and the GPU material table carry.
 #include <cmath>
 #include <string>

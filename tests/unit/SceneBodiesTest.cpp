@@ -1,4 +1,4 @@
-// Mesh and point-cloud bodies in scenes (design.md, "The scene file"): files found relative to the scene,
+// Mesh and point-cloud bodies in scenes (docs/scene-format.md, bodies): files found relative to the scene,
 // placed, filled with the right mass, and every problem with a file reported as bad input naming it.
 #include <unistd.h>
 

@@ -1,7 +1,7 @@
 // The scene parser's contract, as the fuzzer (tests/fuzz) checks it: any text either parses into a Scene or
-// throws InputError (design.md: bad input, exit status 2), promptly. Every input the fuzzer once broke it with
-// is kept in tests/fuzz/regressions/ and replayed here, with hand-written inputs at the limits: deep nesting,
-// numbers at the edges of a double, the largest grids, and files that are not regular files.
+// throws InputError (docs/command-line.md: bad input, exit status 2), promptly. Every input the fuzzer once broke
+// it with is kept in tests/fuzz/regressions/ and replayed here, with hand-written inputs at the limits: deep
+// nesting, numbers at the edges of a double, the largest grids, and files that are not regular files.
 #include <filesystem>
 #include <fstream>
 #include <limits>

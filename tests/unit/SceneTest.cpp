@@ -1,5 +1,5 @@
 // Scene parsing: the values land in the Scene, and every kind of bad input is an InputError that names the
-// file, the key path and the problem (design.md, "The scene file").
+// file, the key path and the problem (docs/scene-format.md).
 #include <filesystem>
 #include <fstream>
 #include <random>
