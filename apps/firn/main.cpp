@@ -74,8 +74,12 @@ int voxelizeCommand(const VoxelizeOptions& options) {
   sampling.sampler = options.sampler == "poisson_disk" ? firn::voxelizer::Sampler::PoissonDisk
                                                         : firn::voxelizer::Sampler::Lattice;
   sampling.seed = options.seed;
-  const firn::voxelizer::TriangleMesh mesh =
-      firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
+  firn::voxelizer::TriangleMesh mesh;
+  try {
+    mesh = firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
+  } catch (const firn::voxelizer::MeshError& error) {
+    throw firn::InputError(error.what());  // the voxelizer knows no exit statuses; a bad mesh file is bad input
+  }
   const auto loaded = Clock::now();
   const std::vector<glm::dvec3> positions = firn::voxelizer::voxelize(mesh, sampling);
   const auto sampled = Clock::now();

@@ -55,7 +55,7 @@ void loadMeshBody(const Object& body, Body& result, const voxelizer::Transform& 
   voxelizer::TriangleMesh mesh;
   try {
     mesh = voxelizer::transformed(voxelizer::loadMesh(result.resolvedPath), placement);
-  } catch (const InputError& error) {
+  } catch (const voxelizer::MeshError& error) {
     body.fail("path", error.what());
   }
   const voxelizer::Bounds box = voxelizer::bounds(mesh);
