@@ -1,4 +1,4 @@
-// The `firn` command line (design.md, "The command line"). Exit status: 0 success, 2 bad input,
+// The `firn` command line (docs/command-line.md). Exit status: 0 success, 2 bad input,
 // 3 unstable or overflowed simulation, 4 no usable OpenGL 4.3.
 #include <unistd.h>
 

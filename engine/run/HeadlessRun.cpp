@@ -28,8 +28,8 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names design.md gives
-// the outputs (and assembleVideo reads).
+// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names
+// docs/command-line.md gives the outputs (and assembleVideo reads).
 std::string numberedFileName(const char* prefix, int frame, const char* extension) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%04d.%s", prefix, frame, extension);
