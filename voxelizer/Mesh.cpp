@@ -13,13 +13,11 @@
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 
-#include "Error.h"
-
 namespace firn::voxelizer {
 namespace {
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& problem) {
-  throw InputError(path.string() + ": " + problem);
+  throw MeshError(path.string() + ": " + problem);
 }
 
 // assimp's matrices are row-major (a1 a2 a3 a4 is the first row); glm's are column-major.

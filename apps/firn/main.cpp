@@ -1,4 +1,4 @@
-// The `firn` command line (design.md, "The command line"). Exit status: 0 success, 2 bad input,
+// The `firn` command line (docs/command-line.md). Exit status: 0 success, 2 bad input,
 // 3 unstable or overflowed simulation, 4 no usable OpenGL 4.3.
 #include <unistd.h>
 
@@ -74,8 +74,12 @@ int voxelizeCommand(const VoxelizeOptions& options) {
   sampling.sampler = options.sampler == "poisson_disk" ? firn::voxelizer::Sampler::PoissonDisk
                                                         : firn::voxelizer::Sampler::Lattice;
   sampling.seed = options.seed;
-  const firn::voxelizer::TriangleMesh mesh =
-      firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
+  firn::voxelizer::TriangleMesh mesh;
+  try {
+    mesh = firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
+  } catch (const firn::voxelizer::MeshError& error) {
+    throw firn::InputError(error.what());  // the voxelizer knows no exit statuses; a bad mesh file is bad input
+  }
   const auto loaded = Clock::now();
   const std::vector<glm::dvec3> positions = firn::voxelizer::voxelize(mesh, sampling);
   const auto sampled = Clock::now();

@@ -6,43 +6,9 @@
 #include <stdexcept>
 #include <string>
 
-#include <glm/geometric.hpp>
-#include <glm/vector_relational.hpp>
-
 #include "Error.h"
-#include "scene/Scene.h"
-#include "sim/Simulation.h"
 
 namespace firn {
-
-FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid) {
-  FrameStats stats;
-  // The walls act on grid nodes, so the particles they stop come to rest up to a cell short of the interior's
-  // bounds (about half a cell for the quadratic kernel).
-  const glm::dvec3 wallZoneLowM = grid.interiorMinM() + grid.cellSizeM;
-  const glm::dvec3 wallZoneHighM = grid.interiorMaxM() - grid.cellSizeM;
-  stats.particles = particles.size();
-  double plasticJSum = 0;
-  glm::dvec3 weightedPosition(0.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const double mass = particles.positionMass[i].w;
-    const glm::dvec3 velocity(particles.velocityVolume[i]);
-    stats.massKg += mass;
-    stats.momentumKgMPerS += mass * velocity;
-    stats.kineticEnergyJ += 0.5 * mass * glm::dot(velocity, velocity);
-    weightedPosition += mass * glm::dvec3(particles.positionMass[i]);
-    plasticJSum += particles.plasticJ[i];
-    const glm::dvec3 position(particles.positionMass[i]);
-    if (glm::any(glm::lessThan(position, wallZoneLowM)) || glm::any(glm::greaterThan(position, wallZoneHighM))) {
-      ++stats.particlesAtWalls;
-    }
-  }
-  if (particles.size() > 0) {
-    stats.meanPlasticJ = plasticJSum / double(particles.size());
-    stats.centerOfMassM = weightedPosition / stats.massKg;
-  }
-  return stats;
-}
 
 const char* StatsCsvWriter::header() {
   return "frame,time_s,steps,particles,mass_kg,momentum_x,momentum_y,momentum_z,kinetic_energy_j,wall_ms,"

@@ -1,5 +1,6 @@
 #pragma once
 // stats.csv: one row per frame (frame 0 included), flushed as it is written so a stopped run keeps its rows.
+// The rows are plain numbers; the run measures them (run/HeadlessRun.cpp).
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -7,9 +8,6 @@
 #include <glm/vec3.hpp>
 
 namespace firn {
-
-struct ParticleSnapshot;
-struct GridSpec;
 
 struct FrameStats {
   int frame = 0;
@@ -26,10 +24,6 @@ struct FrameStats {
   // that reaches the edge of the grid: the walls stop it, and this count says how many are pressed there.
   std::uint64_t particlesAtWalls = 0;
 };
-
-// Mass, momentum, kinetic energy, centre of mass, mean J_P and the particles at the walls of a snapshot,
-// summed in double.
-FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid);
 
 class StatsCsvWriter {
  public:

@@ -8,6 +8,9 @@
 #include <string>
 #include <system_error>
 
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+
 #include "Error.h"
 #include "gl/Context.h"
 #include "io/Checkpoint.h"
@@ -25,8 +28,8 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names design.md gives
-// the outputs (and assembleVideo reads).
+// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names
+// docs/command-line.md gives the outputs (and assembleVideo reads).
 std::string numberedFileName(const char* prefix, int frame, const char* extension) {
   char name[64];
   std::snprintf(name, sizeof name, "%s_%04d.%s", prefix, frame, extension);
@@ -45,6 +48,37 @@ PointCache toPointCache(const ParticleSnapshot& particles) {
   }
   cache.plasticJ = particles.plasticJ;
   return cache;
+}
+
+// Mass, momentum, kinetic energy, centre of mass, mean J_P and the particles at the walls of a snapshot,
+// summed in double.
+FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid) {
+  FrameStats stats;
+  // The walls act on grid nodes, so the particles they stop come to rest up to a cell short of the interior's
+  // bounds (about half a cell for the quadratic kernel).
+  const glm::dvec3 wallZoneLowM = grid.interiorMinM() + grid.cellSizeM;
+  const glm::dvec3 wallZoneHighM = grid.interiorMaxM() - grid.cellSizeM;
+  stats.particles = particles.size();
+  double plasticJSum = 0;
+  glm::dvec3 weightedPosition(0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double mass = particles.positionMass[i].w;
+    const glm::dvec3 velocity(particles.velocityVolume[i]);
+    stats.massKg += mass;
+    stats.momentumKgMPerS += mass * velocity;
+    stats.kineticEnergyJ += 0.5 * mass * glm::dot(velocity, velocity);
+    weightedPosition += mass * glm::dvec3(particles.positionMass[i]);
+    plasticJSum += particles.plasticJ[i];
+    const glm::dvec3 position(particles.positionMass[i]);
+    if (glm::any(glm::lessThan(position, wallZoneLowM)) || glm::any(glm::greaterThan(position, wallZoneHighM))) {
+      ++stats.particlesAtWalls;
+    }
+  }
+  if (particles.size() > 0) {
+    stats.meanPlasticJ = plasticJSum / double(particles.size());
+    stats.centerOfMassM = weightedPosition / stats.massKg;
+  }
+  return stats;
 }
 
 void printProgress(int frame, int frames, double simulatedS, double stepsPerS, double etaS) {

@@ -4,11 +4,12 @@
 namespace firn {
 
 const std::vector<Material>& snowPresets() {
-  // Fields: name, E (Pa), ν, ρ (kg/m³), θc, θs, ξ. Sources (shared/seeds, see design.md):
+  // Fields: name, E (Pa), ν, ρ (kg/m³), θc, θs, ξ. Sources:
   // - stomakhin: Stomakhin et al. 2013, table 2, the reference snow.
   // - dry: powder; Stomakhin's lower critical compression and stretch, so it crumbles rather than deforms.
-  // - wet: chunky; larger θc and θs per the seeds, so it deforms plastically before it breaks.
-  // - icy: seed 002's snowball parameters (E = 5e6, ν = 0.3, ξ = 30, θs = 2e-3), high E and hardening.
+  // - wet: chunky; larger θc and θs per Blažević 2022 and Snow thesis 2015, so it deforms plastically before it
+  //   breaks.
+  // - icy: Snow thesis 2015's snowball parameters (E = 5e6, ν = 0.3, ξ = 30, θs = 2e-3), high E and hardening.
   // - slushy: Stomakhin's lower E and lower hardening, so it flows.
   static const std::vector<Material> presets = {
       {"stomakhin", 1.4e5, 0.2, 400, 2.5e-2, 7.5e-3, 10},

@@ -1,5 +1,5 @@
 #pragma once
-// The scene description: what design.md's JSON scene file says, parsed and validated, in SI units.
+// The scene description: what the JSON scene file (docs/scene-format.md) says, parsed and validated, in SI units.
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -15,11 +15,11 @@ struct TriangleMesh;
 }
 
 enum class Kernel { Quadratic, Cubic };          // B-spline order: 27 or 64 nodes per particle
-enum class Transfer { PicFlip, Apic };            // seed 002's PIC/FLIP blend, or seed 001's APIC
+enum class Transfer { PicFlip, Apic };            // Snow thesis 2015's PIC/FLIP blend, or Blažević 2022's APIC
 // How P2G sums: integer atomics on nondimensional sums, NV float atomics, or no atomics at all (particles binned
 // into blocks scattered in eight colours, so no two writers share a node: the fastest on CPU renderers).
 enum class Atomics { FixedPoint, Float, None };
-enum class Boundary { Sticky, Slip, Separate };   // seed 001 ch. 5
+enum class Boundary { Sticky, Slip, Separate };   // Blažević 2022 ch. 5
 // Where the particles' initial volumes V0 come from: the grid density after a first P2G of mass, V0 = m / ρ_grid
 // (Stomakhin 2013 §6 step 2; too large near free surfaces, where the kernel reads the density low), or the
 // material's density, V0 = m / ρ (exact where the body is filled at that density, as sampled bodies are).
@@ -33,7 +33,7 @@ struct GridSpec {
   glm::ivec3 cells{64};  // nodes per axis = cells + 1
   double cellSizeM = 0.02;
 
-  // The outer cells on every side are walls (design.md); particles start in the interior between them.
+  // The outer cells on every side are walls (docs/algorithm.md); particles start in the interior between them.
   static constexpr int wallCells = 2;
   glm::dvec3 interiorMinM() const { return originM + double(wallCells) * cellSizeM; }
   glm::dvec3 interiorMaxM() const { return originM + glm::dvec3(cells - wallCells) * cellSizeM; }
@@ -55,13 +55,13 @@ struct SolverSpec {
   ParticleVolume particleVolume = ParticleVolume::GridDensity;
 };
 
-// The material families of the source theses (design.md's table of models and keys).
+// The material families of the source theses (docs/scene-format.md's table of models and keys).
 enum class MaterialModel {
   Snow,            // Stomakhin et al. 2013: fixed corotated elasticity, plastic clamping and hardening
-  FixedCorotated,  // seed 001 §4.2.2: Ψ = μ‖F − R‖² + λ/2 (J − 1)²
-  NeoHookean,      // seed 001 §4.2.1: Ψ = μ/2 (tr FᵀF − 3) − μ ln J + λ/2 ln² J
-  Water,           // seed 001 §4.1: Ψ(J) = −k (J^{1−γ}/(1−γ) − J), optionally viscous
-  DruckerPrager,   // seed 001 §4.4, Klár et al. 2016: sand, Hencky elasticity with a friction cone
+  FixedCorotated,  // Blažević 2022 §4.2.2: Ψ = μ‖F − R‖² + λ/2 (J − 1)²
+  NeoHookean,      // Blažević 2022 §4.2.1: Ψ = μ/2 (tr FᵀF − 3) − μ ln J + λ/2 ln² J
+  Water,           // Blažević 2022 §4.1: Ψ(J) = −k (J^{1−γ}/(1−γ) − J), optionally viscous
+  DruckerPrager,   // Blažević 2022 §4.4, Klár et al. 2016: sand, Hencky elasticity with a friction cone
 };
 
 struct Material {
@@ -79,8 +79,8 @@ struct Material {
   double bulkModulusPa = 0;
   double gamma = 7;
   double viscosityPaS = 0;
-  // Sand: the friction angle φ = h0 + (h1 q − h3) e^{−h2 q} of the hardening state q (Klár 2016 eq. 29, seed 001
-  // eq. 4.17); without hardening, φ = friction_angle_deg throughout (h0 = φ, h1 = h2 = h3 = 0).
+  // Sand: the friction angle φ = h0 + (h1 q − h3) e^{−h2 q} of the hardening state q (Klár 2016 eq. 29, Blažević
+  // 2022 eq. 4.17); without hardening, φ = friction_angle_deg throughout (h0 = φ, h1 = h2 = h3 = 0).
   double hardeningH0Deg = 30;
   double hardeningH1Deg = 0;
   double hardeningH2 = 0;
@@ -98,7 +98,7 @@ struct Body {
   int materialIndex = 0;    // into Scene::materials
   glm::dvec3 velocityMPerS{0.0};
   glm::dvec3 angularVelocityRadPerS{0.0};  // about the body's centre of mass: v = v0 + ω × (x − c)
-  // Seed 001's modifiers of the material for this body alone: λ0, μ0 and the particle masses are scaled.
+  // Blažević 2022's modifiers of the material for this body alone: λ0, μ0 and the particle masses are scaled.
   double lambdaScale = 1;
   double muScale = 1;
   double massScale = 1;

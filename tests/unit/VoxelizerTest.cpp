@@ -17,7 +17,6 @@
 #include <glm/vector_relational.hpp>
 #include <gtest/gtest.h>
 
-#include "Error.h"
 #include "voxelizer/Voxelizer.h"
 
 namespace firn::voxelizer {
@@ -346,16 +345,16 @@ TEST(VoxelizerMesh, LoadFailuresAreBadInputNamingTheFile) {
   const std::filesystem::path missing = directory / "missing.obj";
   try {
     loadMesh(missing);
-    FAIL() << "expected InputError";
-  } catch (const InputError& error) {
+    FAIL() << "expected MeshError";
+  } catch (const MeshError& error) {
     EXPECT_EQ(std::string(error.what()).rfind(missing.string() + ": ", 0), 0u) << error.what();
   }
   const std::filesystem::path garbage = directory / "garbage.stl";
   std::ofstream(garbage) << "this is not a mesh\n";
   try {
     loadMesh(garbage);
-    FAIL() << "expected InputError";
-  } catch (const InputError& error) {
+    FAIL() << "expected MeshError";
+  } catch (const MeshError& error) {
     EXPECT_EQ(std::string(error.what()).rfind(garbage.string() + ": cannot read mesh (", 0), 0u) << error.what();
   }
 }
