@@ -1,5 +1,5 @@
 // Signed-distance colliders and the boundary response shared by grid nodes and particles
-// (Stomakhin 2013 §8; seed 001 ch. 5; seed 002 §4.4). Colliders translate at their velocity.
+// (Stomakhin et al. 2013 §8; Blažević 2022 ch. 5; Snow thesis 2015 §4.4). Colliders translate at their velocity.
 
 #include "common/shared_functions.h"
 

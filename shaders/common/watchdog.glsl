@@ -1,6 +1,6 @@
-// GPU-side detection of the failures design.md says must stop a run loudly: fixed-point overflow, non-finite
-// particle state, and particles moving more than a cell per step (CFL). Counting is an atomic on a rarely
-// touched buffer; the first event of each kind is recorded by the invocation that claims its slot.
+// GPU-side detection of the failures that must stop a run loudly (docs/numerics.md, "The watchdog"): fixed-point
+// overflow, non-finite particle state, and particles moving more than a cell per step (CFL). Counting is an atomic
+// on a rarely touched buffer; the first event of each kind is recorded by the invocation that claims its slot.
 
 layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer { FIRN_MEMBERS(FIRN_WATCHDOG_STATUS) };
 
