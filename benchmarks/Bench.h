@@ -1,9 +1,10 @@
 #pragma once
-// `firn bench` (issue 7): the source thesis's scaling experiments on its bunny (time per step against particle
-// count, scaled and unscaled, and against grid size), per-pass GPU times, the atomics' speed and P2G error, and
-// the speed/accuracy trade on a reference problem with a known answer (benchmarks/ElasticBar.h). Each
-// configuration is built, warmed up (excluded), then timed in repeated runs whose median is reported; every
-// table names the renderer, and machine.txt the machine. benchmarks/README.md says what each table holds.
+// `firn bench` (issue 7): the source thesis's scaling experiments on its bunny (Snow thesis 2015 §5.2: time per
+// step against particle count, scaled and unscaled, and against grid size), per-pass GPU times, the atomics'
+// speed and P2G error, and the speed/accuracy trade on a reference problem with a known answer
+// (benchmarks/ElasticBar.h). Each configuration is built, warmed up (excluded), then timed in repeated runs
+// whose median is reported; every table names the renderer, and machine.txt the machine.
+// benchmarks/README.md says what each table holds; Experiments.h lists the experiments, one file each.
 #include <filesystem>
 #include <ostream>
 #include <string>

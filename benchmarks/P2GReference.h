@@ -1,6 +1,6 @@
 #pragma once
 // The P2G sums recomputed on the CPU, for measuring what the GPU's atomics lose (fixed point against float,
-// design.md "Fixed-point atomics"). Each contribution is computed in float as p2g.comp computes it, with the
+// docs/numerics.md "Fixed-point atomics"). Each contribution is computed in float as p2g.comp computes it, with the
 // weights of shaders/common/bspline.glsl (the one copy, compiled here as C++), and the contributions are added
 // in double: what the GPU's sums differ by is then how its atomics add, not how its weights are evaluated.
 //

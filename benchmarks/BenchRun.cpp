@@ -1,0 +1,159 @@
+#include "BenchRun.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "Error.h"
+#include "sim/Simulation.h"
+
+namespace firn::bench {
+
+Sizes sizesFor(BenchSize size) {
+  Sizes sizes;
+  switch (size) {
+    case BenchSize::Default:
+      // Up to 6 million particles; 128 per cell leaves 19 bits of fixed-point resolution.
+      sizes.unscaledParticlesPerCell = {4, 8, 16, 32, 64, 128};
+      sizes.gridExperimentCells = {50, 64, 80, 100, 128, 160, 200};
+      sizes.timing = {5, 5, 20};
+      sizes.barPeriods = 3;
+      break;
+    case BenchSize::Quick:
+      // Up to 376k particles: on llvmpipe (2 cores) a 188k-particle cubic step takes about half a second.
+      sizes.unscaledParticlesPerCell = {4, 8, 16, 32};
+      sizes.gridExperimentCells = {50, 64, 80, 100, 128, 160, 200};
+      sizes.timing = {2, 5, 3};
+      sizes.barPeriods = 2;
+      break;
+    case BenchSize::Tiny:
+      sizes.particleGridCells = 40;
+      sizes.smallestParticles = 1500;
+      sizes.unscaledParticlesPerCell = {4, 8};
+      sizes.gridExperimentCells = {24, 40};
+      sizes.timing = {1, 3, 1};
+      sizes.barPeriods = 1;
+      break;
+  }
+  return sizes;
+}
+
+std::string grouped(std::uint64_t count) {
+  std::string digits = std::to_string(count);
+  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
+  return digits;
+}
+
+std::string fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+std::string nodeDims(const glm::ivec3& cells) {
+  return std::to_string(cells.x + 1) + "x" + std::to_string(cells.y + 1) + "x" + std::to_string(cells.z + 1);
+}
+
+std::int64_t nodeCount(const glm::ivec3& cells) {
+  return std::int64_t(cells.x + 1) * std::int64_t(cells.y + 1) * std::int64_t(cells.z + 1);
+}
+
+void setTiming(CsvTable::Row& row, const Timed& timed) {
+  row.setText("status", timed.status);
+  if (timed.status != "ok") return;
+  row.setCount("active_nodes", timed.activeNodes)
+      .setCount("steps", timed.timing.stepsPerRepeat)
+      .setCount("repeats", timed.timing.repeats)
+      .set("ms_per_step", timed.timing.medianMs)
+      .set("ms_min", timed.timing.minMs)
+      .set("ms_max", timed.timing.maxMs)
+      .set("steps_per_s", 1e3 / timed.timing.medianMs)
+      .set("gpu_ms_per_step", timed.timing.gpuMedianMs);
+}
+
+BenchRun::BenchRun(const BenchOptions& options, std::ostream& log)
+    : options_(options),
+      log_(log),
+      sizes_(sizesFor(options.size)),
+      // Loaded before the GL context: missing assets are reported at once.
+      bunnies_(wantsBunny() ? std::optional<BunnyScenes>(std::in_place, options.assetsDir) : std::nullopt) {
+  if (options.stepsPerRepeat > 0) sizes_.timing.stepsPerRepeat = options.stepsPerRepeat;
+  sizes_.timing.repeats = options.repeats;
+  atomics_ = options.atomics;
+  if (atomics_.empty()) {
+    const std::string& name = renderer();
+    const bool cpuRenderer = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos;
+    atomics_ = {"fixed", cpuRenderer ? "none" : "float"};
+  }
+}
+
+bool BenchRun::wanted(const std::string& table) const {
+  return options_.tables.empty() ||
+         std::find(options_.tables.begin(), options_.tables.end(), table) != options_.tables.end();
+}
+
+bool BenchRun::wantsBunny() const {
+  return wanted("particles") || wanted("grid") || wanted("passes") || wanted("p2g_atomics");
+}
+
+BunnySetup BenchRun::referenceBunny() const {
+  BunnySetup setup;
+  setup.gridCells = sizes_.particleGridCells;
+  setup.scale = bunnies().scaleFor(sizes_.smallestParticles, kSmallestParticlesPerCell);
+  setup.particlesPerCell = kSmallestParticlesPerCell;
+  return setup;
+}
+
+std::string BenchRun::inputErrorStatus(const std::string& atomics) const {
+  return atomics == "float" && !gl().hasFloatAtomics ? "unsupported" : "skipped";
+}
+
+void BenchRun::progress(const std::string& line) { log_ << "firn bench: " << line << "\n" << std::flush; }
+
+void BenchRun::write(const CsvTable& table, const std::string& name) {
+  table.write(options_.outputDir / (name + ".csv"));
+  progress("wrote " + (options_.outputDir / (name + ".csv")).string());
+}
+
+std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>& configurations) {
+  std::vector<Timed> results(configurations.size());
+  std::vector<std::unique_ptr<Simulation>> simulations;
+  std::vector<Simulation*> built;
+  std::vector<std::size_t> builtIndex;
+  for (std::size_t i = 0; i < configurations.size(); ++i) {
+    try {
+      const Scene scene = configurations[i].makeScene();
+      const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+      results[i].particles = seeds.size();
+      simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
+      built.push_back(simulations.back().get());
+      builtIndex.push_back(i);
+      progress(configurations[i].label + ": " + grouped(seeds.size()) + " particles, " + nodeDims(scene.grid.cells) +
+               " nodes");
+    } catch (const InputError& error) {
+      results[i].status = "skipped";
+      progress(configurations[i].label + ": skipped: " + error.what());
+    }
+  }
+  progress("timing " + std::to_string(built.size()) + " configurations interleaved: " +
+           std::to_string(sizes_.timing.warmupSteps) + " warm-up steps each, then " +
+           std::to_string(sizes_.timing.repeats) + " rounds of " + std::to_string(sizes_.timing.stepsPerRepeat) +
+           " steps of each");
+  const std::vector<InterleavedTiming> timings = timeInterleaved(built, sizes_.timing);
+  for (std::size_t k = 0; k < built.size(); ++k) {
+    Timed& result = results[builtIndex[k]];
+    const std::string& label = configurations[builtIndex[k]].label;
+    if (!timings[k].unstable.empty()) {
+      result.status = "unstable";
+      progress(label + ": unstable: " + timings[k].unstable);
+      continue;
+    }
+    result.timing = timings[k].timing;
+    result.activeNodes = built[k]->activeRegion().boxSize.w;
+    progress(label + ": " + fixed(result.timing.medianMs, 2) + " ms per step (runs " + fixed(result.timing.minMs, 2) +
+             "–" + fixed(result.timing.maxMs, 2) + ")");
+  }
+  return results;
+}
+
+}  // namespace firn::bench

@@ -1,0 +1,104 @@
+#pragma once
+// What every experiment of `firn bench` shares: the sizes of the run, the GL context, the bunny scenes, the
+// series of atomics, progress and summary lines, and timing a set of configurations together. The experiments
+// (Experiments.h) each write one table through it; Bench.cpp drives them.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "Bench.h"
+#include "BenchScenes.h"
+#include "CsvTable.h"
+#include "StepTiming.h"
+#include "gl/Context.h"
+
+namespace firn::bench {
+
+// The thesis's particle-count experiment starts its unscaled series at 47,063 particles, 4 per cell, and
+// doubles the particles per cell (issue 7). That smallest bunny is also the reference scene of the grid,
+// passes and P2G tables.
+constexpr double kThesisSmallestParticles = 47063;
+constexpr double kSmallestParticlesPerCell = 4;
+
+struct Sizes {
+  int particleGridCells = 200;  // per axis: the thesis's 200³ cells, 8 million nodes
+  double smallestParticles = kThesisSmallestParticles;
+  std::vector<double> unscaledParticlesPerCell;
+  std::vector<int> gridExperimentCells;  // per axis; the same bunny in each
+  TimingPlan timing;
+  int barPeriods = 2;  // tradeoff: periods measured (the amplitude after them shows PIC's damping)
+};
+
+Sizes sizesFor(BenchSize size);
+
+// "12,345": counts in messages.
+std::string grouped(std::uint64_t count);
+std::string fixed(double value, int decimals);
+std::string nodeDims(const glm::ivec3& cells);
+std::int64_t nodeCount(const glm::ivec3& cells);
+
+// One configuration's outcome: timed, or why not ("unstable": the watchdog stopped it; "skipped": it does not
+// fit the domain or the driver's buffers).
+struct Timed {
+  std::string status = "ok";
+  StepTiming timing;
+  std::size_t particles = 0;
+  std::int64_t activeNodes = 0;
+};
+
+// A timed row's status and, when it was timed, the columns active_nodes, steps, repeats, ms_per_step, ms_min,
+// ms_max, steps_per_s and gpu_ms_per_step.
+void setTiming(CsvTable::Row& row, const Timed& timed);
+
+struct Configuration {
+  std::string label;
+  std::function<Scene()> makeScene;
+};
+
+class BenchRun {
+ public:
+  // Loads the bunny scenes when a table needs them, then makes the GL context.
+  BenchRun(const BenchOptions& options, std::ostream& log);
+
+  const BenchOptions& options() const { return options_; }
+  const Sizes& sizes() const { return sizes_; }
+  bool wanted(const std::string& table) const;
+  const gl::ContextInfo& gl() const { return context_.info(); }
+  const std::string& renderer() const { return context_.info().renderer; }
+  // The series of the particle, grid, passes and thesis tables: BenchOptions::atomics, or its default here.
+  const std::vector<std::string>& atomicsSeries() const { return atomics_; }
+  const BunnyScenes& bunnies() const { return bunnies_.value(); }
+  // The thesis's smallest configuration: the reference scene of the grid, passes and P2G tables.
+  BunnySetup referenceBunny() const;
+  // Why a configuration could not be built: float atomics the driver lacks (GL_NV_shader_atomic_float), or a
+  // scene that does not fit the domain or the driver's buffers.
+  std::string inputErrorStatus(const std::string& atomics) const;
+
+  void progress(const std::string& line);
+  void write(const CsvTable& table, const std::string& name);
+  void addSummary(const std::string& line) { summary_.push_back(line); }
+  const std::vector<std::string>& summaryLines() const { return summary_; }
+
+  // Builds every configuration's scene and simulation, then times them all together, interleaved
+  // (timeInterleaved); one that cannot be built (it does not fit the domain or the driver's buffers) or goes
+  // unstable is an outcome, not a failure.
+  std::vector<Timed> timeConfigurations(const std::vector<Configuration>& configurations);
+
+ private:
+  bool wantsBunny() const;
+
+  const BenchOptions& options_;
+  std::ostream& log_;
+  Sizes sizes_;
+  std::optional<BunnyScenes> bunnies_;  // when a table needs them (the bar and the thesis cloud do not)
+  gl::HeadlessContext context_;
+  std::vector<std::string> summary_;
+  std::vector<std::string> atomics_;
+};
+
+}  // namespace firn::bench

@@ -1,0 +1,15 @@
+#pragma once
+// The experiments of `firn bench`, one file each: each measures what its file's header says, writes its table
+// (DIR/<table>.csv, tableNames()) and adds its findings to the summary.
+#include "BenchRun.h"
+
+namespace firn::bench {
+
+void measureParticles(BenchRun& run);   // particles.csv (ParticlesExperiment.cpp)
+void measureGrid(BenchRun& run);        // grid.csv (GridExperiment.cpp)
+void measurePasses(BenchRun& run);      // passes.csv (PassesExperiment.cpp)
+void measureP2GAtomics(BenchRun& run);  // p2g_atomics.csv (P2GAtomicsExperiment.cpp)
+void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)
+void measureThesis(BenchRun& run);      // thesis.csv (ThesisExperiment.cpp)
+
+}  // namespace firn::bench

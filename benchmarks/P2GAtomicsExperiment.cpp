@@ -1,0 +1,86 @@
+// p2g_atomics.csv: how P2G sums, fixed-point atomics against float atomics and against none (binned, coloured
+// scatter): P2G's time, and its sums on the reference bunny (falling and spinning) against the same
+// contributions added in double on the CPU (P2GReference.h), as relative and absolute errors per node.
+#include <stdexcept>
+
+#include "Error.h"
+#include "Experiments.h"
+#include "P2GReference.h"
+#include "sim/Simulation.h"
+
+namespace firn::bench {
+
+namespace {
+
+// The velocity field of the P2G comparison: a falling, spinning bunny, so momentum sums are nonzero and vary
+// (at rest they would all be zero, and fixed and float both exact).
+constexpr glm::dvec3 kP2GVelocityMPerS{0.0, -3.0, 0.0};
+constexpr glm::dvec3 kP2GAngularVelocityRadPerS{0.0, 2.0, 0.0};
+
+}  // namespace
+
+void measureP2GAtomics(BenchRun& run) {
+  CsvTable table({"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
+                  "momentum_max_rel_error", "momentum_rms_rel_error", "mass_max_error_units",
+                  "momentum_max_error_units", "fraction_bits", "resolution_units", "max_contributions", "nodes",
+                  "particles", "status", "renderer"});
+  std::string summary;
+  for (const std::string atomics : {"fixed", "float", "none"}) {
+    CsvTable::Row& row = table.addRow();
+    row.setText("atomics", atomics).setText("renderer", run.renderer());
+    try {
+      BunnySetup setup = run.referenceBunny();
+      setup.atomics = atomics;
+      setup.velocityMPerS = kP2GVelocityMPerS;
+      setup.angularVelocityRadPerS = kP2GAngularVelocityRadPerS;
+      const Scene scene = run.bunnies().scene(setup);
+      const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+      Simulation simulation(scene, seeds, run.gl());
+      const FixedPointScale& scale = simulation.fixedPoint();
+      const ReferenceGrid reference = referenceParticleToGrid(scene, scale, simulation.snapshot());
+      const SumErrorSummary errors =
+          summarizeErrors(compareWithReference(simulation.readGridAfterTransfer(), reference, scene, scale));
+      const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
+      // P2G is one pass with atomics, binning and the coloured scatter without ("none").
+      PassTiming p2g{"p2g"};
+      for (const PassTiming& timing : timings) {
+        if (timing.pass == "p2g" || timing.pass == "p2g_blocks" || timing.pass.rfind("bin_", 0) == 0) {
+          p2g.wallMs += timing.wallMs;
+          p2g.gpuMs += timing.gpuMs;
+        }
+      }
+      if (p2g.wallMs == 0) throw std::logic_error("no p2g pass among the timed passes");
+      row.set("p2g_ms", p2g.wallMs)
+          .set("p2g_gpu_ms", p2g.gpuMs)
+          .set("mass_max_rel_error", errors.massMaxRelative)
+          .set("mass_rms_rel_error", errors.massRmsRelative)
+          .set("momentum_max_rel_error", errors.momentumMaxRelative)
+          .set("momentum_rms_rel_error", errors.momentumRmsRelative)
+          .set("mass_max_error_units", errors.massMaxUnits)
+          .set("momentum_max_error_units", errors.momentumMaxUnits)
+          .setCount("max_contributions", errors.maxContributions)
+          .setCount("nodes", std::int64_t(errors.nodes))
+          .setCount("particles", std::int64_t(seeds.size()))
+          .setText("status", "ok");
+      if (atomics == "fixed") row.setCount("fraction_bits", scale.fractionBits).set("resolution_units", scale.resolution());
+      const std::string line = atomics + ": P2G " + fixed(p2g.wallMs, 2) + " ms, relative error max/RMS mass " +
+                               formatNumber(errors.massMaxRelative) + "/" + formatNumber(errors.massRmsRelative) +
+                               ", momentum " + formatNumber(errors.momentumMaxRelative) + "/" +
+                               formatNumber(errors.momentumRmsRelative);
+      run.progress("p2g atomics, " + line);
+      summary += (summary.empty() ? "" : "; ") + line;
+    } catch (const SimulationError& error) {
+      row.setText("status", "unstable");
+      run.progress("p2g atomics, " + atomics + ": unstable: " + error.what());
+    } catch (const InputError& error) {
+      row.setText("status", run.inputErrorStatus(atomics));
+      run.progress("p2g atomics, " + atomics + ": " + error.what());
+    }
+  }
+  run.write(table, "p2g_atomics");
+  run.addSummary("p2g atomics (" + fixed(run.bunnies().cellSizeM(), 2) + " m cells, bunny falling at " +
+                 fixed(-kP2GVelocityMPerS.y, 0) + " m/s and spinning at " + fixed(kP2GAngularVelocityRadPerS.y, 0) +
+                 " rad/s): " + summary);
+}
+
+}  // namespace firn::bench

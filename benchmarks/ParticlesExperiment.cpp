@@ -1,0 +1,111 @@
+// particles.csv: time per step against particle count on the thesis's 200³ grid (Snow thesis 2015 §5.2, fig. 10),
+// once per atomics, in two series: unscaled (one bunny, more particles per cell) and scaled (8 per cell, a bunny
+// ∛2 larger per size, so the counts match). The summary gives the exponent of time against particles over each
+// series' largest sizes.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "Experiments.h"
+
+namespace firn::bench {
+
+namespace {
+
+// The thesis's scaled series keeps 8 particles per cell and grows the bunny (issue 7).
+constexpr double kScaledParticlesPerCell = 8;
+// The particle exponent is fitted over each series' largest sizes (issue 7: ≤ 1.15 there), where the fixed
+// costs of a step (a dispatch, the grid box) no longer matter.
+constexpr std::size_t kExponentFitSizes = 3;
+
+// Least-squares slope of log(y) against log(x).
+double logLogSlope(const std::vector<std::pair<double, double>>& points) {
+  double meanX = 0, meanY = 0;
+  for (const auto& [x, y] : points) {
+    meanX += std::log(x);
+    meanY += std::log(y);
+  }
+  meanX /= double(points.size());
+  meanY /= double(points.size());
+  double covariance = 0, variance = 0;
+  for (const auto& [x, y] : points) {
+    covariance += (std::log(x) - meanX) * (std::log(y) - meanY);
+    variance += (std::log(x) - meanX) * (std::log(x) - meanX);
+  }
+  return variance > 0 ? covariance / variance : std::nan("");
+}
+
+}  // namespace
+
+void measureParticles(BenchRun& run) {
+  CsvTable table({"series", "atomics", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell",
+                  "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
+                  "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
+  const Sizes& sizes = run.sizes();
+  const BunnyScenes& bunnies = run.bunnies();
+  const double smallestScale = bunnies.scaleFor(sizes.smallestParticles, kSmallestParticlesPerCell);
+  std::vector<std::string> series;
+  std::vector<BunnySetup> setups;
+  for (const std::string& atomics : run.atomicsSeries()) {
+    for (const std::string name : {"unscaled", "scaled"}) {
+      for (const double unscaledPerCell : sizes.unscaledParticlesPerCell) {
+        BunnySetup setup;
+        setup.atomics = atomics;
+        setup.gridCells = sizes.particleGridCells;
+        if (name == "unscaled") {
+          setup.scale = smallestScale;
+          setup.particlesPerCell = unscaledPerCell;
+        } else {
+          setup.scale = smallestScale * std::cbrt(unscaledPerCell / kScaledParticlesPerCell);
+          setup.particlesPerCell = kScaledParticlesPerCell;
+        }
+        series.push_back(name);
+        setups.push_back(setup);
+      }
+    }
+  }
+  std::vector<Configuration> configurations;
+  for (std::size_t i = 0; i < setups.size(); ++i) {
+    configurations.push_back({"particles, " + setups[i].atomics + " atomics, " + series[i] + ", " +
+                                  fixed(setups[i].particlesPerCell, 0) + " per cell, bunny scale " +
+                                  fixed(setups[i].scale, 3),
+                              [&, i] { return bunnies.scene(setups[i]); }});
+  }
+  const std::vector<Timed> timed = run.timeConfigurations(configurations);
+  std::string exponents;
+  for (const std::string& atomics : run.atomicsSeries()) {
+    for (const std::string name : {"unscaled", "scaled"}) {
+      std::vector<std::pair<double, double>> points;
+      for (std::size_t i = 0; i < setups.size(); ++i) {
+        if (series[i] != name || setups[i].atomics != atomics) continue;
+        const glm::ivec3 cells(setups[i].gridCells);
+        CsvTable::Row& row = table.addRow();
+        row.setText("series", name)
+            .setText("atomics", atomics)
+            .setCount("particles", std::int64_t(timed[i].particles))
+            .setCount("grid_cells", nodeCount(cells))
+            .setText("grid_dims", nodeDims(cells))
+            .set("cell_size_m", bunnies.cellSizeM())
+            .set("particles_per_cell", setups[i].particlesPerCell)
+            .set("bunny_scale", setups[i].scale)
+            .setText("renderer", run.renderer());
+        setTiming(row, timed[i]);
+        if (timed[i].status == "ok") points.emplace_back(double(timed[i].particles), timed[i].timing.medianMs);
+      }
+      if (points.size() >= 2) {
+        const std::vector<std::pair<double, double>> largest(
+            points.end() - std::ptrdiff_t(std::min(points.size(), kExponentFitSizes)), points.end());
+        exponents += (exponents.empty() ? "" : ", ") + name + " " + atomics + " " + fixed(logLogSlope(largest), 3) +
+                     " (" + grouped(std::uint64_t(largest.front().first)) + "–" +
+                     grouped(std::uint64_t(largest.back().first)) + " particles)";
+      }
+    }
+  }
+  run.write(table, "particles");
+  if (!exponents.empty()) {
+    run.addSummary("particles: exponent of ms per step against particles over the largest " +
+                   std::to_string(kExponentFitSizes) + " sizes: " + exponents + "; issue bound 1.15");
+  }
+}
+
+}  // namespace firn::bench

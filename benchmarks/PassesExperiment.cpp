@@ -1,0 +1,52 @@
+// passes.csv: each pass of a step timed alone (GL_TIME_ELAPSED and wall time to glFinish) on the reference
+// bunny, once per atomics, with its share of the step. The summary gives each pass's share and their sum.
+#include "Error.h"
+#include "Experiments.h"
+#include "sim/Simulation.h"
+
+namespace firn::bench {
+
+void measurePasses(BenchRun& run) {
+  CsvTable table(
+      {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step", "particles", "renderer"});
+  for (const std::string& atomics : run.atomicsSeries()) {
+    try {
+      BunnySetup setup = run.referenceBunny();
+      setup.atomics = atomics;
+      const Scene scene = run.bunnies().scene(setup);
+      const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+      Simulation simulation(scene, seeds, run.gl());
+      const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
+      double totalWallMs = 0, totalGpuMs = 0;
+      for (const PassTiming& timing : timings) {
+        totalWallMs += timing.wallMs;
+        totalGpuMs += timing.gpuMs;
+      }
+      std::string shares;
+      for (const PassTiming& timing : timings) {
+        table.addRow()
+            .setText("atomics", atomics)
+            .setText("pass", timing.pass)
+            .set("gpu_ms", timing.gpuMs)
+            .set("wall_ms", timing.wallMs)
+            .set("share_of_step", timing.wallMs / totalWallMs)
+            .set("dispatches_per_step", timing.dispatchesPerStep)
+            .setCount("particles", std::int64_t(seeds.size()))
+            .setText("renderer", run.renderer());
+        shares += (shares.empty() ? "" : ", ") + timing.pass + " " + fixed(100 * timing.wallMs / totalWallMs, 1) +
+                  "% (" + fixed(timing.wallMs, 2) + " ms)";
+      }
+      run.progress("passes: " + shares);
+      run.addSummary("passes (" + grouped(seeds.size()) + " particles, cubic, PIC/FLIP, " + atomics +
+                     " atomics), wall time per step, each pass timed alone: " + shares + "; sum " +
+                     fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
+    } catch (const SimulationError& error) {
+      run.progress(std::string("passes: unstable: ") + error.what());
+    } catch (const InputError& error) {
+      run.progress(std::string("passes: skipped: ") + error.what());
+    }
+  }
+  run.write(table, "passes");
+}
+
+}  // namespace firn::bench

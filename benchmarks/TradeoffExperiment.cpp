@@ -1,0 +1,186 @@
+// tradeoff.csv: the speed/accuracy trade on a problem with a known answer, the elastic bar (ElasticBar.h): per
+// configuration (kernel, transfer, atomics, particle volumes, dt, particles per cell, cell size), the error of
+// its period against T/√κ and the cost of a simulated second. The summary gives the Pareto front.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "ElasticBar.h"
+#include "Error.h"
+#include "Experiments.h"
+
+namespace firn::bench {
+
+namespace {
+
+// The first steps of a tradeoff run are left out of its time: the first dispatch of each program compiles it.
+constexpr std::size_t kTradeoffWarmupSteps = 3;
+// A bar whose vibration grows by more than this over the periods measured is going unstable, however slowly:
+// "growing", and off the Pareto front. (The peaks are sampled once per step and carry the higher modes that
+// the slabs' start excites. Measured over 2 periods: 0.92–0.997 for APIC and PIC/FLIP where stable, 0.70 for
+// PIC, 0.29 with one particle per cell; 1.13–1.25 where the step was too long but the watchdog not yet tripped.)
+constexpr double kAmplitudeGrowthTolerance = 1.02;
+
+struct TradeoffCase {
+  std::string name;
+  BarSetup setup;
+};
+
+// A baseline, each factor varied alone from it, and three combinations a user might pick: a cheap preview, a
+// production setting and a validation run.
+std::vector<TradeoffCase> tradeoffCases(BenchSize size, int periods) {
+  BarSetup baseline;
+  baseline.model = "fixed_corotated";
+  baseline.dtFraction = 0.5;
+  baseline.periods = periods;
+  const auto with = [&](const std::string& name, const std::function<void(BarSetup&)>& change) {
+    BarSetup setup = baseline;
+    change(setup);
+    return TradeoffCase{name, setup};
+  };
+  const auto unchanged = [](BarSetup&) {};
+  if (size == BenchSize::Tiny) {
+    baseline.cellsAlongBar = 12;
+    return {with("baseline", unchanged), with("float_atomics", [](BarSetup& s) { s.atomics = "float"; })};
+  }
+  std::vector<TradeoffCase> cases = {
+      with("baseline", unchanged),
+      with("cubic", [](BarSetup& s) { s.kernel = "cubic"; }),
+      with("flip_0.95", [](BarSetup& s) { s.transfer = "pic_flip"; }),
+      with("pic", [](BarSetup& s) {
+        s.transfer = "pic_flip";
+        s.flipRatio = 0;
+      }),
+      with("float_atomics", [](BarSetup& s) { s.atomics = "float"; }),
+      with("no_atomics", [](BarSetup& s) { s.atomics = "none"; }),
+      with("material_volumes", [](BarSetup& s) { s.particleVolume = "material_density"; }),
+      with("dt_0.25", [](BarSetup& s) { s.dtFraction = 0.25; }),
+      with("dt_0.9", [](BarSetup& s) { s.dtFraction = 0.9; }),
+      with("ppc_1", [](BarSetup& s) { s.particlesPerCell = 1; }),
+      with("ppc_27", [](BarSetup& s) { s.particlesPerCell = 27; }),
+      with("h_L12", [](BarSetup& s) { s.cellsAlongBar = 12; }),
+      with("h_L36", [](BarSetup& s) { s.cellsAlongBar = 36; }),
+      // PIC/FLIP's energy grows on this bar at half the bound with h = L/12 (measured); 0.4 keeps it stable.
+      with("preview", [](BarSetup& s) {
+        s.transfer = "pic_flip";
+        s.dtFraction = 0.4;
+        s.cellsAlongBar = 12;
+      }),
+      with("production", [](BarSetup& s) { s.cellsAlongBar = 24; }),
+      with("validation", [](BarSetup& s) {
+        s.kernel = "cubic";
+        s.dtFraction = 0.25;
+        s.particlesPerCell = 27;
+        s.cellsAlongBar = 36;
+      }),
+  };
+  if (size == BenchSize::Default) {
+    cases.push_back(with("ppc_64", [](BarSetup& s) { s.particlesPerCell = 64; }));
+    cases.push_back(with("h_L72", [](BarSetup& s) { s.cellsAlongBar = 72; }));
+    cases.push_back(with("validation_L72", [](BarSetup& s) {
+      s.kernel = "cubic";
+      s.dtFraction = 0.25;
+      s.particlesPerCell = 27;
+      s.cellsAlongBar = 72;
+    }));
+  }
+  return cases;
+}
+
+struct TradeoffResult {
+  CsvTable::Row* row;
+  std::string configuration;
+  double costMs;  // per simulated second
+  double error;
+};
+
+// Marks each stable result's row pareto 1 or 0 and returns the front, cheapest first. On the front: no other
+// configuration is at once no more costly and no less accurate, and better in one.
+std::vector<const TradeoffResult*> paretoFront(const std::vector<TradeoffResult>& results) {
+  std::vector<const TradeoffResult*> front;
+  for (const TradeoffResult& result : results) {
+    const bool dominated = std::any_of(results.begin(), results.end(), [&](const TradeoffResult& other) {
+      return other.costMs <= result.costMs && other.error <= result.error &&
+             (other.costMs < result.costMs || other.error < result.error);
+    });
+    result.row->setCount("pareto", dominated ? 0 : 1);
+    if (!dominated) front.push_back(&result);
+  }
+  std::sort(front.begin(), front.end(),
+            [](const TradeoffResult* a, const TradeoffResult* b) { return a->costMs < b->costMs; });
+  return front;
+}
+
+}  // namespace
+
+void measureTradeoff(BenchRun& run) {
+  CsvTable table({"configuration", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
+                  "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
+                  "ms_per_simulated_second", "period_s", "error", "signed_error", "uncorrected_error",
+                  "amplitude_retained", "kappa", "pareto", "status", "renderer"});
+  std::vector<TradeoffResult> results;
+  const double analyticPeriodS = barAnalyticPeriodS();
+  for (const TradeoffCase& configuration : tradeoffCases(run.options().size, run.sizes().barPeriods)) {
+    const BarSetup& setup = configuration.setup;
+    CsvTable::Row& row = table.addRow();
+    const std::string transfer = setup.transfer == "apic" ? "apic" : setup.flipRatio == 0 ? "pic" : "pic_flip";
+    row.setText("configuration", configuration.name)
+        .setText("kernel", setup.kernel)
+        .setText("transfer", transfer)
+        .setText("atomics", setup.atomics)
+        .set("dt_fraction", setup.dtFraction)
+        .set("particles_per_cell", setup.particlesPerCell)
+        .set("cell_size_m", kBarLengthM / setup.cellsAlongBar)
+        .setText("renderer", run.renderer());
+    if (transfer != "apic") row.set("flip_ratio", setup.flipRatio);
+    try {
+      const BarVibration bar = measureBarVibration(setup, run.gl());
+      row.set("dt_s", bar.dtS).setCount("particles", std::int64_t(bar.particles));
+      const std::vector<double> timedMs(
+          bar.stepWallMs.begin() + std::ptrdiff_t(std::min(kTradeoffWarmupSteps, bar.stepWallMs.size() - 1)),
+          bar.stepWallMs.end());
+      const double msPerStep = median(timedMs);
+      row.setCount("steps", std::int64_t(timedMs.size()))
+          .set("ms_per_step", msPerStep)
+          .set("ms_per_simulated_second", msPerStep / bar.dtS)
+          .set("kappa", bar.kappa);
+      if (bar.periodS <= 0) {
+        row.setText("status", "no_period");
+        run.progress("tradeoff, " + configuration.name + ": no full period within the steps allowed");
+        continue;
+      }
+      const double signedError = bar.periodS / (analyticPeriodS / std::sqrt(bar.kappa)) - 1;
+      row.set("period_s", bar.periodS)
+          .set("error", std::abs(signedError))
+          .set("signed_error", signedError)
+          .set("uncorrected_error", std::abs(bar.periodS / analyticPeriodS - 1))
+          .set("amplitude_retained", bar.amplitudeRetained);
+      if (bar.amplitudeRetained > kAmplitudeGrowthTolerance) {
+        row.setText("status", "growing");
+      } else {
+        row.setText("status", "ok");
+        results.push_back({&row, configuration.name, msPerStep / bar.dtS, std::abs(signedError)});
+      }
+      run.progress("tradeoff, " + configuration.name + ": " + grouped(bar.particles) + " particles, " +
+                   fixed(msPerStep, 2) + " ms per step, " + fixed(msPerStep / bar.dtS / 1e3, 2) +
+                   " s per simulated second, period error " + fixed(100 * signedError, 2) + "%, amplitude kept " +
+                   fixed(bar.amplitudeRetained, 3));
+    } catch (const SimulationError& error) {
+      row.setText("status", "unstable");
+      run.progress("tradeoff, " + configuration.name + ": unstable: " + error.what());
+    } catch (const InputError& error) {
+      row.setText("status", run.inputErrorStatus(setup.atomics));
+      run.progress("tradeoff, " + configuration.name + ": " + error.what());
+    }
+  }
+  std::string frontText;
+  for (const TradeoffResult* result : paretoFront(results)) {
+    frontText += (frontText.empty() ? "" : ", ") + result->configuration + " (" + fixed(result->costMs / 1e3, 2) +
+                 " s per simulated s, error " + formatNumber(result->error) + ")";
+  }
+  run.write(table, "tradeoff");
+  run.addSummary("tradeoff (elastic bar, period error against T/sqrt(kappa)): Pareto front " +
+                 (frontText.empty() ? std::string("empty") : frontText));
+}
+
+}  // namespace firn::bench
