@@ -29,8 +29,7 @@ struct BenchOptions {
   double thesisDtS = 2.5e-4;           // the thesis's 1e-3 s is beyond Firn's explicit elastic bound
   std::vector<std::string> tables;     // empty: all of them (thesis only with a thesisCloud)
   // How P2G sums (solver.atomics) in the particle, grid, passes and thesis tables, each a series of its own.
-  // Empty: "fixed" (the default), and the faster of the others on this renderer: "none" on a CPU renderer
-  // (llvmpipe: no atomics at all), "float" on a GPU.
+  // Empty: "fixed" (the default), and "float" where the driver has float atomics.
   std::vector<std::string> atomics;
 };
 

@@ -81,9 +81,8 @@ BenchRun::BenchRun(const BenchOptions& options, std::ostream& log)
   sizes_.timing.repeats = options.repeats;
   atomics_ = options.atomics;
   if (atomics_.empty()) {
-    const std::string& name = renderer();
-    const bool cpuRenderer = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos;
-    atomics_ = {"fixed", cpuRenderer ? "none" : "float"};
+    atomics_ = {"fixed"};
+    if (gl().hasFloatAtomics) atomics_.push_back("float");
   }
 }
 
@@ -149,7 +148,7 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       continue;
     }
     result.timing = timings[k].timing;
-    result.activeNodes = built[k]->activeRegion().boxSize.w;
+    result.activeNodes = static_cast<std::int64_t>(built[k]->blockUsage().lastStep) * gpu::BLOCK_NODES;
     progress(label + ": " + fixed(result.timing.medianMs, 2) + " ms per step (runs " + fixed(result.timing.minMs, 2) +
              "–" + fixed(result.timing.maxMs, 2) + ")");
   }

@@ -52,7 +52,6 @@ std::vector<TradeoffCase> tradeoffCases(BenchSize size, int periods) {
         s.flipRatio = 0;
       }),
       with("float_atomics", [](BarSetup& s) { s.atomics = "float"; }),
-      with("no_atomics", [](BarSetup& s) { s.atomics = "none"; }),
       with("material_volumes", [](BarSetup& s) { s.particleVolume = "material_density"; }),
       with("dt_0.25", [](BarSetup& s) { s.dtFraction = 0.25; }),
       with("dt_0.9", [](BarSetup& s) { s.dtFraction = 0.9; }),

@@ -270,8 +270,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   bench->add_option("--atomics", benchOptions.options.atomics,
                     "How P2G sums in the particle, grid, passes and thesis tables, a series each (comma-separated: "
-                    "fixed, float, none); default: fixed, and none on a CPU renderer or float on a GPU")
-      ->check(CLI::IsMember({"fixed", "float", "none"}))->delimiter(',');
+                    "fixed, float); default: fixed, and float where the driver has float atomics")
+      ->check(CLI::IsMember({"fixed", "float"}))->delimiter(',');
   bench->add_flag("--no-plots", benchOptions.noPlots, "Write the tables only");
   bench->add_option("--plots-only", benchOptions.plotsOnly, "Measure nothing: plot the tables already in this folder");
 

@@ -16,9 +16,8 @@ struct TriangleMesh;
 
 enum class Kernel { Quadratic, Cubic };          // B-spline order: 27 or 64 nodes per particle
 enum class Transfer { PicFlip, Apic };            // Snow thesis 2015's PIC/FLIP blend, or Blažević 2022's APIC
-// How P2G sums: integer atomics on nondimensional sums, NV float atomics, or no atomics at all (particles binned
-// into blocks scattered in eight colours, so no two writers share a node: the fastest on CPU renderers).
-enum class Atomics { FixedPoint, Float, None };
+// How P2G sums: fixed-point integers (exact, bitwise deterministic), or floats with NV float atomics.
+enum class Atomics { FixedPoint, Float };
 enum class Boundary { Sticky, Slip, Separate };   // Blažević 2022 ch. 5
 // Where the particles' initial volumes V0 come from: the grid density after a first P2G of mass, V0 = m / ρ_grid
 // (Stomakhin 2013 §6 step 2; too large near free surfaces, where the kernel reads the density low), or the

@@ -65,7 +65,7 @@ SolverSpec readSolver(const Object& solver) {
   spec.flipRatio = solver.number("flip_ratio", spec.flipRatio, Interval::closed(0, 1));
   spec.atomics =
       solver.choice<Atomics>("atomics", spec.atomics,
-                             {{"fixed", Atomics::FixedPoint}, {"float", Atomics::Float}, {"none", Atomics::None}});
+                             {{"fixed", Atomics::FixedPoint}, {"float", Atomics::Float}});
   spec.particleVolume = solver.choice<ParticleVolume>(
       "particle_volume", spec.particleVolume,
       {{"grid_density", ParticleVolume::GridDensity}, {"material_density", ParticleVolume::MaterialDensity}});

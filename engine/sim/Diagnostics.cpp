@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "Error.h"
+#include "sim/GpuFunctions.h"
 #include "sim/GpuState.h"
 #include "sim/Materials.h"
 
@@ -21,7 +22,7 @@ std::string formatNumber(double value) {
 
 const char* channelName(std::uint32_t channel) {
   static const char* const names[gpu::CHANNEL_COUNT] = {"mass",      "momentum x", "momentum y", "momentum z",
-                                                        "impulse x", "impulse y",  "impulse z",  "bin"};
+                                                        "impulse x", "impulse y",  "impulse z",  "row"};
   return channel < gpu::CHANNEL_COUNT ? names[channel] : "unknown";
 }
 
@@ -30,7 +31,7 @@ const char* channelName(std::uint32_t channel) {
 Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
-      maxNodeValue_(fixedPoint.maxNodeValue()) {
+      maxNodeValue_(fixedPoint.maxNodeValue()), kernelNodes_(scene.solver.kernel == Kernel::Cubic ? 64 : 27) {
   for (const Material& material : scene.materials) materialNames_.push_back(material.name);
 }
 
@@ -64,8 +65,9 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
          formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
 }
 
-void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state) const {
-  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0) return;
+void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
+                        std::size_t blockCapacity) const {
+  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0 && blocksNeeded == 0) return;
 
   const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDtS_) +
                                 " s for the stiffest material (scene dt " + formatNumber(dtS_) + " s)";
@@ -75,14 +77,24 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
 
   // Listed in the order they happened: the first is the cause, the others often its consequences.
   std::vector<std::pair<std::uint32_t, std::string>> events;
-  if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_BIN) {
-    const int blockCells = gpu::BLOCK_CELLS * gpu::BLOCK_CELLS * gpu::BLOCK_CELLS;
+  if (blocksNeeded > 0) {
+    // The watchdog does not time it: it is listed first.
+    events.emplace_back(0, "a step needed " + std::to_string(blocksNeeded) + " blocks of the grid (" +
+                               std::to_string(gpu::BLOCK_NODES) + " nodes each), more than the " +
+                               std::to_string(blockCapacity) +
+                               " its pool held, and left the particles of the others out. The pool grows between "
+                               "frames, and `firn run` redoes such a frame; this one outgrew it within a frame: "
+                               "lower the body velocities or spread them over more frames.");
+  }
+  if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_ROW) {
     events.emplace_back(status.overflowStep,
-                        when(status.overflowStep) + ": a block of " + std::to_string(blockCells) +
-                            " cells held more than " + std::to_string(gpu::MAX_BIN_PARTICLES) +
-                            " particles, more than P2G without atomics can scatter in one invocation on llvmpipe "
-                            "(which ends a shader's loops after 65,535 iterations). Set solver.atomics to \"fixed\", "
-                            "or lower particles_per_cell.");
+                        when(status.overflowStep) + ": the row of " + std::to_string(gpu::ROW_NODES) +
+                            " base nodes from " + describeNode(status.overflowNode) + " held more than " +
+                            std::to_string(gpu::maxRowParticles(kernelNodes_)) +
+                            " particles, more than a transfer takes in one invocation on llvmpipe (which ends a "
+                            "shader's loops after 65,535 iterations): the snow compressed far beyond its "
+                            "particles_per_cell. Lower particles_per_cell, or raise critical_compression's "
+                            "stiffness (hardening).");
   } else if (status.overflowCount > 0) {
     events.emplace_back(status.overflowStep,
                         when(status.overflowStep) + ": fixed-point overflow of the P2G " +

@@ -24,8 +24,10 @@ class Diagnostics {
   void keepParticles(std::size_t count);
 
   // Throws SimulationError (exit 3) listing, in the order they happened, the fixed-point overflows, non-finite
-  // values and CFL violations `status` records; `state` gives the positions of the particles it names.
-  void check(const gpu::WatchdogStatus& status, const GpuState& state) const;
+  // values and CFL violations `status` records, and a step that needed `blocksNeeded` blocks of the grid when its
+  // pool held `blockCapacity` (0: none did); `state` gives the positions of the particles it names.
+  void check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
+             std::size_t blockCapacity) const;
 
  private:
   std::string describeNode(std::int32_t node) const;
@@ -35,6 +37,7 @@ class Diagnostics {
   double dtS_ = 0;
   double stableDtS_ = 0;      // h / c of the stiffest material
   double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
+  int kernelNodes_ = 64;      // nodes of a particle's stencil
   std::vector<std::string> materialNames_;
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle

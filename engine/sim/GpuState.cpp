@@ -1,7 +1,8 @@
 #include "sim/GpuState.h"
 
-#include <limits>
+#include <algorithm>
 #include <sstream>
+#include <tuple>
 #include <stdexcept>
 
 #include <glm/common.hpp>
@@ -13,10 +14,6 @@ namespace firn {
 
 namespace {
 
-// Empty cell bounds: any cell lowers the minimum and raises the maximum.
-constexpr glm::ivec4 kNoCellMin(std::numeric_limits<int>::max());
-constexpr glm::ivec4 kNoCellMax(std::numeric_limits<int>::min());
-
 std::string mebibytes(double bytes) {
   std::ostringstream out;
   out.precision(4);
@@ -26,30 +23,36 @@ std::string mebibytes(double bytes) {
 
 gpu::Mat3x4 identityMat3() { return {{glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0)}}; }
 
+std::size_t nodeStorageBytes(std::size_t blocks) { return blocks * gpu::BLOCK_NODES * sizeof(glm::ivec4); }
+
 }  // namespace
 
-GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particleCapacity, bool deformationGradient) {
+GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
+                                        bool deformationGradient) {
   GpuStateLayout layout;
   layout.grid = scene.grid;
   layout.particleCapacity = particleCapacity;
+  layout.blockCapacity = blockCapacity;
   layout.deformationGradient = deformationGradient;
   layout.affine = scene.solver.transfer == Transfer::Apic;
   layout.impulse = scene.solver.transfer == Transfer::PicFlip;
-  layout.blockBins = scene.solver.atomics == Atomics::None;
   return layout;
 }
+
+glm::ivec3 GpuStateLayout::blocksPerAxis() const { return (grid.cells + 1 + gpu::BLOCK_WIDTH - 1) / gpu::BLOCK_WIDTH; }
 
 GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
                    const std::vector<gpu::ColliderParams>& colliders, const gl::ContextInfo& gl)
     : layout_(layout) {
-  const glm::ivec3 nodes = gridNodes();
-  const double gridBufferBytes = double(nodes.x) * nodes.y * nodes.z * sizeof(glm::ivec4);
   const double maxBytes = double(gl.maxStorageBlockBytes);
-  if (gridBufferBytes > maxBytes) {
+  const glm::ivec3 blocks = layout_.blocksPerAxis();
+  const double mapBytes = double(blocks.x) * blocks.y * blocks.z * sizeof(std::uint32_t);
+  if (mapBytes > maxBytes) {
     const glm::ivec3 cells = layout_.grid.cells;
     throw InputError("grid.cells: " + std::to_string(cells.x) + "×" + std::to_string(cells.y) + "×" +
-                     std::to_string(cells.z) + " cells need " + mebibytes(gridBufferBytes) + " per grid buffer, but " +
-                     gl.renderer + " allows " + mebibytes(maxBytes) + " per shader storage block; use fewer cells");
+                     std::to_string(cells.z) + " cells need a block map of " + mebibytes(mapBytes) + " (4 bytes per " +
+                     std::to_string(gpu::BLOCK_NODES) + " nodes), but " + gl.renderer + " allows " +
+                     mebibytes(maxBytes) + " per shader storage block; use fewer cells");
   }
   const std::size_t n = layout_.particleCapacity;
   const double particleBytes = double(n) * sizeof(gpu::Mat3x4);
@@ -67,24 +70,45 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
   if (layout_.deformationGradient) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   if (layout_.affine) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
-  if (layout_.blockBins) {
-    particleSlots_ = gl::Buffer(n * sizeof(std::uint32_t));
-    blockParticles_ = gl::Buffer(n * sizeof(std::uint32_t));
-  }
-  gridMomentumMass_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
-  if (layout_.impulse) gridImpulse_ = gl::Buffer(static_cast<std::size_t>(gridBufferBytes));
+  sortedParticles_ = gl::Buffer(n * sizeof(std::uint32_t));
+  particleRanks_ = gl::Buffer(n * sizeof(std::uint32_t));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
-  if (layout_.blockBins) {
-    gpu::BlockTableHeader header{};
-    header.blocksPerAxis = glm::ivec4((nodes + gpu::BLOCK_CELLS - 1) / gpu::BLOCK_CELLS, 0);
-    const std::size_t blocks = std::size_t(header.blocksPerAxis.x) * header.blocksPerAxis.y * header.blocksPerAxis.z;
-    blocks_ = gl::Buffer(sizeof header + blocks * sizeof(glm::uvec2));
-    blocks_.upload(0, sizeof header, &header);
-    blockOrder_ = gl::Buffer(blocks * sizeof(std::uint32_t));
-  }
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
   watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog);
-  activeRegion_ = gl::Buffer(sizeof(gpu::ActiveRegionData));
+  allocateBlockPool(gl);
+}
+
+void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
+  const std::size_t capacity = layout_.blockCapacity;
+  const double maxBytes = double(gl.maxStorageBlockBytes);
+  const double gridBytes = double(nodeStorageBytes(capacity));
+  if (gridBytes > maxBytes) {
+    throw InputError("grid: the particles reach " + std::to_string(capacity) + " blocks of " +
+                     std::to_string(gpu::BLOCK_NODES) + " nodes, whose grid buffer of " + mebibytes(gridBytes) +
+                     " is more than the " + mebibytes(maxBytes) + " " + gl.renderer +
+                     " allows per shader storage block; use fewer particles or a coarser grid.cell_size");
+  }
+  // A zero-filled pool: every block free, every slot clean (release_blocks.comp keeps them so).
+  gridMomentumMass_ = gl::Buffer(nodeStorageBytes(capacity));
+  gridImpulse_ = layout_.impulse ? gl::Buffer(nodeStorageBytes(capacity)) : gl::Buffer();
+  bins_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(glm::uvec2));
+  const glm::ivec3 blocks = layout_.blocksPerAxis();
+  blockMap_ = gl::Buffer(std::size_t(blocks.x) * blocks.y * blocks.z * sizeof(std::uint32_t));
+  gpu::BlockTableHeader header{};
+  header.blockCounts.y = static_cast<std::uint32_t>(capacity);
+  blockTable_ = gl::Buffer(sizeof header + capacity * sizeof(gpu::BlockSlot));
+  blockTable_.upload(0, sizeof header, &header);
+}
+
+void GpuState::resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl) {
+  layout_.blockCapacity = capacity;
+  allocateBlockPool(gl);
+}
+
+BlockUsage GpuState::blockUsage() const {
+  const gpu::BlockTableHeader header = blockTable_.read<gpu::BlockTableHeader>(1)[0];
+  return {std::min<std::size_t>(header.blockCounts.x, layout_.blockCapacity),
+          std::max(header.blockCounts.x, header.blockCounts.w), layout_.blockCapacity};
 }
 
 void GpuState::writeParticles(std::size_t first, const ParticleRecords& records) {
@@ -133,14 +157,12 @@ void GpuState::bindAll() const {
   if (gridImpulse_) gridImpulse_.bindStorage(FIRN_BINDING_GRID_IMPULSE);
   materials_.bindStorage(FIRN_BINDING_MATERIALS);
   colliders_.bindStorage(FIRN_BINDING_COLLIDERS);
-  activeRegion_.bindStorage(FIRN_BINDING_ACTIVE_REGION);
+  blockTable_.bindStorage(FIRN_BINDING_BLOCK_TABLE);
   watchdog_.bindStorage(FIRN_BINDING_WATCHDOG);
-  if (blocks_) {
-    blocks_.bindStorage(FIRN_BINDING_BLOCKS);
-    particleSlots_.bindStorage(FIRN_BINDING_PARTICLE_SLOTS);
-    blockParticles_.bindStorage(FIRN_BINDING_BLOCK_PARTICLES);
-    blockOrder_.bindStorage(FIRN_BINDING_BLOCK_ORDER);
-  }
+  blockMap_.bindStorage(FIRN_BINDING_BLOCK_MAP);
+  bins_.bindStorage(FIRN_BINDING_BINS);
+  sortedParticles_.bindStorage(FIRN_BINDING_SORTED_PARTICLES);
+  particleRanks_.bindStorage(FIRN_BINDING_PARTICLE_RANKS);
 }
 
 void GpuState::bindParticles() const {
@@ -154,41 +176,6 @@ void GpuState::writeStepUniforms(const gpu::StepUniforms& uniforms) {
   stepUniforms_.upload(0, sizeof uniforms, &uniforms);
 }
 
-void GpuState::accumulateCells(const std::vector<glm::vec3>& positions, glm::ivec4& cellMin, glm::ivec4& cellMax) const {
-  const glm::vec3 origin(layout_.grid.originM);
-  const float cellSize = float(layout_.grid.cellSizeM);
-  for (const glm::vec3& x : positions) {
-    const glm::ivec4 cell(glm::ivec3(glm::floor((x - origin) / cellSize)), 0);
-    cellMin = glm::min(cellMin, cell);
-    cellMax = glm::max(cellMax, cell);
-  }
-}
-
-void GpuState::seedActiveRegion(const std::vector<glm::vec3>& positions) {
-  gpu::ActiveRegionData region{};
-  region.particleCellMin = kNoCellMin;
-  region.particleCellMax = kNoCellMax;
-  accumulateCells(positions, region.particleCellMin, region.particleCellMax);
-  region.addedCellMin = addedCellMin_ = kNoCellMin;
-  region.addedCellMax = addedCellMax_ = kNoCellMax;
-  activeRegion_.upload(0, sizeof region, &region);
-}
-
-void GpuState::addParticleCells(const std::vector<glm::vec3>& positions) {
-  accumulateCells(positions, addedCellMin_, addedCellMax_);
-  const glm::ivec4 added[2] = {addedCellMin_, addedCellMax_};
-  // The last prepare_grid reset these bounds on the GPU: its write must land before this one.
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  activeRegion_.upload(offsetof(gpu::ActiveRegionData, addedCellMin), sizeof added, added);
-}
-
-void GpuState::consumeAddedCells() {
-  addedCellMin_ = kNoCellMin;
-  addedCellMax_ = kNoCellMax;
-}
-
-gpu::ActiveRegionData GpuState::activeRegion() const { return activeRegion_.read<gpu::ActiveRegionData>(1)[0]; }
-
 gpu::WatchdogStatus GpuState::watchdog() const { return watchdog_.read<gpu::WatchdogStatus>(1)[0]; }
 
 double GpuState::fastestSignalMPerS() const {
@@ -197,15 +184,33 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-std::vector<glm::ivec4> GpuState::readGrid(std::size_t firstNode, std::size_t count) const {
-  return gridMomentumMass_.read<glm::ivec4>(count, firstNode);
+std::vector<StoredNode> GpuState::readGrid() const {
+  const BlockUsage usage = blockUsage();
+  const std::vector<gpu::BlockSlot> slots = blockTable_.read<gpu::BlockSlot>(usage.lastStep, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
+  const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(usage.lastStep * gpu::BLOCK_NODES);
+  const glm::ivec3 blocks = layout_.blocksPerAxis();
+  std::vector<StoredNode> nodes;
+  nodes.reserve(sums.size());
+  for (std::size_t slot = 0; slot < slots.size(); ++slot) {
+    const int index = static_cast<int>(slots[slot].block);
+    const glm::ivec3 block(index % blocks.x, (index / blocks.x) % blocks.y, index / (blocks.x * blocks.y));
+    for (int local = 0; local < gpu::BLOCK_NODES; ++local) {
+      const glm::ivec3 offset(local % gpu::BLOCK_WIDTH, (local / gpu::BLOCK_WIDTH) % gpu::BLOCK_WIDTH,
+                              local / (gpu::BLOCK_WIDTH * gpu::BLOCK_WIDTH));
+      nodes.push_back({block * gpu::BLOCK_WIDTH + offset, sums[slot * gpu::BLOCK_NODES + std::size_t(local)]});
+    }
+  }
+  std::sort(nodes.begin(), nodes.end(), [](const StoredNode& a, const StoredNode& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return nodes;
 }
 
 template <class Self>
 auto GpuState::stateBuffers(Self& self) {
   std::vector<decltype(&self.positionMass_)> buffers;
   for (auto* buffer : {&self.positionMass_, &self.velocityVolume_, &self.elasticDeformation_, &self.kirchhoffStress_,
-                       &self.affine_, &self.plasticState_, &self.activeRegion_, &self.watchdog_}) {
+                       &self.affine_, &self.plasticState_, &self.watchdog_}) {
     if (*buffer) buffers.push_back(buffer);
   }
   return buffers;
@@ -239,7 +244,6 @@ void GpuState::checkStateBytes(const std::vector<std::string>& bytes, const std:
 void GpuState::loadStateBytes(const std::vector<std::string>& bytes) {
   const std::vector<gl::Buffer*> buffers = stateBuffers(*this);
   for (std::size_t i = 0; i < buffers.size(); ++i) buffers[i]->upload(0, bytes[i].size(), bytes[i].data());
-  consumeAddedCells();  // written between steps, when nothing was pending
 }
 
 void GpuState::save() {
@@ -255,7 +259,6 @@ void GpuState::restore() {
   const std::vector<gl::Buffer*> buffers = stateBuffers(*this);
   for (std::size_t i = 0; i < buffers.size(); ++i) buffers[i]->copyFrom(saved_[i], buffers[i]->bytes());
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  consumeAddedCells();  // saved between steps, when nothing was pending
 }
 
 }  // namespace firn

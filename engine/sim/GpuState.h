@@ -1,7 +1,8 @@
 #pragma once
-// The simulation's state on the GPU: the particle buffers (sized for a capacity, live up to a count), the grid
-// buffers, the material and collider tables, the active region, the watchdog and the step's uniform block — which
-// of them exist depends on what the scene needs — and the copies that save and restore the state.
+// The simulation's state on the GPU: the particle buffers (sized for a capacity, live up to a count), the
+// block-sparse grid (a pool of blocks, the block map over the domain, the bins that sort the particles), the
+// material and collider tables, the watchdog and the step's uniform block — which of them exist depends on what
+// the scene needs — and the copies that save and restore the state.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -29,12 +30,28 @@ struct ParticleSnapshot {
 struct GpuStateLayout {
   GridSpec grid;
   std::size_t particleCapacity = 0;
+  std::size_t blockCapacity = 0;    // slots of the block pool
   bool deformationGradient = true;  // F: every model but water
   bool affine = false;              // APIC's C
   bool impulse = true;              // PIC/FLIP's second grid buffer
-  bool blockBins = false;           // P2G without atomics
 
-  static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, bool deformationGradient);
+  static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
+                                 bool deformationGradient);
+  // Blocks of BLOCK_WIDTH³ nodes over the domain, per axis.
+  glm::ivec3 blocksPerAxis() const;
+};
+
+// The blocks of the grid's pool that particles' stencils reached.
+struct BlockUsage {
+  std::size_t lastStep = 0;    // claimed in the last step
+  std::size_t mostInAStep = 0; // the most claimed in any step since the pool was made (may exceed the capacity)
+  std::size_t capacity = 0;
+};
+
+// One node of the grid as stored after P2G: its index per axis and its sums (fixed point or float bits).
+struct StoredNode {
+  glm::ivec3 node{0};
+  glm::ivec4 sums{0};
 };
 
 class GpuState {
@@ -45,6 +62,11 @@ class GpuState {
 
   std::size_t particleCapacity() const { return layout_.particleCapacity; }
   glm::ivec3 gridNodes() const { return layout_.grid.cells + 1; }
+
+  // The block pool: its use, and a new, larger pool (the grid is rebuilt every step, so nothing is copied).
+  // Throws InputError when the grid buffers of `capacity` blocks exceed what the driver allows.
+  BlockUsage blockUsage() const;
+  void resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl);
 
   // Writes particles [first, first + records.size()) as new: undeformed, unstressed, no affine velocity.
   void writeParticles(std::size_t first, const ParticleRecords& records);
@@ -57,23 +79,15 @@ class GpuState {
   void bindParticles() const;
   void writeStepUniforms(const gpu::StepUniforms& uniforms);
 
-  // The active region. seedActiveRegion sets the bounds the next prepare_grid reads as if the last G2P had seen
-  // exactly these positions; addParticleCells adds particles that join between steps, which prepare_grid merges
-  // in (an upload, no readback); consumeAddedCells forgets them once prepare_grid has.
-  void seedActiveRegion(const std::vector<glm::vec3>& positions);
-  void addParticleCells(const std::vector<glm::vec3>& positions);
-  void consumeAddedCells();
-  gpu::ActiveRegionData activeRegion() const;
-  const gl::Buffer& activeRegionBuffer() const { return activeRegion_; }
-  const gl::Buffer& blockTableBuffer() const { return blocks_; }
+  // The block table: its header holds the per-block passes' indirect dispatches.
+  const gl::Buffer& blockTableBuffer() const { return blockTable_; }
 
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
 
-  // The node sums of the active box after P2G, as stored: ivec4 per node (fixed point or float bits), in the
-  // order of the dense grid, from `firstNode` (linear index) for `count` nodes.
-  std::vector<glm::ivec4> readGrid(std::size_t firstNode, std::size_t count) const;
+  // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
+  std::vector<StoredNode> readGrid() const;
 
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.
@@ -87,11 +101,9 @@ class GpuState {
  private:
   template <class Self>
   static auto stateBuffers(Self& self);
-  void accumulateCells(const std::vector<glm::vec3>& positions, glm::ivec4& cellMin, glm::ivec4& cellMax) const;
+  void allocateBlockPool(const gl::ContextInfo& gl);
 
   GpuStateLayout layout_;
-  // Cells of the particles added since the last prepare_grid (consumeAddedCells resets them).
-  glm::ivec4 addedCellMin_{0}, addedCellMax_{0};
   std::vector<gl::Buffer> saved_;  // save()'s copies, in the order of stateBuffers
 
   gl::Buffer positionMass_;
@@ -100,17 +112,17 @@ class GpuState {
   gl::Buffer kirchhoffStress_;
   gl::Buffer affine_;  // APIC only
   gl::Buffer plasticState_;
-  gl::Buffer gridMomentumMass_;
-  gl::Buffer gridImpulse_;  // PIC/FLIP only
+  gl::Buffer sortedParticles_;  // particle indices in block, then bin, order
+  gl::Buffer particleRanks_;    // each particle's place in its bin
+  gl::Buffer gridMomentumMass_;  // per node of the pool
+  gl::Buffer gridImpulse_;       // per node of the pool, PIC/FLIP only
+  gl::Buffer blockTable_;        // BlockTableHeader, then a BlockSlot per slot of the pool
+  gl::Buffer blockMap_;          // per block of the domain
+  gl::Buffer bins_;              // per base node of the pool
   gl::Buffer materials_;
   gl::Buffer colliders_;
-  gl::Buffer activeRegion_;
   gl::Buffer watchdog_;
   gl::Buffer stepUniforms_;
-  gl::Buffer blocks_;          // BlockTableHeader and the bins (solver.atomics "none")
-  gl::Buffer particleSlots_;   // "none": each particle's place in its bin
-  gl::Buffer blockParticles_;  // "none": particle indices, bin after bin
-  gl::Buffer blockOrder_;      // "none": each colour's non-empty blocks
 };
 
 }  // namespace firn

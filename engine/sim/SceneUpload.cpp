@@ -1,7 +1,9 @@
 #include "sim/SceneUpload.h"
 
 #include <algorithm>
+#include <unordered_set>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "io/Checkpoint.h"
@@ -56,6 +58,24 @@ ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, 
     records.plastic.push_back({sand ? 0.0f : 1.0f, entry, 0.0f, 0.0f});
   }
   return records;
+}
+
+std::size_t blocksReached(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
+  const int kernelWidth = scene.solver.kernel == Kernel::Cubic ? 4 : 3;
+  const glm::ivec3 blocks = (scene.grid.cells + 1 + gpu::BLOCK_WIDTH - 1) / gpu::BLOCK_WIDTH;
+  std::unordered_set<std::int64_t> reached;
+  for (const ParticleSeed& seed : seeds) {
+    // The stencil's base node (shaders/common/kernel.glsl): the node below the particle's cell (cubic), or the
+    // nearest node below its position minus half a cell (quadratic).
+    const glm::dvec3 cells = (glm::dvec3(seed.positionM) - scene.grid.originM) / scene.grid.cellSizeM;
+    const glm::ivec3 base = glm::ivec3(glm::floor(kernelWidth == 4 ? cells - 1.0 : cells - 0.5));
+    const glm::ivec3 first = glm::max(base, 0) / gpu::BLOCK_WIDTH;
+    const glm::ivec3 last = glm::min((glm::max(base, 0) + kernelWidth - 1) / gpu::BLOCK_WIDTH, blocks - 1);
+    for (int z = first.z; z <= last.z; ++z)
+      for (int y = first.y; y <= last.y; ++y)
+        for (int x = first.x; x <= last.x; ++x) reached.insert(x + std::int64_t(blocks.x) * (y + std::int64_t(blocks.y) * z));
+  }
+  return reached.size();
 }
 
 std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,

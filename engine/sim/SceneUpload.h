@@ -27,6 +27,10 @@ struct ParticleRecords {
 ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
                                 bool volumeFromDensity);
 
+// The blocks of the grid (BLOCK_WIDTH³ nodes) the particles' stencils reach where they are: how large the block
+// pool starts (sim/GpuState.h).
+std::size_t blocksReached(const Scene& scene, const std::vector<ParticleSeed>& seeds);
+
 // What a checkpoint must match: the grid, the step, the capacity, the material table and every seed, field by
 // field (ParticleSeed has padding, whose bytes are not defined).
 std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,

@@ -38,12 +38,16 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
   return fastestMPerS;
 }
 
-std::vector<glm::vec3> positionsOf(const std::vector<ParticleSeed>& particles) {
-  std::vector<glm::vec3> positions;
-  positions.reserve(particles.size());
-  for (const ParticleSeed& seed : particles) positions.push_back(seed.positionM);
-  return positions;
+// The block pool starts with room for the particles to spread: four times the blocks they reach at the start, the
+// emitters' included (and at least a few hundred: a pool of 256 blocks is 256 KiB of nodes).
+std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
+  return std::max<std::size_t>(4 * blocksReached(scene, seeds), 256);
 }
+
+// When the pool is this full at the end of a frame, it doubles for the frames to come.
+constexpr double kBlockPoolGrowthFullness = 0.75;
+// A frame that needed more blocks than the pool held is redone with a pool grown to fit, up to this many times.
+constexpr int kBlockPoolRetries = 3;
 
 std::string formatNumber(double value) {
   std::ostringstream out;
@@ -59,18 +63,18 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     : scene_(requireParticles(scene, seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
-      state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
+      state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()), initialBlockCapacity(scene_, seeds),
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_), gl),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
+      gl_(gl),
       sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, seeds)) {
   const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
   const bool volumeFromDensity = scene_.solver.particleVolume == ParticleVolume::MaterialDensity;
   writeParticles(0, particles, volumeFromDensity);
   particleCount_ = particles.size();
-  state_.seedActiveRegion(positionsOf(particles));
 
   // Initial volumes (Stomakhin et al. 2013 §6 step 2): one P2G of mass, then V0 = m / ρ from the grid density,
   // unless the scene takes them from the materials' densities (written above).
@@ -102,7 +106,6 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   }
   writeParticles(particleCount_, particles, true);
   particleCount_ += particles.size();
-  state_.addParticleCells(positionsOf(particles));
 }
 
 void Simulation::releaseDueParticles() {
@@ -127,24 +130,38 @@ int Simulation::advanceTo(double timeS) {
   const int steps = stepping_.advance(
       timeS_, timeS, [this](double dtS) { step(dtS); }, [this] { return state_.fastestSignalMPerS(); });
   if (stepping_.adaptive() || steps > 0) timeS_ = timeS;  // exactly, whatever the steps' rounding
+  growBlockPool(kBlockPoolGrowthFullness);
   return steps;
 }
 
+void Simulation::growBlockPool(double fullness) {
+  const BlockUsage usage = state_.blockUsage();
+  if (usage.mostInAStep > usage.capacity) blocksBeyondPool_ = std::max(blocksBeyondPool_, usage.mostInAStep);
+  if (double(usage.mostInAStep) > fullness * double(usage.capacity)) state_.resizeBlockPool(2 * usage.mostInAStep, gl_);
+}
+
 int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
-  if (!stepping_.adaptive()) {
-    const int steps = advanceTo(frameTimeS);
-    checkWatchdog();
-    return steps;
-  }
   saveState();
-  for (int attempt = 0;; ++attempt) {
+  int poolRetries = 0;
+  for (int attempt = 0;;) {
+    blocksBeyondPool_ = 0;
     const int steps = advanceTo(frameTimeS);
+    // A frame whose particles reached more blocks than the pool held left some out of a step: it is redone from
+    // its start with the pool advanceTo grew, which gives the bytes a pool large enough from the start would.
+    if (blocksBeyondPool_ > 0 && poolRetries < kBlockPoolRetries) {
+      ++poolRetries;
+      log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed " << blocksBeyondPool_
+          << " blocks of the grid, more than its pool held; redoing it with room for " << state_.blockUsage().capacity
+          << "\n";
+      restoreState();
+      continue;
+    }
     try {
       checkWatchdog();
       stepping_.resetStepScale();
       return steps;
     } catch (const SimulationError&) {
-      if (!stepping_.shrinkForRetry(attempt)) throw;
+      if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) throw;
       log << "\nfirn: the frame ending at t = " << frameTimeS << " s went unstable; redoing it with steps "
           << stepping_.stepScale() << " times as large\n";
       restoreState();
@@ -200,13 +217,16 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   particleCount_ = checkpoint.particleCount;
 }
 
-void Simulation::checkWatchdog() const { diagnostics_.check(state_.watchdog(), state_); }
+void Simulation::checkWatchdog() const {
+  const BlockUsage usage = state_.blockUsage();
+  const std::size_t blocksNeeded =
+      std::max(blocksBeyondPool_, usage.mostInAStep > usage.capacity ? usage.mostInAStep : std::size_t(0));
+  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity);
+}
 
 ParticleSnapshot Simulation::snapshot() const { return state_.readParticles(particleCount_); }
 
 void Simulation::bindParticleBuffers() const { state_.bindParticles(); }
-
-gpu::ActiveRegionData Simulation::activeRegion() const { return state_.activeRegion(); }
 
 void Simulation::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
   state_.setParticleVelocity(particle, velocityMPerS);
@@ -225,37 +245,16 @@ GridTotals Simulation::transferToGrid() {
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
-  std::vector<glm::vec3> positions;
-  for (const glm::vec4& p : snapshot().positionMass) positions.emplace_back(p);
-
-  state_.seedActiveRegion(positions);
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);
-  const gpu::ActiveRegionData region = state_.activeRegion();
   std::vector<GridNodeSums> nodes;
-  if (region.boxSize.w > 0) {
-    const glm::ivec3 gridNodes = state_.gridNodes();
-    auto linear = [&](const glm::ivec3& node) {
-      return static_cast<std::size_t>(node.x + gridNodes.x * (node.y + gridNodes.y * node.z));
-    };
-    const glm::ivec3 boxFirst(region.boxMin);
-    const glm::ivec3 boxLast = boxFirst + glm::ivec3(region.boxSize) - 1;
-    const std::size_t spanFirst = linear(boxFirst);
-    const std::vector<glm::ivec4> stored = state_.readGrid(spanFirst, linear(boxLast) - spanFirst + 1);
-    nodes.reserve(static_cast<std::size_t>(region.boxSize.w));
-    for (int z = boxFirst.z; z <= boxLast.z; ++z)
-      for (int y = boxFirst.y; y <= boxLast.y; ++y)
-        for (int x = boxFirst.x; x <= boxLast.x; ++x) {
-          const glm::ivec4& value = stored[linear(glm::ivec3(x, y, z)) - spanFirst];
-          // Nondimensional sums (grid.glsl): integers times 2^−k, or the floats themselves.
-          const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
-                                      ? glm::dvec4(value) * fixedPoint_.resolution()
-                                      : glm::dvec4(glm::intBitsToFloat(value));
-          nodes.push_back({glm::ivec3(x, y, z), sums.w * fixedPoint_.referenceMassKg,
-                           glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS});
-        }
+  for (const StoredNode& stored : state_.readGrid()) {
+    // Nondimensional sums (grid.glsl): integers times 2^−k, or the floats themselves.
+    const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
+                                ? glm::dvec4(stored.sums) * fixedPoint_.resolution()
+                                : glm::dvec4(glm::intBitsToFloat(stored.sums));
+    nodes.push_back({stored.node, sums.w * fixedPoint_.referenceMassKg, glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS});
   }
-  state_.seedActiveRegion(positions);  // prepare_grid consumed the bounds the next step needs
   return nodes;
 }
 

@@ -30,10 +30,10 @@ namespace firn {
 struct GridTotals {
   double massKg = 0;
   glm::dvec3 momentumKgMPerS{0.0};
-  std::uint64_t activeNodes = 0;  // nodes in the active box
+  std::uint64_t activeNodes = 0;  // nodes of the active blocks
 };
 
-// One node of the active box after P2G (readGridAfterTransfer), converted from the fixed-point or float storage.
+// One node of the active blocks after P2G (readGridAfterTransfer), converted from the fixed-point or float storage.
 struct GridNodeSums {
   glm::ivec3 node{0};                  // node index per axis
   double massKg = 0;                   // Σ_p w_ip m_p
@@ -86,8 +86,8 @@ class Simulation {
   void bindParticleBuffers() const;
   // readGridAfterTransfer's nodes, summed (a diagnostic: conservation tests).
   GridTotals transferToGrid();
-  // The active node box of the last step (its node count is what the grid passes cost).
-  gpu::ActiveRegionData activeRegion() const;
+  // The blocks of the grid the last step used (what the grid passes cost), and the pool's capacity.
+  BlockUsage blockUsage() const { return state_.blockUsage(); }
 
   double timeS() const { return timeS_; }
   std::uint64_t stepCount() const { return steps_; }
@@ -106,12 +106,15 @@ class Simulation {
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
-  // Runs prepare → clear → P2G on the current state and returns every node of the active box with its sums in kg
+  // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
   std::vector<GridNodeSums> readGridAfterTransfer();
 
  private:
+  // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
+  // notes a step that needed more than the pool held (blocksBeyondPool_).
+  void growBlockPool(double fullness);
   void releaseDueParticles();
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
 
@@ -124,6 +127,7 @@ class Simulation {
   SteppingPolicy stepping_;
   Diagnostics diagnostics_;
   PassTimer passTimer_;
+  gl::ContextInfo gl_;
   std::uint64_t sceneFingerprint_ = 0;
 
   std::size_t particleCount_ = 0;
@@ -131,6 +135,7 @@ class Simulation {
   std::size_t nextPending_ = 0;
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
+  std::size_t blocksBeyondPool_ = 0;  // the most blocks a step needed, when that was more than the pool held
 
   // saveState's counters (GpuState keeps the buffers' copies).
   struct SavedCounters {

@@ -39,7 +39,6 @@ gl::ShaderOptions shaderOptions(const Scene& scene, MaterialPrograms programs) {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
   }
-  if (scene.solver.atomics == Atomics::None) options.defines.emplace_back("FIRN_P2G_BLOCKS", "1");
   return options;
 }
 
@@ -72,7 +71,7 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
 }
 
 StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl)
-    : maxWorkGroupsX_(gl.maxComputeWorkGroupCountX), binsParticles_(scene.solver.atomics == Atomics::None) {
+    : maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
   if (scene.solver.atomics == Atomics::Float && !gl.hasFloatAtomics) {
     throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
                      " does not offer; use \"fixed\"");
@@ -80,59 +79,55 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   using Dispatch = ComputePass::Dispatch;
   const gl::ShaderOptions options = shaderOptions(scene, programs);
   const gl::ShaderLibrary library;
-  prepareGrid_ = ComputePass(library, "sim/prepare_grid.comp", options, Dispatch::Once);
-  clearGrid_ = ComputePass(library, "sim/clear_grid.comp", options, Dispatch::Indirect);
-  if (binsParticles_) {
-    binCount_ = ComputePass(library, "sim/bin_count.comp", options, Dispatch::Particles);
-    binScan_ = ComputePass(library, "sim/bin_scan.comp", options, Dispatch::Once);
-    binPlace_ = ComputePass(library, "sim/bin_place.comp", options, Dispatch::Particles);
-    particleToGridBlocks_ = ComputePass(library, "sim/p2g_blocks.comp", options, Dispatch::Indirect);
-  } else {
-    particleToGrid_ = ComputePass(library, "sim/p2g.comp", options, Dispatch::Particles);
-  }
+  prepareBlocks_ = ComputePass(library, "sim/prepare_blocks.comp", options, Dispatch::Once);
+  releaseBlocks_ = ComputePass(library, "sim/release_blocks.comp", options, Dispatch::Indirect);
+  markBlocks_ = ComputePass(library, "sim/mark_blocks.comp", options, Dispatch::Particles);
+  countBlocks_ = ComputePass(library, "sim/count_blocks.comp", options, Dispatch::Once);
+  binCount_ = ComputePass(library, "sim/bin_count.comp", options, Dispatch::Particles);
+  binScan_ = ComputePass(library, "sim/bin_scan.comp", options, Dispatch::Indirect);
+  blockOffsets_ = ComputePass(library, "sim/block_offsets.comp", options, Dispatch::Once);
+  binPlace_ = ComputePass(library, "sim/bin_place.comp", options, Dispatch::Particles);
+  particleToGrid_ = ComputePass(library, "sim/p2g.comp", options, Dispatch::Indirect);
   updateGrid_ = ComputePass(library, "sim/update_grid.comp", options, Dispatch::Indirect);
-  gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Particles);
+  gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Indirect);
   computeVolumes_ = ComputePass(library, "sim/compute_volumes.comp", options, Dispatch::Particles);
 }
 
-void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const {
-  const std::size_t gridDispatch = offsetof(gpu::ActiveRegionData, gridDispatch);
-  state.bindAll();
-  prepareGrid_.runOnce(timer);
-  state.consumeAddedCells();  // prepare_grid merged them into the box (and reset its GPU copy)
+// The blocks the particles' stencils reach claim slots of the pool (last step's are released first), and the
+// particles are sorted by block and base node (common/blocks.glsl).
+void StepPipeline::sortParticles(GpuState& state, std::size_t particles, PassTimer& timer) const {
+  const gl::Buffer& table = state.blockTableBuffer();
+  prepareBlocks_.runOnce(timer);
   glMemoryBarrier(kStorageAndCommands);
-  clearGrid_.runIndirect(state.activeRegionBuffer(), gridDispatch, timer);
+  releaseBlocks_.runIndirect(table, offsetof(gpu::BlockTableHeader, releaseDispatch), timer);
   glMemoryBarrier(kStorage);
-  if (binsParticles_) {
-    scatterInBlocks(state, particles, timer);
-  } else {
-    particleToGrid_.runOverParticles(particles, maxWorkGroupsX_, timer);
-  }
+  markBlocks_.runOverParticles(particles, maxWorkGroupsX_, timer);
+  glMemoryBarrier(kStorage);
+  countBlocks_.runOnce(timer);
+  glMemoryBarrier(kStorageAndCommands);
+  binCount_.runOverParticles(particles, maxWorkGroupsX_, timer);
+  glMemoryBarrier(kStorage);
+  binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), timer);
+  glMemoryBarrier(kStorage);
+  blockOffsets_.runOnce(timer);
+  glMemoryBarrier(kStorage);
+  binPlace_.runOverParticles(particles, maxWorkGroupsX_, timer);
   glMemoryBarrier(kStorage);
 }
 
-// P2G without atomics (common/blocks.glsl): bin the particles by block, then scatter the blocks one colour at a
-// time, each colour's blocks far enough apart that none shares a node with another.
-void StepPipeline::scatterInBlocks(GpuState& state, std::size_t particles, PassTimer& timer) const {
-  binCount_.runOverParticles(particles, maxWorkGroupsX_, timer);
+void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const {
+  state.bindAll();
+  sortParticles(state, particles, timer);
+  particleToGrid_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
   glMemoryBarrier(kStorage);
-  binScan_.runOnce(timer);
-  glMemoryBarrier(kStorageAndCommands);
-  binPlace_.runOverParticles(particles, maxWorkGroupsX_, timer);
-  glMemoryBarrier(kStorage);
-  for (int color = 0; color < gpu::BLOCK_COLORS; ++color) {
-    particleToGridBlocks_.program().use();
-    particleToGridBlocks_.program().set("blockColor", color);
-    particleToGridBlocks_.runIndirect(state.blockTableBuffer(), std::size_t(color) * sizeof(gpu::BlockColor), timer);
-    glMemoryBarrier(kStorage);
-  }
 }
 
 void StepPipeline::step(GpuState& state, std::size_t particles, PassTimer& timer) const {
-  transferToGrid(state, particles, timer);  // prepare_grid → clear_grid → p2g
-  updateGrid_.runIndirect(state.activeRegionBuffer(), offsetof(gpu::ActiveRegionData, gridDispatch), timer);
+  const std::size_t blockDispatch = offsetof(gpu::BlockTableHeader, blockDispatch);
+  transferToGrid(state, particles, timer);
+  updateGrid_.runIndirect(state.blockTableBuffer(), blockDispatch, timer);
   glMemoryBarrier(kStorage);
-  gridToParticle_.runOverParticles(particles, maxWorkGroupsX_, timer);
+  gridToParticle_.runIndirect(state.blockTableBuffer(), blockDispatch, timer);
   glMemoryBarrier(kStorage);
 }
 

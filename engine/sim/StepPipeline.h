@@ -1,8 +1,9 @@
 #pragma once
-// The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the grid
-// box for this step, cleared; particle to grid; the grid update (forces, gravity, colliders, walls); grid to
-// particle with the deformation update, plasticity and advection. The programs are built for the scene: its
-// kernel, transfer, atomics, colliders and material models, and nothing else.
+// The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
+// of the grid this step needs and the particles sorted into them (common/blocks.glsl); particle to grid; the grid
+// update (forces, gravity, colliders, walls); grid to particle with the deformation update, plasticity and
+// advection. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
+// and nothing else.
 #include <cstddef>
 #include <cstdint>
 
@@ -31,7 +32,7 @@ class StepPipeline {
   // Throws InputError when the scene asks for what the driver lacks (float atomics).
   StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl);
 
-  // Steps 1–2 of §6: the grid box for this step, cleared, then particle to grid.
+  // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them, then particle to grid.
   void transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const;
   // One whole step: transferToGrid, the grid update, grid to particle.
   void step(GpuState& state, std::size_t particles, PassTimer& timer) const;
@@ -39,18 +40,18 @@ class StepPipeline {
   void computeVolumes(GpuState& state, std::size_t particles, PassTimer& timer) const;
 
  private:
-  void scatterInBlocks(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  void sortParticles(GpuState& state, std::size_t particles, PassTimer& timer) const;
 
   int maxWorkGroupsX_ = 65535;
-  bool binsParticles_ = false;
-  ComputePass prepareGrid_;
-  ComputePass clearGrid_;
-  ComputePass particleToGrid_;
-  // P2G without atomics (solver.atomics "none"): binning, then the coloured scatter.
+  ComputePass prepareBlocks_;
+  ComputePass releaseBlocks_;
+  ComputePass markBlocks_;
+  ComputePass countBlocks_;
   ComputePass binCount_;
   ComputePass binScan_;
+  ComputePass blockOffsets_;
   ComputePass binPlace_;
-  ComputePass particleToGridBlocks_;
+  ComputePass particleToGrid_;
   ComputePass updateGrid_;
   ComputePass gridToParticle_;
   ComputePass computeVolumes_;

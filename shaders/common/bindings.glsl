@@ -8,7 +8,6 @@ layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniformsBlock {
 #include "common/particles.glsl"
 
 layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
-layout(std430, binding = FIRN_BINDING_ACTIVE_REGION) coherent buffer ActiveRegionBuffer { ActiveRegionData region; };
 
 float cellSize() { return gridOriginCellSize.w; }
 vec3 gridOrigin() { return gridOriginCellSize.xyz; }
@@ -21,9 +20,6 @@ uint particleInvocationIndex() {
   return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(FIRN_PARTICLE_GROUP_SIZE);
 }
 
+// A node's linear index in the dense domain: how the watchdog names it (grid nodes are stored by block).
 uint nodeIndex(ivec3 node) { return uint(node.x + gridNodes.x * (node.y + gridNodes.y * node.z)); }
-ivec3 nodeCoordinates(uint index) {
-  int i = int(index);
-  return ivec3(i % gridNodes.x, (i / gridNodes.x) % gridNodes.y, i / (gridNodes.x * gridNodes.y));
-}
 vec3 nodePosition(ivec3 node) { return gridOrigin() + vec3(node) * cellSize(); }

@@ -1,30 +1,106 @@
-// P2G without atomics (solver.atomics "none"); its sizes and table are in common/gpu_contract.h. Particles are binned into
-// blocks of BLOCK_CELLS³ cells. A particle in cell c reaches nodes c − 1 … c + 2 on each axis with either kernel
-// (kernel.glsl), so a block's particles reach at most BLOCK_CELLS + 3 nodes per axis, and two blocks whose
-// coordinates have the same parities (one "colour") lie 2·BLOCK_CELLS > BLOCK_CELLS + 3 nodes apart: no node is
-// reached from two blocks of one colour. Scattering one colour at a time, one invocation per block, plain
-// additions are race-free, on the GPU and between llvmpipe's threads alike.
+// The block-sparse grid and the particles sorted into it (docs/numerics.md, "The block-sparse grid").
 //
-// Passes: clear_grid.comp empties the bins of the active box, bin_count.comp counts each block's particles
-// (one atomic per particle instead of seven per particle and node), bin_scan.comp turns counts into bin offsets
-// and lists each colour's non-empty blocks, bin_place.comp files the particle indices, p2g_blocks.comp scatters
-// one colour at a time. The sums' order within a bin follows bin_count's atomics, so like float atomics, and
-// unlike fixed point, runs are not bitwise deterministic.
+// The domain's nodes are grouped into blocks of BLOCK_WIDTH³ (common/gpu_contract.h). Each step the blocks a
+// particle's stencil reaches claim a slot of the pool (mark_blocks.comp), and only they store nodes: slot s holds
+// its block's nodes at s·BLOCK_NODES + x + BLOCK_WIDTH (y + BLOCK_WIDTH z), contiguous. The block map, one uint
+// per block of the domain, gives a block's slot + 1 (0: not active); the slots of last step's blocks are released
+// at the start of the next (release_blocks.comp), so nothing costs in proportion to the domain.
+//
+// A particle's base node is the first node of its stencil (kernel.glsl); its block is the base node's. Particles
+// are sorted by block, then by base node (the base node's "bin"), by a counting sort each step: bin_count.comp
+// counts each bin and gives each particle its rank, bin_scan.comp and block_offsets.comp turn counts into
+// offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
+// result depends on it: fixed-point sums are exact and each particle's update is its own.
+//
+// The transfers take a block per work group and a row of ROW_NODES base nodes along x per invocation: a row's
+// particles reach the (ROW_NODES + KERNEL_WIDTH − 1) × KERNEL_WIDTH² nodes of its region, at most two blocks
+// per axis, whose slots are looked up once per row.
 
-layout(std430, binding = FIRN_BINDING_BLOCKS) coherent buffer BlockTableBuffer {
+layout(std430, binding = FIRN_BINDING_BLOCK_TABLE) coherent buffer BlockTableBuffer {
   FIRN_MEMBERS(FIRN_BLOCK_TABLE_HEADER)
-  uvec2 bins[];  // per block: first entry in blockParticles, particle count
+  BlockSlot slots[];
 };
-layout(std430, binding = FIRN_BINDING_PARTICLE_SLOTS) buffer ParticleSlotBuffer { uint particleSlots[]; };
-layout(std430, binding = FIRN_BINDING_BLOCK_PARTICLES) buffer BlockParticleBuffer { uint blockParticles[]; };
-layout(std430, binding = FIRN_BINDING_BLOCK_ORDER) buffer BlockOrderBuffer { uint blockOrder[]; };
+layout(std430, binding = FIRN_BINDING_BLOCK_MAP) coherent buffer BlockMapBuffer { uint blockMap[]; };
+layout(std430, binding = FIRN_BINDING_BINS) coherent buffer BinBuffer { uvec2 bins[]; };  // particles, first
+layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticleBuffer { uint sortedParticles[]; };
+layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRankBuffer { uint particleRanks[]; };
 
-const uint NOT_BINNED = 0xffffffffu;
+// A block being claimed in mark_blocks.comp: its slot is not yet written.
+const uint CLAIMED = 0xffffffffu;
 
-uint blockIndex(ivec3 block) { return uint(block.x + blocksPerAxis.x * (block.y + blocksPerAxis.y * block.z)); }
+ivec3 blocksPerAxis() { return (gridNodes.xyz + BLOCK_WIDTH - 1) / BLOCK_WIDTH; }
+uint blockIndex(ivec3 block) {
+  ivec3 count = blocksPerAxis();
+  return uint(block.x + count.x * (block.y + count.y * block.z));
+}
+ivec3 blockCoordinates(uint index) {
+  ivec3 count = blocksPerAxis();
+  int i = int(index);
+  return ivec3(i % count.x, (i / count.x) % count.y, i / (count.x * count.y));
+}
+uint activeBlocks() { return min(blockCounts.x, blockCounts.y); }
 
-// The block of the cell holding a particle (G2P keeps particles inside the grid).
-ivec3 particleBlock(vec3 positionM) {
-  ivec3 cell = ivec3(floor((positionM - gridOrigin()) / cellSize()));
-  return clamp(cell, ivec3(0), gridNodes.xyz - 1) / BLOCK_CELLS;
+// The slot of a block, or −1 where it is not active (or the pool ran out).
+int blockSlot(ivec3 block) {
+  uint entry = blockMap[blockIndex(block)];
+  return entry == 0u || entry == CLAIMED ? -1 : int(entry - 1u);
+}
+
+// A node's place within its block.
+uint nodeInBlock(ivec3 node) {
+  ivec3 local = node % BLOCK_WIDTH;
+  return uint(local.x + BLOCK_WIDTH * (local.y + BLOCK_WIDTH * local.z));
+}
+ivec3 nodeOfBlock(ivec3 block, uint localIndex) {
+  int i = int(localIndex);
+  return block * BLOCK_WIDTH + ivec3(i % BLOCK_WIDTH, (i / BLOCK_WIDTH) % BLOCK_WIDTH, i / (BLOCK_WIDTH * BLOCK_WIDTH));
+}
+
+// Where a node's data is stored, or −1 where its block is not active.
+int nodeAddress(ivec3 node) {
+  int slot = blockSlot(node / BLOCK_WIDTH);
+  return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(node));
+}
+
+// The per-block passes run a work group per active block, laid out in rows of 65,535 (the least maximum
+// GL_MAX_COMPUTE_WORK_GROUP_COUNT allows) when there are more.
+uvec4 blockWorkGroups(uint blocks) {
+  const uint ROW = 65535u;
+  return uvec4(min(blocks, ROW), (blocks + ROW - 1u) / ROW, 1u, 0u);
+}
+uint workGroupSlot() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
+
+// A block's bins are its nodes' (the base node of a bin is the node with the same place).
+uint binIndex(uint slot, ivec3 baseNode) { return slot * uint(BLOCK_NODES) + nodeInBlock(baseNode); }
+
+// The particles of a bin, as a range of the sorted order.
+uvec2 binParticles(uint slot, uint localBin) {
+  uvec2 bin = bins[slot * uint(BLOCK_NODES) + localBin];
+  return uvec2(slots[slot].firstParticle + bin.y, bin.x);  // first, count
+}
+
+// A transfer's row: the block's row-th row of base nodes along x. The slots of the blocks its region reaches,
+// indexed by the block offset (0 or 1 per axis) x + 2 y + 4 z, −1 where not active.
+struct Row {
+  ivec3 firstBase;  // the row's first base node
+  int slots[8];
+};
+
+Row blockRow(uint slot, uint row) {
+  Row r;
+  ivec3 block = blockCoordinates(slots[slot].block);
+  r.firstBase = block * BLOCK_WIDTH + ivec3(0, int(row) % BLOCK_WIDTH, int(row) / BLOCK_WIDTH);
+  for (int k = 0; k < 8; ++k) {
+    ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+    ivec3 neighbour = block + offset;
+    r.slots[k] = all(lessThan(neighbour, blocksPerAxis())) ? blockSlot(neighbour) : -1;
+  }
+  return r;
+}
+
+// The storage address of a node of the row's region, or −1 where its block is not active.
+int rowNodeAddress(Row r, ivec3 node) {
+  ivec3 offset = node / BLOCK_WIDTH - r.firstBase / BLOCK_WIDTH;
+  int slot = r.slots[offset.x + 2 * offset.y + 4 * offset.z];
+  return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(node));
 }

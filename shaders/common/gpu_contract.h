@@ -31,21 +31,24 @@
 #define FIRN_BINDING_KIRCHHOFF_STRESS 3     // mat3 per particle: τ = (∂Ψ/∂F_E) F_Eᵀ (Pa) of the last update
 #define FIRN_BINDING_AFFINE 4               // mat3 per particle: APIC's C
 #define FIRN_BINDING_PLASTIC_STATE 5        // ParticlePlasticState per particle
-#define FIRN_BINDING_GRID_MOMENTUM_MASS 6   // per node: momentum and mass sums, then velocity and mass
-#define FIRN_BINDING_GRID_IMPULSE 7         // per node (PIC/FLIP): impulse sums, then the velocity before forces
+#define FIRN_BINDING_GRID_MOMENTUM_MASS 6   // per node of the pool: momentum and mass sums, then velocity and mass
+#define FIRN_BINDING_GRID_IMPULSE 7         // per node of the pool (PIC/FLIP): impulse sums, then velocity before forces
 #define FIRN_BINDING_MATERIALS 8            // MaterialParams[]
 #define FIRN_BINDING_COLLIDERS 9            // ColliderParams[]
-#define FIRN_BINDING_ACTIVE_REGION 10       // ActiveRegionData
+#define FIRN_BINDING_BLOCK_TABLE 10         // BlockTableHeader, then a BlockSlot per block of the pool
 #define FIRN_BINDING_WATCHDOG 11            // WatchdogStatus
-#define FIRN_BINDING_BLOCKS 12              // BlockTableHeader, then a bin per block (solver.atomics "none")
-#define FIRN_BINDING_PARTICLE_SLOTS 13      // uint per particle: its place within its block's bin
-#define FIRN_BINDING_BLOCK_PARTICLES 14     // uint per particle: particle indices, bin after bin
-#define FIRN_BINDING_BLOCK_ORDER 15         // uint per block: each colour's non-empty blocks, fullest first
+#define FIRN_BINDING_BLOCK_MAP 12           // uint per block of the domain: its slot in the pool + 1, or 0
+#define FIRN_BINDING_BINS 13                // uvec2 per base node of each active block: particles, first (in block)
+#define FIRN_BINDING_SORTED_PARTICLES 14    // uint per particle: particle indices, block after block, bin after bin
+#define FIRN_BINDING_PARTICLE_RANKS 15      // uint per particle: its place in its bin
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 
-// Invocations per work group of the passes that run one invocation per particle.
+// Invocations per work group of the passes that run one invocation per particle, of those that run one per
+// node of a block (BLOCK_NODES), and of the transfers, which run one per row of ROW_NODES base nodes.
 #define FIRN_PARTICLE_GROUP_SIZE 128
+#define FIRN_BLOCK_GROUP_SIZE 64
+#define FIRN_ROW_GROUP_SIZE 16
 
 // Material models (MaterialParams.model.x).
 FIRN_CONSTANT(int, MODEL_SNOW, 0)
@@ -63,22 +66,21 @@ FIRN_CONSTANT(int, BOUNDARY_SLIP, 1)
 FIRN_CONSTANT(int, BOUNDARY_SEPARATE, 2)
 
 // The P2G sums the watchdog names when one overflows (WatchdogStatus.overflowChannel): mass, momentum x/y/z,
-// impulse x/y/z (PIC/FLIP), and a bin too full for P2G without atomics.
+// impulse x/y/z (PIC/FLIP), and a row of base nodes holding more particles than a transfer can take.
 FIRN_CONSTANT(uint, CHANNEL_MASS, 0u)
 FIRN_CONSTANT(uint, CHANNEL_MOMENTUM, 1u)
 FIRN_CONSTANT(uint, CHANNEL_IMPULSE, 4u)
-FIRN_CONSTANT(uint, CHANNEL_BIN, 7u)
+FIRN_CONSTANT(uint, CHANNEL_ROW, 7u)
 FIRN_CONSTANT(uint, CHANNEL_COUNT, 8u)
 
-// P2G without atomics (solver.atomics "none", common/blocks.glsl): particles are binned into blocks of
-// BLOCK_CELLS³ cells, and the blocks of one colour (the parities of their coordinates, BLOCK_COLORS of them) lie
-// too far apart to reach one node. BLOCK_CELLS > 2: a particle in cell c reaches nodes c − 1 … c + 2 with either
-// kernel. p2g_blocks.comp spends 1 + 4² loop iterations per particle, and llvmpipe ends a shader invocation's
-// loops after 65,535 iterations in all (docs/platform.md), so a fuller bin than MAX_BIN_PARTICLES (60 per cell)
-// is reported on CHANNEL_BIN.
-FIRN_CONSTANT(int, BLOCK_CELLS, 4)
-FIRN_CONSTANT(int, BLOCK_COLORS, 8)
-FIRN_CONSTANT(int, MAX_BIN_PARTICLES, 60 * BLOCK_CELLS * BLOCK_CELLS * BLOCK_CELLS)
+// The block-sparse grid (common/blocks.glsl, docs/numerics.md): nodes are stored by blocks of BLOCK_WIDTH³,
+// allocated each step where particles' stencils reach, from a pool of slots; a block's nodes are contiguous.
+// Particles are sorted by the block and then the node their stencil starts at (their base node, its "bin").
+// The transfers give each invocation a row of ROW_NODES base nodes along x (a block has BLOCK_WIDTH² rows);
+// a row holds at most maxRowParticles (common/shared_functions.h), and a fuller one is reported on CHANNEL_ROW.
+FIRN_CONSTANT(int, BLOCK_WIDTH, 4)
+FIRN_CONSTANT(int, BLOCK_NODES, BLOCK_WIDTH * BLOCK_WIDTH * BLOCK_WIDTH)
+FIRN_CONSTANT(int, ROW_NODES, BLOCK_WIDTH)
 
 // ParticlePlasticState: the scalar state each material keeps besides F (common/materials.glsl); 1 for what a
 // material does not use.
@@ -116,42 +118,28 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
   member(ivec4, shapeBoundary)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 
-// ActiveRegionData: the grid region the particles occupy. G2P accumulates the particles' cell bounds;
-// prepare_grid.comp turns them into this step's node box and the indirect dispatch of the grid passes.
-// Particles added between steps (emitters, the viewer's snowballs) took no part in the last G2P: the host
-// writes their cell bounds to `added…`, which prepare_grid merges in, so adding particles needs no readback.
-//   particleCellMin/Max  atomicMin/atomicMax of the particles' cells
-//   boxMin, boxSize      the first node of the box; nodes per axis, w the node count
-//   gridDispatch         work groups of the grid passes (glDispatchComputeIndirect reads xyz)
-//   addedCellMin/Max     cells of the particles added since the last step
-#define FIRN_ACTIVE_REGION_DATA(member, array) \
-  member(ivec4, particleCellMin)               \
-  member(ivec4, particleCellMax)               \
-  member(ivec4, boxMin)                        \
-  member(ivec4, boxSize)                       \
-  member(uvec4, gridDispatch)                  \
-  member(ivec4, addedCellMin)                  \
-  member(ivec4, addedCellMax)
-FIRN_STRUCT(ActiveRegionData, FIRN_ACTIVE_REGION_DATA)
-
-// BlockColor: one colour's pass of P2G without atomics.
-//   dispatch  xyz work groups (glDispatchComputeIndirect)
-//   first     x the colour's first entry in the block order
-//   count     w its non-empty blocks
-#define FIRN_BLOCK_COLOR(member, array) \
-  member(uvec4, dispatch)               \
-  member(ivec4, first)                  \
-  member(ivec4, count)
-FIRN_STRUCT(BlockColor, FIRN_BLOCK_COLOR)
-
-// The head of the block table (bin_scan.comp writes it); a bin per block of the domain follows, uvec2 (first
-// entry in the block particles, particle count).
-//   blockColors    each colour's pass
-//   blocksPerAxis  xyz blocks over the domain's nodes
+// BlockTableHeader: the pool of blocks and this step's active ones (common/blocks.glsl); a BlockSlot per slot
+// of the pool follows it.
+//   blockCounts      x: blocks claimed this step (may exceed the capacity), y: the pool's capacity (host-written),
+//                    z: blocks claimed last step, released at the start of this one, w: the most claimed in a step
+//   blockDispatch    xyz: work groups of the per-block passes, one per active block (glDispatchComputeIndirect)
+//   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \
-  array(BlockColor, blockColors, BLOCK_COLORS) \
-  member(ivec4, blocksPerAxis)
+  member(uvec4, blockCounts)                   \
+  member(uvec4, blockDispatch)                 \
+  member(uvec4, releaseDispatch)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
+
+// BlockSlot: one slot of the pool, in use this step.
+//   block          the block's linear index in the domain
+//   firstParticle  its first particle in the sorted order
+//   particles      its particles
+#define FIRN_BLOCK_SLOT(member, array) \
+  member(uint, block)                  \
+  member(uint, firstParticle)          \
+  member(uint, particles)              \
+  member(uint, unused)
+FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 
 // WatchdogStatus: what the GPU watchdog saw (common/watchdog.glsl). The first event of each kind is recorded by
 // the invocation that flips its `…Node`/`…Particle` field from −1.

@@ -1,11 +1,13 @@
-// Grid node storage and the P2G scatter, in nondimensional units (docs/numerics.md, Fixed-point atomics):
-// mass in units of m_ref, momentum and impulse in units of m_ref·h/Δt_ref (a node moving one cell per step).
+// Grid node storage and the P2G sums, in nondimensional units (docs/numerics.md, "Fixed-point atomics"): mass in
+// units of m_ref, momentum and impulse in units of m_ref·h/Δt_ref (a node moving one cell per step). Nodes live in
+// the blocks of the pool (common/blocks.glsl): a node's storage index is its address there.
 //
-// FIRN_FLOAT_ATOMICS: float atomicAdd from GL_NV_shader_atomic_float. FIRN_P2G_BLOCKS: plain float additions,
-// race-free because no two invocations of a pass reach one node (common/blocks.glsl).
-// Otherwise each value is scaled by 2^k and rounded to int32; integer sums are exact and order-independent, so
-// runs are bitwise deterministic. atomicAdd returns the old value, so a sum that leaves the int32 range is
-// caught the moment it happens.
+// P2G sums each row's particles into private accumulators (p2g.comp), then adds each accumulator to its node with
+// one atomicAdd per channel. With fixed point (the default) every contribution is scaled by 2^k and rounded to an
+// int32 before it is summed: integer sums are exact and order-independent, so runs are bitwise deterministic, and
+// give the same sums as adding every contribution to the node directly. A sum that leaves the int32 range is caught
+// the moment it happens, in the accumulator or at the node. FIRN_FLOAT_ATOMICS sums floats instead, with
+// GL_NV_shader_atomic_float at the node.
 //
 // Rounding to 2^-k is dithered, floor(x·2^k + u) with u uniform in [0, 1): its expectation is x, so slow
 // motion — a small fraction of a cell per step, whose contributions are a few quanta each — does not lose
@@ -20,11 +22,7 @@
 // velocity before forces. FIRN_TRANSFER_APIC needs no second buffer: impulse goes straight into momentum.
 #include "common/watchdog.glsl"
 
-#if defined(FIRN_FLOAT_ATOMICS) || defined(FIRN_P2G_BLOCKS)
-#define FIRN_FLOAT_GRID_SUMS
-#endif
-
-#ifdef FIRN_FLOAT_GRID_SUMS
+#ifdef FIRN_FLOAT_ATOMICS
 #define GridVector vec4
 #else
 #define GridVector ivec4
@@ -37,12 +35,30 @@ layout(std430, binding = FIRN_BINDING_GRID_MOMENTUM_MASS) coherent buffer GridMo
 layout(std430, binding = FIRN_BINDING_GRID_IMPULSE) coherent buffer GridImpulseBuffer { GridVector gridImpulse[]; };
 #endif
 
-#ifdef FIRN_FLOAT_GRID_SUMS
+// The watchdog's channel of each component: momentum x, y, z and mass; impulse x, y, z.
+const uvec4 MOMENTUM_MASS_CHANNELS = uvec4(CHANNEL_MOMENTUM, CHANNEL_MOMENTUM + 1u, CHANNEL_MOMENTUM + 2u, CHANNEL_MASS);
+const uvec4 IMPULSE_CHANNELS = uvec4(CHANNEL_IMPULSE, CHANNEL_IMPULSE + 1u, CHANNEL_IMPULSE + 2u, CHANNEL_IMPULSE);
 
-#define FIRN_SCATTER(member, value, node, channel, dither) atomicAdd(member, value)
+#ifdef FIRN_FLOAT_ATOMICS
 
 float particleDither(vec3 particlePosition) { return 0.0; }  // float sums are not dithered
 float contributionDither(float particleU, int stencilNode) { return 0.0; }
+vec4 quantize(vec4 values, uvec4 channels, float dither, inout ivec4 overflow) { return values; }
+void accumulate(inout vec4 sum, vec4 addend, inout ivec4 overflow) { sum += addend; }
+void reportAccumulatorOverflow(ivec4 overflow, ivec3 node, uvec4 channels) {}
+void addToNode(uint address, vec4 momentumMass, ivec3 node) {
+  atomicAdd(gridMomentumMass[address].x, momentumMass.x);
+  atomicAdd(gridMomentumMass[address].y, momentumMass.y);
+  atomicAdd(gridMomentumMass[address].z, momentumMass.z);
+  atomicAdd(gridMomentumMass[address].w, momentumMass.w);
+}
+#ifndef FIRN_TRANSFER_APIC
+void addImpulseToNode(uint address, vec3 impulse, ivec3 node) {
+  atomicAdd(gridImpulse[address].x, impulse.x);
+  atomicAdd(gridImpulse[address].y, impulse.y);
+  atomicAdd(gridImpulse[address].z, impulse.z);
+}
+#endif
 vec4 storedToNondimensional(vec4 stored) { return stored; }
 vec4 storedFloats(vec4 stored) { return stored; }
 vec4 floatsToStored(vec4 values) { return values; }
@@ -72,23 +88,58 @@ float particleDither(vec3 particlePosition) {
 // The dither of the particle's contributions to stencil node n (channel 0), by the golden-ratio recurrence.
 float contributionDither(float particleU, int stencilNode) { return fract(particleU + float(stencilNode) * 0.61803399); }
 
-int toFixedPoint(float value, uint node, uint channel, float dither) {
-  // Channels step by 1/ρ (ρ the plastic number), incommensurate with the nodes' φ.
-  float scaled = floor(value * fixedPoint.z + fract(dither + float(channel) * 0.75487767));
-  if (!(abs(scaled) <= FIXED_POINT_LIMIT)) {  // also catches NaN
-    reportOverflow(node, channel);
-    return 0;
+// Reports an overflow of the channels `over` marks at `node`.
+void reportOverflows(bvec4 over, ivec3 node, uvec4 channels) {
+  for (int c = 0; c < 4; ++c) {
+    if (over[c]) reportOverflow(nodeIndex(node), channels[c]);
   }
-  return int(scaled);
 }
 
-// Signed overflow of old + add happened iff old and add share a sign that the sum does not.
-#define FIRN_SCATTER(member, value, node, channel, dither)                \
-  {                                                                       \
-    int addend = toFixedPoint(value, node, channel, dither);              \
-    int previous = atomicAdd(member, addend);                             \
-    if (((previous ^ (previous + addend)) & (addend ^ (previous + addend))) < 0) reportOverflow(node, channel); \
+// Contributions in units of 2^-k, channel by channel (channels step their dither by 1/ρ, ρ the plastic number,
+// incommensurate with the nodes' φ). One too large for an int32 is dropped, and marked in `overflow` (its sign
+// bit, per channel) for the accumulator's node to report: no branch per contribution.
+ivec4 quantize(vec4 values, uvec4 channels, float dither, inout ivec4 overflow) {
+  vec4 scaled = floor(values * fixedPoint.z + fract(dither + vec4(channels) * 0.75487767));
+  bvec4 tooLarge = not(lessThanEqual(abs(scaled), vec4(FIXED_POINT_LIMIT)));  // also catches NaN
+  overflow |= ivec4(uvec4(tooLarge) << 31);
+  return ivec4(mix(scaled, vec4(0.0), tooLarge));
+}
+
+// Signed overflow of a + b happened iff a and b share a sign that the sum does not: the sign bit of
+// (a ^ sum) & (b ^ sum), kept in `overflow`.
+void accumulate(inout ivec4 sum, ivec4 addend, inout ivec4 overflow) {
+  ivec4 total = sum + addend;
+  overflow |= (sum ^ total) & (addend ^ total);
+  sum = total;
+}
+
+// Reports the channels an accumulator's `overflow` marks, at its node.
+void reportAccumulatorOverflow(ivec4 overflow, ivec3 node, uvec4 channels) {
+  bvec4 over = lessThan(overflow, ivec4(0));
+  if (any(over)) reportOverflows(over, node, channels);
+}
+
+// Signed overflow of a + b, as above.
+bvec4 overflowed(ivec4 a, ivec4 b, ivec4 sum) { return lessThan((a ^ sum) & (b ^ sum), ivec4(0)); }
+
+void addToNode(uint address, ivec4 momentumMass, ivec3 node) {
+  ivec4 previous = ivec4(0);
+  for (int c = 0; c < 4; ++c) {
+    if (momentumMass[c] != 0) previous[c] = atomicAdd(gridMomentumMass[address][c], momentumMass[c]);
   }
+  bvec4 over = overflowed(previous, momentumMass, previous + momentumMass);
+  if (any(over)) reportOverflows(over, node, MOMENTUM_MASS_CHANNELS);
+}
+#ifndef FIRN_TRANSFER_APIC
+void addImpulseToNode(uint address, ivec3 impulse, ivec3 node) {
+  ivec4 previous = ivec4(0);
+  for (int c = 0; c < 3; ++c) {
+    if (impulse[c] != 0) previous[c] = atomicAdd(gridImpulse[address][c], impulse[c]);
+  }
+  bvec4 over = overflowed(previous, ivec4(impulse, 0), previous + ivec4(impulse, 0));
+  if (any(over)) reportOverflows(over, node, IMPULSE_CHANNELS);
+}
+#endif
 
 vec4 storedToNondimensional(ivec4 stored) { return vec4(stored) * fixedPoint.w; }
 vec4 storedFloats(ivec4 stored) { return intBitsToFloat(stored); }
@@ -96,37 +147,12 @@ ivec4 floatsToStored(vec4 values) { return floatBitsToInt(values); }
 
 #endif
 
-// P2G: adds a particle's nondimensional contribution (momentum xyz, mass w) to a node; `dither` is the
-// contribution's contributionDither().
-#ifdef FIRN_P2G_BLOCKS
-// Whole vectors: no other invocation reaches the node meanwhile (blocks.glsl).
-void scatterMomentumMass(uint node, vec4 momentumMass, float dither) { gridMomentumMass[node] += momentumMass; }
-#ifndef FIRN_TRANSFER_APIC
-void scatterImpulse(uint node, vec3 impulse, float dither) { gridImpulse[node].xyz += impulse; }
-#endif
-#else
-void scatterMomentumMass(uint node, vec4 momentumMass, float dither) {
-  FIRN_SCATTER(gridMomentumMass[node].x, momentumMass.x, node, CHANNEL_MOMENTUM + 0u, dither);
-  FIRN_SCATTER(gridMomentumMass[node].y, momentumMass.y, node, CHANNEL_MOMENTUM + 1u, dither);
-  FIRN_SCATTER(gridMomentumMass[node].z, momentumMass.z, node, CHANNEL_MOMENTUM + 2u, dither);
-  FIRN_SCATTER(gridMomentumMass[node].w, momentumMass.w, node, CHANNEL_MASS, dither);
-}
-
-#ifndef FIRN_TRANSFER_APIC
-void scatterImpulse(uint node, vec3 impulse, float dither) {
-  FIRN_SCATTER(gridImpulse[node].x, impulse.x, node, CHANNEL_IMPULSE + 0u, dither);
-  FIRN_SCATTER(gridImpulse[node].y, impulse.y, node, CHANNEL_IMPULSE + 1u, dither);
-  FIRN_SCATTER(gridImpulse[node].z, impulse.z, node, CHANNEL_IMPULSE + 2u, dither);
-}
-#endif
-#endif
-
 // After P2G: the node's nondimensional mass (units of m_ref).
-float nodeMassUnits(uint node) { return storedToNondimensional(gridMomentumMass[node]).w; }
+float nodeMassUnits(uint address) { return storedToNondimensional(gridMomentumMass[address]).w; }
 
 // After the grid update: velocity after forces and collisions (m/s).
-vec3 nodeVelocity(uint node) { return storedFloats(gridMomentumMass[node]).xyz; }
+vec3 nodeVelocity(uint address) { return storedFloats(gridMomentumMass[address]).xyz; }
 #ifndef FIRN_TRANSFER_APIC
 // After the grid update: velocity before forces (m/s), for the FLIP increment.
-vec3 nodeVelocityBeforeForces(uint node) { return storedFloats(gridImpulse[node]).xyz; }
+vec3 nodeVelocityBeforeForces(uint address) { return storedFloats(gridImpulse[address]).xyz; }
 #endif

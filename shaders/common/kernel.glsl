@@ -37,14 +37,21 @@ float kernelSlope(float d) {
 #endif
 }
 
-Stencil particleStencil(vec3 positionM) {
-  vec3 positionInCells = (positionM - gridOrigin()) / cellSize();
-  Stencil stencil;
+// The first node of the stencil on each axis (the particle's base node: common/blocks.glsl sorts by it).
+ivec3 stencilBaseNode(vec3 positionInCells) {
 #if defined(FIRN_KERNEL_CUBIC)
-  stencil.baseNode = ivec3(floor(positionInCells)) - 1;
+  return ivec3(floor(positionInCells)) - 1;
 #else
-  stencil.baseNode = ivec3(floor(positionInCells - 0.5));
+  return ivec3(floor(positionInCells - 0.5));
 #endif
+}
+
+vec3 cellCoordinates(vec3 positionM) { return (positionM - gridOrigin()) / cellSize(); }
+
+Stencil particleStencil(vec3 positionM) {
+  vec3 positionInCells = cellCoordinates(positionM);
+  Stencil stencil;
+  stencil.baseNode = stencilBaseNode(positionInCells);
   for (int k = 0; k < KERNEL_WIDTH; ++k) {
     vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
     stencil.weight[k] = vec3(kernelWeight(offsetInCells.x), kernelWeight(offsetInCells.y), kernelWeight(offsetInCells.z));

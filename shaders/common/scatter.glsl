@@ -1,8 +1,7 @@
 // A particle's P2G contribution: mass, momentum and the elastic impulse −Δt V0 τ ∇w_ip (Stomakhin 2013 eq. 6,
 // the force of the stress left by the last deformation update) to the nodes of its stencil, in the
-// nondimensional units of grid.glsl. p2g.comp adds a particle to all its nodes with atomics; p2g_blocks.comp
-// adds it one node per invocation with plain additions.
-// Reads: positionMass, velocityVolume, kirchhoffStress, affine (APIC). Writes: grid accumulators.
+// nondimensional units of grid.glsl, for p2g.comp to sum.
+// Reads: positionMass, velocityVolume, kirchhoffStress, affine (APIC).
 
 struct Contribution {
   bool finite;
@@ -35,16 +34,14 @@ Contribution particleContribution(uint p) {
   return c;
 }
 
-// Adds the contribution to `node`, n-th of the stencil, with weight w and gradient ∇w.
-void scatterToNode(Contribution c, ivec3 node, int n, float w, vec3 gradient) {
-  uint i = nodeIndex(node);
-  float dither = contributionDither(c.particleU, n);
-  vec3 impulse = c.impulseUnits * gradient;
+// The contribution to `node` with weight w and gradient ∇w: (momentum, mass), and for PIC/FLIP the impulse,
+// which APIC adds to the momentum.
+void contributionToNode(Contribution c, ivec3 node, float w, vec3 gradient, out vec4 momentumMass, out vec3 impulse) {
+  impulse = c.impulseUnits * gradient;
 #ifdef FIRN_TRANSFER_APIC
   vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x)) + impulse;
-  scatterMomentumMass(i, vec4(momentum, w * c.massUnits), dither);
+  momentumMass = vec4(momentum, w * c.massUnits);
 #else
-  scatterMomentumMass(i, vec4(w * c.momentumUnits, w * c.massUnits), dither);
-  scatterImpulse(i, impulse, dither);
+  momentumMass = vec4(w * c.momentumUnits, w * c.massUnits);
 #endif
 }

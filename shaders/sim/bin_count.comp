@@ -1,8 +1,9 @@
 #version 430 core
-// Bin count (solver.atomics "none"): one invocation per particle. Claims the particle's place in its block's
-// bin: one atomic per particle, where atomic P2G makes 7 per particle and node (common/blocks.glsl).
-// Reads: positionMass. Writes: bins[].y (counts, cleared by clear_grid.comp), particleSlots.
+// Bin count: one invocation per particle (common/blocks.glsl). Counts the particles of each bin (base node) and
+// gives each its rank within its bin.
+// Reads: positionMass, blockMap. Writes: bins[].x, particleRanks.
 #include "common/bindings.glsl"
+#include "common/kernel.glsl"
 #include "common/watchdog.glsl"
 #include "common/blocks.glsl"
 
@@ -12,11 +13,9 @@ void main() {
   uint p = particleInvocationIndex();
   if (p >= particleCount()) return;
   vec3 x = positionMass[p].xyz;
-  // G2P never stores a non-finite position, so one here came from outside (an upload): report it, bin nothing.
-  if (!allFinite(x)) {
-    reportNonFinite(p);
-    particleSlots[p] = NOT_BINNED;
-    return;
-  }
-  particleSlots[p] = atomicAdd(bins[blockIndex(particleBlock(x))].y, 1u);
+  if (!allFinite(x)) return;  // reported by mark_blocks.comp
+  ivec3 base = stencilBaseNode(cellCoordinates(x));
+  int slot = blockSlot(base / BLOCK_WIDTH);
+  if (slot < 0) return;  // past the pool's capacity: the host grows it
+  particleRanks[p] = atomicAdd(bins[binIndex(uint(slot), base)].x, 1u);
 }

@@ -1,21 +1,36 @@
 #version 430 core
-// Grid to particle: one invocation per particle. Gathers the new velocity (PIC/FLIP blend or APIC) and the
-// velocity gradient, updates the particle's material (F or F_E, its scalar state, and the stress:
-// materials.glsl), collides the particle, advects it
-// (x += Δt v), and feeds the active-region bounds and the watchdog. A particle whose new state is not finite
-// keeps its old state and is reported, so no non-finite value ever reaches a buffer or an output.
-// Reads: grid velocities, particle state, materials, colliders.
+// Grid to particle: a work group per active block, an invocation per row of ROW_NODES base nodes along x
+// (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then
+// advances each of its particles: gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient,
+// updates the particle's material (F or F_E, its scalar state, and the stress: materials.glsl), collides the
+// particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new state is not finite keeps its old
+// state and is reported, so no non-finite value ever reaches a buffer or an output.
+// Reads: grid velocities, the block table and map, bins, sortedParticles, particle state, materials, colliders.
 // Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
 #include "common/bindings.glsl"
-#include "common/active_region.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
+#include "common/blocks.glsl"
 #include "common/colliders.glsl"
 #include "common/materials.glsl"
 
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+layout(local_size_x = FIRN_ROW_GROUP_SIZE) in;
 
-void advanceParticle(uint p) {
+const int REGION_WIDTH = ROW_NODES + KERNEL_WIDTH - 1;  // nodes along x
+const int REGION_NODES = REGION_WIDTH * KERNEL_WIDTH * KERNEL_WIDTH;
+
+vec3 nodeVelocities[REGION_NODES];
+#ifndef FIRN_TRANSFER_APIC
+vec3 nodeVelocitiesBeforeForces[REGION_NODES];
+#endif
+
+int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + KERNEL_WIDTH * offset.z); }
+ivec3 regionOffset(int index) {
+  return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % KERNEL_WIDTH, index / (REGION_WIDTH * KERNEL_WIDTH));
+}
+
+// Advances particle p, whose base node is the row's bx-th.
+void advanceParticle(uint p, int bx) {
   vec3 x = positionMass[p].xyz;
   vec3 previousVelocity = velocityVolume[p].xyz;
   Stencil stencil = particleStencil(x);
@@ -30,15 +45,15 @@ void advanceParticle(uint p) {
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     ivec3 node = stencil.baseNode + k;
-    uint i = nodeIndex(node);
+    int i = regionIndex(ivec3(bx, 0, 0) + k);
     float w = stencilWeight(stencil, k);
-    vec3 vi = nodeVelocity(i);
+    vec3 vi = nodeVelocities[i];
     picVelocity += w * vi;
     velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
 #ifdef FIRN_TRANSFER_APIC
     affineMoment += w * outerProduct(vi, nodePosition(node) - x);
 #else
-    flipIncrement += w * (vi - nodeVelocityBeforeForces(i));
+    flipIncrement += w * (vi - nodeVelocitiesBeforeForces[i]);
 #endif
   }
 
@@ -75,7 +90,6 @@ void advanceParticle(uint p) {
 #endif
   if (!finite) {
     reportNonFinite(p);
-    includeInBounds(x);
     return;
   }
   float cellsPerStep = length(velocity) * stepDt() / cellSize();
@@ -98,12 +112,29 @@ void advanceParticle(uint p) {
 #ifdef FIRN_TRANSFER_APIC
   affine[p] = newAffine;
 #endif
-  includeInBounds(newPosition);
 }
 
 void main() {
-  beginBoundsReduction();
-  uint p = particleInvocationIndex();
-  if (p < particleCount()) advanceParticle(p);
-  endBoundsReduction();
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  uint row = gl_LocalInvocationIndex;
+  uvec2 rowBins[ROW_NODES];  // each bin's first particle in the sorted order, its particles
+  uint rowParticles = 0u;
+  for (int bx = 0; bx < ROW_NODES; ++bx) {
+    rowBins[bx] = binParticles(slot, row * uint(ROW_NODES) + uint(bx));
+    rowParticles += rowBins[bx].y;
+  }
+  if (rowParticles == 0u) return;
+
+  Row r = blockRow(slot, row);
+  for (int i = 0; i < REGION_NODES; ++i) {
+    int address = rowNodeAddress(r, r.firstBase + regionOffset(i));
+    nodeVelocities[i] = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
+#ifndef FIRN_TRANSFER_APIC
+    nodeVelocitiesBeforeForces[i] = address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address));
+#endif
+  }
+  for (int bx = 0; bx < ROW_NODES; ++bx) {
+    for (uint j = rowBins[bx].x; j < rowBins[bx].x + rowBins[bx].y; ++j) advanceParticle(sortedParticles[j], bx);
+  }
 }

@@ -1,20 +1,21 @@
 #version 430 core
-// Grid update: one invocation per node of the active box. v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g)
-// (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain walls. Nodes without mass stay zero.
-// Reads: grid accumulators, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
+// Grid update: a work group per active block, an invocation per node of it (common/blocks.glsl).
+// v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
+// walls. Nodes without mass stay zero.
+// Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
 // PIC/FLIP the velocity before forces.
 #include "common/bindings.glsl"
-#include "common/active_region.glsl"
 #include "common/grid.glsl"
+#include "common/blocks.glsl"
 #include "common/colliders.glsl"
 
-layout(FIRN_GRID_GROUP_SIZE) in;
+layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
 void main() {
-  ivec3 local = ivec3(gl_GlobalInvocationID);
-  if (any(greaterThanEqual(local, region.boxSize.xyz))) return;
-  ivec3 node = region.boxMin.xyz + local;
-  uint i = nodeIndex(node);
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
+  uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
   vec4 sums = storedToNondimensional(gridMomentumMass[i]);
   vec3 velocity = vec3(0.0);

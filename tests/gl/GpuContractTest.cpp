@@ -43,8 +43,6 @@ struct SharedStruct {
 std::vector<SharedStruct> sharedStructs() {
   return {
       {"common/bindings.glsl", GL_UNIFORM, "", FIRN_MEMBER_LIST(StepUniforms, FIRN_STEP_UNIFORMS)},
-      {"common/bindings.glsl", GL_BUFFER_VARIABLE, "region.",
-       FIRN_MEMBER_LIST(ActiveRegionData, FIRN_ACTIVE_REGION_DATA)},
       {"common/bindings.glsl", GL_BUFFER_VARIABLE, "materials[0].",
        FIRN_MEMBER_LIST(MaterialParams, FIRN_MATERIAL_PARAMS)},
       {"common/particles.glsl", GL_BUFFER_VARIABLE, "plasticState[0].",
@@ -52,11 +50,10 @@ std::vector<SharedStruct> sharedStructs() {
       {"common/watchdog.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(WatchdogStatus, FIRN_WATCHDOG_STATUS)},
       {"common/colliders.glsl", GL_BUFFER_VARIABLE, "colliders[0].",
        FIRN_MEMBER_LIST(ColliderParams, FIRN_COLLIDER_PARAMS)},
-      {"common/blocks.glsl", GL_BUFFER_VARIABLE, "", {{"blocksPerAxis", offsetof(BlockTableHeader, blocksPerAxis)}}},
-      {"common/blocks.glsl", GL_BUFFER_VARIABLE, "blockColors[0].", FIRN_MEMBER_LIST(BlockColor, FIRN_BLOCK_COLOR),
-       offsetof(BlockTableHeader, blockColors)},
-      // The bins follow the block table's header.
-      {"common/blocks.glsl", GL_BUFFER_VARIABLE, "", {{"bins[0]", sizeof(BlockTableHeader)}}},
+      {"common/blocks.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)},
+      // The slots follow the block table's header.
+      {"common/blocks.glsl", GL_BUFFER_VARIABLE, "slots[0].", FIRN_MEMBER_LIST(BlockSlot, FIRN_BLOCK_SLOT),
+       sizeof(BlockTableHeader)},
   };
 }
 
@@ -121,7 +118,7 @@ TEST(GpuContract, ArraysStrideAsTheHostWritesThem) {
   } arrays[] = {{"common/bindings.glsl", "materials[0].elastic", sizeof(MaterialParams)},
                 {"common/particles.glsl", "plasticState[0].plasticJ", sizeof(ParticlePlasticState)},
                 {"common/colliders.glsl", "colliders[0].geometryA", sizeof(ColliderParams)},
-                {"common/blocks.glsl", "blockColors[0].dispatch", sizeof(BlockColor)}};
+                {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)}};
   for (const auto& array : arrays) {
     const std::vector<GLint> values = properties(probe(array.include, {array.name}), GL_BUFFER_VARIABLE, array.name);
     ASSERT_FALSE(values.empty()) << array.name;
@@ -155,8 +152,6 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
   } blocks[] = {
       {"common/bindings.glsl", "gridNodes", GL_UNIFORM_BLOCK, "StepUniformsBlock", FIRN_BINDING_STEP_UNIFORMS,
        sizeof(StepUniforms)},
-      {"common/bindings.glsl", "region.boxMin", GL_SHADER_STORAGE_BLOCK, "ActiveRegionBuffer",
-       FIRN_BINDING_ACTIVE_REGION, sizeof(ActiveRegionData)},
       {"common/bindings.glsl", "materials[0].model", GL_SHADER_STORAGE_BLOCK, "MaterialBuffer", FIRN_BINDING_MATERIALS, 0},
       {"common/watchdog.glsl", "overflowCount", GL_SHADER_STORAGE_BLOCK, "WatchdogBuffer", FIRN_BINDING_WATCHDOG,
        sizeof(WatchdogStatus)},
@@ -175,12 +170,13 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_PLASTIC_STATE, 0},
       {"common/grid.glsl", "gridMomentumMass[0]", GL_SHADER_STORAGE_BLOCK, "GridMomentumMassBuffer",
        FIRN_BINDING_GRID_MOMENTUM_MASS, 0},
-      {"common/blocks.glsl", "blocksPerAxis", GL_SHADER_STORAGE_BLOCK, "BlockTableBuffer", FIRN_BINDING_BLOCKS, 0},
-      {"common/blocks.glsl", "particleSlots[0]", GL_SHADER_STORAGE_BLOCK, "ParticleSlotBuffer",
-       FIRN_BINDING_PARTICLE_SLOTS, 0},
-      {"common/blocks.glsl", "blockParticles[0]", GL_SHADER_STORAGE_BLOCK, "BlockParticleBuffer",
-       FIRN_BINDING_BLOCK_PARTICLES, 0},
-      {"common/blocks.glsl", "blockOrder[0]", GL_SHADER_STORAGE_BLOCK, "BlockOrderBuffer", FIRN_BINDING_BLOCK_ORDER, 0},
+      {"common/blocks.glsl", "blockCounts", GL_SHADER_STORAGE_BLOCK, "BlockTableBuffer", FIRN_BINDING_BLOCK_TABLE, 0},
+      {"common/blocks.glsl", "blockMap[0]", GL_SHADER_STORAGE_BLOCK, "BlockMapBuffer", FIRN_BINDING_BLOCK_MAP, 0},
+      {"common/blocks.glsl", "bins[0]", GL_SHADER_STORAGE_BLOCK, "BinBuffer", FIRN_BINDING_BINS, 0},
+      {"common/blocks.glsl", "sortedParticles[0]", GL_SHADER_STORAGE_BLOCK, "SortedParticleBuffer",
+       FIRN_BINDING_SORTED_PARTICLES, 0},
+      {"common/blocks.glsl", "particleRanks[0]", GL_SHADER_STORAGE_BLOCK, "ParticleRankBuffer",
+       FIRN_BINDING_PARTICLE_RANKS, 0},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});
@@ -197,7 +193,7 @@ TEST(GpuContractPasses, ParticlePassesRunInTheGroupsTheHostDispatches) {
   const firn::gl::ShaderLibrary library;
   firn::gl::ShaderOptions options;
   options.defines = {{"FIRN_KERNEL_QUADRATIC", "1"}, {"FIRN_TRANSFER_APIC", "1"}, {"FIRN_WALL_CELLS", "2"}};
-  for (const char* pass : {"sim/p2g.comp", "sim/compute_volumes.comp"}) {
+  for (const char* pass : {"sim/mark_blocks.comp", "sim/compute_volumes.comp"}) {
     const firn::gl::Program program = firn::gl::Program::compute(library, pass, options);
     GLint size[3] = {0, 0, 0};
     glGetProgramiv(program.id(), GL_COMPUTE_WORK_GROUP_SIZE, size);

@@ -84,8 +84,8 @@ TEST(P2GAtomics, FixedPointSumsMatchDoubleWithinResolution) {
   }
 }
 
-// Float atomics add n contributions in whatever order the GPU's invocations arrive, and P2G without atomics in
-// the order of its bins (solver.atomics "none"); each addition rounds to
+// Float atomics add n contributions in whatever order the GPU's invocations arrive (a row's in the order of its
+// particles, then the rows' sums at the node); each addition rounds to
 // within u of the running sum, so the sum is within (n − 1)·u·Σ|c| of the exact one (Higham, Accuracy and
 // Stability of Numerical Algorithms, §4.2), plus kContributionMismatch·Σ|c| for the contributions themselves.
 // That worst case aligns every rounding. They are independent and of either sign, each uniform within half an ulp
@@ -94,7 +94,7 @@ TEST(P2GAtomics, FixedPointSumsMatchDoubleWithinResolution) {
 // RMS relative error over the nodes holding a particle's mass or more (SumErrorSummary) below 1e-6.
 // Measured: 2e-7 to 3e-7.
 TEST(P2GAtomics, FloatSumsMatchDoubleWithinRounding) {
-  for (const std::string atomics : {"float", "none"}) {
+  for (const std::string atomics : {"float"}) {
     // Float atomics need GL_NV_shader_atomic_float.
     if (atomics == "float" && !firn::test::glContext().info().hasFloatAtomics) continue;
     for (const auto& [kernel, transfer] : kKernelTransfers) {

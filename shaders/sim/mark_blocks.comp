@@ -1,0 +1,38 @@
+#version 430 core
+// Mark blocks: one invocation per particle (common/blocks.glsl). Claims a slot of the pool for every block the
+// particle's stencil reaches (at most two per axis) that no other particle has claimed yet: the first to swap the
+// block's map entry from 0 takes the next slot and lists the block there. Blocks past the pool's capacity stay
+// unlisted: their particles are left out of this step, and the host sees the count and grows the pool.
+// Reads: positionMass. Writes: blockMap, blockCounts.x, slots[].block, the watchdog (non-finite positions).
+#include "common/bindings.glsl"
+#include "common/kernel.glsl"
+#include "common/watchdog.glsl"
+#include "common/blocks.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void claimBlock(ivec3 block) {
+  uint index = blockIndex(block);
+  if (blockMap[index] != 0u || atomicCompSwap(blockMap[index], 0u, CLAIMED) != 0u) return;
+  uint slot = atomicAdd(blockCounts.x, 1u);
+  if (slot >= blockCounts.y) return;
+  slots[slot].block = index;
+  blockMap[index] = slot + 1u;
+}
+
+void main() {
+  uint p = particleInvocationIndex();
+  if (p >= particleCount()) return;
+  vec3 x = positionMass[p].xyz;
+  if (!allFinite(x)) {
+    reportNonFinite(p);
+    return;
+  }
+  ivec3 base = stencilBaseNode(cellCoordinates(x));
+  ivec3 first = base / BLOCK_WIDTH;
+  ivec3 reach = (base + KERNEL_WIDTH - 1) / BLOCK_WIDTH - first;  // 0 or 1 more block per axis
+  for (int k = 0; k < 8; ++k) {
+    ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
+    if (all(lessThanEqual(offset, reach))) claimBlock(first + offset);
+  }
+}

@@ -1,0 +1,19 @@
+#version 430 core
+// Prepare blocks: one invocation, first in the step (common/blocks.glsl). Last step's active blocks become the
+// ones to release, their count the release pass's dispatch; this step's count starts at zero. Resets the
+// watchdog's fastest signal, which this step's G2P finds afresh (adaptive steps).
+// Reads: blockCounts. Writes: blockCounts, releaseDispatch, maxSpeedBits.
+#include "common/bindings.glsl"
+#include "common/watchdog.glsl"
+#include "common/blocks.glsl"
+
+layout(local_size_x = 1) in;
+
+void main() {
+  uint previous = activeBlocks();
+  blockCounts.z = previous;
+  blockCounts.w = max(blockCounts.w, blockCounts.x);
+  blockCounts.x = 0u;
+  releaseDispatch = blockWorkGroups(previous);
+  maxSpeedBits = 0u;
+}
