@@ -12,9 +12,11 @@
 // offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
 // result depends on it: fixed-point sums are exact and each particle's update is its own.
 //
-// The transfers take a block per work group and a row of ROW_NODES base nodes along x per invocation: a row's
-// particles reach the (ROW_NODES + KERNEL_WIDTH − 1) × KERNEL_WIDTH² nodes of its region, at most two blocks
-// per axis, whose slots are looked up once per row.
+// The transfers take a row of ROW_NODES base nodes along x per invocation: a row's particles reach the
+// (ROW_NODES + KERNEL_WIDTH − 1) × KERNEL_WIDTH² nodes of its region, at most two blocks per axis, whose slots
+// are looked up once per row. An invocation loops over its row's particles bin by bin, so the invocations that a
+// CPU renderer runs side by side as one vector wait for the fullest: the rows are taken in order of fill, fullest
+// first (order_rows.comp), so that rows of alike fill run side by side.
 
 layout(std430, binding = FIRN_BINDING_BLOCK_TABLE) coherent buffer BlockTableBuffer {
   FIRN_MEMBERS(FIRN_BLOCK_TABLE_HEADER)
@@ -24,6 +26,7 @@ layout(std430, binding = FIRN_BINDING_BLOCK_MAP) coherent buffer BlockMapBuffer 
 layout(std430, binding = FIRN_BINDING_BINS) coherent buffer BinBuffer { uvec2 bins[]; };  // particles, first
 layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticleBuffer { uint sortedParticles[]; };
 layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRankBuffer { uint particleRanks[]; };
+layout(std430, binding = FIRN_BINDING_ROW_ORDER) buffer RowOrderBuffer { uint rowOrder[]; };  // slot · BLOCK_ROWS + row
 
 // A block being claimed in mark_blocks.comp: its slot is not yet written.
 const uint CLAIMED = 0xffffffffu;
@@ -77,6 +80,14 @@ uint binIndex(uint slot, ivec3 baseNode) { return slot * uint(BLOCK_NODES) + nod
 uvec2 binParticles(uint slot, uint localBin) {
   uvec2 bin = bins[slot * uint(BLOCK_NODES) + localBin];
   return uvec2(slots[slot].firstParticle + bin.y, bin.x);  // first, count
+}
+
+// A row's bucket of fill: the fullest rows first.
+uint rowBucket(uint particles) { return uint(ROW_BUCKETS - 1) - min(particles / ROW_BUCKET_PARTICLES, uint(ROW_BUCKETS - 1)); }
+
+// The transfers' work groups, FIRN_ROW_GROUP_SIZE rows each.
+uvec4 rowWorkGroups(uint rows) {
+  return blockWorkGroups((rows + uint(FIRN_ROW_GROUP_SIZE) - 1u) / uint(FIRN_ROW_GROUP_SIZE));
 }
 
 // A transfer's row: the block's row-th row of base nodes along x. The slots of the blocks its region reaches,

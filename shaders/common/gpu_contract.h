@@ -41,13 +41,16 @@
 #define FIRN_BINDING_BINS 13                // uvec2 per base node of each active block: particles, first (in block)
 #define FIRN_BINDING_SORTED_PARTICLES 14    // uint per particle: particle indices, block after block, bin after bin
 #define FIRN_BINDING_PARTICLE_RANKS 15      // uint per particle: its place in its bin
+#define FIRN_BINDING_ROW_ORDER 16           // uint per row of the pool: the rows holding particles, fullest first
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 
 // Invocations per work group of the passes that run one invocation per particle, of those that run one per
-// node of a block (BLOCK_NODES), and of the transfers, which run one per row of ROW_NODES base nodes.
+// node of a block (BLOCK_NODES), and of the transfers, which run one per row of ROW_NODES base nodes (rows of
+// alike fill side by side: common/blocks.glsl).
 #define FIRN_PARTICLE_GROUP_SIZE 128
-#define FIRN_BLOCK_GROUP_SIZE 64
+#define FIRN_BLOCK_GROUP_SIZE 64  // BLOCK_NODES
+#define FIRN_BLOCK_ROWS 16        // BLOCK_ROWS: order_rows.comp takes a block's rows
 #define FIRN_ROW_GROUP_SIZE 16
 
 // Material models (MaterialParams.model.x).
@@ -81,6 +84,10 @@ FIRN_CONSTANT(uint, CHANNEL_COUNT, 8u)
 FIRN_CONSTANT(int, BLOCK_WIDTH, 4)
 FIRN_CONSTANT(int, BLOCK_NODES, BLOCK_WIDTH * BLOCK_WIDTH * BLOCK_WIDTH)
 FIRN_CONSTANT(int, ROW_NODES, BLOCK_WIDTH)
+FIRN_CONSTANT(int, BLOCK_ROWS, BLOCK_WIDTH * BLOCK_WIDTH)  // FIRN_BLOCK_ROWS
+// The transfers take the rows in order of fill, fullest first, in buckets of ROW_BUCKET_PARTICLES.
+FIRN_CONSTANT(int, ROW_BUCKETS, 64)
+FIRN_CONSTANT(uint, ROW_BUCKET_PARTICLES, 2u)
 
 // ParticlePlasticState: the scalar state each material keeps besides F (common/materials.glsl); 1 for what a
 // material does not use.
@@ -124,10 +131,16 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //                    z: blocks claimed last step, released at the start of this one, w: the most claimed in a step
 //   blockDispatch    xyz: work groups of the per-block passes, one per active block (glDispatchComputeIndirect)
 //   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
+//   rowCounts        x: rows holding particles this step
+//   rowDispatch      xyz: work groups of the transfers, FIRN_ROW_GROUP_SIZE rows each
+//   rowBuckets       per bucket of fill: its rows, then its first entry in the row order, then its next free one
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \
   member(uvec4, blockCounts)                   \
   member(uvec4, blockDispatch)                 \
-  member(uvec4, releaseDispatch)
+  member(uvec4, releaseDispatch)               \
+  member(uvec4, rowCounts)                     \
+  member(uvec4, rowDispatch)                   \
+  array(uint, rowBuckets, ROW_BUCKETS)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 
 // BlockSlot: one slot of the pool, in use this step.

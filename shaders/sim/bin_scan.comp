@@ -1,8 +1,8 @@
 #version 430 core
 // Bin scan: a work group per active block, an invocation per bin (common/blocks.glsl). The bins' first particles
-// within the block (an exclusive prefix sum of the counts), the block's particle count, and a report of any row
-// fuller than a transfer can take (maxRowParticles: llvmpipe's loop limit).
-// Reads: bins[].x. Writes: bins[].y, slots[].particles, the watchdog.
+// within the block (an exclusive prefix sum of the counts), the block's particle count, each row's bucket of fill
+// counted, and a report of any row fuller than a transfer can take (maxRowParticles: llvmpipe's loop limit).
+// Reads: bins[].x. Writes: bins[].y, slots[].particles, rowBuckets, the watchdog.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/shared_functions.h"
@@ -33,6 +33,7 @@ void main() {
   if (bin % uint(ROW_NODES) == uint(ROW_NODES - 1)) {
     uint rowFirst = bin + 1u - uint(ROW_NODES);
     uint rowParticles = scanned[bin] - (rowFirst == 0u ? 0u : scanned[rowFirst - 1u]);
+    if (rowParticles > 0u) atomicAdd(rowBuckets[rowBucket(rowParticles)], 1u);
     if (rowParticles > maxRowParticles(KERNEL_NODES)) {
       reportOverflow(nodeIndex(nodeOfBlock(blockCoordinates(slots[slot].block), rowFirst)), CHANNEL_ROW);
     }

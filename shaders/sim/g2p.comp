@@ -1,6 +1,6 @@
 #version 430 core
-// Grid to particle: a work group per active block, an invocation per row of ROW_NODES base nodes along x
-// (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then
+// Grid to particle: an invocation per row of ROW_NODES base nodes along x that holds particles, fullest rows
+// first (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then
 // advances each of its particles: gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient,
 // updates the particle's material (F or F_E, its scalar state, and the stress: materials.glsl), collides the
 // particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new state is not finite keeps its old
@@ -115,9 +115,10 @@ void advanceParticle(uint p, int bx) {
 }
 
 void main() {
-  uint slot = workGroupSlot();
-  if (slot >= activeBlocks()) return;
-  uint row = gl_LocalInvocationIndex;
+  uint entry = workGroupSlot() * uint(FIRN_ROW_GROUP_SIZE) + gl_LocalInvocationIndex;
+  if (entry >= rowCounts.x) return;
+  uint slot = rowOrder[entry] / uint(BLOCK_ROWS);
+  uint row = rowOrder[entry] % uint(BLOCK_ROWS);
   uvec2 rowBins[ROW_NODES];  // each bin's first particle in the sorted order, its particles
   uint rowParticles = 0u;
   for (int bx = 0; bx < ROW_NODES; ++bx) {

@@ -1,6 +1,6 @@
 #version 430 core
-// Particle to grid: a work group per active block, an invocation per row of ROW_NODES base nodes along x
-// (common/blocks.glsl). The invocation sums its row's particles' contributions (common/scatter.glsl), each
+// Particle to grid: an invocation per row of ROW_NODES base nodes along x that holds particles, fullest rows
+// first (common/blocks.glsl). The invocation sums its row's particles' contributions (common/scatter.glsl), each
 // quantized on its own (common/grid.glsl), into private accumulators over the REGION_NODES nodes the row's
 // stencils reach, then adds each accumulator to its node with one atomic per channel. The row's particles share
 // their nodes, so this takes a few atomics per particle where one per particle, node and channel took 27 to 448;
@@ -30,7 +30,26 @@ ivec3 regionOffset(int index) {
   return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % KERNEL_WIDTH, index / (REGION_WIDTH * KERNEL_WIDTH));
 }
 
-// Adds particle p, whose base node is the row's bx-th, to the accumulators.
+// Adds the contribution to the stencil's node k (an offset from its base node) to its accumulator; the particle's
+// base node is the row's bx-th. Called with k.x a constant, so that the weights along x are read at fixed places.
+void scatterToNode(Contribution contribution, Stencil stencil, ivec3 k, int bx) {
+  ivec3 node = stencil.baseNode + k;
+  vec4 nodeMomentumMass;
+  vec3 nodeImpulse;
+  contributionToNode(contribution, node, stencilWeight(stencil, k), stencilGradient(stencil, k), nodeMomentumMass,
+                     nodeImpulse);
+  float dither = contributionDither(contribution.particleU, k.x + KERNEL_WIDTH * (k.y + KERNEL_WIDTH * k.z));
+  int i = regionIndex(ivec3(bx, 0, 0) + k);
+  accumulate(momentumMass[i], quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow[i]),
+             momentumMassOverflow[i]);
+#ifndef FIRN_TRANSFER_APIC
+  accumulate(impulses[i], quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow[i]),
+             impulseOverflow[i]);
+#endif
+}
+
+// Adds particle p, whose base node is the row's bx-th, to the accumulators: the stencil row by row along x, each
+// row written out (KERNEL_WIDTH² loop iterations per particle).
 void scatterParticle(uint p, int bx) {
   Contribution contribution = particleContribution(p);
   if (!contribution.finite) {
@@ -38,28 +57,22 @@ void scatterParticle(uint p, int bx) {
     return;
   }
   Stencil stencil = particleStencil(contribution.x);
-  for (int n = 0; n < KERNEL_NODES; ++n) {
-    ivec3 k = stencilOffset(n);
-    ivec3 node = stencil.baseNode + k;
-    vec4 nodeMomentumMass;
-    vec3 nodeImpulse;
-    contributionToNode(contribution, node, stencilWeight(stencil, k), stencilGradient(stencil, k), nodeMomentumMass,
-                       nodeImpulse);
-    float dither = contributionDither(contribution.particleU, n);
-    int i = regionIndex(ivec3(bx, 0, 0) + k);
-    accumulate(momentumMass[i], quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow[i]),
-               momentumMassOverflow[i]);
-#ifndef FIRN_TRANSFER_APIC
-    accumulate(impulses[i], quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow[i]),
-               impulseOverflow[i]);
+  for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
+    ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
+    scatterToNode(contribution, stencil, k, bx);
+    scatterToNode(contribution, stencil, k + ivec3(1, 0, 0), bx);
+    scatterToNode(contribution, stencil, k + ivec3(2, 0, 0), bx);
+#ifdef FIRN_KERNEL_CUBIC
+    scatterToNode(contribution, stencil, k + ivec3(3, 0, 0), bx);
 #endif
   }
 }
 
 void main() {
-  uint slot = workGroupSlot();
-  if (slot >= activeBlocks()) return;
-  uint row = gl_LocalInvocationIndex;
+  uint entry = workGroupSlot() * uint(FIRN_ROW_GROUP_SIZE) + gl_LocalInvocationIndex;
+  if (entry >= rowCounts.x) return;
+  uint slot = rowOrder[entry] / uint(BLOCK_ROWS);
+  uint row = rowOrder[entry] % uint(BLOCK_ROWS);
   uvec2 rowBins[ROW_NODES];  // each bin's first particle in the sorted order, its particles
   uint rowParticles = 0u;
   for (int bx = 0; bx < ROW_NODES; ++bx) {
