@@ -22,7 +22,7 @@ std::string formatNumber(double value) {
 
 const char* channelName(std::uint32_t channel) {
   static const char* const names[gpu::CHANNEL_COUNT] = {"mass",      "momentum x", "momentum y", "momentum z",
-                                                        "impulse x", "impulse y",  "impulse z",  "row"};
+                                                        "impulse x", "impulse y",  "impulse z",  "tile"};
   return channel < gpu::CHANNEL_COUNT ? names[channel] : "unknown";
 }
 
@@ -31,7 +31,7 @@ const char* channelName(std::uint32_t channel) {
 Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
-      maxNodeValue_(fixedPoint.maxNodeValue()), kernelNodes_(scene.solver.kernel == Kernel::Cubic ? 64 : 27) {
+      maxNodeValue_(fixedPoint.maxNodeValue()), kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3) {
   for (const Material& material : scene.materials) materialNames_.push_back(material.name);
 }
 
@@ -86,15 +86,15 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                                "frames, and `firn run` redoes such a frame; this one outgrew it within a frame: "
                                "lower the body velocities or spread them over more frames.");
   }
-  if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_ROW) {
+  if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_TILE) {
     events.emplace_back(status.overflowStep,
-                        when(status.overflowStep) + ": the row of " + std::to_string(gpu::ROW_NODES) +
+                        when(status.overflowStep) + ": the tile of " + std::to_string(gpu::TILE_BASE_NODES) +
                             " base nodes from " + describeNode(status.overflowNode) + " held more than " +
-                            std::to_string(gpu::maxRowParticles(kernelNodes_)) +
+                            std::to_string(gpu::maxTileParticles(kernelWidth_)) +
                             " particles, more than a transfer takes in one invocation on llvmpipe (which ends a "
                             "shader's loops after 65,535 iterations): the snow compressed far beyond its "
-                            "particles_per_cell. Lower particles_per_cell, or raise critical_compression's "
-                            "stiffness (hardening).");
+                            "particles_per_cell. Lower particles_per_cell, or stiffen the snow's compression "
+                            "(a smaller critical_compression or a larger hardening).");
   } else if (status.overflowCount > 0) {
     events.emplace_back(status.overflowStep,
                         when(status.overflowStep) + ": fixed-point overflow of the P2G " +

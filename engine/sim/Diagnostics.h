@@ -37,7 +37,7 @@ class Diagnostics {
   double dtS_ = 0;
   double stableDtS_ = 0;      // h / c of the stiffest material
   double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
-  int kernelNodes_ = 64;      // nodes of a particle's stencil
+  int kernelWidth_ = 4;       // nodes of a particle's stencil per axis
   std::vector<std::string> materialNames_;
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle

@@ -92,7 +92,7 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   gridMomentumMass_ = gl::Buffer(nodeStorageBytes(capacity));
   gridImpulse_ = layout_.impulse ? gl::Buffer(nodeStorageBytes(capacity)) : gl::Buffer();
   bins_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(glm::uvec2));
-  rowOrder_ = gl::Buffer(capacity * gpu::BLOCK_ROWS * sizeof(std::uint32_t));
+  tileOrder_ = gl::Buffer(capacity * gpu::BLOCK_TILES * sizeof(std::uint32_t));
   const glm::ivec3 blocks = layout_.blocksPerAxis();
   blockMap_ = gl::Buffer(std::size_t(blocks.x) * blocks.y * blocks.z * sizeof(std::uint32_t));
   gpu::BlockTableHeader header{};
@@ -164,7 +164,7 @@ void GpuState::bindAll() const {
   bins_.bindStorage(FIRN_BINDING_BINS);
   sortedParticles_.bindStorage(FIRN_BINDING_SORTED_PARTICLES);
   particleRanks_.bindStorage(FIRN_BINDING_PARTICLE_RANKS);
-  rowOrder_.bindStorage(FIRN_BINDING_ROW_ORDER);
+  tileOrder_.bindStorage(FIRN_BINDING_TILE_ORDER);
 }
 
 void GpuState::bindParticles() const {

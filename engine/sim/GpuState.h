@@ -119,7 +119,7 @@ class GpuState {
   gl::Buffer blockTable_;        // BlockTableHeader, then a BlockSlot per slot of the pool
   gl::Buffer blockMap_;          // per block of the domain
   gl::Buffer bins_;              // per base node of the pool
-  gl::Buffer rowOrder_;          // per row of the pool
+  gl::Buffer tileOrder_;          // per row of the pool
   gl::Buffer materials_;
   gl::Buffer colliders_;
   gl::Buffer watchdog_;

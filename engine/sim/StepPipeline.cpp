@@ -87,7 +87,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   binScan_ = ComputePass(library, "sim/bin_scan.comp", options, Dispatch::Indirect);
   blockOffsets_ = ComputePass(library, "sim/block_offsets.comp", options, Dispatch::Once);
   binPlace_ = ComputePass(library, "sim/bin_place.comp", options, Dispatch::Particles);
-  orderRows_ = ComputePass(library, "sim/order_rows.comp", options, Dispatch::Indirect);
+  orderTiles_ = ComputePass(library, "sim/order_tiles.comp", options, Dispatch::Indirect);
   particleToGrid_ = ComputePass(library, "sim/p2g.comp", options, Dispatch::Indirect);
   updateGrid_ = ComputePass(library, "sim/update_grid.comp", options, Dispatch::Indirect);
   gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Indirect);
@@ -113,14 +113,14 @@ void StepPipeline::sortParticles(GpuState& state, std::size_t particles, PassTim
   blockOffsets_.runOnce(timer);
   glMemoryBarrier(kStorage);
   binPlace_.runOverParticles(particles, maxWorkGroupsX_, timer);
-  orderRows_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), timer);
+  orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), timer);
   glMemoryBarrier(kStorageAndCommands);
 }
 
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const {
   state.bindAll();
   sortParticles(state, particles, timer);
-  particleToGrid_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, rowDispatch), timer);
+  particleToGrid_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
   glMemoryBarrier(kStorage);
 }
 
@@ -129,7 +129,7 @@ void StepPipeline::step(GpuState& state, std::size_t particles, PassTimer& timer
   transferToGrid(state, particles, timer);
   updateGrid_.runIndirect(state.blockTableBuffer(), blockDispatch, timer);
   glMemoryBarrier(kStorage);
-  gridToParticle_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, rowDispatch), timer);
+  gridToParticle_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
   glMemoryBarrier(kStorage);
 }
 

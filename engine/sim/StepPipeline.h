@@ -51,7 +51,7 @@ class StepPipeline {
   ComputePass binScan_;
   ComputePass blockOffsets_;
   ComputePass binPlace_;
-  ComputePass orderRows_;
+  ComputePass orderTiles_;
   ComputePass particleToGrid_;
   ComputePass updateGrid_;
   ComputePass gridToParticle_;

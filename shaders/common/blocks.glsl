@@ -12,11 +12,13 @@
 // offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
 // result depends on it: fixed-point sums are exact and each particle's update is its own.
 //
-// The transfers take a row of ROW_NODES base nodes along x per invocation: a row's particles reach the
-// (ROW_NODES + KERNEL_WIDTH − 1) × KERNEL_WIDTH² nodes of its region, at most two blocks per axis, whose slots
-// are looked up once per row. An invocation loops over its row's particles bin by bin, so the invocations that a
-// CPU renderer runs side by side as one vector wait for the fullest: the rows are taken in order of fill, fullest
-// first (order_rows.comp), so that rows of alike fill run side by side.
+// The transfers take a tile of TILE_WIDTH × TILE_HEIGHT base nodes (x, y) per invocation: a tile's particles reach
+// the nodes of its region, (TILE_WIDTH + KERNEL_WIDTH − 1) × (TILE_HEIGHT + KERNEL_WIDTH − 1) × KERNEL_WIDTH, at
+// most two blocks per axis, whose slots are looked up once per tile. An invocation loops over its tile's particles
+// bin by bin, so the invocations a CPU renderer runs side by side as one vector wait for the fullest: the tiles
+// are taken in order of fill, fullest first (order_tiles.comp), so that tiles of alike fill run side by side.
+
+#include "common/kernel.glsl"
 
 layout(std430, binding = FIRN_BINDING_BLOCK_TABLE) coherent buffer BlockTableBuffer {
   FIRN_MEMBERS(FIRN_BLOCK_TABLE_HEADER)
@@ -26,7 +28,7 @@ layout(std430, binding = FIRN_BINDING_BLOCK_MAP) coherent buffer BlockMapBuffer 
 layout(std430, binding = FIRN_BINDING_BINS) coherent buffer BinBuffer { uvec2 bins[]; };  // particles, first
 layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticleBuffer { uint sortedParticles[]; };
 layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRankBuffer { uint particleRanks[]; };
-layout(std430, binding = FIRN_BINDING_ROW_ORDER) buffer RowOrderBuffer { uint rowOrder[]; };  // slot · BLOCK_ROWS + row
+layout(std430, binding = FIRN_BINDING_TILE_ORDER) buffer TileOrderBuffer { uint tileOrder[]; };  // slot · BLOCK_TILES + tile
 
 // A block being claimed in mark_blocks.comp: its slot is not yet written.
 const uint CLAIMED = 0xffffffffu;
@@ -82,36 +84,51 @@ uvec2 binParticles(uint slot, uint localBin) {
   return uvec2(slots[slot].firstParticle + bin.y, bin.x);  // first, count
 }
 
-// A row's bucket of fill: the fullest rows first.
-uint rowBucket(uint particles) { return uint(ROW_BUCKETS - 1) - min(particles / ROW_BUCKET_PARTICLES, uint(ROW_BUCKETS - 1)); }
-
-// The transfers' work groups, FIRN_ROW_GROUP_SIZE rows each.
-uvec4 rowWorkGroups(uint rows) {
-  return blockWorkGroups((rows + uint(FIRN_ROW_GROUP_SIZE) - 1u) / uint(FIRN_ROW_GROUP_SIZE));
+// A tile's bucket of fill: the fullest tiles first.
+uint tileBucket(uint particles) {
+  return uint(TILE_BUCKETS - 1) - min(particles / TILE_BUCKET_PARTICLES, uint(TILE_BUCKETS - 1));
 }
 
-// A transfer's row: the block's row-th row of base nodes along x. The slots of the blocks its region reaches,
-// indexed by the block offset (0 or 1 per axis) x + 2 y + 4 z, −1 where not active.
-struct Row {
-  ivec3 firstBase;  // the row's first base node
+// The transfers' work groups, FIRN_TILE_GROUP_SIZE tiles each.
+uvec4 tileWorkGroups(uint tiles) {
+  return blockWorkGroups((tiles + uint(FIRN_TILE_GROUP_SIZE) - 1u) / uint(FIRN_TILE_GROUP_SIZE));
+}
+
+// A tile's bins are TILE_BASE_NODES consecutive bins of its block (x, then y, then z).
+uint tileFirstBin(uint tile) { return tile * uint(TILE_BASE_NODES); }
+
+// A transfer's tile: the block's tile-th tile of base nodes. The slots of the blocks its region reaches, indexed by
+// the block offset (0 or 1 per axis) x + 2 y + 4 z, −1 where not active.
+struct Tile {
+  ivec3 firstBase;  // the tile's first base node
   int slots[8];
 };
 
-Row blockRow(uint slot, uint row) {
-  Row r;
+Tile blockTile(uint slot, uint tile) {
+  Tile t;
   ivec3 block = blockCoordinates(slots[slot].block);
-  r.firstBase = block * BLOCK_WIDTH + ivec3(0, int(row) % BLOCK_WIDTH, int(row) / BLOCK_WIDTH);
+  int first = int(tileFirstBin(tile));
+  t.firstBase = block * BLOCK_WIDTH + ivec3(0, (first / BLOCK_WIDTH) % BLOCK_WIDTH, first / (BLOCK_WIDTH * BLOCK_WIDTH));
   for (int k = 0; k < 8; ++k) {
     ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
     ivec3 neighbour = block + offset;
-    r.slots[k] = all(lessThan(neighbour, blocksPerAxis())) ? blockSlot(neighbour) : -1;
+    t.slots[k] = all(lessThan(neighbour, blocksPerAxis())) ? blockSlot(neighbour) : -1;
   }
-  return r;
+  return t;
 }
 
-// The storage address of a node of the row's region, or −1 where its block is not active.
-int rowNodeAddress(Row r, ivec3 node) {
-  ivec3 offset = node / BLOCK_WIDTH - r.firstBase / BLOCK_WIDTH;
-  int slot = r.slots[offset.x + 2 * offset.y + 4 * offset.z];
+// The storage address of a node of the tile's region, or −1 where its block is not active.
+int tileNodeAddress(Tile t, ivec3 node) {
+  ivec3 offset = node / BLOCK_WIDTH - t.firstBase / BLOCK_WIDTH;
+  int slot = t.slots[offset.x + 2 * offset.y + 4 * offset.z];
   return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(node));
+}
+
+// The tile's region: the nodes its particles' stencils reach, indexed x, then y, then z.
+const int REGION_WIDTH = TILE_WIDTH + KERNEL_WIDTH - 1;
+const int REGION_HEIGHT = TILE_HEIGHT + KERNEL_WIDTH - 1;
+const int REGION_NODES = REGION_WIDTH * REGION_HEIGHT * KERNEL_WIDTH;
+int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + REGION_HEIGHT * offset.z); }
+ivec3 regionOffset(int index) {
+  return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % REGION_HEIGHT, index / (REGION_WIDTH * REGION_HEIGHT));
 }

@@ -41,17 +41,17 @@
 #define FIRN_BINDING_BINS 13                // uvec2 per base node of each active block: particles, first (in block)
 #define FIRN_BINDING_SORTED_PARTICLES 14    // uint per particle: particle indices, block after block, bin after bin
 #define FIRN_BINDING_PARTICLE_RANKS 15      // uint per particle: its place in its bin
-#define FIRN_BINDING_ROW_ORDER 16           // uint per row of the pool: the rows holding particles, fullest first
+#define FIRN_BINDING_TILE_ORDER 16          // uint per tile of the pool: the tiles holding particles, fullest first
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 
 // Invocations per work group of the passes that run one invocation per particle, of those that run one per
-// node of a block (BLOCK_NODES), and of the transfers, which run one per row of ROW_NODES base nodes (rows of
-// alike fill side by side: common/blocks.glsl).
+// node of a block (BLOCK_NODES), and of the transfers, which run one per tile of base nodes (tiles of alike fill
+// side by side: common/blocks.glsl).
 #define FIRN_PARTICLE_GROUP_SIZE 128
 #define FIRN_BLOCK_GROUP_SIZE 64  // BLOCK_NODES
-#define FIRN_BLOCK_ROWS 16        // BLOCK_ROWS: order_rows.comp takes a block's rows
-#define FIRN_ROW_GROUP_SIZE 16
+#define FIRN_BLOCK_TILES 16       // BLOCK_TILES: order_tiles.comp takes a block's tiles
+#define FIRN_TILE_GROUP_SIZE 16
 
 // Material models (MaterialParams.model.x).
 FIRN_CONSTANT(int, MODEL_SNOW, 0)
@@ -73,21 +73,24 @@ FIRN_CONSTANT(int, BOUNDARY_SEPARATE, 2)
 FIRN_CONSTANT(uint, CHANNEL_MASS, 0u)
 FIRN_CONSTANT(uint, CHANNEL_MOMENTUM, 1u)
 FIRN_CONSTANT(uint, CHANNEL_IMPULSE, 4u)
-FIRN_CONSTANT(uint, CHANNEL_ROW, 7u)
+FIRN_CONSTANT(uint, CHANNEL_TILE, 7u)
 FIRN_CONSTANT(uint, CHANNEL_COUNT, 8u)
 
 // The block-sparse grid (common/blocks.glsl, docs/numerics.md): nodes are stored by blocks of BLOCK_WIDTH³,
 // allocated each step where particles' stencils reach, from a pool of slots; a block's nodes are contiguous.
 // Particles are sorted by the block and then the node their stencil starts at (their base node, its "bin").
-// The transfers give each invocation a row of ROW_NODES base nodes along x (a block has BLOCK_WIDTH² rows);
-// a row holds at most maxRowParticles (common/shared_functions.h), and a fuller one is reported on CHANNEL_ROW.
+// The transfers give each invocation a tile of TILE_WIDTH × TILE_HEIGHT base nodes (x, y: a block has
+// BLOCK_TILES); a tile holds at most maxTileParticles (common/shared_functions.h), and a fuller one is reported on
+// CHANNEL_TILE.
 FIRN_CONSTANT(int, BLOCK_WIDTH, 4)
 FIRN_CONSTANT(int, BLOCK_NODES, BLOCK_WIDTH * BLOCK_WIDTH * BLOCK_WIDTH)
-FIRN_CONSTANT(int, ROW_NODES, BLOCK_WIDTH)
-FIRN_CONSTANT(int, BLOCK_ROWS, BLOCK_WIDTH * BLOCK_WIDTH)  // FIRN_BLOCK_ROWS
-// The transfers take the rows in order of fill, fullest first, in buckets of ROW_BUCKET_PARTICLES.
-FIRN_CONSTANT(int, ROW_BUCKETS, 64)
-FIRN_CONSTANT(uint, ROW_BUCKET_PARTICLES, 2u)
+FIRN_CONSTANT(int, TILE_WIDTH, BLOCK_WIDTH)
+FIRN_CONSTANT(int, TILE_HEIGHT, 1)
+FIRN_CONSTANT(int, TILE_BASE_NODES, TILE_WIDTH * TILE_HEIGHT)
+FIRN_CONSTANT(int, BLOCK_TILES, BLOCK_NODES / TILE_BASE_NODES)  // FIRN_BLOCK_TILES
+// The transfers take the tiles in order of fill, fullest first, in buckets of TILE_BUCKET_PARTICLES.
+FIRN_CONSTANT(int, TILE_BUCKETS, 64)
+FIRN_CONSTANT(uint, TILE_BUCKET_PARTICLES, 4u)
 
 // ParticlePlasticState: the scalar state each material keeps besides F (common/materials.glsl); 1 for what a
 // material does not use.
@@ -131,16 +134,16 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //                    z: blocks claimed last step, released at the start of this one, w: the most claimed in a step
 //   blockDispatch    xyz: work groups of the per-block passes, one per active block (glDispatchComputeIndirect)
 //   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
-//   rowCounts        x: rows holding particles this step
-//   rowDispatch      xyz: work groups of the transfers, FIRN_ROW_GROUP_SIZE rows each
-//   rowBuckets       per bucket of fill: its rows, then its first entry in the row order, then its next free one
+//   tileCounts       x: tiles holding particles this step
+//   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
+//   tileBuckets      per bucket of fill: its tiles, then its first entry in the tile order, then its next free one
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \
   member(uvec4, blockCounts)                   \
   member(uvec4, blockDispatch)                 \
   member(uvec4, releaseDispatch)               \
-  member(uvec4, rowCounts)                     \
-  member(uvec4, rowDispatch)                   \
-  array(uint, rowBuckets, ROW_BUCKETS)
+  member(uvec4, tileCounts)                    \
+  member(uvec4, tileDispatch)                  \
+  array(uint, tileBuckets, TILE_BUCKETS)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 
 // BlockSlot: one slot of the pool, in use this step.

@@ -31,11 +31,11 @@ FIRN_GENERIC Real waterWaveSpeed(Real bulkModulusPa, Real gamma, Real densityKgP
   return sqrt(bulkModulusPa * gamma / densityKgPerM3);
 }
 
-// The most particles a transfer's row of base nodes may hold (common/blocks.glsl): llvmpipe ends a shader
-// invocation's loops after 65,535 iterations in all, silently (docs/platform.md), and a transfer spends one per
-// stencil node and particle, a few more per particle (the particle loop, the SVD's sweeps) and a few hundred per
-// row (its accumulators); 60,000 / (nodes + 16) leaves room for all of it.
-FIRN_FUNCTION uint maxRowParticles(int kernelNodes) { return 60000u / uint(kernelNodes + 16); }
+// The most particles a transfer's tile of base nodes may hold (common/blocks.glsl): llvmpipe ends a shader
+// invocation's loops after 65,535 iterations in all, silently (docs/platform.md), and a transfer spends one per row
+// of the stencil along x and particle (KERNEL_WIDTH²), a few more per particle (the particle loop, the SVD's sweeps,
+// the colliders) and a few hundred per tile (its accumulators); 60,000 / (KERNEL_WIDTH² + 16) leaves room for it.
+FIRN_FUNCTION uint maxTileParticles(int kernelWidth) { return 60000u / uint(kernelWidth * kernelWidth + 16); }
 
 // A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at
 // time timeS: colliders translate at their velocity.

@@ -1,8 +1,8 @@
 #version 430 core
 // Bin scan: a work group per active block, an invocation per bin (common/blocks.glsl). The bins' first particles
-// within the block (an exclusive prefix sum of the counts), the block's particle count, each row's bucket of fill
-// counted, and a report of any row fuller than a transfer can take (maxRowParticles: llvmpipe's loop limit).
-// Reads: bins[].x. Writes: bins[].y, slots[].particles, rowBuckets, the watchdog.
+// within the block (an exclusive prefix sum of the counts), the block's particle count, each tile's bucket of fill
+// counted, and a report of any tile fuller than a transfer can take (maxTileParticles: llvmpipe's loop limit).
+// Reads: bins[].x. Writes: bins[].y, slots[].particles, tileBuckets, the watchdog.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/shared_functions.h"
@@ -29,13 +29,13 @@ void main() {
   }
   bins[slot * uint(BLOCK_NODES) + bin].y = scanned[bin] - count;
   if (bin == uint(BLOCK_NODES - 1)) slots[slot].particles = scanned[bin];
-  // Rows are ROW_NODES consecutive bins; the row's last bin sees the row's total.
-  if (bin % uint(ROW_NODES) == uint(ROW_NODES - 1)) {
-    uint rowFirst = bin + 1u - uint(ROW_NODES);
-    uint rowParticles = scanned[bin] - (rowFirst == 0u ? 0u : scanned[rowFirst - 1u]);
-    if (rowParticles > 0u) atomicAdd(rowBuckets[rowBucket(rowParticles)], 1u);
-    if (rowParticles > maxRowParticles(KERNEL_NODES)) {
-      reportOverflow(nodeIndex(nodeOfBlock(blockCoordinates(slots[slot].block), rowFirst)), CHANNEL_ROW);
+  // A tile's bins are consecutive; its last bin sees the tile's total.
+  if (bin % uint(TILE_BASE_NODES) == uint(TILE_BASE_NODES - 1)) {
+    uint tileFirst = bin + 1u - uint(TILE_BASE_NODES);
+    uint tileParticles = scanned[bin] - (tileFirst == 0u ? 0u : scanned[tileFirst - 1u]);
+    if (tileParticles > 0u) atomicAdd(tileBuckets[tileBucket(tileParticles)], 1u);
+    if (tileParticles > maxTileParticles(KERNEL_WIDTH)) {
+      reportOverflow(nodeIndex(nodeOfBlock(blockCoordinates(slots[slot].block), tileFirst)), CHANNEL_TILE);
     }
   }
 }

@@ -1,9 +1,9 @@
 #version 430 core
 // Block offsets: one work group (common/blocks.glsl). Each active block's first particle in the sorted order: an
 // exclusive prefix sum of the blocks' particle counts, in slot order. Each invocation sums a run of slots, the
-// group scans the runs' sums, then each invocation writes its run's offsets. Also each bucket of row fill's first
-// entry in the row order, and the transfers' dispatch.
-// Reads: slots[].particles, rowBuckets. Writes: slots[].firstParticle, rowBuckets, rowCounts, rowDispatch.
+// group scans the runs' sums, then each invocation writes its run's offsets. Also each bucket of tile fill's
+// first entry in the tile order, and the transfers' dispatch.
+// Reads: slots[].particles, tileBuckets. Writes: slots[].firstParticle, tileBuckets, tileCounts, tileDispatch.
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
 
@@ -33,13 +33,13 @@ void main() {
     offset += slots[s].particles;
   }
   if (gl_LocalInvocationIndex == 0u) {
-    uint rows = 0u;
-    for (int bucket = 0; bucket < ROW_BUCKETS; ++bucket) {
-      uint bucketRows = rowBuckets[bucket];
-      rowBuckets[bucket] = rows;
-      rows += bucketRows;
+    uint tiles = 0u;
+    for (int bucket = 0; bucket < TILE_BUCKETS; ++bucket) {
+      uint bucketTiles = tileBuckets[bucket];
+      tileBuckets[bucket] = tiles;
+      tiles += bucketTiles;
     }
-    rowCounts.x = rows;
-    rowDispatch = rowWorkGroups(rows);
+    tileCounts.x = tiles;
+    tileDispatch = tileWorkGroups(tiles);
   }
 }

@@ -1,12 +1,12 @@
 #version 430 core
-// Grid to particle: an invocation per row of ROW_NODES base nodes along x that holds particles, fullest rows
-// first (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then
-// advances each of its particles: gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient,
-// updates the particle's material (F or F_E, its scalar state, and the stress: materials.glsl), collides the
-// particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new state is not finite keeps its old
-// state and is reported, so no non-finite value ever reaches a buffer or an output.
-// Reads: grid velocities, the block table and map, bins, sortedParticles, particle state, materials, colliders.
-// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
+// Grid to particle: an invocation per tile of base nodes that holds particles, fullest tiles first
+// (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then advances
+// each of its particles: gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient, updates the
+// particle's material (F or F_E, its scalar state, and the stress: materials.glsl), collides the particle, advects
+// it (x += Δt v), and feeds the watchdog. A particle whose new state is not finite keeps its old state and is
+// reported, so no non-finite value ever reaches a buffer or an output.
+// Reads: grid velocities, the block table and map, bins, sortedParticles, tileOrder, particle state, materials,
+// colliders. Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
@@ -14,23 +14,15 @@
 #include "common/colliders.glsl"
 #include "common/materials.glsl"
 
-layout(local_size_x = FIRN_ROW_GROUP_SIZE) in;
-
-const int REGION_WIDTH = ROW_NODES + KERNEL_WIDTH - 1;  // nodes along x
-const int REGION_NODES = REGION_WIDTH * KERNEL_WIDTH * KERNEL_WIDTH;
+layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 
 vec3 nodeVelocities[REGION_NODES];
 #ifndef FIRN_TRANSFER_APIC
 vec3 nodeVelocitiesBeforeForces[REGION_NODES];
 #endif
 
-int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + KERNEL_WIDTH * offset.z); }
-ivec3 regionOffset(int index) {
-  return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % KERNEL_WIDTH, index / (REGION_WIDTH * KERNEL_WIDTH));
-}
-
-// Advances particle p, whose base node is the row's bx-th.
-void advanceParticle(uint p, int bx) {
+// Advances particle p, whose base node is the tile's `bin`-th.
+void advanceParticle(uint p, ivec3 bin) {
   vec3 x = positionMass[p].xyz;
   vec3 previousVelocity = velocityVolume[p].xyz;
   Stencil stencil = particleStencil(x);
@@ -45,7 +37,7 @@ void advanceParticle(uint p, int bx) {
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     ivec3 node = stencil.baseNode + k;
-    int i = regionIndex(ivec3(bx, 0, 0) + k);
+    int i = regionIndex(bin + k);
     float w = stencilWeight(stencil, k);
     vec3 vi = nodeVelocities[i];
     picVelocity += w * vi;
@@ -115,27 +107,23 @@ void advanceParticle(uint p, int bx) {
 }
 
 void main() {
-  uint entry = workGroupSlot() * uint(FIRN_ROW_GROUP_SIZE) + gl_LocalInvocationIndex;
-  if (entry >= rowCounts.x) return;
-  uint slot = rowOrder[entry] / uint(BLOCK_ROWS);
-  uint row = rowOrder[entry] % uint(BLOCK_ROWS);
-  uvec2 rowBins[ROW_NODES];  // each bin's first particle in the sorted order, its particles
-  uint rowParticles = 0u;
-  for (int bx = 0; bx < ROW_NODES; ++bx) {
-    rowBins[bx] = binParticles(slot, row * uint(ROW_NODES) + uint(bx));
-    rowParticles += rowBins[bx].y;
-  }
-  if (rowParticles == 0u) return;
+  uint entry = workGroupSlot() * uint(FIRN_TILE_GROUP_SIZE) + gl_LocalInvocationIndex;
+  if (entry >= tileCounts.x) return;
+  uint slot = tileOrder[entry] / uint(BLOCK_TILES);
+  uint tile = tileOrder[entry] % uint(BLOCK_TILES);
 
-  Row r = blockRow(slot, row);
+  Tile t = blockTile(slot, tile);
   for (int i = 0; i < REGION_NODES; ++i) {
-    int address = rowNodeAddress(r, r.firstBase + regionOffset(i));
+    int address = tileNodeAddress(t, t.firstBase + regionOffset(i));
     nodeVelocities[i] = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
 #ifndef FIRN_TRANSFER_APIC
     nodeVelocitiesBeforeForces[i] = address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address));
 #endif
   }
-  for (int bx = 0; bx < ROW_NODES; ++bx) {
-    for (uint j = rowBins[bx].x; j < rowBins[bx].x + rowBins[bx].y; ++j) advanceParticle(sortedParticles[j], bx);
+  // Bin by bin: the bin's place in the tile is the same in every invocation.
+  for (int b = 0; b < TILE_BASE_NODES; ++b) {
+    uvec2 particles = binParticles(slot, tileFirstBin(tile) + uint(b));  // first, count
+    ivec3 bin = ivec3(b % TILE_WIDTH, b / TILE_WIDTH, 0);
+    for (uint j = particles.x; j < particles.x + particles.y; ++j) advanceParticle(sortedParticles[j], bin);
   }
 }

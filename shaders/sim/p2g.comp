@@ -1,56 +1,46 @@
 #version 430 core
-// Particle to grid: an invocation per row of ROW_NODES base nodes along x that holds particles, fullest rows
-// first (common/blocks.glsl). The invocation sums its row's particles' contributions (common/scatter.glsl), each
-// quantized on its own (common/grid.glsl), into private accumulators over the REGION_NODES nodes the row's
-// stencils reach, then adds each accumulator to its node with one atomic per channel. The row's particles share
-// their nodes, so this takes a few atomics per particle where one per particle, node and channel took 27 to 448;
-// and the accumulators' indices are the same in every invocation, which a CPU renderer runs as vector code.
-// Reads: particle state, the block table and map, bins, sortedParticles. Writes: grid sums, the watchdog.
+// Particle to grid: an invocation per tile of base nodes that holds particles, fullest tiles first
+// (common/blocks.glsl). The invocation sums its tile's particles' contributions (common/scatter.glsl), each
+// quantized on its own (common/grid.glsl), into private accumulators over the REGION_NODES nodes its stencils
+// reach, then adds each accumulator to its node with one atomic per channel. The tile's particles share their
+// nodes, so this takes a few atomics per particle where one per particle, node and channel took 27 to 448; and the
+// accumulators' indices are the same in every invocation, which a CPU renderer runs as vector code.
+// Reads: particle state, the block table and map, bins, sortedParticles, tileOrder. Writes: grid sums, the watchdog.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/scatter.glsl"
 
-layout(local_size_x = FIRN_ROW_GROUP_SIZE) in;
+layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 
-const int REGION_WIDTH = ROW_NODES + KERNEL_WIDTH - 1;  // nodes along x
-const int REGION_NODES = REGION_WIDTH * KERNEL_WIDTH * KERNEL_WIDTH;
-
-// The accumulators, and their overflows (common/grid.glsl: fixed point marks them, float leaves them 0).
+// The accumulators, and the overflows of any of them per channel (common/grid.glsl: fixed point marks them, float
+// leaves them 0); one mark for the tile rather than one per accumulator keeps the accumulators in a CPU's cache.
 GridVector momentumMass[REGION_NODES];
-ivec4 momentumMassOverflow[REGION_NODES];
-#ifndef FIRN_TRANSFER_APIC
-GridVector impulses[REGION_NODES];  // w unused
-ivec4 impulseOverflow[REGION_NODES];
-#endif
-
-int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + KERNEL_WIDTH * offset.z); }
-ivec3 regionOffset(int index) {
-  return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % KERNEL_WIDTH, index / (REGION_WIDTH * KERNEL_WIDTH));
-}
+GridVector impulses[REGION_NODES];  // PIC/FLIP only; w unused
+ivec4 momentumMassOverflow;
+ivec4 impulseOverflow;
 
 // Adds the contribution to the stencil's node k (an offset from its base node) to its accumulator; the particle's
-// base node is the row's bx-th. Called with k.x a constant, so that the weights along x are read at fixed places.
-void scatterToNode(Contribution contribution, Stencil stencil, ivec3 k, int bx) {
+// base node is the tile's `bin`-th. Called with k.x a constant, so that the weights along x are read at fixed places.
+void scatterToNode(Contribution contribution, Stencil stencil, ivec3 k, ivec3 bin) {
   ivec3 node = stencil.baseNode + k;
   vec4 nodeMomentumMass;
   vec3 nodeImpulse;
   contributionToNode(contribution, node, stencilWeight(stencil, k), stencilGradient(stencil, k), nodeMomentumMass,
                      nodeImpulse);
   float dither = contributionDither(contribution.particleU, k.x + KERNEL_WIDTH * (k.y + KERNEL_WIDTH * k.z));
-  int i = regionIndex(ivec3(bx, 0, 0) + k);
-  accumulate(momentumMass[i], quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow[i]),
-             momentumMassOverflow[i]);
+  int i = regionIndex(bin + k);
+  accumulate(momentumMass[i], quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow),
+             momentumMassOverflow);
 #ifndef FIRN_TRANSFER_APIC
-  accumulate(impulses[i], quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow[i]),
-             impulseOverflow[i]);
+  accumulate(impulses[i], quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow), impulseOverflow);
 #endif
 }
 
-// Adds particle p, whose base node is the row's bx-th, to the accumulators: the stencil row by row along x, each
-// row written out (KERNEL_WIDTH² loop iterations per particle).
-void scatterParticle(uint p, int bx) {
+// Adds particle p, whose base node is the tile's `bin`-th, to the accumulators: the stencil row by row along x,
+// each row written out (KERNEL_WIDTH² loop iterations per particle).
+void scatterParticle(uint p, ivec3 bin) {
   Contribution contribution = particleContribution(p);
   if (!contribution.finite) {
     reportNonFinite(p);
@@ -59,51 +49,48 @@ void scatterParticle(uint p, int bx) {
   Stencil stencil = particleStencil(contribution.x);
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
     ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
-    scatterToNode(contribution, stencil, k, bx);
-    scatterToNode(contribution, stencil, k + ivec3(1, 0, 0), bx);
-    scatterToNode(contribution, stencil, k + ivec3(2, 0, 0), bx);
+    scatterToNode(contribution, stencil, k, bin);
+    scatterToNode(contribution, stencil, k + ivec3(1, 0, 0), bin);
+    scatterToNode(contribution, stencil, k + ivec3(2, 0, 0), bin);
 #ifdef FIRN_KERNEL_CUBIC
-    scatterToNode(contribution, stencil, k + ivec3(3, 0, 0), bx);
+    scatterToNode(contribution, stencil, k + ivec3(3, 0, 0), bin);
 #endif
   }
 }
 
 void main() {
-  uint entry = workGroupSlot() * uint(FIRN_ROW_GROUP_SIZE) + gl_LocalInvocationIndex;
-  if (entry >= rowCounts.x) return;
-  uint slot = rowOrder[entry] / uint(BLOCK_ROWS);
-  uint row = rowOrder[entry] % uint(BLOCK_ROWS);
-  uvec2 rowBins[ROW_NODES];  // each bin's first particle in the sorted order, its particles
-  uint rowParticles = 0u;
-  for (int bx = 0; bx < ROW_NODES; ++bx) {
-    rowBins[bx] = binParticles(slot, row * uint(ROW_NODES) + uint(bx));
-    rowParticles += rowBins[bx].y;
-  }
-  if (rowParticles == 0u) return;
+  uint entry = workGroupSlot() * uint(FIRN_TILE_GROUP_SIZE) + gl_LocalInvocationIndex;
+  if (entry >= tileCounts.x) return;
+  uint slot = tileOrder[entry] / uint(BLOCK_TILES);
+  uint tile = tileOrder[entry] % uint(BLOCK_TILES);
 
   for (int i = 0; i < REGION_NODES; ++i) {
     momentumMass[i] = GridVector(0);
-    momentumMassOverflow[i] = ivec4(0);
 #ifndef FIRN_TRANSFER_APIC
     impulses[i] = GridVector(0);
-    impulseOverflow[i] = ivec4(0);
 #endif
   }
-  for (int bx = 0; bx < ROW_NODES; ++bx) {
-    for (uint j = rowBins[bx].x; j < rowBins[bx].x + rowBins[bx].y; ++j) scatterParticle(sortedParticles[j], bx);
+  momentumMassOverflow = ivec4(0);
+  impulseOverflow = ivec4(0);
+  // Bin by bin: the bin's place in the tile is the same in every invocation.
+  for (int b = 0; b < TILE_BASE_NODES; ++b) {
+    uvec2 particles = binParticles(slot, tileFirstBin(tile) + uint(b));  // first, count
+    ivec3 bin = ivec3(b % TILE_WIDTH, b / TILE_WIDTH, 0);
+    for (uint j = particles.x; j < particles.x + particles.y; ++j) scatterParticle(sortedParticles[j], bin);
   }
 
-  Row r = blockRow(slot, row);
+  Tile t = blockTile(slot, tile);
+  // An overflow is named at the tile's first base node: its stencils reach a few nodes further.
+  reportAccumulatorOverflow(momentumMassOverflow, t.firstBase, MOMENTUM_MASS_CHANNELS);
+  reportAccumulatorOverflow(impulseOverflow, t.firstBase, IMPULSE_CHANNELS);
   for (int i = 0; i < REGION_NODES; ++i) {
-    ivec3 node = r.firstBase + regionOffset(i);
-    reportAccumulatorOverflow(momentumMassOverflow[i], node, MOMENTUM_MASS_CHANNELS);
+    ivec3 node = t.firstBase + regionOffset(i);
 #ifdef FIRN_TRANSFER_APIC
     if (momentumMass[i] == GridVector(0)) continue;
 #else
-    reportAccumulatorOverflow(impulseOverflow[i], node, IMPULSE_CHANNELS);
     if (momentumMass[i] == GridVector(0) && impulses[i] == GridVector(0)) continue;
 #endif
-    int address = rowNodeAddress(r, node);
+    int address = tileNodeAddress(t, node);
     if (address < 0) continue;  // a block past the pool's capacity: the host sees the count and grows the pool
     addToNode(uint(address), momentumMass[i], node);
 #ifndef FIRN_TRANSFER_APIC
