@@ -90,7 +90,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   orderTiles_ = ComputePass(library, "sim/order_tiles.comp", options, Dispatch::Indirect);
   particleToGrid_ = ComputePass(library, "sim/p2g.comp", options, Dispatch::Indirect);
   updateGrid_ = ComputePass(library, "sim/update_grid.comp", options, Dispatch::Indirect);
-  gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Indirect);
+  gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Particles);
   computeVolumes_ = ComputePass(library, "sim/compute_volumes.comp", options, Dispatch::Particles);
 }
 
@@ -129,7 +129,7 @@ void StepPipeline::step(GpuState& state, std::size_t particles, PassTimer& timer
   transferToGrid(state, particles, timer);
   updateGrid_.runIndirect(state.blockTableBuffer(), blockDispatch, timer);
   glMemoryBarrier(kStorage);
-  gridToParticle_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
+  gridToParticle_.runOverParticles(particles, maxWorkGroupsX_, timer);
   glMemoryBarrier(kStorage);
 }
 

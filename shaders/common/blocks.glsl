@@ -75,6 +75,9 @@ uvec4 blockWorkGroups(uint blocks) {
 }
 uint workGroupSlot() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
 
+// The particles of the sorted order (block_offsets.comp counts them).
+uint sortedParticleCount() { return tileCounts.y; }
+
 // A block's bins are its nodes' (the base node of a bin is the node with the same place).
 uint binIndex(uint slot, ivec3 baseNode) { return slot * uint(BLOCK_NODES) + nodeInBlock(baseNode); }
 
@@ -82,6 +85,38 @@ uint binIndex(uint slot, ivec3 baseNode) { return slot * uint(BLOCK_NODES) + nod
 uvec2 binParticles(uint slot, uint localBin) {
   uvec2 bin = bins[slot * uint(BLOCK_NODES) + localBin];
   return uvec2(slots[slot].firstParticle + bin.y, bin.x);  // first, count
+}
+
+// The blocks a particle's stencil reaches: its base node's block and the next one along each axis, the slots of the
+// 2³ in two vectors (block offsets x + 2 y, for z = 0 and z = 1), −1 where not active.
+struct StencilBlocks {
+  ivec3 baseInBlock;  // the base node's place in its block
+  ivec4 slotsNear;    // z offset 0
+  ivec4 slotsFar;     // z offset 1
+};
+
+StencilBlocks stencilBlocks(ivec3 baseNode) {
+  StencilBlocks b;
+  b.baseInBlock = baseNode % BLOCK_WIDTH;
+  ivec3 block = baseNode / BLOCK_WIDTH;
+  ivec3 last = blocksPerAxis() - 1;
+  for (int k = 0; k < 4; ++k) {
+    ivec3 offset = ivec3(k & 1, k >> 1, 0);
+    b.slotsNear[k] = blockSlot(min(block + offset, last));
+    b.slotsFar[k] = blockSlot(min(block + offset + ivec3(0, 0, 1), last));
+  }
+  return b;
+}
+
+// The storage address of the stencil's node k (an offset from the base node), or −1 where its block is not active.
+// Selects, not an indexed array: an index that differs between invocations costs a CPU renderer a load per lane.
+int stencilNodeAddress(StencilBlocks b, ivec3 k) {
+  ivec3 inBlocks = b.baseInBlock + k;
+  ivec3 offset = inBlocks / BLOCK_WIDTH;  // 0 or 1 per axis
+  ivec4 slots = offset.z == 0 ? b.slotsNear : b.slotsFar;
+  ivec2 slotPair = offset.y == 0 ? slots.xy : slots.zw;
+  int slot = offset.x == 0 ? slotPair.x : slotPair.y;
+  return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(inBlocks));
 }
 
 // A tile's bucket of fill: the fullest tiles first.

@@ -134,7 +134,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //                    z: blocks claimed last step, released at the start of this one, w: the most claimed in a step
 //   blockDispatch    xyz: work groups of the per-block passes, one per active block (glDispatchComputeIndirect)
 //   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
-//   tileCounts       x: tiles holding particles this step
+//   tileCounts       x: tiles holding particles this step, y: particles in the sorted order
 //   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
 //   tileBuckets      per bucket of fill: its tiles, then its first entry in the tile order, then its next free one
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \

@@ -40,6 +40,7 @@ void main() {
       tiles += bucketTiles;
     }
     tileCounts.x = tiles;
+    tileCounts.y = runTotals[SCAN_INVOCATIONS - 1u];  // the particles of the sorted order
     tileDispatch = tileWorkGroups(tiles);
   }
 }

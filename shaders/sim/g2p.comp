@@ -1,12 +1,12 @@
 #version 430 core
-// Grid to particle: an invocation per tile of base nodes that holds particles, fullest tiles first
-// (common/blocks.glsl), which reads the velocities of the nodes its particles' stencils reach once, then advances
-// each of its particles: gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient, updates the
-// particle's material (F or F_E, its scalar state, and the stress: materials.glsl), collides the particle, advects
-// it (x += Δt v), and feeds the watchdog. A particle whose new state is not finite keeps its old state and is
-// reported, so no non-finite value ever reaches a buffer or an output.
-// Reads: grid velocities, the block table and map, bins, sortedParticles, tileOrder, particle state, materials,
-// colliders. Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
+// Grid to particle: one invocation per particle, in the sorted order (common/blocks.glsl), so that the invocations
+// side by side read the same nodes. Gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient
+// from the blocks its stencil reaches, updates the particle's material (F or F_E, its scalar state, and the stress:
+// materials.glsl), collides the particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new
+// state is not finite keeps its old state and is reported, so no non-finite value ever reaches a buffer or an
+// output.
+// Reads: grid velocities, the block map, sortedParticles, particle state, materials, colliders.
+// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
@@ -14,18 +14,13 @@
 #include "common/colliders.glsl"
 #include "common/materials.glsl"
 
-layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-vec3 nodeVelocities[REGION_NODES];
-#ifndef FIRN_TRANSFER_APIC
-vec3 nodeVelocitiesBeforeForces[REGION_NODES];
-#endif
-
-// Advances particle p, whose base node is the tile's `bin`-th.
-void advanceParticle(uint p, ivec3 bin) {
+void advanceParticle(uint p) {
   vec3 x = positionMass[p].xyz;
   vec3 previousVelocity = velocityVolume[p].xyz;
   Stencil stencil = particleStencil(x);
+  StencilBlocks blocks = stencilBlocks(stencil.baseNode);
 
   vec3 picVelocity = vec3(0.0);
   mat3 velocityGradient = mat3(0.0);
@@ -37,15 +32,16 @@ void advanceParticle(uint p, ivec3 bin) {
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     ivec3 node = stencil.baseNode + k;
-    int i = regionIndex(bin + k);
+    int address = stencilNodeAddress(blocks, k);
     float w = stencilWeight(stencil, k);
-    vec3 vi = nodeVelocities[i];
+    // Every node a particle reaches has a block, unless the pool ran out (the host then redoes the frame).
+    vec3 vi = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
     picVelocity += w * vi;
     velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
 #ifdef FIRN_TRANSFER_APIC
     affineMoment += w * outerProduct(vi, nodePosition(node) - x);
 #else
-    flipIncrement += w * (vi - nodeVelocitiesBeforeForces[i]);
+    flipIncrement += w * (vi - (address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address))));
 #endif
   }
 
@@ -107,23 +103,6 @@ void advanceParticle(uint p, ivec3 bin) {
 }
 
 void main() {
-  uint entry = workGroupSlot() * uint(FIRN_TILE_GROUP_SIZE) + gl_LocalInvocationIndex;
-  if (entry >= tileCounts.x) return;
-  uint slot = tileOrder[entry] / uint(BLOCK_TILES);
-  uint tile = tileOrder[entry] % uint(BLOCK_TILES);
-
-  Tile t = blockTile(slot, tile);
-  for (int i = 0; i < REGION_NODES; ++i) {
-    int address = tileNodeAddress(t, t.firstBase + regionOffset(i));
-    nodeVelocities[i] = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
-#ifndef FIRN_TRANSFER_APIC
-    nodeVelocitiesBeforeForces[i] = address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address));
-#endif
-  }
-  // Bin by bin: the bin's place in the tile is the same in every invocation.
-  for (int b = 0; b < TILE_BASE_NODES; ++b) {
-    uvec2 particles = binParticles(slot, tileFirstBin(tile) + uint(b));  // first, count
-    ivec3 bin = ivec3(b % TILE_WIDTH, b / TILE_WIDTH, 0);
-    for (uint j = particles.x; j < particles.x + particles.y; ++j) advanceParticle(sortedParticles[j], bin);
-  }
+  uint i = particleInvocationIndex();
+  if (i < sortedParticleCount()) advanceParticle(sortedParticles[i]);
 }
