@@ -15,10 +15,13 @@ const int KERNEL_WIDTH = 3;
 const int KERNEL_NODES = KERNEL_WIDTH * KERNEL_WIDTH * KERNEL_WIDTH;
 ivec3 stencilOffset(int n) { return ivec3(n % KERNEL_WIDTH, (n / KERNEL_WIDTH) % KERNEL_WIDTH, n / (KERNEL_WIDTH * KERNEL_WIDTH)); }
 
+// Per axis, the weights and slopes of the stencil's nodes baseNode + k, k < KERNEL_WIDTH, as the components of a
+// vec4: a component index the same in every invocation is a select on a CPU renderer, where an array index is a
+// load per lane.
 struct Stencil {
-  ivec3 baseNode;                // first node of the stencil on each axis
-  vec3 weight[KERNEL_WIDTH];     // N(d) per axis for the nodes baseNode + k
-  vec3 slope[KERNEL_WIDTH];      // dN/dx per axis (1/m)
+  ivec3 baseNode;                   // first node of the stencil on each axis
+  vec4 weightX, weightY, weightZ;   // N(d)
+  vec4 slopeX, slopeY, slopeZ;      // dN/dx (1/m)
 };
 
 float kernelWeight(float d) {
@@ -52,18 +55,24 @@ Stencil particleStencil(vec3 positionM) {
   vec3 positionInCells = cellCoordinates(positionM);
   Stencil stencil;
   stencil.baseNode = stencilBaseNode(positionInCells);
+  stencil.weightX = stencil.weightY = stencil.weightZ = vec4(0.0);
+  stencil.slopeX = stencil.slopeY = stencil.slopeZ = vec4(0.0);
   for (int k = 0; k < KERNEL_WIDTH; ++k) {
     vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
-    stencil.weight[k] = vec3(kernelWeight(offsetInCells.x), kernelWeight(offsetInCells.y), kernelWeight(offsetInCells.z));
-    stencil.slope[k] = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) /
-                       cellSize();
+    stencil.weightX[k] = kernelWeight(offsetInCells.x);
+    stencil.weightY[k] = kernelWeight(offsetInCells.y);
+    stencil.weightZ[k] = kernelWeight(offsetInCells.z);
+    vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSize();
+    stencil.slopeX[k] = slope.x;
+    stencil.slopeY[k] = slope.y;
+    stencil.slopeZ[k] = slope.z;
   }
   return stencil;
 }
 
 // w_ip = N(dx) N(dy) N(dz) and its gradient (Stomakhin 2013 eq. 4–5).
-float stencilWeight(Stencil s, ivec3 k) { return s.weight[k.x].x * s.weight[k.y].y * s.weight[k.z].z; }
+float stencilWeight(Stencil s, ivec3 k) { return s.weightX[k.x] * s.weightY[k.y] * s.weightZ[k.z]; }
 vec3 stencilGradient(Stencil s, ivec3 k) {
-  return vec3(s.slope[k.x].x * s.weight[k.y].y * s.weight[k.z].z, s.weight[k.x].x * s.slope[k.y].y * s.weight[k.z].z,
-              s.weight[k.x].x * s.weight[k.y].y * s.slope[k.z].z);
+  return vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z], s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
+              s.weightX[k.x] * s.weightY[k.y] * s.slopeZ[k.z]);
 }
