@@ -108,7 +108,7 @@ void StepPipeline::sortParticles(GpuState& state, std::size_t particles, PassTim
   glMemoryBarrier(kStorageAndCommands);
   binCount_.runOverParticles(particles, maxWorkGroupsX_, timer);
   glMemoryBarrier(kStorage);
-  binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), timer);
+  binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), timer);
   glMemoryBarrier(kStorage);
   blockOffsets_.runOnce(timer);
   glMemoryBarrier(kStorage);

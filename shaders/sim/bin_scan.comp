@@ -1,7 +1,7 @@
 #version 430 core
-// Bin scan: a work group per active block, an invocation per bin (common/blocks.glsl). The bins' first particles
-// within the block (an exclusive prefix sum of the counts), the block's particle count, each tile's bucket of fill
-// counted, and a report of any tile fuller than a transfer can take (maxTileParticles: llvmpipe's loop limit).
+// Bin scan: an invocation per active block (common/blocks.glsl). The bins' first particles within the block (an
+// exclusive prefix sum of the counts), the block's particle count, each tile's bucket of fill counted, and a report
+// of any tile fuller than a transfer can take (maxTileParticles: llvmpipe's loop limit).
 // Reads: bins[].x. Writes: bins[].y, slots[].particles, tileBuckets, the watchdog.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
@@ -11,31 +11,23 @@
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
-shared uint scanned[BLOCK_NODES];
-
 void main() {
-  uint slot = workGroupSlot();
+  uint slot = workGroupSlot() * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
   if (slot >= activeBlocks()) return;
-  uint bin = gl_LocalInvocationIndex;
-  uint count = bins[slot * uint(BLOCK_NODES) + bin].x;
-  scanned[bin] = count;
-  barrier();
-  // Hillis–Steele inclusive scan: log2(BLOCK_NODES) rounds.
-  for (uint stride = 1u; stride < uint(BLOCK_NODES); stride *= 2u) {
-    uint addend = bin >= stride ? scanned[bin - stride] : 0u;
-    barrier();
-    scanned[bin] += addend;
-    barrier();
-  }
-  bins[slot * uint(BLOCK_NODES) + bin].y = scanned[bin] - count;
-  if (bin == uint(BLOCK_NODES - 1)) slots[slot].particles = scanned[bin];
-  // A tile's bins are consecutive; its last bin sees the tile's total.
-  if (bin % uint(TILE_BASE_NODES) == uint(TILE_BASE_NODES - 1)) {
-    uint tileFirst = bin + 1u - uint(TILE_BASE_NODES);
-    uint tileParticles = scanned[bin] - (tileFirst == 0u ? 0u : scanned[tileFirst - 1u]);
+  // One block per invocation, its bins in order: no barriers, which cost a CPU renderer a switch of every lane.
+  uint first = 0u;
+  for (uint tile = 0u; tile < uint(BLOCK_TILES); ++tile) {
+    uint tileFirst = first;
+    for (uint b = 0u; b < uint(TILE_BASE_NODES); ++b) {
+      uint bin = slot * uint(BLOCK_NODES) + tileFirstBin(tile) + b;
+      bins[bin].y = first;
+      first += bins[bin].x;
+    }
+    uint tileParticles = first - tileFirst;
     if (tileParticles > 0u) atomicAdd(tileBuckets[tileBucket(tileParticles)], 1u);
     if (tileParticles > maxTileParticles(KERNEL_WIDTH)) {
-      reportOverflow(nodeIndex(nodeOfBlock(blockCoordinates(slots[slot].block), tileFirst)), CHANNEL_TILE);
+      reportOverflow(nodeIndex(nodeOfBlock(blockCoordinates(slots[slot].block), tileFirstBin(tile))), CHANNEL_TILE);
     }
   }
+  slots[slot].particles = first;
 }
