@@ -21,6 +21,17 @@ GridVector impulses[REGION_NODES];  // PIC/FLIP only; w unused
 ivec4 momentumMassOverflow;
 ivec4 impulseOverflow;
 
+void clearAccumulators() {
+  for (int i = 0; i < REGION_NODES; ++i) {
+    momentumMass[i] = GridVector(0);
+#ifndef FIRN_TRANSFER_APIC
+    impulses[i] = GridVector(0);
+#endif
+  }
+  momentumMassOverflow = ivec4(0);
+  impulseOverflow = ivec4(0);
+}
+
 // Adds the contribution to the stencil's node k (an offset from its base node) to its accumulator; the particle's
 // base node is the tile's `bin`-th. Called with k.x a constant, so that the weights along x are read at fixed places.
 void scatterToNode(Contribution contribution, Stencil stencil, ivec3 k, ivec3 bin) {
@@ -64,14 +75,7 @@ void main() {
   uint slot = tileOrder[entry] / uint(BLOCK_TILES);
   uint tile = tileOrder[entry] % uint(BLOCK_TILES);
 
-  for (int i = 0; i < REGION_NODES; ++i) {
-    momentumMass[i] = GridVector(0);
-#ifndef FIRN_TRANSFER_APIC
-    impulses[i] = GridVector(0);
-#endif
-  }
-  momentumMassOverflow = ivec4(0);
-  impulseOverflow = ivec4(0);
+  clearAccumulators();
   // Bin by bin: the bin's place in the tile is the same in every invocation.
   for (int b = 0; b < TILE_BASE_NODES; ++b) {
     uvec2 particles = binParticles(slot, tileFirstBin(tile) + uint(b));  // first, count

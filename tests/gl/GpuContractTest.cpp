@@ -177,6 +177,7 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_SORTED_PARTICLES, 0},
       {"common/blocks.glsl", "particleRanks[0]", GL_SHADER_STORAGE_BLOCK, "ParticleRankBuffer",
        FIRN_BINDING_PARTICLE_RANKS, 0},
+      {"common/blocks.glsl", "tileOrder[0]", GL_SHADER_STORAGE_BLOCK, "TileOrderBuffer", FIRN_BINDING_TILE_ORDER, 0},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});

@@ -37,8 +37,10 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
     for (const char* transfer : {"FIRN_TRANSFER_APIC", "FIRN_TRANSFER_PIC_FLIP"}) {
       firn::gl::ShaderOptions options;
       options.defines = {{kernel, "1"}, {transfer, "1"}, {"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_WALL_CELLS", "2"}};
-      for (const char* pass : {"sim/prepare_grid.comp", "sim/clear_grid.comp", "sim/p2g.comp", "sim/update_grid.comp",
-                               "sim/compute_volumes.comp"}) {
+      for (const char* pass : {"sim/prepare_blocks.comp", "sim/release_blocks.comp", "sim/mark_blocks.comp",
+                               "sim/count_blocks.comp", "sim/bin_count.comp", "sim/bin_scan.comp",
+                               "sim/block_offsets.comp", "sim/bin_place.comp", "sim/order_tiles.comp", "sim/p2g.comp",
+                               "sim/update_grid.comp", "sim/compute_volumes.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, options)) << pass << " " << kernel << " " << transfer;
       }
       // G2P holds the material models: each alone (water without F), and all of them together.

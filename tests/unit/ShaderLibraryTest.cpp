@@ -72,7 +72,9 @@ TEST(ShaderLibrary, TranslatesDriverLogLocations) {
 // Every shipped shader preprocesses: includes resolve and each pass starts with #version.
 TEST(ShaderLibrary, EmbeddedPassesPreprocess) {
   const ShaderLibrary library;
-  for (const char* pass : {"sim/prepare_grid.comp", "sim/clear_grid.comp", "sim/p2g.comp", "sim/update_grid.comp",
+  for (const char* pass : {"sim/prepare_blocks.comp", "sim/release_blocks.comp", "sim/mark_blocks.comp",
+                           "sim/count_blocks.comp", "sim/bin_count.comp", "sim/bin_scan.comp", "sim/block_offsets.comp",
+                           "sim/bin_place.comp", "sim/order_tiles.comp", "sim/p2g.comp", "sim/update_grid.comp",
                            "sim/g2p.comp", "sim/compute_volumes.comp"}) {
     EXPECT_NO_THROW(library.preprocess(pass, {})) << pass;
   }
