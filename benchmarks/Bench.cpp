@@ -90,6 +90,7 @@ std::string runExperiments(BenchRun& run) {
   writeMachine(run, loadAtStart);
   if (run.wanted("particles")) measureParticles(run);
   if (run.wanted("grid")) measureGrid(run);
+  if (run.wanted("domain")) measureDomain(run);
   if (run.wanted("passes")) measurePasses(run);
   if (run.wanted("p2g_atomics")) measureP2GAtomics(run);
   if (run.wanted("tradeoff")) measureTradeoff(run);
@@ -107,7 +108,8 @@ std::string runExperiments(BenchRun& run) {
 }  // namespace
 
 const std::vector<std::string>& tableNames() {
-  static const std::vector<std::string> names = {"particles", "grid", "passes", "p2g_atomics", "tradeoff", "thesis"};
+  static const std::vector<std::string> names = {"particles", "grid", "domain", "passes", "p2g_atomics", "tradeoff",
+                                                    "thesis"};
   return names;
 }
 

@@ -16,6 +16,7 @@ Sizes sizesFor(BenchSize size) {
       // Up to 6 million particles; 128 per cell leaves 19 bits of fixed-point resolution.
       sizes.unscaledParticlesPerCell = {4, 8, 16, 32, 64, 128};
       sizes.gridExperimentCells = {50, 64, 80, 100, 128, 160, 200};
+      sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {5, 5, 20};
       sizes.barPeriods = 3;
       break;
@@ -23,6 +24,7 @@ Sizes sizesFor(BenchSize size) {
       // Up to 376k particles: on llvmpipe (2 cores) a 188k-particle cubic step takes about half a second.
       sizes.unscaledParticlesPerCell = {4, 8, 16, 32};
       sizes.gridExperimentCells = {50, 64, 80, 100, 128, 160, 200};
+      sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {2, 5, 3};
       sizes.barPeriods = 2;
       break;
@@ -31,6 +33,8 @@ Sizes sizesFor(BenchSize size) {
       sizes.smallestParticles = 1500;
       sizes.unscaledParticlesPerCell = {4, 8};
       sizes.gridExperimentCells = {24, 40};
+      sizes.domainExperimentCells = {32, 64};
+      sizes.domainSnowballParticles = 1500;
       sizes.timing = {1, 3, 1};
       sizes.barPeriods = 1;
       break;
@@ -148,7 +152,8 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       continue;
     }
     result.timing = timings[k].timing;
-    result.activeNodes = static_cast<std::int64_t>(built[k]->blockUsage().lastStep) * gpu::BLOCK_NODES;
+    result.blocks = built[k]->blockUsage();
+    result.activeNodes = static_cast<std::int64_t>(result.blocks.lastStep) * gpu::BLOCK_NODES;
     progress(label + ": " + fixed(result.timing.medianMs, 2) + " ms per step (runs " + fixed(result.timing.minMs, 2) +
              "–" + fixed(result.timing.maxMs, 2) + ")");
   }

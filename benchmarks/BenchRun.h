@@ -16,6 +16,7 @@
 #include "CsvTable.h"
 #include "StepTiming.h"
 #include "gl/Context.h"
+#include "sim/GpuState.h"
 
 namespace firn::bench {
 
@@ -30,6 +31,8 @@ struct Sizes {
   double smallestParticles = kThesisSmallestParticles;
   std::vector<double> unscaledParticlesPerCell;
   std::vector<int> gridExperimentCells;  // per axis; the same bunny in each
+  std::vector<int> domainExperimentCells;  // per axis; the same snowball in each
+  double domainSnowballParticles = 50000;
   TimingPlan timing;
   int barPeriods = 2;  // tradeoff: periods measured (the amplitude after them shows PIC's damping)
 };
@@ -49,6 +52,7 @@ struct Timed {
   StepTiming timing;
   std::size_t particles = 0;
   std::int64_t activeNodes = 0;
+  BlockUsage blocks;  // the grid's blocks at the end of the timing, and their memory
 };
 
 // A timed row's status and, when it was timed, the columns active_nodes, steps, repeats, ms_per_step, ms_min,

@@ -91,7 +91,8 @@ Scene BunnyScenes::scene(const BunnySetup& setup) const {
   return parseScene(scene.dump(), sceneFile_);
 }
 
-Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const std::string& atomics) {
+Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const std::string& atomics,
+                       const std::string& kernel) {
   if (!std::filesystem::is_regular_file(cloudPath)) {
     throw InputError("--thesis-cloud: " + cloudPath.string() + ": no such file (a point cloud, one x,y,z per line)");
   }
@@ -100,7 +101,7 @@ Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const
       {"name", "thesis bunny"},
       {"grid", {{"cells", {kThesisGridCells, kThesisGridCells, kThesisGridCells}}, {"cell_size", 0.05}}},
       {"time", {{"dt", dtS}, {"frame_rate", 30}, {"frames", 1}}},
-      {"solver", {{"kernel", "cubic"}, {"transfer", "pic_flip"}, {"flip_ratio", 0.95}, {"atomics", atomics}}},
+      {"solver", {{"kernel", kernel}, {"transfer", "pic_flip"}, {"flip_ratio", 0.95}, {"atomics", atomics}}},
       {"materials",
        {{"snow",
          {{"model", "snow"}, {"youngs_modulus", 6e6}, {"poisson_ratio", 0.2}, {"density", 400},

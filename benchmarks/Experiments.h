@@ -7,6 +7,7 @@ namespace firn::bench {
 
 void measureParticles(BenchRun& run);   // particles.csv (ParticlesExperiment.cpp)
 void measureGrid(BenchRun& run);        // grid.csv (GridExperiment.cpp)
+void measureDomain(BenchRun& run);      // domain.csv (DomainExperiment.cpp)
 void measurePasses(BenchRun& run);      // passes.csv (PassesExperiment.cpp)
 void measureP2GAtomics(BenchRun& run);  // p2g_atomics.csv (P2GAtomicsExperiment.cpp)
 void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)

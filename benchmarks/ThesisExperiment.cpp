@@ -1,6 +1,9 @@
 // thesis.csv: the bunny of the implementation of Snow thesis 2015 (its point cloud, --thesis-cloud) stepped by
-// Firn, once per atomics, against that implementation's 546 ms per step on it (measured, issue 7): Firn's time
-// per step and per simulated second, and how many times faster each is.
+// Firn, once per atomics with the thesis's cubic kernel and once more with the quadratic one (fixed point), against
+// that implementation's 546 ms per step on it (measured, issue 7): Firn's time per step and per simulated second,
+// and how many times faster each is.
+#include <utility>
+
 #include "Experiments.h"
 
 namespace firn::bench {
@@ -14,22 +17,27 @@ constexpr double kThesisDtS = 1e-3;
 }  // namespace
 
 void measureThesis(BenchRun& run) {
-  CsvTable table({"atomics", "particles", "grid_dims", "dt_s", "steps", "repeats", "ms_per_step", "ms_min",
+  CsvTable table({"kernel", "atomics", "particles", "grid_dims", "dt_s", "steps", "repeats", "ms_per_step", "ms_min",
                   "ms_max", "ms_per_simulated_second", "thesis_ms_per_step", "thesis_dt_s", "speedup_per_step",
                   "speedup_per_simulated_second", "status", "renderer"});
   const BenchOptions& options = run.options();
   const std::vector<std::string>& atomicsSeries = run.atomicsSeries();
+  std::vector<std::pair<std::string, std::string>> cases;  // kernel, atomics
+  for (const std::string& atomics : atomicsSeries) cases.emplace_back("cubic", atomics);
+  cases.emplace_back("quadratic", "fixed");
   std::vector<Configuration> configurations;
-  for (const std::string& atomics : atomicsSeries) {
-    configurations.push_back({"thesis bunny, " + atomics + " atomics, dt " + formatNumber(options.thesisDtS) + " s",
-                              [&options, atomics] {
-                                return thesisCloudScene(options.thesisCloud, options.thesisDtS, atomics);
+  for (const auto& [kernel, atomics] : cases) {
+    configurations.push_back({"thesis bunny, " + kernel + ", " + atomics + " atomics, dt " +
+                                  formatNumber(options.thesisDtS) + " s",
+                              [&options, kernel = kernel, atomics = atomics] {
+                                return thesisCloudScene(options.thesisCloud, options.thesisDtS, atomics, kernel);
                               }});
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   for (std::size_t i = 0; i < timed.size(); ++i) {
     CsvTable::Row& row = table.addRow();
-    row.setText("atomics", atomicsSeries[i])
+    row.setText("kernel", cases[i].first)
+        .setText("atomics", cases[i].second)
         .setCount("particles", std::int64_t(timed[i].particles))
         .setText("grid_dims", nodeDims(glm::ivec3(kThesisGridCells)))
         .set("dt_s", options.thesisDtS)
@@ -51,8 +59,8 @@ void measureThesis(BenchRun& run) {
         .set("ms_per_simulated_second", msPerSimulatedSecond)
         .set("speedup_per_step", speedupPerStep)
         .set("speedup_per_simulated_second", speedupPerSimulatedSecond);
-    run.addSummary("thesis bunny (" + grouped(timed[i].particles) + " particles, " + atomicsSeries[i] +
-                   " atomics, dt " + formatNumber(options.thesisDtS) + " s): " + fixed(msPerStep, 1) +
+    run.addSummary("thesis bunny (" + grouped(timed[i].particles) + " particles, " + cases[i].first + ", " +
+                   cases[i].second + " atomics, dt " + formatNumber(options.thesisDtS) + " s): " + fixed(msPerStep, 1) +
                    " ms per step, " + fixed(speedupPerStep, 2) +
                    "x faster than the thesis's 546 ms per step; per simulated second " +
                    fixed(speedupPerSimulatedSecond, 2) + "x (the thesis steps 1e-3 s)");

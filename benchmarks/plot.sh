@@ -56,10 +56,10 @@ set style line 3 lc rgb "#d62728" pt 7
 set style line 4 lc rgb "#d62728" pt 5 dashtype 3
 set style line 5 lc rgb "#2ca02c" pt 7
 set style line 6 lc rgb "#2ca02c" pt 5 dashtype 3
-plot for [i=1:3] file using (series("unscaled", word("fixed none float", i))):"ms_per_step" with linespoints \
-       ls 2*i-1 title word("fixed none float", i)." atomics, unscaled (one bunny, 4, 8, 16 … per cell)", \
-     for [i=1:3] file using (series("scaled", word("fixed none float", i))):"ms_per_step" with linespoints \
-       ls 2*i title word("fixed none float", i)." atomics, scaled (8 per cell, larger bunny)", \
+plot for [i=1:2] file using (series("unscaled", word("fixed float", i))):"ms_per_step" with linespoints \
+       ls 2*i-1 title word("fixed float", i)." atomics, unscaled (one bunny, 4, 8, 16 … per cell)", \
+     for [i=1:2] file using (series("scaled", word("fixed float", i))):"ms_per_step" with linespoints \
+       ls 2*i title word("fixed float", i)." atomics, scaled (8 per cell, larger bunny)", \
      guide(x) with lines dashtype 2 lc rgb "gray40" title "slope 1 (linear)"
 '
 
@@ -71,8 +71,23 @@ set xlabel "grid nodes"
 set ylabel "ms per step (median)"
 set key bottom right
 series(atomics) = (strcol("atomics") eq atomics && @ok) ? column("grid_cells") : NaN
-plot for [i=1:3] file using (series(word("fixed none float", i))):"ms_per_step" with linespoints pt 7 \
-       title word("fixed none float", i)." atomics"
+plot for [i=1:2] file using (series(word("fixed float", i))):"ms_per_step" with linespoints pt 7 \
+       title word("fixed float", i)." atomics"
+'
+
+plot_table domain '
+set title "Time per step against the domain, one snowball of 50,000 particles\n".renderer
+set logscale x
+set yrange [0:*]
+set y2range [0:*]
+set xlabel "domain nodes"
+set ylabel "ms per step (median)"
+set y2label "grid memory (MiB)"
+set y2tics
+set key bottom right
+plot file using (@ok ? column("grid_cells") : NaN):"ms_per_step" with linespoints pt 7 title "ms per step", \
+     file using (@ok ? column("grid_cells") : NaN):(column("pool_mib") + column("block_map_mib")) axes x1y2 \
+       with linespoints pt 5 title "grid memory: block pool and map"
 '
 
 plot_table passes '

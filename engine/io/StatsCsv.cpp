@@ -12,7 +12,7 @@ namespace firn {
 
 const char* StatsCsvWriter::header() {
   return "frame,time_s,steps,particles,mass_kg,momentum_x,momentum_y,momentum_z,kinetic_energy_j,wall_ms,"
-         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j,particles_at_walls";
+         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j,particles_at_walls,active_blocks";
 }
 
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path, std::ios::trunc) {
@@ -29,11 +29,11 @@ void StatsCsvWriter::write(const FrameStats& s) {
     if (!std::isfinite(value)) throw std::invalid_argument("stats row for frame " + std::to_string(s.frame) + " is not finite");
   }
   char row[512];
-  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g,%llu\n", s.frame,
+  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g,%llu,%llu\n", s.frame,
                 s.timeS, static_cast<unsigned long long>(s.steps), static_cast<unsigned long long>(s.particles),
                 s.massKg, s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z, s.kineticEnergyJ, s.wallMs,
                 s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ,
-                static_cast<unsigned long long>(s.particlesAtWalls));
+                static_cast<unsigned long long>(s.particlesAtWalls), static_cast<unsigned long long>(s.activeBlocks));
   out_ << row;
   out_.flush();
   if (!out_) throw InputError(path_.string() + ": writing the stats failed (disk full?)");

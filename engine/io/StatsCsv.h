@@ -23,6 +23,8 @@ struct FrameStats {
   // Particles held at the domain's walls (within a cell of them). Firn never removes or wraps a particle
   // that reaches the edge of the grid: the walls stop it, and this count says how many are pressed there.
   std::uint64_t particlesAtWalls = 0;
+  // Blocks of the grid (4³ nodes each) the frame's last step used: the grid's cost and memory follow them.
+  std::uint64_t activeBlocks = 0;
 };
 
 class StatsCsvWriter {

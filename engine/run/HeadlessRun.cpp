@@ -123,6 +123,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.timeS = simulation.timeS();
     row.steps = steps;
     row.wallMs = wallMs;
+    row.activeBlocks = simulation.blockUsage().lastStep;
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, "ply"), toPointCache(particles));
     if (pictures) {

@@ -108,8 +108,14 @@ void GpuState::resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl) 
 
 BlockUsage GpuState::blockUsage() const {
   const gpu::BlockTableHeader header = blockTable_.read<gpu::BlockTableHeader>(1)[0];
-  return {std::min<std::size_t>(header.blockCounts.x, layout_.blockCapacity),
-          std::max(header.blockCounts.x, header.blockCounts.w), layout_.blockCapacity};
+  BlockUsage usage;
+  usage.lastStep = std::min<std::size_t>(header.blockCounts.x, layout_.blockCapacity);
+  usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
+  usage.capacity = layout_.blockCapacity;
+  usage.poolBytes = gridMomentumMass_.bytes() + gridImpulse_.bytes() + bins_.bytes() + tileOrder_.bytes() +
+                    blockTable_.bytes();
+  usage.mapBytes = blockMap_.bytes();
+  return usage;
 }
 
 void GpuState::writeParticles(std::size_t first, const ParticleRecords& records) {

@@ -46,6 +46,8 @@ struct BlockUsage {
   std::size_t lastStep = 0;    // claimed in the last step
   std::size_t mostInAStep = 0; // the most claimed in any step since the pool was made (may exceed the capacity)
   std::size_t capacity = 0;
+  std::size_t poolBytes = 0;   // the pool's GPU memory: nodes, bins and the block table
+  std::size_t mapBytes = 0;    // the block map's: 4 bytes per block of the domain
 };
 
 // One node of the grid as stored after P2G: its index per axis and its sums (fixed point or float bits).

@@ -36,6 +36,8 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
   const std::map<std::string, std::vector<std::string>> leadingColumns = {
       {"particles.csv", {"series", "atomics", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
       {"grid.csv", {"atomics", "grid_cells", "grid_dims", "particles", "active_nodes"}},
+      {"domain.csv", {"grid_cells", "grid_dims", "particles", "active_blocks", "active_nodes", "pool_blocks", "pool_mib",
+                      "block_map_mib"}},
       {"passes.csv", {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
       {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
@@ -60,7 +62,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
     }
   }
   // Every configuration of the tiny sizes runs on llvmpipe: each row says "ok" and has its time.
-  for (const std::string file : {"particles.csv", "grid.csv", "tradeoff.csv"}) {
+  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv"}) {
     const auto rows = readCsv(out / file);
     std::size_t status = 0, time = 0;
     for (std::size_t c = 0; c < rows[0].size(); ++c) {
