@@ -11,7 +11,8 @@
 namespace firn {
 
 struct Checkpoint {
-  static constexpr std::uint32_t kVersion = 1;
+  // 2: the block-sparse grid keeps no active region between steps, so a checkpoint holds one buffer fewer.
+  static constexpr std::uint32_t kVersion = 2;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;

@@ -1,6 +1,5 @@
 // The P2G sums on the GPU against the same contributions added in double on the CPU (benchmarks/P2GReference.h),
-// for fixed-point atomics, float atomics and P2G without atomics: each must stay within what its number format
-// can lose.
+// for fixed-point and float sums: each must stay within what its number format can lose.
 #include <gtest/gtest.h>
 
 #include <algorithm>

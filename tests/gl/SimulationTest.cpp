@@ -94,11 +94,10 @@ TEST_F(SimulationTest, ParticleToGridConservesMassAndMomentum) {
   }
 }
 
-// Float sums, by float atomics (GL_NV_shader_atomic_float) or by P2G without atomics (binned blocks scattered
-// in eight colours), give the same physics: P2G totals agree with the particle sums to float32 accumulation
-// error (each node adds ≤ 216 terms, relative error ≤ 216 · 2⁻²⁴ ≈ 1.3e-5; tolerance 2e-5 of the total), and
-// free fall keeps its velocity to 1e-5 m/s (float32 noise, measured 5e-7). A race between two blocks of one
-// colour would lose whole contributions, percent-sized errors.
+// Float sums (a tile's in private accumulators, added at the node with GL_NV_shader_atomic_float) give the same
+// physics: P2G totals agree with the particle sums to float32 accumulation error (each node adds ≤ 216 terms,
+// relative error ≤ 216 · 2⁻²⁴ ≈ 1.3e-5; tolerance 2e-5 of the total), and free fall keeps its velocity to
+// 1e-5 m/s (float32 noise, measured 5e-7). A tile added twice, or a lost one, would be a percent-sized error.
 class FloatSumsTest : public SimulationTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(FloatSumsTest, ConserveAndFallLikeFixedPoint) {
