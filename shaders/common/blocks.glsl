@@ -132,31 +132,12 @@ uvec4 tileWorkGroups(uint tiles) {
 // A tile's bins are TILE_BASE_NODES consecutive bins of its block (x, then y, then z).
 uint tileFirstBin(uint tile) { return tile * uint(TILE_BASE_NODES); }
 
-// A transfer's tile: the block's tile-th tile of base nodes. The slots of the blocks its region reaches, indexed by
-// the block offset (0 or 1 per axis) x + 2 y + 4 z, −1 where not active.
-struct Tile {
-  ivec3 firstBase;  // the tile's first base node
-  int slots[8];
-};
-
-Tile blockTile(uint slot, uint tile) {
-  Tile t;
+// A tile's first base node. Its region starts there and, like a stencil, reaches at most the next block along
+// each axis: stencilBlocks(tileFirstBase(…)) and stencilNodeAddress give its nodes' addresses.
+ivec3 tileFirstBase(uint slot, uint tile) {
   ivec3 block = blockCoordinates(slots[slot].block);
   int first = int(tileFirstBin(tile));
-  t.firstBase = block * BLOCK_WIDTH + ivec3(0, (first / BLOCK_WIDTH) % BLOCK_WIDTH, first / (BLOCK_WIDTH * BLOCK_WIDTH));
-  for (int k = 0; k < 8; ++k) {
-    ivec3 offset = ivec3(k & 1, (k >> 1) & 1, k >> 2);
-    ivec3 neighbour = block + offset;
-    t.slots[k] = all(lessThan(neighbour, blocksPerAxis())) ? blockSlot(neighbour) : -1;
-  }
-  return t;
-}
-
-// The storage address of a node of the tile's region, or −1 where its block is not active.
-int tileNodeAddress(Tile t, ivec3 node) {
-  ivec3 offset = node / BLOCK_WIDTH - t.firstBase / BLOCK_WIDTH;
-  int slot = t.slots[offset.x + 2 * offset.y + 4 * offset.z];
-  return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(node));
+  return block * BLOCK_WIDTH + ivec3(0, (first / BLOCK_WIDTH) % BLOCK_WIDTH, first / (BLOCK_WIDTH * BLOCK_WIDTH));
 }
 
 // The tile's region: the nodes its particles' stencils reach, indexed x, then y, then z.

@@ -83,18 +83,19 @@ void main() {
     for (uint j = particles.x; j < particles.x + particles.y; ++j) scatterParticle(sortedParticles[j], bin);
   }
 
-  Tile t = blockTile(slot, tile);
+  ivec3 firstBase = tileFirstBase(slot, tile);
+  StencilBlocks blocks = stencilBlocks(firstBase);
   // An overflow is named at the tile's first base node: its stencils reach a few nodes further.
-  reportAccumulatorOverflow(momentumMassOverflow, t.firstBase, MOMENTUM_MASS_CHANNELS);
-  reportAccumulatorOverflow(impulseOverflow, t.firstBase, IMPULSE_CHANNELS);
+  reportAccumulatorOverflow(momentumMassOverflow, firstBase, MOMENTUM_MASS_CHANNELS);
+  reportAccumulatorOverflow(impulseOverflow, firstBase, IMPULSE_CHANNELS);
   for (int i = 0; i < REGION_NODES; ++i) {
-    ivec3 node = t.firstBase + regionOffset(i);
+    ivec3 node = firstBase + regionOffset(i);
 #ifdef FIRN_TRANSFER_APIC
     if (momentumMass[i] == GridVector(0)) continue;
 #else
     if (momentumMass[i] == GridVector(0) && impulses[i] == GridVector(0)) continue;
 #endif
-    int address = tileNodeAddress(t, node);
+    int address = stencilNodeAddress(blocks, regionOffset(i));
     if (address < 0) continue;  // a block past the pool's capacity: the host sees the count and grows the pool
     addToNode(uint(address), momentumMass[i], node);
 #ifndef FIRN_TRANSFER_APIC
