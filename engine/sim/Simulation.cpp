@@ -59,11 +59,12 @@ std::string formatNumber(double value) {
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-                       std::size_t particleCapacity, MaterialPrograms programs)
+                       std::size_t particleCapacity, MaterialPrograms programs, std::size_t blockCapacity)
     : scene_(requireParticles(scene, seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
-      state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()), initialBlockCapacity(scene_, seeds),
+      state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
+                                      blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds),
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_), gl),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
@@ -81,6 +82,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   if (!volumeFromDensity) {
     state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
     pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+    // A pool given too small for the first particles grows, and their grid is summed again.
+    const BlockUsage usage = state_.blockUsage();
+    if (usage.mostInAStep > usage.capacity) {
+      state_.resizeBlockPool(2 * usage.mostInAStep, gl_);
+      pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+    }
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
 }
@@ -91,6 +98,16 @@ void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSee
 }
 
 void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
+  if (particles.empty()) return;
+  appendParticles(particles);
+  // The blocks they reach, on top of the most a step has needed, must fit three quarters of the pool: the pool is
+  // grown now rather than a step leaving them out (a window throwing snowballs has no frame to redo).
+  const BlockUsage usage = state_.blockUsage();
+  const std::size_t needed = usage.mostInAStep + blocksReached(scene_, particles);
+  if (double(needed) > kBlockPoolGrowthFullness * double(usage.capacity)) state_.resizeBlockPool(2 * needed, gl_);
+}
+
+void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
   if (particles.size() > particleCapacity() - particleCount_) {
     throw std::length_error("addParticles: " + std::to_string(particles.size()) + " particles do not fit: " +
@@ -115,7 +132,7 @@ void Simulation::releaseDueParticles() {
   while (nextPending_ < pendingParticles_.size() && pendingParticles_[nextPending_].releaseTimeS <= nowS) {
     due.push_back(pendingParticles_[nextPending_++]);
   }
-  addParticles(due);
+  appendParticles(due);
 }
 
 void Simulation::step(double dtS) {

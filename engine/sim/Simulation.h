@@ -47,13 +47,17 @@ class Simulation {
   // Builds the programs and buffers the scene needs and computes the initial particle volumes. Particles with
   // a release time (emitters) join at the first step that starts at or after it. The particle buffers hold
   // `particleCapacity` particles (at least all the seeds), so that addParticles can add more while running.
+  // The grid's pool starts with `blockCapacity` blocks of 4³ nodes, or (0) four times the blocks the seeds reach
+  // and at least 256; it grows when the particles outgrow it (advanceTo, advanceFrame, addParticles).
   // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-             std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels);
+             std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels,
+             std::size_t blockCapacity = 0);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
-  // density that gave the first particles their volumes is not theirs to share). Their mass must not exceed
-  // the fixed-point reference mass. Throws std::length_error if they do not fit the capacity.
+  // density that gave the first particles their volumes is not theirs to share), and grows the grid's pool if
+  // they might not fit it. Their mass must not exceed the fixed-point reference mass. Throws std::length_error if
+  // they do not fit the capacity.
   void addParticles(const std::vector<ParticleSeed>& particles);
 
   // One step of `dtS` seconds (no larger than the scene's dt): prepare → clear → P2G → grid update → G2P.
@@ -116,6 +120,8 @@ class Simulation {
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);
   void releaseDueParticles();
+  // addParticles without growing the pool: emitters' particles, which the pool was sized for.
+  void appendParticles(const std::vector<ParticleSeed>& particles);
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
 
   // In the order of their checks: the float atomics the pipeline needs, the buffer sizes, the fixed-point range.

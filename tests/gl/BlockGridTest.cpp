@@ -170,12 +170,13 @@ TEST_F(BlockGrid, LonelyParticleFallsLikeTheBody) {
   expectGridHoldsEveryParticle(simulation, "body and lonely particle");
 }
 
-// Particles that reach more blocks than the pool holds: a small body makes a pool of 256 blocks (its minimum),
-// then 2,000 particles join, one in each of 2,000 blocks. The step that meets them leaves the blocks past the pool
-// out; advanceFrame sees it, grows the pool and redoes the frame from its start, so every particle is scattered
-// and the log says so. A step run on its own is reported by the watchdog instead, with the counts.
+// Particles that reach more blocks than the pool holds: 2,000 particles, one in each of 2,000 blocks, in a pool
+// made with room for 16. The first step leaves the blocks past the pool out; advanceFrame sees it, grows the pool
+// and redoes the frame from its start, so every particle is scattered and the log says so. A step run on its own
+// is reported by the watchdog instead, with the counts. Particles added while running grow the pool at once.
 TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
-  const Scene s = sceneFromJson(scene(160, R"({"kernel": "quadratic", "transfer": "apic"})",
+  // Volumes from the material's density: no P2G before the first step.
+  const Scene s = sceneFromJson(scene(160, R"({"kernel": "quadratic", "transfer": "apic", "particle_volume": "material_density"})",
                                       "[" + box(glm::dvec3(0.3), glm::dvec3(0.4), glm::dvec3(0.0)) + "]"));
   std::vector<firn::ParticleSeed> scattered;
   for (int i = 0; i < 2000; ++i) {
@@ -183,10 +184,10 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
     const glm::vec3 x(0.55f + 0.2f * float(i % 20), 0.55f + 0.2f * float((i / 20) % 10), 0.55f + 0.2f * float(i / 200));
     scattered.push_back({x, glm::vec3(0.0f), 1e-5f, 0, -1});
   }
+  std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(s);
+  seeds.insert(seeds.end(), scattered.begin(), scattered.end());
   for (const bool whole : {true, false}) {
-    Simulation simulation(s, firn::sampleBodies(s), gl(), 4000);
-    ASSERT_EQ(simulation.blockUsage().capacity, 256u);
-    simulation.addParticles(scattered);
+    Simulation simulation(s, seeds, gl(), 0, firn::MaterialPrograms::SceneModels, 16);
     if (whole) {
       std::ostringstream log;
       simulation.advanceFrame(1.0 / s.time.frameRateHz, log);
@@ -199,10 +200,17 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
         simulation.checkWatchdog();
         ADD_FAILURE() << "the watchdog reported nothing";
       } catch (const firn::SimulationError& error) {
-        EXPECT_NE(std::string(error.what()).find("more than the 256 its pool held"), std::string::npos) << error.what();
+        EXPECT_NE(std::string(error.what()).find("more than the 16 its pool held"), std::string::npos) << error.what();
       }
     }
   }
+  Simulation simulation(s, firn::sampleBodies(s), gl(), 4000);
+  ASSERT_LT(simulation.blockUsage().capacity, 2000u);
+  simulation.addParticles(scattered);
+  EXPECT_GE(simulation.blockUsage().capacity, 2000u);
+  simulation.step(s.time.dtS);
+  simulation.checkWatchdog();
+  expectGridHoldsEveryParticle(simulation, "after addParticles");
 }
 
 // A tile of base nodes as full as a transfer takes on llvmpipe (maxTileParticles: its loop limit) is scattered
