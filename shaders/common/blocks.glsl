@@ -87,23 +87,25 @@ uvec2 binParticles(uint slot, uint localBin) {
   return uvec2(slots[slot].firstParticle + bin.y, bin.x);  // first, count
 }
 
-// The blocks a particle's stencil reaches: its base node's block and the next one along each axis, the slots of the
-// 2³ in two vectors (block offsets x + 2 y, for z = 0 and z = 1), −1 where not active.
+// The blocks a particle's stencil (or a tile's region) reaches: its base node's block and the next one along each
+// axis, the slots of the 2³ in two vectors (block offsets x + 2 y, for z = 0 and z = 1), −1 where not active.
 struct StencilBlocks {
   ivec3 baseInBlock;  // the base node's place in its block
   ivec4 slotsNear;    // z offset 0
   ivec4 slotsFar;     // z offset 1
 };
 
+// The slot of a block that may lie past the domain's last block (−1 there).
+int blockSlotInDomain(ivec3 block) { return all(lessThan(block, blocksPerAxis())) ? blockSlot(block) : -1; }
+
 StencilBlocks stencilBlocks(ivec3 baseNode) {
   StencilBlocks b;
   b.baseInBlock = baseNode % BLOCK_WIDTH;
   ivec3 block = baseNode / BLOCK_WIDTH;
-  ivec3 last = blocksPerAxis() - 1;
   for (int k = 0; k < 4; ++k) {
     ivec3 offset = ivec3(k & 1, k >> 1, 0);
-    b.slotsNear[k] = blockSlot(min(block + offset, last));
-    b.slotsFar[k] = blockSlot(min(block + offset + ivec3(0, 0, 1), last));
+    b.slotsNear[k] = blockSlotInDomain(block + offset);
+    b.slotsFar[k] = blockSlotInDomain(block + offset + ivec3(0, 0, 1));
   }
   return b;
 }
