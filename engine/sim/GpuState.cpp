@@ -36,6 +36,7 @@ GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particle
   layout.deformationGradient = deformationGradient;
   layout.affine = scene.solver.transfer == Transfer::Apic;
   layout.impulse = scene.solver.transfer == Transfer::PicFlip;
+  layout.semiImplicit = scene.solver.semiImplicit();
   return layout;
 }
 
@@ -70,6 +71,7 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
   if (layout_.deformationGradient) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   if (layout_.affine) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  if (layout_.semiImplicit) solverParticles_ = gl::Buffer(n * sizeof(gpu::SolverParticle));
   sortedParticles_ = gl::Buffer(n * sizeof(std::uint32_t));
   particleRanks_ = gl::Buffer(n * sizeof(std::uint32_t));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
@@ -82,6 +84,13 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   const std::size_t capacity = layout_.blockCapacity;
   const double maxBytes = double(gl.maxStorageBlockBytes);
   const double gridBytes = double(nodeStorageBytes(capacity));
+  const double solverBytes = layout_.semiImplicit ? double(capacity) * gpu::BLOCK_NODES * sizeof(gpu::SolverNode) : 0;
+  if (solverBytes > maxBytes) {
+    throw InputError("solver.integrator: the particles reach " + std::to_string(capacity) + " blocks of " +
+                     std::to_string(gpu::BLOCK_NODES) + " nodes, whose semi-implicit solve needs " +
+                     mebibytes(solverBytes) + " of vectors, more than the " + mebibytes(maxBytes) + " " + gl.renderer +
+                     " allows per shader storage block; use fewer particles, a coarser grid.cell_size or \"explicit\"");
+  }
   if (gridBytes > maxBytes) {
     throw InputError("grid: the particles reach " + std::to_string(capacity) + " blocks of " +
                      std::to_string(gpu::BLOCK_NODES) + " nodes, whose grid buffer of " + mebibytes(gridBytes) +
@@ -99,6 +108,10 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   header.blockCounts.y = static_cast<std::uint32_t>(capacity);
   blockTable_ = gl::Buffer(sizeof header + capacity * sizeof(gpu::BlockSlot));
   blockTable_.upload(0, sizeof header, &header);
+  if (layout_.semiImplicit) {
+    solverNodes_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(gpu::SolverNode));  // zero: no product summed
+    solverStatus_ = gl::Buffer(sizeof(gpu::SolverStatus) + capacity * sizeof(glm::vec4));
+  }
 }
 
 void GpuState::resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl) {
@@ -113,7 +126,7 @@ BlockUsage GpuState::blockUsage() const {
   usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
   usage.capacity = layout_.blockCapacity;
   usage.poolBytes = gridMomentumMass_.bytes() + gridImpulse_.bytes() + bins_.bytes() + tileOrder_.bytes() +
-                    blockTable_.bytes();
+                    blockTable_.bytes() + solverNodes_.bytes() + solverStatus_.bytes();
   usage.mapBytes = blockMap_.bytes();
   return usage;
 }
@@ -171,6 +184,15 @@ void GpuState::bindAll() const {
   sortedParticles_.bindStorage(FIRN_BINDING_SORTED_PARTICLES);
   particleRanks_.bindStorage(FIRN_BINDING_PARTICLE_RANKS);
   tileOrder_.bindStorage(FIRN_BINDING_TILE_ORDER);
+  if (layout_.semiImplicit) {
+    solverNodes_.bindStorage(FIRN_BINDING_SOLVER_NODES);
+    solverParticles_.bindStorage(FIRN_BINDING_SOLVER_PARTICLES);
+    solverStatus_.bindStorage(FIRN_BINDING_SOLVER_STATUS);
+  }
+}
+
+std::vector<glm::vec4> GpuState::readSolverRegisters(std::size_t count) const {
+  return solverStatus_.read<glm::vec4>(count, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4));
 }
 
 void GpuState::bindParticles() const {

@@ -34,6 +34,7 @@ struct GpuStateLayout {
   bool deformationGradient = true;  // F: every model but water
   bool affine = false;              // APIC's C
   bool impulse = true;              // PIC/FLIP's second grid buffer
+  bool semiImplicit = false;        // the solve's vectors per node and polar decompositions per particle
 
   static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
                                  bool deformationGradient);
@@ -83,6 +84,10 @@ class GpuState {
 
   // The block table: its header holds the per-block passes' indirect dispatches.
   const gl::Buffer& blockTableBuffer() const { return blockTable_; }
+  // The semi-implicit solve's status: its header holds the iterations' indirect dispatches.
+  const gl::Buffer& solverStatusBuffer() const { return solverStatus_; }
+  // The solve's registers 0 … count − 1 (gpu::SolverStatus::registers): each iteration's dot products.
+  std::vector<glm::vec4> readSolverRegisters(std::size_t count) const;
 
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
@@ -122,6 +127,9 @@ class GpuState {
   gl::Buffer blockMap_;          // per block of the domain
   gl::Buffer bins_;              // per base node of the pool
   gl::Buffer tileOrder_;          // per row of the pool
+  gl::Buffer solverNodes_;        // semi-implicit: per node of the pool
+  gl::Buffer solverStatus_;       // semi-implicit: SolverStatus, then a vec4 per slot of the pool
+  gl::Buffer solverParticles_;    // semi-implicit: per particle
   gl::Buffer materials_;
   gl::Buffer colliders_;
   gl::Buffer watchdog_;

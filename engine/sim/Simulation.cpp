@@ -1,6 +1,8 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -28,9 +30,10 @@ std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& partic
   return initial;
 }
 
-// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed.
+// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed
+// (semi-implicit steps: the speed alone, as g2p.comp reports it).
 double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  const double fastestWaveMPerS = stiffestBody(scene).waveSpeedMPerS;
+  const double fastestWaveMPerS = scene.solver.semiImplicit() ? 0.0 : stiffestBody(scene).waveSpeedMPerS;
   double fastestMPerS = 0;
   for (const ParticleSeed& seed : seeds) {
     fastestMPerS = std::max(fastestMPerS, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
@@ -138,9 +141,29 @@ void Simulation::releaseDueParticles() {
 void Simulation::step(double dtS) {
   releaseDueParticles();
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
-  pipeline_.step(state_, particleCount_, passTimer_);
+  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
+  if (scene_.solver.semiImplicit()) noteSolve(solve);
   timeS_ += dtS;
   ++steps_;
+}
+
+void Simulation::noteSolve(const SolveReport& solve) {
+  ++solverSummary_.solves;
+  solverSummary_.iterations += std::uint64_t(solve.iterations);
+  solverSummary_.mostIterations = std::max(solverSummary_.mostIterations, solve.iterations);
+  if (std::isnan(solve.residual) || std::isnan(solverSummary_.largestResidual)) {
+    solverSummary_.largestResidual = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    solverSummary_.largestResidual = std::max(solverSummary_.largestResidual, solve.residual);
+  }
+  const bool failed = !(solve.residual <= kSolverFailureFactor * scene_.solver.tolerance);  // NaN fails
+  if (failed && !solverFailure_) solverFailure_ = SolverFailure{steps_, solve};
+}
+
+SolverSummary Simulation::takeSolverSummary() {
+  const SolverSummary summary = solverSummary_;
+  solverSummary_ = SolverSummary{};
+  return summary;
 }
 
 int Simulation::advanceTo(double timeS) {
@@ -188,7 +211,8 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS()};
+  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
+            solverFailure_};
 }
 
 void Simulation::restoreState() {
@@ -199,6 +223,8 @@ void Simulation::restoreState() {
   diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
+  solverSummary_ = saved_.solverSummary;
+  solverFailure_ = saved_.solverFailure;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {
@@ -238,7 +264,7 @@ void Simulation::checkWatchdog() const {
   const BlockUsage usage = state_.blockUsage();
   const std::size_t blocksNeeded =
       std::max(blocksBeyondPool_, usage.mostInAStep > usage.capacity ? usage.mostInAStep : std::size_t(0));
-  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity);
+  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
 }
 
 ParticleSnapshot Simulation::snapshot() const { return state_.readParticles(particleCount_); }

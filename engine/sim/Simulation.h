@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,14 @@ struct GridNodeSums {
   glm::ivec3 node{0};                  // node index per axis
   double massKg = 0;                   // Σ_p w_ip m_p
   glm::dvec3 momentumKgMPerS{0.0};     // Σ_p w_ip m_p v_p (APIC: plus the affine part and the elastic impulse)
+};
+
+// The semi-implicit solves of a stretch of steps (Simulation::takeSolverSummary); explicit steps solve nothing.
+struct SolverSummary {
+  std::uint64_t solves = 0;
+  std::uint64_t iterations = 0;  // in all
+  int mostIterations = 0;        // of any one step
+  double largestResidual = 0;    // the largest relative residual a step ended with (NaN if one was not finite)
 };
 
 class Simulation {
@@ -80,8 +89,12 @@ class Simulation {
   void resume(const Checkpoint& checkpoint, const std::filesystem::path& source);
 
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
-  // fixed-point overflow, a non-finite value or a CFL violation since the start.
+  // fixed-point overflow, a non-finite value or a CFL violation since the start, or a semi-implicit solve ended
+  // with a residual above kSolverFailureFactor times its tolerance.
   void checkWatchdog() const;
+
+  // The solves since the last call (or the start), and a fresh count from here.
+  SolverSummary takeSolverSummary();
 
   ParticleSnapshot snapshot() const;
   // Binds the particle buffers to their storage binding points (FIRN_BINDING_POSITION_MASS, …VELOCITY_VOLUME,
@@ -120,6 +133,8 @@ class Simulation {
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);
   void releaseDueParticles();
+  // Adds a semi-implicit step's solve to the summary, and notes the first that failed (kSolverFailureFactor).
+  void noteSolve(const SolveReport& solve);
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
   void appendParticles(const std::vector<ParticleSeed>& particles);
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
@@ -142,6 +157,8 @@ class Simulation {
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
   std::size_t blocksBeyondPool_ = 0;  // the most blocks a step needed, when that was more than the pool held
+  SolverSummary solverSummary_;
+  std::optional<SolverFailure> solverFailure_;  // the first solve that ended far from its tolerance
 
   // saveState's counters (GpuState keeps the buffers' copies).
   struct SavedCounters {
@@ -150,6 +167,8 @@ class Simulation {
     std::size_t particleCount = 0;
     std::size_t nextPending = 0;
     double fastestSignalMPerS = 0;
+    SolverSummary solverSummary;
+    std::optional<SolverFailure> solverFailure;
   };
   SavedCounters saved_;
 };
