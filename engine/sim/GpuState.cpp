@@ -191,6 +191,30 @@ void GpuState::bindAll() const {
   }
 }
 
+void GpuState::writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress) {
+  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(byAddress.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i].preconditioned = glm::vec4(byAddress[i], 0);
+  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
+}
+
+std::vector<glm::dvec3> GpuState::takeSolverProducts(std::size_t addresses, double valuePerUnit) {
+  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
+  std::vector<glm::dvec3> products;
+  products.reserve(nodes.size());
+  for (gpu::SolverNode& node : nodes) {
+    glm::dvec3 product;
+    for (int c = 0; c < 3; ++c) {
+      const std::int64_t sum = std::int64_t((std::uint64_t(std::uint32_t(node.productHigh[c])) << 32) | node.productLow[c]);
+      product[c] = double(sum) * valuePerUnit;
+    }
+    products.push_back(product);
+    node.productLow = glm::uvec4(0);
+    node.productHigh = glm::ivec4(0);
+  }
+  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
+  return products;
+}
+
 std::vector<glm::vec4> GpuState::readSolverRegisters(std::size_t count) const {
   return solverStatus_.read<glm::vec4>(count, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4));
 }
@@ -214,22 +238,30 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-std::vector<StoredNode> GpuState::readGrid() const {
+std::vector<glm::ivec3> GpuState::activeNodes() const {
   const BlockUsage usage = blockUsage();
   const std::vector<gpu::BlockSlot> slots = blockTable_.read<gpu::BlockSlot>(usage.lastStep, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
-  const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(usage.lastStep * gpu::BLOCK_NODES);
   const glm::ivec3 blocks = layout_.blocksPerAxis();
-  std::vector<StoredNode> nodes;
-  nodes.reserve(sums.size());
-  for (std::size_t slot = 0; slot < slots.size(); ++slot) {
-    const int index = static_cast<int>(slots[slot].block);
+  std::vector<glm::ivec3> nodes;
+  nodes.reserve(slots.size() * gpu::BLOCK_NODES);
+  for (const gpu::BlockSlot& slot : slots) {
+    const int index = static_cast<int>(slot.block);
     const glm::ivec3 block(index % blocks.x, (index / blocks.x) % blocks.y, index / (blocks.x * blocks.y));
     for (int local = 0; local < gpu::BLOCK_NODES; ++local) {
       const glm::ivec3 offset(local % gpu::BLOCK_WIDTH, (local / gpu::BLOCK_WIDTH) % gpu::BLOCK_WIDTH,
                               local / (gpu::BLOCK_WIDTH * gpu::BLOCK_WIDTH));
-      nodes.push_back({block * gpu::BLOCK_WIDTH + offset, sums[slot * gpu::BLOCK_NODES + std::size_t(local)]});
+      nodes.push_back(block * gpu::BLOCK_WIDTH + offset);
     }
   }
+  return nodes;
+}
+
+std::vector<StoredNode> GpuState::readGrid() const {
+  const std::vector<glm::ivec3> addresses = activeNodes();
+  const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(addresses.size());
+  std::vector<StoredNode> nodes;
+  nodes.reserve(sums.size());
+  for (std::size_t address = 0; address < addresses.size(); ++address) nodes.push_back({addresses[address], sums[address]});
   std::sort(nodes.begin(), nodes.end(), [](const StoredNode& a, const StoredNode& b) {
     return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
   });

@@ -95,6 +95,14 @@ class GpuState {
 
   // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
   std::vector<StoredNode> readGrid() const;
+  // The node index per axis of each storage address of the last step's active blocks (slot after slot).
+  std::vector<glm::ivec3> activeNodes() const;
+
+  // Test hooks for the semi-implicit solve's Hessian product (Simulation::hessianProduct): the solve's vector z at
+  // each storage address of activeNodes(), and the product sums there, converted to doubles (times
+  // `valuePerUnit`) and cleared.
+  void writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress);
+  std::vector<glm::dvec3> takeSolverProducts(std::size_t addresses, double valuePerUnit);
 
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.

@@ -30,7 +30,8 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 }  // namespace
 
 ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
-    : toleranceSquared_(scene.solver.tolerance * scene.solver.tolerance), maxIterations_(scene.solver.maxIterations) {
+    : toleranceSquared_(scene.solver.tolerance * scene.solver.tolerance), maxIterations_(scene.solver.maxIterations),
+      options_(options) {
   using Dispatch = ComputePass::Dispatch;
   prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
   begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
@@ -48,9 +49,19 @@ void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTime
   glMemoryBarrier(kStorage);
 }
 
-void ImplicitSolver::productOfPreconditioned(const GpuState& state, PassTimer& timer) const {
-  product_.set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
-                                                   timer);
+void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const {
+  const ComputePass* pass = &product_;
+  if (product == HessianProduct::ForceDifference) {
+    if (!forceDifferenceProduct_) {
+      gl::ShaderOptions options = options_;
+      options.defines.emplace_back("FIRN_SOLVER_FORCE_DIFFERENCE", "1");
+      forceDifferenceProduct_.emplace(gl::ShaderLibrary(), "sim/solver_product.comp", options,
+                                      ComputePass::Dispatch::Indirect);
+    }
+    pass = &*forceDifferenceProduct_;
+  }
+  pass->set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
+                                                timer);
   glMemoryBarrier(kStorage);
 }
 

@@ -6,6 +6,7 @@
 // stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -34,6 +35,10 @@ struct SolverFailure {
   SolveReport report;
 };
 
+// How a Hessian product takes the stress's change: its differential ∂²Ψ/∂F² : δF (the solve's), or, for tests,
+// the central difference (P(F + δF) − P(F − δF)) / 2 of the stress the explicit force comes from.
+enum class HessianProduct { Differential, ForceDifference };
+
 class ImplicitSolver {
  public:
   // The iterations between two looks at the residual: each look waits for the GPU, and the iterations dispatched
@@ -46,10 +51,10 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
 
-  // Test hooks (tests/gl/SemiImplicitTest.cpp): the per-particle preparation and one Hessian product of the
-  // solve's current vector z (SolverNode::preconditioned), leaving its sums in the product buffer.
+  // Test hooks (Simulation::hessianProduct): the per-particle preparation and one Hessian product of the solve's
+  // vector z (SolverNode::preconditioned), leaving its sums in the product buffer.
   void prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
-  void productOfPreconditioned(const GpuState& state, PassTimer& timer) const;
+  void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
 
  private:
   // The end of the solve in the registers read, if it is there: the first iteration whose residual met the tolerance.
@@ -58,6 +63,8 @@ class ImplicitSolver {
 
   double toleranceSquared_;
   int maxIterations_;
+  gl::ShaderOptions options_;
+  mutable std::optional<ComputePass> forceDifferenceProduct_;  // built when a test first asks for it
   ComputePass prepare_;
   ComputePass begin_;
   ComputePass product_;

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -285,6 +286,32 @@ GridTotals Simulation::transferToGrid() {
     ++totals.activeNodes;
   }
   return totals;
+}
+
+std::vector<Simulation::NodeVector> Simulation::hessianProduct(
+    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
+  const ImplicitSolver* solver = pipeline_.implicitSolver();
+  if (!solver) throw std::logic_error("hessianProduct: the scene's integrator is explicit");
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
+  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+  solver->prepare(particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_);
+  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  std::vector<glm::vec3> velocities;
+  velocities.reserve(nodes.size());
+  for (const glm::ivec3& node : nodes) {
+    velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
+  }
+  state_.writeSolverPreconditioned(velocities);
+  solver->productOfPreconditioned(state_, product, passTimer_);
+  const std::vector<glm::dvec3> products =
+      state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits));
+  std::vector<NodeVector> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], products[i]});
+  std::sort(result.begin(), result.end(), [](const NodeVector& a, const NodeVector& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {

@@ -7,6 +7,7 @@
 // and the scene's conversion into buffers (sim/SceneUpload.h, sim/Materials.h).
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -122,6 +123,16 @@ class Simulation {
 
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
+
+  // Test hook (semi-implicit scenes): the Hessian product β Δt² H u (kg·m/s; Δt the scene's dt) at every node of the
+  // grid the current particles reach, for the grid velocities `velocityAtNode(node position)` (m/s), in the order of
+  // the dense grid, as the solve computes it or (ForceDifference) by the central difference of the stress.
+  struct NodeVector {
+    glm::ivec3 node{0};
+    glm::dvec3 value{0.0};
+  };
+  std::vector<NodeVector> hessianProduct(const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode,
+                                         HessianProduct product);
 
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
