@@ -67,7 +67,8 @@ struct BarVibration {
 
 // Steps the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero
 // 2N times (N periods: q starts at 0), or for N + ½ analytic periods (and at least kBarMinimumSteps). Measuring
-// q filters out the higher modes that the slabs' velocity steps excite. Throws SimulationError (exit 3) if the run goes unstable.
+// q filters out the higher modes that the slabs' velocity steps excite. Throws SimulationError (exit 3) if the run
+// goes unstable.
 BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& gl);
 
 }  // namespace firn::bench
