@@ -73,8 +73,8 @@ StiffRun runStiff(const Scene& scene, int steps, const gl::ContextInfo& gl) {
     auto start = std::chrono::steady_clock::now();
     for (int step = 1; step <= steps; ++step) {
       simulation.step(scene.time.dtS);
-      if (step % kWatchdogIntervalSteps == 0 || step == steps) simulation.checkWatchdog();
       run.steps = step;
+      if (step % kWatchdogIntervalSteps == 0 || step == steps) simulation.checkWatchdog();
       if (step == 1) {
         glFinish();
         start = std::chrono::steady_clock::now();
@@ -162,8 +162,8 @@ void measureStiff(BenchRun& run) {
         }
       }
       if (result.status != "ok") {
-        const std::string stopped = "stopped at step " + std::to_string(result.steps + 1) + " of " +
-                                    std::to_string(steps) + ": " + result.failure;
+        const std::string stopped = "the watchdog stopped it at its look after step " + std::to_string(result.steps) +
+                                    " of " + std::to_string(steps) + ": " + result.failure;
         run.progress(label + ": " + stopped);
         run.addSummary(label + ": " + stopped);
         continue;
