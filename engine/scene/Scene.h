@@ -162,7 +162,7 @@ struct Collider {
 // surface is where it crosses `iso`.
 struct SurfaceSpec {
   double resolution = 2;  // reconstruction cells per simulation cell, per axis
-  double smoothing = 2;   // the kernel's support radius over the particle's spacing V^(1/3)
+  double smoothing = 3;   // the kernel's support radius over the particle's spacing V^(1/3)
   double iso = 0.5;       // the volume fraction on the surface: ½ puts a flat edge where the particles' cells end
 };
 

@@ -164,7 +164,7 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   uniforms.kernel = glm::vec4(float(spec_.smoothing), float(spec_.iso),
                               float(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5)),
                               gpu::SURFACE_UNITS_PER_VALUE);
-  uniforms.counts = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, 0u, 0u);
+  uniforms.particles = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, 0u, 0u);
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   uniforms_.bindUniform(FIRN_BINDING_SURFACE_UNIFORMS);
   header_.bindStorage(FIRN_BINDING_SURFACE_HEADER);

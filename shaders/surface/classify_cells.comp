@@ -4,10 +4,10 @@
 // crossed edge of its own) and how many triangles its cell does. One invocation per node; nodes on the grid's
 // far faces have no cell, and edges leaving the grid belong to no node.
 // Reads: density, the case table. Writes: cells, counts (the prefix scan turns them into offsets).
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "surface/surface_common.glsl"
 #include "surface/cells.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) readonly buffer SurfaceDensityBuffer { int density[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_CASES) readonly buffer SurfaceCaseBuffer { uvec4 cases[]; };

@@ -8,8 +8,6 @@
 // gradient of f (central differences at the edge's ends, interpolated alike); its albedo is Σ V W albedo / f,
 // both sums interpolated, which is defined wherever f is (at the vertex, f = iso > 0).
 // Reads: density, color, cells, counts (offsets), the case table. Writes: vertices, indices.
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "surface/surface_common.glsl"
 #include "surface/cells.glsl"
 
@@ -17,9 +15,9 @@ layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) readonly buffer SurfaceDe
 layout(std430, binding = FIRN_BINDING_SURFACE_COLOR) readonly buffer SurfaceColorBuffer { ivec4 colorSums[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_CASES) readonly buffer SurfaceCaseBuffer { uvec4 cases[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COUNTS) readonly buffer SurfaceCountBuffer { uvec2 offsets[]; };
-layout(std430, binding = FIRN_BINDING_SURFACE_VERTICES) writeonly buffer SurfaceVertexBuffer {
-  SurfaceVertex vertices[];
-};
+#include "surface/vertices.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 layout(std430, binding = FIRN_BINDING_SURFACE_INDICES) writeonly buffer SurfaceIndexBuffer { uint indices[]; };
 
 float fieldAt(ivec3 node) { return fieldValue(density[nodeAddress(clamp(node, ivec3(0), nodeCounts.xyz - 1))]); }

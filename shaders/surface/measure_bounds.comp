@@ -2,13 +2,12 @@
 // The box of lattice nodes the particles' kernels reach, which this frame's grid covers (with a node to spare).
 // One invocation per particle. Reads: positionMass, plasticState. Writes: the header's kernel bounds (atomic
 // min and max; the host starts them at the extremes of int).
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "common/particles.glsl"
 #include "surface/surface_common.glsl"
 #include "surface/kernel_radius.glsl"
+#include "surface/header.glsl"
 
-layout(std430, binding = FIRN_BINDING_SURFACE_HEADER) buffer SurfaceHeaderBuffer { FIRN_MEMBERS(FIRN_SURFACE_HEADER) };
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void main() {
   uint p = itemIndex();

@@ -3,9 +3,9 @@
 // elements by their exclusive prefix sums, starting from the chunk's own offset, which the level above (already
 // scanned) holds; the top level, a single chunk, starts from 0.
 // Reads and writes: the values. Reads: the level above's scanned sums.
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "surface/surface_common.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SCAN_VALUES) buffer ScanValueBuffer { uvec2 values[]; };
 layout(std430, binding = FIRN_BINDING_SCAN_SUMS) readonly buffer ScanSumBuffer { uvec2 sums[]; };

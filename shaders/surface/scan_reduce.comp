@@ -3,9 +3,9 @@
 // into the level above. One sequential loop per invocation, no barriers: on llvmpipe a barrier switches every
 // lane's coroutine, and a loop of 64 is cheap (docs/platform.md, Timing on llvmpipe).
 // Reads: the values. Writes: one sum per chunk.
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "surface/surface_common.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SCAN_VALUES) readonly buffer ScanValueBuffer { uvec2 values[]; };
 layout(std430, binding = FIRN_BINDING_SCAN_SUMS) writeonly buffer ScanSumBuffer { uvec2 sums[]; };

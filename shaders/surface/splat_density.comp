@@ -6,11 +6,11 @@
 // is rounded to fixed point on its own and added with an integer atomic, so the sums are exact and the same
 // whatever order the particles add in.
 // Reads: positionMass, plasticState, the particle colours. Writes: density, color (atomic adds).
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
-
 #include "common/particles.glsl"
 #include "surface/surface_common.glsl"
 #include "surface/kernel_radius.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) buffer SurfaceDensityBuffer { int density[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COLOR) buffer SurfaceColorBuffer { ivec4 colorSums[]; };

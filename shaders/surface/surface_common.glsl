@@ -16,8 +16,8 @@ uint itemIndex() {
 
 vec3 latticeOrigin() { return latticeOriginSpacing.xyz; }
 float nodeSpacing() { return latticeOriginSpacing.w; }
-uint particleCount() { return counts.x; }
-bool withColors() { return counts.y != 0u; }
+uint particleCount() { return particles.x; }
+bool withColors() { return particles.y != 0u; }
 uint nodeCount() { return uint(nodeCounts.w); }
 float smoothing() { return kernel.x; }
 float isoLevel() { return kernel.y; }

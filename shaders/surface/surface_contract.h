@@ -46,13 +46,13 @@ FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
 //   nodeCounts            nodes per axis of this frame's grid, and w: all of them
 //   kernel                surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units, the
 //                         fixed-point scale
-//   counts                particles, with colours (1) or not (0)
+//   particles             x: the particles, y: with colours (1) or not (0)
 #define FIRN_SURFACE_UNIFORMS(member, array) \
   member(vec4, latticeOriginSpacing)         \
   member(ivec4, firstNode)                   \
   member(ivec4, nodeCounts)                  \
   member(vec4, kernel)                       \
-  member(uvec4, counts)
+  member(uvec4, particles)
 FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
 
 // SurfaceHeader: what the bounds pass finds (std430): the lowest and highest lattice node any particle's kernel

@@ -1,0 +1,2 @@
+// The reconstruction's header buffer (SurfaceHeader): the box of lattice nodes the particles' kernels reach.
+layout(std430, binding = FIRN_BINDING_SURFACE_HEADER) buffer SurfaceHeaderBuffer { FIRN_MEMBERS(FIRN_SURFACE_HEADER) };
