@@ -175,6 +175,17 @@ Silhouette boxSilhouette(const Camera& camera, const glm::dvec3& minM, const glm
   return silhouette;
 }
 
+// How many pixels a metre across the view covers at the box's corner nearest the camera (where it covers most).
+double pixelsPerMetreAtNearestCorner(const Camera& camera, const glm::dvec3& minM, const glm::dvec3& maxM) {
+  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
+  double nearestM = 1e9;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 cornerM((i & 1) ? maxM.x : minM.x, (i & 2) ? maxM.y : minM.y, (i & 4) ? maxM.z : minM.z);
+    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
+  }
+  return focalPx / nearestM;
+}
+
 // Pixels the particles change: more than 8 of 255 in some channel. Rendering is deterministic (the picture
 // without particles comes out the same twice, bit for bit), so nothing else changes a pixel; colour alone
 // cannot tell snow from this sky, as snow in shade turns the sky's blue-grey, to within 30 levels.
@@ -236,14 +247,7 @@ TEST_F(RenderTest, SnowBoxCoversItsProjectedSilhouette) {
 
   const Silhouette predicted = boxSilhouette(camera, boxMinM, boxMaxM);
   const Coverage measured = snowCoverage(snow, background);
-  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
-  double nearestM = 1e9;
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 cornerM((i & 1) ? boxMaxM.x : boxMinM.x, (i & 2) ? boxMaxM.y : boxMinM.y,
-                             (i & 4) ? boxMaxM.z : boxMinM.z);
-    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
-  }
-  const double spacingPx = kSpacingM * focalPx / nearestM;
+  const double spacingPx = kSpacingM * pixelsPerMetreAtNearestCorner(camera, boxMinM, boxMaxM);
   const double outlineTolerancePx = 0.37 * spacingPx + 1;
   const double imageArea = double(kImageSize.x) * kImageSize.y;
   ASSERT_GT(predicted.areaPx, 0.05 * imageArea) << "the box should fill a fair part of the picture";
@@ -291,14 +295,7 @@ TEST_F(RenderTest, SnowSurfaceOfABoxCoversItsProjectedSilhouette) {
 
   const Silhouette predicted = boxSilhouette(camera, boxMinM, boxMaxM);
   const Coverage measured = snowCoverage(snow, background);
-  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
-  double nearestM = 1e9;
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 cornerM((i & 1) ? boxMaxM.x : boxMinM.x, (i & 2) ? boxMaxM.y : boxMinM.y,
-                             (i & 4) ? boxMaxM.z : boxMinM.z);
-    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
-  }
-  const double pxPerM = focalPx / nearestM;
+  const double pxPerM = pixelsPerMetreAtNearestCorner(camera, boxMinM, boxMaxM);
   const double kernelRadiusM = scene.surface.smoothing * kSpacingM;
   const double inwardPx = 0.21 * kernelRadiusM * pxPerM + 1, outwardPx = 0.1 * kSpacingM * pxPerM + 1;
   const double cornerInwardPx = 0.41 * kernelRadiusM * pxPerM + 1;
