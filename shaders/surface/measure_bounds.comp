@@ -11,7 +11,7 @@ layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void main() {
   uint p = itemIndex();
-  if (p >= particleCount()) return;
+  if (p >= reconstructedParticles()) return;
   vec3 x = positionMass[p].xyz;
   float radiusM = kernelRadiusM(particleRestVolumeM3(p));
   // The simulation never stores a non-finite particle (its watchdog stops the run first); a kernel of none is

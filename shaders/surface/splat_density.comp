@@ -22,7 +22,7 @@ int toUnits(float value) { return int(floor(value * SURFACE_UNITS_PER_VALUE + 0.
 
 void main() {
   uint p = itemIndex();
-  if (p >= particleCount()) return;
+  if (p >= reconstructedParticles()) return;
   vec3 x = positionMass[p].xyz;
   float volumeM3 = particleRestVolumeM3(p);
   float radiusM = kernelRadiusM(volumeM3);

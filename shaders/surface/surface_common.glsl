@@ -16,7 +16,7 @@ uint itemIndex() {
 
 vec3 latticeOrigin() { return latticeOriginSpacing.xyz; }
 float nodeSpacing() { return latticeOriginSpacing.w; }
-uint particleCount() { return particles.x; }
+uint reconstructedParticles() { return particles.x; }
 bool withColors() { return particles.y != 0u; }
 uint nodeCount() { return uint(nodeCounts.w); }
 float smoothing() { return kernel.x; }

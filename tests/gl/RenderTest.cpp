@@ -357,7 +357,8 @@ TEST_F(RenderTest, FrameWithoutParticlesShowsOnlyBackgroundAndColliders) {
 
 // Speed colouring tells a moving body from a still one that Material colouring shows alike: the still box
 // takes the bottom of viridis (dark purple), the box at 3 m/s (⅔ of the scale √(2 g · 1 m) = 4.4 m/s) its
-// green part. Compared over the inner half of each box's projected rectangle, away from edges.
+// green part, drawn as particles or as their surface. Compared over the inner half of each box's projected
+// rectangle, away from edges.
 TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
   const Scene scene = sceneFromJson("[" + box("[0.25, 0.5, 0.4]", "[0.45, 0.7, 0.6]") + ", " +
                                     box("[0.55, 0.5, 0.4]", "[0.75, 0.7, 0.6]", "[3, 0, 0]") + "]");
@@ -387,6 +388,15 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
   EXPECT_GT(moving.g, still.g + 60) << "viridis turns green with speed";
   EXPECT_GT(still.b, still.g) << "viridis starts purple";
   EXPECT_GT(glm::length(moving - still), 80);
+
+  // Drawn as their surface, the boxes carry the same colours: the particles' albedo interpolated onto it.
+  firn::surface::SurfaceReconstruction surface(scene, firn::sampleBodies(scene), gl());
+  surface.reconstruct(simulation, &renderer.particleColors(simulation, ColorMode::Speed));
+  const Image speedSurface = renderFrame(renderer, &simulation, camera, ColorMode::Speed, &surface);
+  const glm::dvec3 stillSurface = innerMean(speedSurface, stillMinM, stillMaxM);
+  const glm::dvec3 movingSurface = innerMean(speedSurface, movingMinM, movingMaxM);
+  EXPECT_GT(movingSurface.g, stillSurface.g + 60) << "viridis turns green with speed";
+  EXPECT_GT(stillSurface.b, stillSurface.g) << "viridis starts purple";
 }
 
 // writePng writes a PNG that a reader decodes to the same pixels, and a path it cannot write is an
