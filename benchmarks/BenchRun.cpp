@@ -19,6 +19,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {5, 5, 20};
       sizes.barPeriods = 3;
+      sizes.surfaceParticles = {47063, 188252, 753008, 3012032};
       break;
     case BenchSize::Quick:
       // Up to 376k particles: on llvmpipe (2 cores) a 188k-particle cubic step takes about half a second.
@@ -27,6 +28,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {2, 5, 3};
       sizes.barPeriods = 2;
+      sizes.surfaceParticles = {47063, 94126, 188252};
       break;
     case BenchSize::Tiny:
       sizes.particleGridCells = 40;
@@ -37,6 +39,8 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainSnowballParticles = 1500;
       sizes.timing = {1, 3, 1};
       sizes.barPeriods = 1;
+      sizes.surfaceParticles = {1500, 3000};
+      sizes.surfaceResolutions = {1, 2};
       break;
   }
   return sizes;
@@ -96,7 +100,7 @@ bool BenchRun::wanted(const std::string& table) const {
 }
 
 bool BenchRun::wantsBunny() const {
-  return wanted("particles") || wanted("grid") || wanted("passes") || wanted("p2g_atomics");
+  return wanted("particles") || wanted("grid") || wanted("passes") || wanted("p2g_atomics") || wanted("surface");
 }
 
 BunnySetup BenchRun::referenceBunny() const {

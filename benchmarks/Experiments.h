@@ -12,5 +12,6 @@ void measurePasses(BenchRun& run);      // passes.csv (PassesExperiment.cpp)
 void measureP2GAtomics(BenchRun& run);  // p2g_atomics.csv (P2GAtomicsExperiment.cpp)
 void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)
 void measureThesis(BenchRun& run);      // thesis.csv (ThesisExperiment.cpp)
+void measureSurface(BenchRun& run);     // surface.csv (SurfaceExperiment.cpp)
 
 }  // namespace firn::bench

@@ -44,6 +44,8 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       {"tradeoff.csv", {"configuration", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
                         "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
                         "ms_per_simulated_second", "period_s", "error"}},
+      {"surface.csv", {"series", "particles", "resolution", "smoothing", "grid_nodes", "grid_mib", "vertices",
+                       "triangles", "repeats", "surface_ms"}},
   };
   for (const auto& [file, columns] : leadingColumns) {
     const auto rows = readCsv(out / file);
@@ -62,7 +64,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
     }
   }
   // Every configuration of the tiny sizes runs on llvmpipe: each row says "ok" and has its time.
-  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv"}) {
+  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv", "surface.csv"}) {
     const auto rows = readCsv(out / file);
     std::size_t status = 0, time = 0;
     for (std::size_t c = 0; c < rows[0].size(); ++c) {
