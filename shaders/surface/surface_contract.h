@@ -28,7 +28,7 @@
 // The volume fraction is summed in fixed point with 2^20 units per unit, as the simulation's P2G sums are
 // (docs/numerics.md, Fixed-point atomics): integer sums do not depend on the order of the additions, so the
 // field, and the mesh made from it, are the same bytes from run to run. A node's sum overflows at 2^31 / 2^20 =
-// 2048, a compaction snow never reaches; one particle adds at most 8 / (π smoothing³) ≤ 2.6.
+// 2048, a compaction snow never reaches; one particle adds at most 8 / (π smoothing³) ≤ 0.32 (smoothing ≥ 2).
 FIRN_CONSTANT(float, SURFACE_UNITS_PER_VALUE, 1048576.0f)
 // A prefix scan sums chunks of this many elements per invocation (engine/surface/PrefixScan.h).
 FIRN_CONSTANT(uint, SCAN_CHUNK, 64u)
