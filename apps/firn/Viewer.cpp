@@ -233,7 +233,7 @@ class Viewer {
     if (renderMode_ != render::RenderMode::Surface) return nullptr;
     const SurfaceKey key{simulation_->stepCount(), simulation_->particleCount(), colorMode_};
     if (!surfaceIsCurrent_ || !(key == surfaceKey_)) {
-      surface_->reconstruct(*simulation_, &renderer_.particleColors(*simulation_, colorMode_));
+      surface_->reconstruct(*simulation_, renderer_.particleColors(*simulation_, colorMode_));
       surfaceKey_ = key;
       surfaceIsCurrent_ = true;
     }

@@ -65,8 +65,9 @@ class Renderer {
   float speedScaleMPerS() const { return speedScaleMPerS_; }
 
   // Each of the simulation's particles' linear albedo in colour mode `mode` (a vec4 per particle, computed on the
-  // GPU), for SurfaceReconstruction::reconstruct to carry onto the surface.
-  const gl::Buffer& particleColors(const Simulation& simulation, ColorMode mode);
+  // GPU), for SurfaceReconstruction::reconstruct to carry onto the surface; null when every particle has the same
+  // colour (one material's, in material mode), which the renderer then gives the whole surface without a splat.
+  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode);
 
  private:
   struct SurfaceDraw {
@@ -144,7 +145,7 @@ class OffscreenRenderer {
   // With `snowSurface`, the snow as that surface (Renderer::draw).
   Image render(const Simulation& simulation, const Camera& camera, ColorMode mode,
                const surface::SurfaceReconstruction* snowSurface = nullptr);
-  const gl::Buffer& particleColors(const Simulation& simulation, ColorMode mode) {
+  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode) {
     return renderer_.particleColors(simulation, mode);
   }
   glm::ivec2 size() const { return target_.size(); }

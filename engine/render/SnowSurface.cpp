@@ -24,7 +24,10 @@ constexpr double kShadowFilterCells = 1.0;
 
 }  // namespace
 
-const gl::Buffer& Renderer::particleColors(const Simulation& simulation, ColorMode mode) {
+const gl::Buffer* Renderer::particleColors(const Simulation& simulation, ColorMode mode) {
+  const bool oneColor = std::all_of(materialColors_.begin(), materialColors_.end(),
+                                    [&](const glm::vec4& color) { return color == materialColors_.front(); });
+  if (mode == ColorMode::Material && oneColor) return nullptr;
   const std::size_t particles = simulation.particleCount();
   const std::size_t bytes = std::max<std::size_t>(particles, 1) * sizeof(glm::vec4);
   if (particleColors_.bytes() < bytes) particleColors_ = gl::Buffer(bytes);
@@ -35,7 +38,7 @@ const gl::Buffer& Renderer::particleColors(const Simulation& simulation, ColorMo
   particleColorPass_.program().set("coloredParticles", static_cast<unsigned>(particles));
   if (particles > 0) particleColorPass_.runOverParticles(particles, maxWorkGroupsX_, particleColorTimer_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  return particleColors_;
+  return &particleColors_;
 }
 
 void Renderer::drawSnowTriangles(const surface::SurfaceReconstruction& snowSurface) {
@@ -92,6 +95,10 @@ void Renderer::drawSnowSurface(const FrameView& view, const surface::SurfaceReco
   glCullFace(GL_BACK);
   snowSurfaceProgram_.use();
   setView(snowSurfaceProgram_, view);
+  // A surface rebuilt without colours has one: the (only) material's.
+  const glm::vec3 albedoSrgb = snowSurface.stats().withColors || materialColors_.empty()
+                                   ? glm::vec3(1.0f) : glm::vec3(materialColors_.front());
+  snowSurfaceProgram_.set("albedoScaleSrgb", albedoSrgb);
   setShadowBox(snowSurfaceProgram_, snowSurface);
   const double cellM = snowSurface.nodeSpacingM();
   // The map spans at most the box's diagonal across the light.

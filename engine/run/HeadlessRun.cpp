@@ -153,7 +153,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
       snowSurface->reconstruct(simulation,
-                               surfacePictures ? &pictures->particleColors(simulation, options.colorMode) : nullptr);
+                               surfacePictures ? pictures->particleColors(simulation, options.colorMode) : nullptr);
       if (options.writeMesh || options.writeVdb) {
         VdbFrame cache;
         cache.isoLevel = float(scene.surface.iso);

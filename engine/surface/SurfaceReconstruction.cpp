@@ -158,6 +158,7 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   const std::size_t particles = simulation.particleCount();
   const bool withColors = particleColors != nullptr;
   stats_ = SurfaceStats{};
+  stats_.withColors = withColors;
   simulation.bindParticleBuffers();
   gpu::SurfaceUniforms uniforms{};
   uniforms.latticeOriginSpacing = glm::vec4(glm::vec3(latticeOriginM_), float(nodeSpacingM_));

@@ -34,6 +34,7 @@ struct SurfaceStats {
   std::size_t gridBytes = 0;   // the per-node buffers' GPU memory
   std::size_t vertices = 0;
   std::size_t triangles = 0;
+  bool withColors = false;     // the vertices' albedo came from the particles' colours (else it is 1)
 };
 
 // The kernel radius the scene's particles get (R = surface.smoothing · V^(1/3), V = m / ρ0), in metres and in

@@ -5,6 +5,9 @@
 #include "surface/surface_contract.h"
 #include "surface/vertices.glsl"
 #include "render/view.glsl"
+#include "render/lighting.glsl"
+
+uniform vec3 albedoScaleSrgb;  // the colour of a surface rebuilt without colours; 1 otherwise
 
 out vec3 worldPositionM;
 out vec3 worldNormal;
@@ -14,6 +17,6 @@ void main() {
   SurfaceVertex vertex = vertices[gl_VertexID];
   worldPositionM = vertex.positionM.xyz;
   worldNormal = vertex.normal.xyz;
-  albedo = vertex.albedo.rgb;
+  albedo = vertex.albedo.rgb * linearFromSrgb(albedoScaleSrgb);
   gl_Position = projectionMatrix * viewMatrix * vec4(worldPositionM, 1.0);
 }

@@ -2,7 +2,7 @@
 // The smoothed volume fraction f(x) = Σ_p V_p W(x − x_p; R_p) at the grid's nodes (docs/surfaces.md eq. 1): 1
 // inside snow at its rest density, ½ on a flat edge of it, 0 outside. With colours, also Σ_p V_p W · albedo_p,
 // which the mesh divides by f to carry the particles' colours onto the surface. One invocation per particle over
-// the nodes of its kernel's box (at most (2 · MAX_KERNEL_RADIUS_CELLS + 1)³, one flat loop). Each contribution
+// the nodes of its kernel's ball, row by row (at most (2 · MAX_KERNEL_RADIUS_CELLS + 1)³ nodes). Each contribution
 // is rounded to fixed point on its own and added with an integer atomic, so the sums are exact and the same
 // whatever order the particles add in.
 // Reads: positionMass, plasticState, the particle colours. Writes: density, color (atomic adds).
@@ -36,18 +36,28 @@ void main() {
   if (any(lessThanEqual(extent, ivec3(0)))) return;
   vec3 albedo = withColors() ? particleColors[p].rgb : vec3(0.0);
   float weightScale = volumeM3 / (radiusM * radiusM * radiusM);
-  int nodes = extent.x * extent.y * extent.z;
-  for (int i = 0; i < nodes; ++i) {
-    ivec3 node = low + ivec3(i % extent.x, (i / extent.x) % extent.y, i / (extent.x * extent.y));
-    float q = length(nodePositionM(node) - x) / radiusM;
-    if (q >= 1.0) continue;
-    float weight = weightScale * smoothingKernel(q);
-    uint address = nodeAddress(node);
-    atomicAdd(density[address], toUnits(weight));
-    if (withColors()) {
-      atomicAdd(colorSums[address].x, toUnits(weight * albedo.r));
-      atomicAdd(colorSums[address].y, toUnits(weight * albedo.g));
-      atomicAdd(colorSums[address].z, toUnits(weight * albedo.b));
+  // Row by row along x, each row only across the kernel's ball: a third of the box's nodes.
+  int rows = extent.y * extent.z;
+  for (int row = 0; row < rows; ++row) {
+    ivec3 first = low + ivec3(0, row % extent.y, row / extent.y);
+    vec3 offsetM = nodePositionM(first) - x;
+    float acrossM2 = radiusM * radiusM - offsetM.y * offsetM.y - offsetM.z * offsetM.z;
+    if (acrossM2 <= 0.0) continue;
+    float halfChordM = sqrt(acrossM2);
+    int rowLow = max(int(ceil((x.x - halfChordM - latticeOrigin().x) / nodeSpacing())) - firstNode.x, low.x);
+    int rowHigh = min(int(floor((x.x + halfChordM - latticeOrigin().x) / nodeSpacing())) - firstNode.x, high.x);
+    for (int i = rowLow; i <= rowHigh; ++i) {
+      ivec3 node = ivec3(i, first.y, first.z);
+      float q = length(nodePositionM(node) - x) / radiusM;
+      if (q >= 1.0) continue;
+      float weight = weightScale * smoothingKernel(q);
+      uint address = nodeAddress(node);
+      atomicAdd(density[address], toUnits(weight));
+      if (withColors()) {
+        atomicAdd(colorSums[address].x, toUnits(weight * albedo.r));
+        atomicAdd(colorSums[address].y, toUnits(weight * albedo.g));
+        atomicAdd(colorSums[address].z, toUnits(weight * albedo.b));
+      }
     }
   }
 }

@@ -288,7 +288,7 @@ TEST_F(RenderTest, SnowSurfaceOfABoxCoversItsProjectedSilhouette) {
   Simulation simulation(scene, seeds, gl());
   Renderer renderer(scene);
   firn::surface::SurfaceReconstruction surface(scene, seeds, gl());
-  surface.reconstruct(simulation, &renderer.particleColors(simulation, ColorMode::Material));
+  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Material));
   const Camera camera = cameraBelowBox();
   const Image background = renderFrame(renderer, nullptr, camera, ColorMode::Material);
   const Image snow = renderFrame(renderer, &simulation, camera, ColorMode::Material, &surface);
@@ -391,7 +391,7 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
 
   // Drawn as their surface, the boxes carry the same colours: the particles' albedo interpolated onto it.
   firn::surface::SurfaceReconstruction surface(scene, firn::sampleBodies(scene), gl());
-  surface.reconstruct(simulation, &renderer.particleColors(simulation, ColorMode::Speed));
+  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Speed));
   const Image speedSurface = renderFrame(renderer, &simulation, camera, ColorMode::Speed, &surface);
   const glm::dvec3 stillSurface = innerMean(speedSurface, stillMinM, stillMaxM);
   const glm::dvec3 movingSurface = innerMean(speedSurface, movingMinM, movingMaxM);
