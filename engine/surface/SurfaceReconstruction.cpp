@@ -68,15 +68,16 @@ KernelRange checkKernelRange(const Scene& scene, const std::vector<ParticleSeed>
                      " m, surface.smoothing " + number(scene.surface.smoothing) +
                      " times their spacing) is narrower than a reconstruction cell (grid.cell_size / "
                      "surface.resolution = " + number(range.cellM) + " m); raise surface.resolution to at least " +
-                     number(std::ceil(scene.grid.cellSizeM / range.smallestM * scene.surface.resolution * 100) / 100) +
-                     ", or surface.smoothing");
+                     number(std::ceil(scene.grid.cellSizeM / range.smallestM * 100) / 100) + ", or surface.smoothing");
   }
   if (range.largestM > gpu::MAX_KERNEL_RADIUS_CELLS * range.cellM) {
     throw InputError(file + ": surface.resolution: the largest particles' kernel (radius " + number(range.largestM) +
                      " m, surface.smoothing " + number(scene.surface.smoothing) + " times their spacing) spans " +
                      number(range.largestM / range.cellM) + " reconstruction cells (grid.cell_size / surface.resolution = " +
                      number(range.cellM) + " m); at most " + number(gpu::MAX_KERNEL_RADIUS_CELLS) +
-                     ": lower surface.resolution or surface.smoothing");
+                     ": lower surface.resolution to at most " +
+                     number(std::floor(gpu::MAX_KERNEL_RADIUS_CELLS * scene.grid.cellSizeM / range.largestM * 100) / 100) +
+                     ", or surface.smoothing");
   }
   return range;
 }
