@@ -4,7 +4,8 @@
 // (resolution 2, smoothing 3); and the smallest of those bunnies at resolutions 1 to 4. Each configuration is
 // stepped (timeSteps: warm-up steps, then repeated runs), then its surface is rebuilt from the state the steps
 // left: once untimed (the programs JIT-compile), then `repeats` times, each glFinish to glFinish, then `repeats`
-// times more with each pass timed (PassTimer) for the split between the field and the mesh. The summary gives
+// times more with each pass timed (PassTimer) for the split between the field and the mesh; every column is a
+// median over its runs. The summary gives
 // the surface's share of a frame: a frame at 30 Hz takes ⌈(1/30 s) / dt⌉ steps.
 #include <algorithm>
 #include <chrono>
@@ -28,15 +29,27 @@ struct SurfaceSetup {
   double resolution = 2;
 };
 
-// The time a pass took per reconstruction, from the surface's pass timer: wall time, dispatch to glFinish.
-double passMs(const surface::SurfaceReconstruction& surface, const std::vector<std::string>& passes, int runs) {
-  double totalMs = 0;
-  for (const PassTimer::PassTime& time : surface.passTimes()) {
-    for (const std::string& pass : passes) {
-      if (time.pass == "surface/" + pass + ".comp") totalMs += time.totalWallMs;
+// The phases of one reconstruction, from the surface's pass timer (wall time, dispatch to glFinish).
+struct PhaseMs {
+  std::vector<double> bounds, splat, mesh;
+};
+
+void timePhases(surface::SurfaceReconstruction& surface, const Simulation& simulation, PhaseMs& phases) {
+  surface.setPassTiming(true);  // starts from zero
+  surface.reconstruct(simulation);
+  const auto sum = [&](const std::vector<std::string>& passes) {
+    double totalMs = 0;
+    for (const PassTimer::PassTime& time : surface.passTimes()) {
+      for (const std::string& pass : passes) {
+        if (time.pass == "surface/" + pass + ".comp") totalMs += time.totalWallMs;
+      }
     }
-  }
-  return totalMs / runs;
+    return totalMs;
+  };
+  phases.bounds.push_back(sum({"measure_bounds"}));
+  phases.splat.push_back(sum({"splat_density"}));
+  phases.mesh.push_back(sum({"classify_cells", "scan_reduce", "scan_distribute", "emit_mesh"}));
+  surface.setPassTiming(false);
 }
 
 }  // namespace
@@ -89,8 +102,8 @@ void measureSurface(BenchRun& run) {
         glFinish();
         wallMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
       }
-      surface.setPassTiming(true);
-      for (int repeat = 0; repeat < repeats; ++repeat) surface.reconstruct(simulation);
+      PhaseMs phases;
+      for (int repeat = 0; repeat < repeats; ++repeat) timePhases(surface, simulation, phases);
 
       const surface::SurfaceStats& stats = surface.stats();
       const double surfaceMs = median(wallMs);
@@ -104,9 +117,9 @@ void measureSurface(BenchRun& run) {
           .set("surface_ms", surfaceMs)
           .set("surface_ms_min", *std::min_element(wallMs.begin(), wallMs.end()))
           .set("surface_ms_max", *std::max_element(wallMs.begin(), wallMs.end()))
-          .set("bounds_ms", passMs(surface, {"measure_bounds"}, repeats))
-          .set("splat_ms", passMs(surface, {"splat_density"}, repeats))
-          .set("mesh_ms", passMs(surface, {"classify_cells", "scan_reduce", "scan_distribute", "emit_mesh"}, repeats))
+          .set("bounds_ms", median(phases.bounds))
+          .set("splat_ms", median(phases.splat))
+          .set("mesh_ms", median(phases.mesh))
           .set("ms_per_step", step.medianMs)
           .set("steps_per_frame", stepsPerFrame)
           .set("surface_share_of_frame", share)
