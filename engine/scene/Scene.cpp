@@ -1,4 +1,4 @@
-// The snow presets a scene may name, and the built-in scene `firn run` uses with no SCENE.
+// The snow presets a scene may name, the models' names, and the built-in scene `firn run` uses with no SCENE.
 #include "scene/Scene.h"
 
 namespace firn {
@@ -19,6 +19,17 @@ const std::vector<Material>& snowPresets() {
       {"slushy", 4.8e4, 0.25, 600, 3.0e-2, 1.0e-2, 5},
   };
   return presets;
+}
+
+const char* modelName(MaterialModel model) {
+  switch (model) {
+    case MaterialModel::Snow: return "snow";
+    case MaterialModel::FixedCorotated: return "fixed_corotated";
+    case MaterialModel::NeoHookean: return "neo_hookean";
+    case MaterialModel::Water: return "water";
+    case MaterialModel::DruckerPrager: return "drucker_prager";
+  }
+  return "unknown";
 }
 
 Scene defaultScene() {

@@ -1,9 +1,12 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -28,9 +31,10 @@ std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& partic
   return initial;
 }
 
-// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed.
+// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed
+// (semi-implicit steps: the speed alone, as g2p.comp reports it).
 double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  const double fastestWaveMPerS = stiffestBody(scene).waveSpeedMPerS;
+  const double fastestWaveMPerS = scene.solver.semiImplicit() ? 0.0 : stiffestBody(scene).waveSpeedMPerS;
   double fastestMPerS = 0;
   for (const ParticleSeed& seed : seeds) {
     fastestMPerS = std::max(fastestMPerS, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
@@ -138,9 +142,29 @@ void Simulation::releaseDueParticles() {
 void Simulation::step(double dtS) {
   releaseDueParticles();
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
-  pipeline_.step(state_, particleCount_, passTimer_);
+  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
+  if (scene_.solver.semiImplicit()) noteSolve(solve);
   timeS_ += dtS;
   ++steps_;
+}
+
+void Simulation::noteSolve(const SolveReport& solve) {
+  ++solverSummary_.solves;
+  solverSummary_.iterations += std::uint64_t(solve.iterations);
+  solverSummary_.mostIterations = std::max(solverSummary_.mostIterations, solve.iterations);
+  if (std::isnan(solve.residual) || std::isnan(solverSummary_.largestResidual)) {
+    solverSummary_.largestResidual = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    solverSummary_.largestResidual = std::max(solverSummary_.largestResidual, solve.residual);
+  }
+  const bool failed = !(solve.residual <= kSolverFailureFactor * scene_.solver.tolerance);  // NaN fails
+  if (failed && !solverFailure_) solverFailure_ = SolverFailure{steps_, solve};
+}
+
+SolverSummary Simulation::takeSolverSummary() {
+  const SolverSummary summary = solverSummary_;
+  solverSummary_ = SolverSummary{};
+  return summary;
 }
 
 int Simulation::advanceTo(double timeS) {
@@ -188,7 +212,8 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS()};
+  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
+            solverFailure_};
 }
 
 void Simulation::restoreState() {
@@ -199,6 +224,8 @@ void Simulation::restoreState() {
   diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
+  solverSummary_ = saved_.solverSummary;
+  solverFailure_ = saved_.solverFailure;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {
@@ -238,7 +265,7 @@ void Simulation::checkWatchdog() const {
   const BlockUsage usage = state_.blockUsage();
   const std::size_t blocksNeeded =
       std::max(blocksBeyondPool_, usage.mostInAStep > usage.capacity ? usage.mostInAStep : std::size_t(0));
-  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity);
+  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
 }
 
 ParticleSnapshot Simulation::snapshot() const { return state_.readParticles(particleCount_); }
@@ -259,6 +286,32 @@ GridTotals Simulation::transferToGrid() {
     ++totals.activeNodes;
   }
   return totals;
+}
+
+std::vector<Simulation::NodeVector> Simulation::hessianProduct(
+    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
+  const ImplicitSolver* solver = pipeline_.implicitSolver();
+  if (!solver) throw std::logic_error("hessianProduct: the scene's integrator is explicit");
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
+  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+  solver->prepare(particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_);
+  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  std::vector<glm::vec3> velocities;
+  velocities.reserve(nodes.size());
+  for (const glm::ivec3& node : nodes) {
+    velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
+  }
+  state_.writeSolverPreconditioned(velocities);
+  solver->productOfPreconditioned(state_, product, passTimer_);
+  const std::vector<glm::dvec3> products =
+      state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits));
+  std::vector<NodeVector> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], products[i]});
+  std::sort(result.begin(), result.end(), [](const NodeVector& a, const NodeVector& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {

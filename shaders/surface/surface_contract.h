@@ -8,7 +8,7 @@
 
 #include "common/shared_functions.h"
 
-// Shader storage binding points, past the simulation's (0–16), so that the particle buffers stay bound where the
+// Shader storage binding points, past the simulation's (0–19), so that the particle buffers stay bound where the
 // simulation binds them while the reconstruction runs.
 #define FIRN_BINDING_SURFACE_HEADER 20           // SurfaceHeader: the particles' kernel bounds
 #define FIRN_BINDING_SURFACE_DENSITY 21          // int per node: the volume fraction, fixed point
