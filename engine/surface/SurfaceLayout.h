@@ -13,6 +13,9 @@ using ivec3 = glm::ivec3;
 
 #include "surface/surface_contract.h"
 
+// The reconstruction runs with the simulation's particle buffers still bound, so its bindings must start past
+// the simulation's last (the semi-implicit solver's status, 19).
+static_assert(FIRN_BINDING_SURFACE_HEADER > FIRN_BINDING_SOLVER_STATUS, "surface bindings overlap the simulation's");
 static_assert(sizeof(SurfaceUniforms) == 80, "std140 SurfaceUniforms");
 static_assert(sizeof(SurfaceHeader) == 32, "std430 SurfaceHeader");
 static_assert(sizeof(SurfaceVertex) == 48, "std430 SurfaceVertex");
