@@ -54,8 +54,6 @@ void timePhases(surface::SurfaceReconstruction& surface, const Simulation& simul
   surface.setPassTiming(false);
 }
 
-}  // namespace
-
 // A configuration with its simulation and its surface, built before anything is timed so that every timing can
 // take them in rounds (a change in the machine's load falls on all of them alike).
 struct SurfaceCase {
@@ -69,6 +67,8 @@ struct SurfaceCase {
   std::vector<double> surfaceWallMs;
   PhaseMs phases;
 };
+
+}  // namespace
 
 void measureSurface(BenchRun& run) {
   CsvTable table({"series", "particles", "resolution", "smoothing", "grid_nodes", "grid_mib", "vertices", "triangles",
