@@ -96,6 +96,7 @@ std::string runExperiments(BenchRun& run) {
   if (run.wanted("tradeoff")) measureTradeoff(run);
   if (run.wanted("stiff")) measureStiff(run);
   if (!run.options().thesisCloud.empty() && run.wanted("thesis")) measureThesis(run);
+  if (run.wanted("surface")) measureSurface(run);
   const double minutes = std::chrono::duration<double>(Clock::now() - start).count() / 60;
   std::string summary = "firn bench (" + sizeName(run.options().size) + ") on " + run.renderer() + ", " +
                         cpuModel() + " x " + std::to_string(std::thread::hardware_concurrency()) +
@@ -110,7 +111,7 @@ std::string runExperiments(BenchRun& run) {
 
 const std::vector<std::string>& tableNames() {
   static const std::vector<std::string> names = {"particles", "grid", "domain", "passes", "p2g_atomics", "tradeoff",
-                                                    "stiff", "thesis"};
+                                                    "stiff", "thesis", "surface"};
   return names;
 }
 

@@ -19,6 +19,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {5, 5, 20};
       sizes.barPeriods = 3;
+      sizes.surfaceParticles = {47063, 188252, 753008, 3012032};
       sizes.stiffSimulatedS = 0.1;
       break;
     case BenchSize::Quick:
@@ -28,6 +29,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
       sizes.timing = {2, 5, 3};
       sizes.barPeriods = 2;
+      sizes.surfaceParticles = {47063, 94126, 188252};
       break;
     case BenchSize::Tiny:
       sizes.particleGridCells = 40;
@@ -38,6 +40,8 @@ Sizes sizesFor(BenchSize size) {
       sizes.domainSnowballParticles = 1500;
       sizes.timing = {1, 3, 1};
       sizes.barPeriods = 1;
+      sizes.surfaceParticles = {1500, 3000};
+      sizes.surfaceResolutions = {1, 2};
       sizes.stiffSimulatedS = 3e-3;  // three semi-implicit steps, the ball still in the air
       break;
   }
@@ -98,7 +102,7 @@ bool BenchRun::wanted(const std::string& table) const {
 }
 
 bool BenchRun::wantsBunny() const {
-  return wanted("particles") || wanted("grid") || wanted("passes") || wanted("p2g_atomics");
+  return wanted("particles") || wanted("grid") || wanted("passes") || wanted("p2g_atomics") || wanted("surface");
 }
 
 BunnySetup BenchRun::referenceBunny() const {

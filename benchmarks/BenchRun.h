@@ -36,6 +36,8 @@ struct Sizes {
   double domainSnowballParticles = 50000;
   TimingPlan timing;
   int barPeriods = 2;  // tradeoff: periods measured (the amplitude after them shows PIC's damping)
+  std::vector<double> surfaceParticles;            // surface: the bunny's sizes at 8 per cell
+  std::vector<double> surfaceResolutions = {1, 2, 3, 4};  // surface: the smallest bunny at each
   double stiffSimulatedS = 0.05;  // stiff: the snowball's run, each integrator the same simulated time
 };
 

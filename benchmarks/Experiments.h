@@ -13,5 +13,6 @@ void measureP2GAtomics(BenchRun& run);  // p2g_atomics.csv (P2GAtomicsExperiment
 void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)
 void measureStiff(BenchRun& run);       // stiff.csv (StiffExperiment.cpp)
 void measureThesis(BenchRun& run);      // thesis.csv (ThesisExperiment.cpp)
+void measureSurface(BenchRun& run);     // surface.csv (SurfaceExperiment.cpp)
 
 }  // namespace firn::bench

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Plots the tables `firn bench` writes: DIR/particles.csv → DIR/particles.png, and so on for grid, passes,
-# tradeoff and p2g_atomics (each table that is there). `firn bench` runs this at its end; by hand:
+# tradeoff, p2g_atomics and surface (each table that is there). `firn bench` runs this at its end; by hand:
 #   bash benchmarks/plot.sh DIR
 # Needs gnuplot (Debian: apt-get install gnuplot-nox). Only rows whose status is "ok" are plotted.
 set -euo pipefail
@@ -134,5 +134,26 @@ plot file using "mass_max_rel_error":xtic(1) title "mass, max", \
      file using "mass_rms_rel_error" title "mass, RMS", \
      file using "momentum_max_rel_error" title "momentum, max", \
      file using "momentum_rms_rel_error" title "momentum, RMS"
+unset multiplot
+'
+
+plot_table surface '
+set multiplot layout 1,2 title "The snow surface per frame (field and mesh), beside a step (the thesis bunny, 8 per cell)\n".renderer
+set logscale xy
+set xlabel "particles (resolution 2)"
+set ylabel "ms (median)"
+set key top left font ",9"
+particles(name) = (strcol("series") eq "particles" && @ok) ? column("particles") : NaN
+plot file using (particles("")):"surface_ms" with linespoints pt 7 title "surface: field and mesh", \
+     file using (particles("")):"splat_ms" with linespoints pt 5 dashtype 3 title "  of which the field (splat)", \
+     file using (particles("")):"mesh_ms" with linespoints pt 9 dashtype 3 title "  of which the mesh", \
+     file using (particles("")):"ms_per_step" with linespoints pt 6 lc rgb "gray40" title "one simulation step"
+unset logscale x
+set xlabel "surface.resolution (nodes per simulation cell, per axis)"
+resolution(name) = (strcol("series") eq "resolution" && @ok) ? column("resolution") : NaN
+plot file using (resolution("")):"surface_ms" with linespoints pt 7 title "surface: field and mesh", \
+     file using (resolution("")):"splat_ms" with linespoints pt 5 dashtype 3 title "  of which the field (splat)", \
+     file using (resolution("")):"mesh_ms" with linespoints pt 9 dashtype 3 title "  of which the mesh", \
+     file using (resolution("")):"ms_per_step" with linespoints pt 6 lc rgb "gray40" title "one simulation step"
 unset multiplot
 '

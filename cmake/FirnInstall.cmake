@@ -5,10 +5,10 @@
 #
 #   P/bin/firn
 #   P/lib/libfirn_engine.a, libfirn_voxelizer.a           (static; Firn::engine links Firn::voxelizer)
-#   P/include/firn/{Error.h, gl/, io/, render/, run/, scene/, sim/}   engine/**/*.h
+#   P/include/firn/{Error.h, gl/, io/, render/, run/, scene/, sim/, surface/}   engine/**/*.h
 #   P/include/firn/<dir>/*.h                               shaders/**/*.h (headers shared by C++ and GLSL)
 #   P/include/firn/voxelizer/*.h                           voxelizer/*.h
-#   P/lib/cmake/Firn/FirnConfig.cmake, FirnConfigVersion.cmake, FirnTargets*.cmake
+#   P/lib/cmake/Firn/FirnConfig.cmake, FirnConfigVersion.cmake, FirnFindOpenVDB.cmake, FirnTargets*.cmake
 #
 # include/firn is Firn::engine's include dir, so the engine's own includes ("gl/Buffer.h", "Error.h",
 # "common/gpu_contract.h", "voxelizer/Voxelizer.h") resolve as they do in the source tree. Shaders and the
@@ -50,4 +50,5 @@ configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/FirnConfig.cmake.in
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/FirnConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/FirnConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/FirnConfigVersion.cmake
+              ${CMAKE_CURRENT_LIST_DIR}/FirnFindOpenVDB.cmake
         DESTINATION ${FIRN_INSTALL_CMAKEDIR} COMPONENT Development)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -22,6 +23,7 @@
 #include "run/Preflight.h"
 #include "run/StepAccumulator.h"
 #include "sim/Simulation.h"
+#include "surface/SurfaceReconstruction.h"
 
 namespace firn {
 namespace {
@@ -153,9 +155,11 @@ class Viewer {
       : scene_(scene), options_(options), window_(window), gl_(gl), seeds_(sampleBodies(scene)),
         snowballTemplate_(sampleSnowball()), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
-        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode) {
+        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode), renderMode_(options.renderMode) {
     const PreflightReport report = preflight(scene, seeds_);
     for (const std::string& warning : report.warnings) std::printf("firn view: warning: %s\n", warning.c_str());
+    // Asked for on the command line, bad surface settings are bad input (exit 2) before the window shows anything.
+    if (renderMode_ == render::RenderMode::Surface) makeSurface();
     resetSimulation();
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
@@ -168,7 +172,7 @@ class Viewer {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
-                "S step, R reset, +/- speed, C colour, T throw a snowball, F reframe, Q quit\n",
+                "S step, R reset, +/- speed, C colour, V particles/surface, T throw a snowball, F reframe, Q quit\n",
                 scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(seeds_.size()).c_str());
   }
 
@@ -190,7 +194,7 @@ class Viewer {
       // A minimised window has no pixels to draw into.
       if (framebufferPx.x > 0 && framebufferPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        renderer_.draw(*simulation_, orbit_.camera(), framebufferPx, colorMode_);
+        renderer_.draw(*simulation_, orbit_.camera(), framebufferPx, colorMode_, currentSurface());
       }
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
@@ -219,6 +223,35 @@ class Viewer {
                                                seeds_.size() + kSnowballCapacity * snowballTemplate_.size());
     accumulator_.reset();
     unstable_ = false;
+    surfaceIsCurrent_ = false;
+  }
+
+  void makeSurface() { surface_ = std::make_unique<surface::SurfaceReconstruction>(scene_, seeds_, gl_); }
+
+  // In surface mode, the surface of the particles as they are, rebuilt when they or the colours changed.
+  const surface::SurfaceReconstruction* currentSurface() {
+    if (renderMode_ != render::RenderMode::Surface) return nullptr;
+    const SurfaceKey key{simulation_->stepCount(), simulation_->particleCount(), colorMode_};
+    if (!surfaceIsCurrent_ || !(key == surfaceKey_)) {
+      surface_->reconstruct(*simulation_, renderer_.particleColors(*simulation_, colorMode_));
+      surfaceKey_ = key;
+      surfaceIsCurrent_ = true;
+    }
+    return surface_.get();
+  }
+
+  void switchRenderMode() {
+    if (renderMode_ == render::RenderMode::Surface) {
+      renderMode_ = render::RenderMode::Particles;
+      return;
+    }
+    try {
+      if (!surface_) makeSurface();
+      renderMode_ = render::RenderMode::Surface;
+      surfaceIsCurrent_ = false;
+    } catch (const InputError& error) {
+      std::fprintf(stderr, "firn view: no surface: %s\n", error.what());
+    }
   }
 
   // Takes `steps` steps of dt, then reads the watchdog; a scripted run stops on instability, an interactive
@@ -247,10 +280,11 @@ class Viewer {
     char text[512];
     const double stepsPerS = stepsSinceTitle_ / intervalS;
     std::snprintf(text, sizeof text,
-                  "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | colour: %s%s",
+                  "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | %s, colour: %s%s",
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
                   withThousands(simulation_->particleCount()).c_str(), simulation_->timeS(), speed_,
-                  render::colorModeName(colorMode_), unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
+                  render::renderModeName(renderMode_), render::colorModeName(colorMode_),
+                  unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
     glfwSetWindowTitle(window_, text);
     stepsSinceTitle_ = 0;
   }
@@ -276,6 +310,7 @@ class Viewer {
         colorMode_ = render::ColorMode(next);
         break;
       }
+      case GLFW_KEY_V: switchRenderMode(); break;
       case GLFW_KEY_T: throwSnowball(); break;
       case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect()), scene_); break;
       default: break;
@@ -364,6 +399,19 @@ class Viewer {
   OrbitCamera orbit_;
   StepAccumulator accumulator_;
   render::ColorMode colorMode_;
+  render::RenderMode renderMode_;
+  // The surface (made when first drawn) and what it was last rebuilt from.
+  struct SurfaceKey {
+    std::uint64_t step;
+    std::size_t particles;
+    render::ColorMode colorMode;
+    bool operator==(const SurfaceKey& other) const {
+      return step == other.step && particles == other.particles && colorMode == other.colorMode;
+    }
+  };
+  std::unique_ptr<surface::SurfaceReconstruction> surface_;
+  SurfaceKey surfaceKey_{0, 0, render::ColorMode::Material};
+  bool surfaceIsCurrent_ = false;
   bool paused_ = false;
   bool unstable_ = false;
   int pendingSingleSteps_ = 0;

@@ -16,6 +16,7 @@ struct ViewOptions {
   int widthPx = 1280;
   int heightPx = 720;
   render::ColorMode colorMode = render::ColorMode::Material;
+  render::RenderMode renderMode = render::RenderMode::Particles;  // V switches
   std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
 };
 

@@ -166,6 +166,9 @@ int main(int argc, char** argv) {
       {"plastic", firn::render::ColorMode::PlasticCompression},
       {"stress", firn::render::ColorMode::Stress}};
   const char* colorHelp = "Particle colour: material, speed, plastic (compression J_P) or stress";
+  const std::map<std::string, firn::render::RenderMode> renderModes = {
+      {"particles", firn::render::RenderMode::Particles}, {"surface", firn::render::RenderMode::Surface}};
+  const char* renderHelp = "Draw the snow as its particles or as its surface (rebuilt each frame on the GPU)";
   const char* sceneHelp = "Scene file (JSON); without it, the built-in snowball-at-a-wall scene";
 
   std::string scenePath;
@@ -173,7 +176,9 @@ int main(int argc, char** argv) {
   std::string outputDir = runOptions.outputDir.string();
   std::string videoPath;
   bool noPly = false;
-  CLI::App* run = app.add_subcommand("run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames");
+  CLI::App* run = app.add_subcommand(
+      "run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames, and if asked pictures, surface meshes "
+             "and VDB caches");
   run->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
   run->add_option("--frames", runOptions.frames, "Number of frames after frame 0 (default: the scene's time.frames)")
       ->check(CLI::Range(0, 1000000));
@@ -189,6 +194,13 @@ int main(int argc, char** argv) {
   run->add_option("--color", runOptions.colorMode, colorHelp)
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
       ->default_str("material");
+  run->add_option("--render", runOptions.renderMode, renderHelp)
+      ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
+      ->default_str("particles");
+  run->add_flag("--mesh", runOptions.writeMesh,
+                "Also write the snow's surface as frame_NNNN_surface.ply (binary PLY: vertices with normals, triangles)");
+  run->add_flag("--vdb", runOptions.writeVdb,
+                "Also write frame_NNNN.vdb (OpenVDB): a density grid and a level set of the snow's surface");
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
   run->add_option("--checkpoint-every", runOptions.checkpointEvery,
                   "Write checkpoint_NNNN.firn (the complete state) every K frames")
@@ -214,6 +226,9 @@ int main(int argc, char** argv) {
   view->add_option("--color", viewOptions.colorMode, colorHelp)
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
       ->default_str("material");
+  view->add_option("--render", viewOptions.renderMode, renderHelp)
+      ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
+      ->default_str("particles");
 
   VoxelizeOptions voxelizeOptions;
   std::vector<double> rotateDeg, translateM;

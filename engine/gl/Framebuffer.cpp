@@ -145,6 +145,12 @@ void VertexArray::setFloatAttribute(GLuint location, const Buffer& buffer, int c
   glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
+void VertexArray::setIndexBuffer(const Buffer& buffer) {
+  glBindVertexArray(id_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffer.id());
+  glBindVertexArray(0);
+}
+
 GLuint VertexArray::release() { return std::exchange(id_, 0); }
 
 }  // namespace firn::gl

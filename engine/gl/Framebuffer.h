@@ -52,6 +52,7 @@ class Framebuffer {
   Framebuffer& operator=(const Framebuffer&) = delete;
 
   GLuint id() const { return id_; }
+  explicit operator bool() const { return id_ != 0; }
   glm::ivec2 size() const { return color_.size(); }
   const Texture2D& color() const { return color_; }
 
@@ -93,6 +94,9 @@ class VertexArray {
   // starting at `offsetBytes`. The array keeps a reference to the buffer: it must outlive the array's use.
   void setFloatAttribute(GLuint location, const Buffer& buffer, int components, std::size_t strideBytes,
                          std::size_t offsetBytes);
+  // Draws with glDrawElements take their indices from `buffer` (GL_ELEMENT_ARRAY_BUFFER, part of the array's
+  // state), which must outlive the array's use.
+  void setIndexBuffer(const Buffer& buffer);
 
   GLuint release();
 

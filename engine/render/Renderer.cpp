@@ -62,6 +62,8 @@ float speedScale(const Scene& scene) {
 
 }  // namespace
 
+const char* renderModeName(RenderMode mode) { return mode == RenderMode::Surface ? "surface" : "particles"; }
+
 const char* colorModeName(ColorMode mode) {
   switch (mode) {
     case ColorMode::Material: return "material";
@@ -71,13 +73,6 @@ const char* colorModeName(ColorMode mode) {
   }
   return "unknown";
 }
-
-struct Renderer::FrameView {
-  glm::mat4 view;
-  glm::mat4 projection;
-  glm::vec2 viewportPx;
-  glm::vec3 cameraPositionM;
-};
 
 Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
   // One entry per entry of the simulation's material table (particles carry that index): the scene's materials,
@@ -106,6 +101,7 @@ Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleM
   buildGeometry(scene);
   const int shadowTexels = shadowTextureSize(scene, ground_.quad.halfSizeM);
   groundShadow_ = gl::Framebuffer(glm::ivec2(shadowTexels), GL_R16F, false);
+  glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &maxWorkGroupsX_);
 }
 
 void Renderer::buildPrograms() {
@@ -125,6 +121,12 @@ void Renderer::buildPrograms() {
   colliderShadowProgram_ =
       gl::Program::graphics(library, "render/collider_shadow.vert", "render/collider_shadow.frag", options);
   lineProgram_ = gl::Program::graphics(library, "render/lines.vert", "render/lines.frag", options);
+  snowSurfaceProgram_ = gl::Program::graphics(library, "render/snow_surface.vert", "render/snow_surface.frag", options);
+  snowShadowMapProgram_ =
+      gl::Program::graphics(library, "render/snow_shadow_map.vert", "render/snow_shadow_map.frag", options);
+  snowGroundShadowProgram_ =
+      gl::Program::graphics(library, "render/snow_ground_shadow.vert", "render/collider_shadow.frag", options);
+  particleColorPass_ = ComputePass(library, "render/particle_colors.comp", options, ComputePass::Dispatch::Particles);
 }
 
 void Renderer::buildGeometry(const Scene& scene) {
@@ -196,19 +198,24 @@ void Renderer::setGround(const gl::Program& program, const PlaneQuad& ground) co
   program.set("groundHalfSizeM", ground.halfSizeM);
 }
 
-void Renderer::draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode) {
+void Renderer::draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
+                    const surface::SurfaceReconstruction* snowSurface) {
   simulation.bindParticleBuffers();
-  draw(simulation.particleCount(), simulation.timeS(), camera, viewportPx, mode);
+  draw(simulation.particleCount(), simulation.timeS(), camera, viewportPx, mode, snowSurface);
 }
 
 void Renderer::draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx,
-                    ColorMode mode) {
+                    ColorMode mode, const surface::SurfaceReconstruction* snowSurface) {
   if (viewportPx.x <= 0 || viewportPx.y <= 0) return;  // a minimised window
   const GLuint target = gl::Framebuffer::boundForDrawing();
   // The particles were last written by compute passes; vertex shaders read them as storage buffers.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   const PlaneQuad ground = groundAt(timeS);
-  castGroundShadow(particleCount, timeS, ground);
+  castGroundShadow(snowSurface != nullptr ? 0 : particleCount, timeS, ground);
+  if (snowSurface != nullptr) {
+    castSnowGroundShadow(*snowSurface, ground);
+    renderSnowShadowMap(*snowSurface);
+  }
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(0, 0, viewportPx.x, viewportPx.y);
@@ -219,7 +226,11 @@ void Renderer::draw(std::size_t particleCount, double timeS, const Camera& camer
   const FrameView view{camera.view(), camera.projection(aspect), glm::vec2(viewportPx), camera.positionM};
   drawSky(view);
   drawSurfaces(view, timeS, ground);
-  drawParticles(view, particleCount, mode);
+  if (snowSurface != nullptr) {
+    drawSnowSurface(view, *snowSurface);
+  } else {
+    drawParticles(view, particleCount, mode);
+  }
   drawDomainEdges(view);
 
   glDisable(GL_BLEND);
@@ -304,12 +315,17 @@ void Renderer::drawParticles(const FrameView& view, std::size_t particleCount, C
   particleProgram_.use();
   setView(particleProgram_, view);
   particleProgram_.set("maxPointSizePx", maxPointSizePx_);
-  particleProgram_.set("colorMode", static_cast<int>(mode));
-  particleProgram_.set("materialColorSrgb", materialColors_);
-  particleProgram_.set("materialProperties", materialProperties_);
-  particleProgram_.set("speedScaleMPerS", speedScaleMPerS_);
+  setAppearance(particleProgram_, mode);
   noAttributes_.bind();
   glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(particleCount));
+}
+
+// The uniforms of render/particle_appearance.glsl.
+void Renderer::setAppearance(const gl::Program& program, ColorMode mode) const {
+  program.set("colorMode", static_cast<int>(mode));
+  program.set("materialColorSrgb", materialColors_);
+  program.set("materialProperties", materialProperties_);
+  program.set("speedScaleMPerS", speedScaleMPerS_);
 }
 
 void Renderer::drawDomainEdges(const FrameView& view) {
@@ -327,12 +343,13 @@ void Renderer::drawDomainEdges(const FrameView& view) {
 
 OffscreenRenderer::OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx) : renderer_(scene), target_(sizePx) {}
 
-Image OffscreenRenderer::render(const Simulation& simulation, const Camera& camera, ColorMode mode) {
+Image OffscreenRenderer::render(const Simulation& simulation, const Camera& camera, ColorMode mode,
+                                const surface::SurfaceReconstruction* snowSurface) {
   const GLuint previousTarget = gl::Framebuffer::boundForDrawing();
   GLint previousViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, previousViewport);
   target_.bind();
-  renderer_.draw(simulation, camera, size(), mode);
+  renderer_.draw(simulation, camera, size(), mode, snowSurface);
   Image image{size().x, size().y, target_.readColorRgba8()};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, previousTarget);
   glViewport(previousViewport[0], previousViewport[1], previousViewport[2], previousViewport[3]);

@@ -1,7 +1,7 @@
 #pragma once
-// The point-sprite renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's
-// buffers as lit sphere impostors, the colliders, the ground with the particles' soft shadow, the domain's
-// edges; and offscreen capture into an Image.
+// The renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's buffers as
+// lit sphere impostors, or the snow's reconstructed surface drawn from the GPU's mesh (SnowSurface.cpp); the
+// colliders, the ground with the snow's soft shadow, the domain's edges; and offscreen capture into an Image.
 #include <cstddef>
 #include <iterator>
 #include <vector>
@@ -17,7 +17,9 @@
 #include "render/Geometry.h"
 #include "render/Image.h"
 #include "scene/Scene.h"
+#include "sim/ComputePass.h"
 #include "sim/Simulation.h"
+#include "surface/SurfaceReconstruction.h"
 
 namespace firn::render {
 
@@ -33,6 +35,11 @@ constexpr int kColorModeCount = static_cast<int>(std::size(kColorModes));
 // A short name for a user interface: "material", "speed", "plastic compression", "stress".
 const char* colorModeName(ColorMode mode);
 
+// How snow is drawn: each particle as a lit sphere, or the surface reconstructed from them (engine/surface,
+// docs/surfaces.md), lit as snow and shadowed by itself.
+enum class RenderMode { Particles, Surface };
+const char* renderModeName(RenderMode mode);  // "particles", "surface"
+
 class Renderer {
  public:
   // Builds the programs (from the embedded shaders, for this scene's materials) and the collider geometry.
@@ -43,15 +50,24 @@ class Renderer {
   // (0, 0)–viewportPx: sky, colliders where they are at the simulation's time, the ground with its shadow,
   // the particles read in place from the simulation's buffers, the domain's edges. Colours are written
   // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off.
-  void draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode);
+  // With `snowSurface` (reconstructed from the simulation's particles as they are, with particleColors' colours
+  // for `mode`) the snow is drawn as that surface instead of its particles.
+  void draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
+            const surface::SurfaceReconstruction* snowSurface = nullptr);
   // The same for the first `particleCount` particles of whatever buffers are bound at the particle binding
   // points (gpu::PositionMass, VelocityVolume, PlasticState, KirchhoffStress), with colliders at `timeS`.
   // With no particles it draws the scene without them.
-  void draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode);
+  void draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
+            const surface::SurfaceReconstruction* snowSurface = nullptr);
 
   // The speed at the top of the speed colour map (m/s): the fastest initial body or collider, or the speed
   // of a fall through the domain's height, whichever is larger.
   float speedScaleMPerS() const { return speedScaleMPerS_; }
+
+  // Each of the simulation's particles' linear albedo in colour mode `mode` (a vec4 per particle, computed on the
+  // GPU), for SurfaceReconstruction::reconstruct to carry onto the surface; null when every particle has the same
+  // colour (one material's, in material mode), which the renderer then gives the whole surface without a splat.
+  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode);
 
  private:
   struct SurfaceDraw {
@@ -64,7 +80,12 @@ class Renderer {
     bool isGround;
     bool castsShadow;     // spheres and boxes
   };
-  struct FrameView;
+  struct FrameView {
+    glm::mat4 view;
+    glm::mat4 projection;
+    glm::vec2 viewportPx;
+    glm::vec3 cameraPositionM;
+  };
 
   void buildPrograms();
   void buildGeometry(const Scene& scene);
@@ -76,6 +97,13 @@ class Renderer {
   void drawSurfaces(const FrameView& view, double timeS, const PlaneQuad& ground);
   void drawParticles(const FrameView& view, std::size_t particleCount, ColorMode mode);
   void drawDomainEdges(const FrameView& view);
+  void setAppearance(const gl::Program& program, ColorMode mode) const;
+  // The snow's surface (SnowSurface.cpp): its shadow on the ground, its shadow map, and the surface itself.
+  void castSnowGroundShadow(const surface::SurfaceReconstruction& snowSurface, const PlaneQuad& ground);
+  void renderSnowShadowMap(const surface::SurfaceReconstruction& snowSurface);
+  void drawSnowSurface(const FrameView& view, const surface::SurfaceReconstruction& snowSurface);
+  void drawSnowTriangles(const surface::SurfaceReconstruction& snowSurface);
+  void setShadowBox(const gl::Program& program, const surface::SurfaceReconstruction& snowSurface) const;
 
   gl::Program skyProgram_;
   gl::Program surfaceProgram_;
@@ -83,6 +111,11 @@ class Renderer {
   gl::Program particleShadowProgram_;
   gl::Program colliderShadowProgram_;
   gl::Program lineProgram_;
+  gl::Program snowSurfaceProgram_;
+  gl::Program snowShadowMapProgram_;
+  gl::Program snowGroundShadowProgram_;
+  ComputePass particleColorPass_;  // render/particle_colors.comp
+  PassTimer particleColorTimer_;   // not switched on: ComputePass dispatches through one
 
   gl::VertexArray noAttributes_;  // for the draws that read no vertex attributes
   gl::Buffer surfaceVertices_;
@@ -94,6 +127,10 @@ class Renderer {
 
   Ground ground_;
   gl::Framebuffer groundShadow_;  // optical depth of the key light's shadow over the ground quad
+  gl::Framebuffer snowShadowMap_;  // depth towards the key light of the snow's surface (render/shadow_map.glsl)
+  gl::VertexArray snowArray_;      // the snow's index buffer, no attributes
+  gl::Buffer particleColors_;      // particleColors()'s
+  GLint maxWorkGroupsX_ = 65535;
   std::vector<glm::vec4> materialColors_;      // sRGB palette colour, 1
   std::vector<glm::vec4> materialProperties_;  // 1 / Young's modulus (1/Pa), 1 / rest density (m³/kg)
   float speedScaleMPerS_ = 1;
@@ -105,7 +142,12 @@ class OffscreenRenderer {
  public:
   OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx);
   // One picture of the simulation's current state; leaves the bound framebuffer and viewport as they were.
-  Image render(const Simulation& simulation, const Camera& camera, ColorMode mode);
+  // With `snowSurface`, the snow as that surface (Renderer::draw).
+  Image render(const Simulation& simulation, const Camera& camera, ColorMode mode,
+               const surface::SurfaceReconstruction* snowSurface = nullptr);
+  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode) {
+    return renderer_.particleColors(simulation, mode);
+  }
   glm::ivec2 size() const { return target_.size(); }
 
  private:

@@ -16,9 +16,12 @@
 #include "io/Checkpoint.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
+#include "io/SurfaceMesh.h"
+#include "io/Vdb.h"
 #include "io/Video.h"
 #include "run/Preflight.h"
 #include "sim/Simulation.h"
+#include "surface/SurfaceReconstruction.h"
 
 namespace firn {
 
@@ -28,12 +31,21 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// <prefix>_NNNN.<extension>: frame_0001.ply, frame_0001.png, checkpoint_0010.firn, the names
+// <prefix>_NNNN<suffix>: frame_0001.ply, frame_0001.png, frame_0001_surface.ply, checkpoint_0010.firn, the names
 // docs/command-line.md gives the outputs (and assembleVideo reads).
-std::string numberedFileName(const char* prefix, int frame, const char* extension) {
+std::string numberedFileName(const char* prefix, int frame, const char* suffix) {
   char name[64];
-  std::snprintf(name, sizeof name, "%s_%04d.%s", prefix, frame, extension);
+  std::snprintf(name, sizeof name, "%s_%04d%s", prefix, frame, suffix);
   return name;
+}
+
+void logPassTimes(const std::vector<PassTimer::PassTime>& passes, double steps, std::ostream& log) {
+  for (const PassTimer::PassTime& pass : passes) {
+    char row[128];
+    std::snprintf(row, sizeof row, "  %-30s GPU %9.3f ms   wall %9.3f ms\n", pass.pass.c_str(), pass.totalMs / steps,
+                  pass.totalWallMs / steps);
+    log << row;
+  }
 }
 
 PointCache toPointCache(const ParticleSnapshot& particles) {
@@ -100,6 +112,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   const std::vector<ParticleSeed> seeds = sampleBodies(scene);
   // Before any GL work: a scene that cannot run says so at once (exit 2).
   const PreflightReport preflightReport = preflight(scene, seeds);
+  const bool surfacePictures =
+      (options.writePng || !options.videoPath.empty()) && options.renderMode == render::RenderMode::Surface;
+  const bool withSurface = surfacePictures || options.writeMesh || options.writeVdb;
+  std::optional<surface::KernelRange> kernels;
+  if (withSurface) kernels = surface::checkKernelRange(scene, seeds);
   gl::HeadlessContext context;
   Simulation simulation(scene, seeds, context.info());
   log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
@@ -115,6 +132,14 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     pictures.emplace(scene, options.imageSizePx);
     camera = render::defaultCamera(scene, float(options.imageSizePx.x) / float(options.imageSizePx.y));
   }
+  std::optional<surface::SurfaceReconstruction> snowSurface;
+  if (withSurface) {
+    snowSurface.emplace(scene, seeds, context.info());
+    snowSurface->setPassTiming(options.passTimes);
+    log << "firn: surface: nodes " << kernels->cellM << " m apart (grid.cell_size / " << scene.surface.resolution
+        << "), kernel radius " << kernels->smallestM << "–" << kernels->largestM << " m (" << scene.surface.smoothing
+        << " particle spacings), iso " << scene.surface.iso << "\n";
+  }
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
@@ -128,10 +153,26 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.solverIterations = solves.mostIterations;
     row.solverResidual = solves.largestResidual;
     stats.write(row);
-    if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, "ply"), toPointCache(particles));
+    if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
+    if (snowSurface) {
+      snowSurface->reconstruct(simulation,
+                               surfacePictures ? pictures->particleColors(simulation, options.colorMode) : nullptr);
+      if (options.writeMesh || options.writeVdb) {
+        VdbFrame cache;
+        cache.isoLevel = float(scene.surface.iso);
+        cache.surface = snowSurface->readMesh();
+        cache.frame = frame;
+        cache.timeS = simulation.timeS();
+        if (options.writeMesh) writeMeshPly(options.outputDir / numberedFileName("frame", frame, "_surface.ply"), cache.surface);
+        if (options.writeVdb) {
+          cache.density = snowSurface->readDensity();
+          writeVdb(options.outputDir / numberedFileName("frame", frame, ".vdb"), cache);
+        }
+      }
+    }
     if (pictures) {
-      render::writePng(options.outputDir / numberedFileName("frame", frame, "png"),
-                       pictures->render(simulation, camera, options.colorMode));
+      render::writePng(options.outputDir / numberedFileName("frame", frame, ".png"),
+                       pictures->render(simulation, camera, options.colorMode, surfacePictures ? &*snowSurface : nullptr));
     }
   };
 
@@ -157,7 +198,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     summary.steps += static_cast<std::uint64_t>(steps);
     writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
     if (options.checkpointEvery > 0 && frame % options.checkpointEvery == 0) {
-      writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, "firn"),
+      writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, ".firn"),
                       simulation.checkpoint(frame));
     }
     summary.frames = frame;
@@ -170,12 +211,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   if (options.showProgress) std::fprintf(stderr, "\n");
   if (options.passTimes) {
     log << "firn: time per pass (GPU: GL_TIME_ELAPSED; wall: dispatch to glFinish), mean over " << summary.steps << " steps:\n";
-    for (const Simulation::PassTime& pass : simulation.passTimes()) {
-      char row[128];
-      const double steps = double(std::max<std::uint64_t>(summary.steps, 1));
-      std::snprintf(row, sizeof row, "  %-26s GPU %9.3f ms   wall %9.3f ms\n", pass.pass.c_str(), pass.totalMs / steps,
-                    pass.totalWallMs / steps);
-      log << row;
+    logPassTimes(simulation.passTimes(), double(std::max<std::uint64_t>(summary.steps, 1)), log);
+    if (snowSurface) {
+      const int framesWritten = summary.frames - summary.firstFrame + 1;
+      log << "firn: the surface's passes, mean over " << framesWritten << " frames:\n";
+      logPassTimes(snowSurface->passTimes(), double(framesWritten), log);
     }
   }
   if (!options.videoPath.empty()) {

@@ -1,5 +1,6 @@
 #pragma once
-// `firn run`: a scene simulated headless, writing stats.csv and PLY frames.
+// `firn run`: a scene simulated headless, writing stats.csv, PLY frames and, if asked, pictures, the snow's surface
+// as meshes and VDB caches.
 #include <filesystem>
 #include <iosfwd>
 #include <cstdint>
@@ -22,6 +23,9 @@ struct RunOptions {
   bool writePng = false;           // render each frame offscreen to frame_NNNN.png
   glm::ivec2 imageSizePx{1280, 720};
   render::ColorMode colorMode = render::ColorMode::Material;
+  render::RenderMode renderMode = render::RenderMode::Particles;  // the pictures' snow: particles or its surface
+  bool writeMesh = false;          // the snow's surface as frame_NNNN_surface.ply
+  bool writeVdb = false;           // the snow as frame_NNNN.vdb: density and a level set of its surface
   std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg
   int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
   std::filesystem::path resumePath;  // non-empty: continue from this checkpoint (of the same scene)

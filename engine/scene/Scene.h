@@ -176,6 +176,16 @@ struct Collider {
   Boundary boundary = Boundary::Slip;
 };
 
+// How the snow's surface is reconstructed from the particles (docs/surfaces.md): for `--render surface`, `--mesh`
+// and `--vdb`. The field is the particles' volume fraction smoothed by a kernel of `smoothing` particle spacings
+// (each particle's V^(1/3)), sampled on nodes `resolution` times finer than the simulation's cells, and the
+// surface is where it crosses `iso`.
+struct SurfaceSpec {
+  double resolution = 2;  // reconstruction cells per simulation cell, per axis
+  double smoothing = 3;   // the kernel's support radius over the particle's spacing V^(1/3)
+  double iso = 0.5;       // the volume fraction on the surface: ½ puts a flat edge where the particles' cells end
+};
+
 // Where pictures are taken from (`firn run --png`, the viewer's starting view).
 struct CameraSpec {
   glm::dvec3 positionM{0.0};
@@ -195,6 +205,7 @@ struct Scene {
   std::vector<Body> bodies;
   std::vector<Collider> colliders;
   std::optional<CameraSpec> camera;  // absent: the renderer frames the scene itself
+  SurfaceSpec surface;
 
   glm::dvec3 domainMinM() const { return grid.originM; }
   glm::dvec3 domainMaxM() const { return grid.originM + glm::dvec3(grid.cells) * grid.cellSizeM; }

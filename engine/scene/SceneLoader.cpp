@@ -108,7 +108,9 @@ CameraSpec readCamera(const Object& camera) {
 
 Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   root.checkKeys(
-      {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders", "camera"}, {},
+      {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders", "camera",
+       "surface"},
+      {},
       "a scene");
   Scene scene;
   scene.name = root.string("name", scene.name);
@@ -137,6 +139,7 @@ Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
     }
   }
   if (const auto camera = root.optional("camera")) scene.camera = readCamera(Object(*camera));
+  if (const auto surface = root.optional("surface")) scene.surface = readSurface(Object(*surface));
   return scene;
 }
 

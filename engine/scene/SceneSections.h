@@ -1,7 +1,7 @@
 #pragma once
 // The readers of the scene file's larger sections (docs/scene-format.md), each in a file of its own:
-// SceneMaterials.cpp, SceneBodies.cpp and SceneColliders.cpp. SceneLoader.cpp reads the top level and the small
-// sections (grid, time, solver, camera) and calls these. Internal to engine/scene.
+// SceneMaterials.cpp, SceneBodies.cpp, SceneColliders.cpp and SceneSurface.cpp. SceneLoader.cpp reads the top
+// level and the small sections (grid, time, solver, camera) and calls these. Internal to engine/scene.
 #include <filesystem>
 #include <vector>
 
@@ -21,6 +21,9 @@ Body readBody(const json::Object& body, const GridSpec& grid, const std::vector<
 
 // One element of "colliders".
 Collider readCollider(const json::Object& collider);
+
+// "surface": the reconstruction of the snow's surface (SceneSurface.cpp).
+SurfaceSpec readSurface(const json::Object& surface);
 
 // Box bodies and box colliders alike.
 inline void checkBoxCorners(const json::Object& box, const glm::dvec3& minM, const glm::dvec3& maxM) {

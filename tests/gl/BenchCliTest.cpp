@@ -41,12 +41,14 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       {"passes.csv", {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
       {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
-      {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
-                        "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
-                        "ms_per_simulated_second", "period_s", "error"}},
+      {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio",
+                        "atomics", "dt_s", "dt_fraction", "particles_per_cell", "cell_size_m", "particles", "steps",
+                        "ms_per_step", "ms_per_simulated_second", "period_s", "error"}},
       {"stiff.csv", {"configuration", "youngs_modulus_pa", "integrator", "dt_s", "dt_over_elastic_bound",
                      "tolerance", "max_iterations", "particles", "simulated_s", "steps", "ms_per_step",
                      "ms_per_simulated_second", "cost_over_explicit", "mean_iterations"}},
+      {"surface.csv", {"series", "particles", "resolution", "smoothing", "grid_nodes", "grid_mib", "vertices",
+                       "triangles", "repeats", "surface_ms"}},
   };
   for (const auto& [file, columns] : leadingColumns) {
     const auto rows = readCsv(out / file);
@@ -65,7 +67,8 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
     }
   }
   // Every configuration of the tiny sizes runs on llvmpipe: each row says "ok" and has its time.
-  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv", "stiff.csv"}) {
+  for (const std::string file :
+       {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv", "stiff.csv", "surface.csv"}) {
     const auto rows = readCsv(out / file);
     std::size_t status = 0, time = 0;
     for (std::size_t c = 0; c < rows[0].size(); ++c) {

@@ -11,6 +11,7 @@
 #include "GlTest.h"
 #include "gl/Program.h"
 #include "sim/GpuLayout.h"
+#include "surface/SurfaceLayout.h"
 
 namespace {
 
@@ -54,6 +55,10 @@ std::vector<SharedStruct> sharedStructs() {
       // The slots follow the block table's header.
       {"common/blocks.glsl", GL_BUFFER_VARIABLE, "slots[0].", FIRN_MEMBER_LIST(BlockSlot, FIRN_BLOCK_SLOT),
        sizeof(BlockTableHeader)},
+      // The surface reconstruction's (shaders/surface/surface_contract.h).
+      {"surface/surface_common.glsl", GL_UNIFORM, "", FIRN_MEMBER_LIST(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)},
+      {"surface/header.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SurfaceHeader, FIRN_SURFACE_HEADER)},
+      {"surface/vertices.glsl", GL_BUFFER_VARIABLE, "vertices[0].", FIRN_MEMBER_LIST(SurfaceVertex, FIRN_SURFACE_VERTEX)},
   };
 }
 
@@ -118,7 +123,8 @@ TEST(GpuContract, ArraysStrideAsTheHostWritesThem) {
   } arrays[] = {{"common/bindings.glsl", "materials[0].elastic", sizeof(MaterialParams)},
                 {"common/particles.glsl", "plasticState[0].plasticJ", sizeof(ParticlePlasticState)},
                 {"common/colliders.glsl", "colliders[0].geometryA", sizeof(ColliderParams)},
-                {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)}};
+                {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)},
+                {"surface/vertices.glsl", "vertices[0].positionM", sizeof(SurfaceVertex)}};
   for (const auto& array : arrays) {
     const std::vector<GLint> values = properties(probe(array.include, {array.name}), GL_BUFFER_VARIABLE, array.name);
     ASSERT_FALSE(values.empty()) << array.name;
@@ -178,6 +184,12 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       {"common/blocks.glsl", "particleRanks[0]", GL_SHADER_STORAGE_BLOCK, "ParticleRankBuffer",
        FIRN_BINDING_PARTICLE_RANKS, 0},
       {"common/blocks.glsl", "tileOrder[0]", GL_SHADER_STORAGE_BLOCK, "TileOrderBuffer", FIRN_BINDING_TILE_ORDER, 0},
+      {"surface/surface_common.glsl", "nodeCounts", GL_UNIFORM_BLOCK, "SurfaceUniformsBlock",
+       FIRN_BINDING_SURFACE_UNIFORMS, sizeof(SurfaceUniforms)},
+      {"surface/header.glsl", "kernelNodesMin", GL_SHADER_STORAGE_BLOCK, "SurfaceHeaderBuffer",
+       FIRN_BINDING_SURFACE_HEADER, sizeof(SurfaceHeader)},
+      {"surface/vertices.glsl", "vertices[0].normal", GL_SHADER_STORAGE_BLOCK, "SurfaceVertexBuffer",
+       FIRN_BINDING_SURFACE_VERTICES, 0},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});

@@ -120,17 +120,21 @@ TEST(Viewer, RunsUnderXvfbAndWritesANonBlankScreenshot) {
   const fs::path scene = writeScene(folder, "ball.json", kBallScene);
   const fs::path screenshot = folder / "view.png";
   const std::string xvfb = "xvfb-run -a -s '-screen 0 1280x720x24'";
-  const Result result = runFirn("view " + scene.string() + " --frames 10 --width 320 --height 240 --screenshot " +
-                                    screenshot.string(),
-                                xvfb);
-  ASSERT_EQ(result.exitCode, 0) << result.output;
-  EXPECT_NE(result.output.find("10 frames"), std::string::npos) << result.output;
-  const Picture picture = readPicture(screenshot);
-  ASSERT_EQ(picture.width, 320);
-  ASSERT_EQ(picture.height, 240);
-  // The viewer starts from the scene's camera, so the ball fills the same share as offscreen (see above).
-  EXPECT_GT(picture.snowFraction, 0.06);
-  EXPECT_LT(picture.snowFraction, 0.14);
+  for (const std::string render : {"particles", "surface"}) {
+    SCOPED_TRACE(render);
+    const Result result = runFirn("view " + scene.string() + " --render " + render +
+                                      " --frames 10 --width 320 --height 240 --screenshot " + screenshot.string(),
+                                  xvfb);
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_NE(result.output.find("10 frames"), std::string::npos) << result.output;
+    const Picture picture = readPicture(screenshot);
+    ASSERT_EQ(picture.width, 320);
+    ASSERT_EQ(picture.height, 240);
+    // The viewer starts from the scene's camera, so the ball fills the same share as offscreen (see above), as
+    // particles or as its surface (--render surface, which the V key switches to).
+    EXPECT_GT(picture.snowFraction, 0.06);
+    EXPECT_LT(picture.snowFraction, 0.14);
+  }
 }
 
 // A scripted snowball (--throw-at, as the T key): the particle count grows by one snowball.

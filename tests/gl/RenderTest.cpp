@@ -21,6 +21,7 @@
 #include "render/Renderer.h"
 #include "scene/Scene.h"
 #include "sim/Simulation.h"
+#include "surface/SurfaceReconstruction.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -83,12 +84,14 @@ int largestChannelDifference(const Pixel& a, const Pixel& b) {
   return std::max({std::abs(a.r - b.r), std::abs(a.g - b.g), std::abs(a.b - b.b)});
 }
 
-// Draws with `particleCount` particles (from the simulation's buffers when given) into a fresh framebuffer.
-Image renderFrame(Renderer& renderer, const Simulation* simulation, const Camera& camera, ColorMode mode) {
+// Draws with `particleCount` particles (from the simulation's buffers when given), or their surface, into a fresh
+// framebuffer.
+Image renderFrame(Renderer& renderer, const Simulation* simulation, const Camera& camera, ColorMode mode,
+                  const firn::surface::SurfaceReconstruction* snowSurface = nullptr) {
   firn::gl::Framebuffer target(kImageSize);
   target.bind();
   if (simulation != nullptr) {
-    renderer.draw(*simulation, camera, kImageSize, mode);
+    renderer.draw(*simulation, camera, kImageSize, mode, snowSurface);
   } else {
     renderer.draw(0, 0.0, camera, kImageSize, mode);
   }
@@ -132,7 +135,23 @@ struct Silhouette {
   double areaPx = 0;
   double perimeterPx = 0;
   glm::dvec2 minPx{0.0}, maxPx{0.0};
+  std::vector<glm::dvec2> hullPx;  // counter-clockwise in (x, y)
 };
+
+// Signed distance (px) from a point to a convex polygon's outline: negative inside.
+double signedDistanceToHull(const std::vector<glm::dvec2>& hull, const glm::dvec2& point) {
+  bool outside = false;
+  double nearest = 1e30;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const glm::dvec2 a = hull[i], b = hull[(i + 1) % hull.size()];
+    const glm::dvec2 edge = b - a;
+    const double along = glm::clamp(glm::dot(point - a, edge) / glm::dot(edge, edge), 0.0, 1.0);
+    nearest = std::min(nearest, glm::length(point - (a + along * edge)));
+    // Andrew's chain runs counter-clockwise in (x, y): the inside lies to the left of every edge.
+    outside = outside || edge.x * (point.y - a.y) - edge.y * (point.x - a.x) < 0;
+  }
+  return outside ? nearest : -nearest;
+}
 
 Silhouette boxSilhouette(const Camera& camera, const glm::dvec3& minM, const glm::dvec3& maxM) {
   std::vector<glm::dvec2> corners;
@@ -152,7 +171,19 @@ Silhouette boxSilhouette(const Camera& camera, const glm::dvec3& minM, const glm
     silhouette.maxPx = glm::max(silhouette.maxPx, a);
   }
   silhouette.areaPx = std::abs(silhouette.areaPx);
+  silhouette.hullPx = hull;
   return silhouette;
+}
+
+// How many pixels a metre across the view covers at the box's corner nearest the camera (where it covers most).
+double pixelsPerMetreAtNearestCorner(const Camera& camera, const glm::dvec3& minM, const glm::dvec3& maxM) {
+  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
+  double nearestM = 1e9;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 cornerM((i & 1) ? maxM.x : minM.x, (i & 2) ? maxM.y : minM.y, (i & 4) ? maxM.z : minM.z);
+    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
+  }
+  return focalPx / nearestM;
 }
 
 // Pixels the particles change: more than 8 of 255 in some channel. Rendering is deterministic (the picture
@@ -216,14 +247,7 @@ TEST_F(RenderTest, SnowBoxCoversItsProjectedSilhouette) {
 
   const Silhouette predicted = boxSilhouette(camera, boxMinM, boxMaxM);
   const Coverage measured = snowCoverage(snow, background);
-  const double focalPx = 0.5 * kImageSize.y / std::tan(glm::radians(double(camera.fovDeg)) / 2);
-  double nearestM = 1e9;
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 cornerM((i & 1) ? boxMaxM.x : boxMinM.x, (i & 2) ? boxMaxM.y : boxMinM.y,
-                             (i & 4) ? boxMaxM.z : boxMinM.z);
-    nearestM = std::min(nearestM, glm::length(cornerM - glm::dvec3(camera.positionM)));
-  }
-  const double spacingPx = kSpacingM * focalPx / nearestM;
+  const double spacingPx = kSpacingM * pixelsPerMetreAtNearestCorner(camera, boxMinM, boxMaxM);
   const double outlineTolerancePx = 0.37 * spacingPx + 1;
   const double imageArea = double(kImageSize.x) * kImageSize.y;
   ASSERT_GT(predicted.areaPx, 0.05 * imageArea) << "the box should fill a fair part of the picture";
@@ -245,6 +269,58 @@ TEST_F(RenderTest, SnowBoxCoversItsProjectedSilhouette) {
   EXPECT_GT(front.r, 170) << "bright: the sky behind has 127";
   EXPECT_GE(front.b, front.r) << "bluish";
   EXPECT_LT(front.b - front.r, 30) << "only slightly";
+}
+
+// The same box drawn as its surface (RenderMode::Surface) covers its projected silhouette. Its faces lie where the
+// particles' cells end: the volume fraction is ½ there (docs/surfaces.md), and the lattice fills this box exactly
+// (16 spacings a side), so no face moves outwards beyond the jitter's ±¼ s, which the kernel of radius R = 3 s
+// averages to a tenth of s. Its edges and corners are rounded: on an edge's bisector the fraction reaches ½ at
+// 0.15 R inside each face (the M4 kernel, integrated numerically), so the outline moves inwards by up to 0.15 R √2
+// = 0.21 R; on a corner's diagonal at 0.235 R inside each face, 0.41 R in all. With a pixel for sampling at pixel
+// centres: the snow's pixels differ from the projected area by perimeter × (0.21 R + 1 px) inwards and perimeter ×
+// (0.1 s + 1 px) outwards; no pixel deeper inside the outline than 0.41 R + 1 px shows the background, and none
+// farther outside it than 0.1 s + 1 px shows snow; lengths in pixels at the box's nearest corner. Measured: 9.6%
+// fewer pixels than projected, of a budget of 19%.
+TEST_F(RenderTest, SnowSurfaceOfABoxCoversItsProjectedSilhouette) {
+  const glm::dvec3 boxMinM(0.4, 0.5, 0.4), boxMaxM(0.6, 0.7, 0.6);
+  const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
+  const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  Simulation simulation(scene, seeds, gl());
+  Renderer renderer(scene);
+  firn::surface::SurfaceReconstruction surface(scene, seeds, gl());
+  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Material));
+  const Camera camera = cameraBelowBox();
+  const Image background = renderFrame(renderer, nullptr, camera, ColorMode::Material);
+  const Image snow = renderFrame(renderer, &simulation, camera, ColorMode::Material, &surface);
+
+  const Silhouette predicted = boxSilhouette(camera, boxMinM, boxMaxM);
+  const Coverage measured = snowCoverage(snow, background);
+  const double pxPerM = pixelsPerMetreAtNearestCorner(camera, boxMinM, boxMaxM);
+  const double kernelRadiusM = scene.surface.smoothing * kSpacingM;
+  const double inwardPx = 0.21 * kernelRadiusM * pxPerM + 1, outwardPx = 0.1 * kSpacingM * pxPerM + 1;
+  const double cornerInwardPx = 0.41 * kernelRadiusM * pxPerM + 1;
+  EXPECT_GT(measured.pixels, predicted.areaPx - predicted.perimeterPx * inwardPx);
+  EXPECT_LT(measured.pixels, predicted.areaPx + predicted.perimeterPx * outwardPx);
+  int uncoveredInside = 0, coveredOutside = 0, deepInside = 0;
+  for (int y = 0; y < kImageSize.y; ++y) {
+    for (int x = 0; x < kImageSize.x; ++x) {
+      const double distancePx = signedDistanceToHull(predicted.hullPx, {x + 0.5, y + 0.5});
+      const bool covered = largestChannelDifference(pixelAt(snow, x, y), pixelAt(background, x, y)) > kSnowThreshold;
+      deepInside += distancePx < -cornerInwardPx;
+      uncoveredInside += !covered && distancePx < -cornerInwardPx;
+      coveredOutside += covered && distancePx > outwardPx;
+    }
+  }
+  EXPECT_GT(deepInside, predicted.areaPx / 2) << "most of the silhouette is farther inside than the rounding";
+  EXPECT_EQ(uncoveredInside, 0);
+  EXPECT_EQ(coveredOutside, 0);
+
+  // The lit front face reads as snow: bright and a little blue, as the particles' does.
+  const Silhouette frontFace = boxSilhouette(camera, {boxMinM.x, boxMinM.y, boxMaxM.z}, boxMaxM);
+  const glm::dvec2 quarter = 0.25 * (frontFace.maxPx - frontFace.minPx);
+  const glm::dvec3 front = meanColor(snow, frontFace.minPx + quarter, frontFace.maxPx - quarter);
+  EXPECT_GT(front.r, 170) << "bright: the sky behind has 127";
+  EXPECT_GE(front.b, front.r) << "bluish";
 }
 
 // Without particles the picture is the sky, the ground and the colliders: every pixel opaque and finite
@@ -281,7 +357,8 @@ TEST_F(RenderTest, FrameWithoutParticlesShowsOnlyBackgroundAndColliders) {
 
 // Speed colouring tells a moving body from a still one that Material colouring shows alike: the still box
 // takes the bottom of viridis (dark purple), the box at 3 m/s (⅔ of the scale √(2 g · 1 m) = 4.4 m/s) its
-// green part. Compared over the inner half of each box's projected rectangle, away from edges.
+// green part, drawn as particles or as their surface. Compared over the inner half of each box's projected
+// rectangle, away from edges.
 TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
   const Scene scene = sceneFromJson("[" + box("[0.25, 0.5, 0.4]", "[0.45, 0.7, 0.6]") + ", " +
                                     box("[0.55, 0.5, 0.4]", "[0.75, 0.7, 0.6]", "[3, 0, 0]") + "]");
@@ -311,6 +388,15 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
   EXPECT_GT(moving.g, still.g + 60) << "viridis turns green with speed";
   EXPECT_GT(still.b, still.g) << "viridis starts purple";
   EXPECT_GT(glm::length(moving - still), 80);
+
+  // Drawn as their surface, the boxes carry the same colours: the particles' albedo interpolated onto it.
+  firn::surface::SurfaceReconstruction surface(scene, firn::sampleBodies(scene), gl());
+  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Speed));
+  const Image speedSurface = renderFrame(renderer, &simulation, camera, ColorMode::Speed, &surface);
+  const glm::dvec3 stillSurface = innerMean(speedSurface, stillMinM, stillMaxM);
+  const glm::dvec3 movingSurface = innerMean(speedSurface, movingMinM, movingMaxM);
+  EXPECT_GT(movingSurface.g, stillSurface.g + 60) << "viridis turns green with speed";
+  EXPECT_GT(stillSurface.b, stillSurface.g) << "viridis starts purple";
 }
 
 // writePng writes a PNG that a reader decodes to the same pixels, and a path it cannot write is an

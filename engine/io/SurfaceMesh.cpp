@@ -1,0 +1,54 @@
+#include "io/SurfaceMesh.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "io/AtomicFile.h"
+
+namespace firn {
+
+namespace {
+
+template <class T>
+void appendLittleEndian(std::string& out, T value) {
+  static_assert(sizeof(T) == 4, "PLY's float and uint are 4 bytes");
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  for (int byte = 0; byte < 4; ++byte) out.push_back(static_cast<char>((bits >> (8 * byte)) & 0xFFu));
+}
+
+}  // namespace
+
+void writeMeshPly(const std::filesystem::path& path, const SurfaceMesh& mesh) {
+  const std::size_t vertices = mesh.positionsM.size();
+  if (mesh.normals.size() != vertices) throw std::invalid_argument("writeMeshPly: positions and normals differ in count");
+  if (mesh.indices.size() % 3 != 0) throw std::invalid_argument("writeMeshPly: indices are not triangles");
+  std::string data = "ply\nformat binary_little_endian 1.0\ncomment written by Firn: the snow's surface\n"
+                     "element vertex " + std::to_string(vertices) + "\n"
+                     "property float x\nproperty float y\nproperty float z\n"
+                     "property float nx\nproperty float ny\nproperty float nz\n"
+                     "element face " + std::to_string(mesh.triangleCount()) + "\n"
+                     "property list uchar uint vertex_indices\nend_header\n";
+  data.reserve(data.size() + vertices * 24 + mesh.triangleCount() * 13);
+  for (std::size_t i = 0; i < vertices; ++i) {
+    const glm::vec3& p = mesh.positionsM[i];
+    const glm::vec3& n = mesh.normals[i];
+    for (const float value : {p.x, p.y, p.z, n.x, n.y, n.z}) {
+      if (!std::isfinite(value)) throw std::invalid_argument("writeMeshPly: vertex " + std::to_string(i) + " is not finite");
+      appendLittleEndian(data, value);
+    }
+  }
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    data.push_back(3);
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::uint32_t index = mesh.indices[3 * t + std::size_t(corner)];
+      if (index >= vertices) throw std::invalid_argument("writeMeshPly: triangle " + std::to_string(t) + " names no vertex");
+      appendLittleEndian(data, index);
+    }
+  }
+  writeFileAtomically(path, data, "surface mesh");
+}
+
+}  // namespace firn

@@ -1,0 +1,263 @@
+#include "surface/SurfaceReconstruction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "Error.h"
+#include "gl/ShaderLibrary.h"
+#include "scene/JsonChecker.h"
+#include "sim/Materials.h"
+#include "surface/MarchingCubes.h"
+#include "surface/SurfaceLayout.h"
+
+namespace firn::surface {
+
+namespace {
+
+// The storage binding points a reconstruction pass uses at once: the particles' (0–5) and its own (20–31).
+constexpr GLint kStorageBindingsNeeded = FIRN_BINDING_SCAN_SUMS + 1;
+// Per node: the volume fraction (int), the colour sums (ivec4), the cell (uint) and the counts (uvec2).
+constexpr std::size_t kDensityBytesPerNode = sizeof(std::int32_t);
+constexpr std::size_t kColorBytesPerNode = 4 * sizeof(std::int32_t);
+constexpr std::size_t kCellBytesPerNode = sizeof(std::uint32_t);
+constexpr std::size_t kCountBytesPerNode = 2 * sizeof(std::uint32_t);
+constexpr std::size_t kIndexBytesPerTriangle = 3 * sizeof(std::uint32_t);
+// Buffers grow by half again what a frame needs, so that a mesh growing slowly is not reallocated every frame.
+constexpr double kGrowth = 1.5;
+
+std::string sceneFile(const Scene& scene) {
+  return scene.sourcePath.empty() ? std::string(kBuiltInSceneName) : scene.sourcePath.string();
+}
+
+std::string mebibytes(double bytes) { return json::formatApproximately(std::round(bytes / (1 << 20) * 10) / 10) + " MiB"; }
+
+// Zeroes the first `bytes` of a buffer (glClearBufferSubData, GL 4.3), not its whole capacity.
+void zeroPrefix(const gl::Buffer& buffer, std::size_t bytes) {
+  if (bytes == 0) return;
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, buffer.id());
+  glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, 0, static_cast<GLsizeiptr>(bytes), GL_RED_INTEGER,
+                       GL_UNSIGNED_INT, nullptr);
+}
+
+// A buffer of at least `bytes`, reallocated (without its contents) when it is smaller.
+void ensureCapacity(gl::Buffer& buffer, std::size_t bytes) {
+  if (buffer.bytes() < bytes || !buffer) buffer = gl::Buffer(std::max<std::size_t>(std::size_t(double(bytes) * kGrowth), 16));
+}
+
+}  // namespace
+
+KernelRange checkKernelRange(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
+  KernelRange range;
+  range.cellM = scene.grid.cellSizeM / scene.surface.resolution;
+  range.smallestM = std::numeric_limits<double>::infinity();
+  for (const ParticleSeed& seed : seeds) {
+    const double volumeM3 = double(seed.massKg) / scene.materials.at(std::size_t(seed.materialIndex)).densityKgPerM3;
+    const double radiusM = scene.surface.smoothing * std::cbrt(volumeM3);
+    range.smallestM = std::min(range.smallestM, radiusM);
+    range.largestM = std::max(range.largestM, radiusM);
+  }
+  if (seeds.empty()) range.smallestM = range.largestM = range.cellM;
+  const std::string file = sceneFile(scene);
+  const auto number = [](double value) { return json::formatApproximately(value); };
+  // A kernel narrower than a cell leaves particles between the nodes: the surface breaks into beads.
+  if (range.smallestM < range.cellM) {
+    throw InputError(file + ": surface.resolution: the smallest particles' kernel (radius " + number(range.smallestM) +
+                     " m, surface.smoothing " + number(scene.surface.smoothing) +
+                     " times their spacing) is narrower than a reconstruction cell (grid.cell_size / "
+                     "surface.resolution = " + number(range.cellM) + " m); raise surface.resolution to at least " +
+                     number(std::ceil(scene.grid.cellSizeM / range.smallestM * 100) / 100) + ", or surface.smoothing");
+  }
+  if (range.largestM > gpu::MAX_KERNEL_RADIUS_CELLS * range.cellM) {
+    throw InputError(file + ": surface.resolution: the largest particles' kernel (radius " + number(range.largestM) +
+                     " m, surface.smoothing " + number(scene.surface.smoothing) + " times their spacing) spans " +
+                     number(range.largestM / range.cellM) + " reconstruction cells (grid.cell_size / surface.resolution = " +
+                     number(range.cellM) + " m); at most " + number(gpu::MAX_KERNEL_RADIUS_CELLS) +
+                     ": lower surface.resolution to at most " +
+                     number(std::floor(gpu::MAX_KERNEL_RADIUS_CELLS * scene.grid.cellSizeM / range.largestM * 100) / 100) +
+                     ", or surface.smoothing");
+  }
+  return range;
+}
+
+struct SurfaceReconstruction::Passes {
+  Passes(const gl::ShaderLibrary& library, const gl::ShaderOptions& options, int maxWorkGroupsX)
+      : measureBounds(library, "surface/measure_bounds.comp", options, ComputePass::Dispatch::Particles),
+        splatDensity(library, "surface/splat_density.comp", options, ComputePass::Dispatch::Particles),
+        classifyCells(library, "surface/classify_cells.comp", options, ComputePass::Dispatch::Particles),
+        emitMesh(library, "surface/emit_mesh.comp", options, ComputePass::Dispatch::Particles),
+        scan(library, options, maxWorkGroupsX) {}
+
+  ComputePass measureBounds;
+  ComputePass splatDensity;
+  ComputePass classifyCells;
+  ComputePass emitMesh;
+  PrefixScan scan;
+};
+
+SurfaceReconstruction::SurfaceReconstruction(const Scene& scene, const std::vector<ParticleSeed>& seeds,
+                                             const gl::ContextInfo& gl)
+    : spec_(scene.surface), latticeOriginM_(scene.grid.originM),
+      nodeSpacingM_(checkKernelRange(scene, seeds).cellM), sceneFile_(sceneFile(scene)),
+      maxBufferBytes_(gl.maxStorageBlockBytes), maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
+  GLint bindings = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+  if (bindings < kStorageBindingsNeeded) {
+    throw NoOpenGLError("the surface reconstruction binds storage buffers up to binding " +
+                        std::to_string(kStorageBindingsNeeded - 1) + ", but " + gl.renderer +
+                        " allows GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS = " + std::to_string(bindings));
+  }
+  const gl::ShaderLibrary library(gl::embeddedShaderFiles());
+  passes_ = std::make_unique<Passes>(library, gl::ShaderOptions{}, maxWorkGroupsX_);
+  cases_ = gl::Buffer::fromVector(packedMarchingCubesCases());
+  std::vector<glm::vec4> inverseDensities;
+  for (const std::size_t material : buildMaterialTable(scene).entryMaterial) {
+    inverseDensities.emplace_back(float(1.0 / scene.materials[material].densityKgPerM3), 0.0f, 0.0f, 0.0f);
+  }
+  if (inverseDensities.empty()) inverseDensities.emplace_back(0.0f);
+  materials_ = gl::Buffer::fromVector(inverseDensities);
+  uniforms_ = gl::Buffer(sizeof(gpu::SurfaceUniforms));
+  header_ = gl::Buffer(sizeof(gpu::SurfaceHeader));
+  // Bound even when a frame has no colours, so that no pass declares a buffer with nothing bound.
+  colors_ = gl::Buffer(kColorBytesPerNode);
+}
+
+SurfaceReconstruction::~SurfaceReconstruction() = default;
+
+glm::dvec3 SurfaceReconstruction::boundsMinM() const {
+  return latticeOriginM_ + glm::dvec3(firstNode_) * nodeSpacingM_;
+}
+
+glm::dvec3 SurfaceReconstruction::boundsMaxM() const {
+  return latticeOriginM_ + glm::dvec3(firstNode_ + glm::max(stats_.gridNodes - 1, glm::ivec3(0))) * nodeSpacingM_;
+}
+
+void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors) {
+  const std::size_t count = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
+  const std::size_t largestBytes = count * (withColors ? kColorBytesPerNode : kCountBytesPerNode);
+  if (count > std::size_t(std::numeric_limits<std::int32_t>::max()) || double(largestBytes) > double(maxBufferBytes_)) {
+    throw InputError(sceneFile_ + ": surface.resolution: at t = " + json::formatApproximately(timeS_) +
+                     " s the particles' kernels span " + std::to_string(nodes.x) + " × " + std::to_string(nodes.y) +
+                     " × " + std::to_string(nodes.z) + " reconstruction nodes " + json::formatApproximately(nodeSpacingM_) +
+                     " m apart, whose " + (withColors ? "colour sums" : "counts") + " need " +
+                     mebibytes(double(largestBytes)) + ", more than the driver's largest storage buffer (" +
+                     mebibytes(double(maxBufferBytes_)) + "); lower surface.resolution");
+  }
+  ensureCapacity(density_, count * kDensityBytesPerNode);
+  if (withColors) ensureCapacity(colors_, count * kColorBytesPerNode);
+  ensureCapacity(cells_, count * kCellBytesPerNode);
+  ensureCapacity(counts_, (count + 1) * kCountBytesPerNode);  // + 1: the scan's total
+  stats_.gridNodes = nodes;
+  stats_.gridBytes = count * (kDensityBytesPerNode + kCellBytesPerNode + kCountBytesPerNode +
+                              (withColors ? kColorBytesPerNode : 0));
+}
+
+void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::Buffer* particleColors) {
+  timeS_ = simulation.timeS();
+  const std::size_t particles = simulation.particleCount();
+  const bool withColors = particleColors != nullptr;
+  stats_ = SurfaceStats{};
+  stats_.withColors = withColors;
+  simulation.bindParticleBuffers();
+  gpu::SurfaceUniforms uniforms{};
+  uniforms.latticeOriginSpacing = glm::vec4(glm::vec3(latticeOriginM_), float(nodeSpacingM_));
+  uniforms.kernel = glm::vec4(float(spec_.smoothing), float(spec_.iso),
+                              float(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5)),
+                              gpu::SURFACE_UNITS_PER_VALUE);
+  uniforms.particles = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, 0u, 0u);
+  uniforms_.upload(0, sizeof uniforms, &uniforms);
+  uniforms_.bindUniform(FIRN_BINDING_SURFACE_UNIFORMS);
+  header_.bindStorage(FIRN_BINDING_SURFACE_HEADER);
+  materials_.bindStorage(FIRN_BINDING_SURFACE_MATERIALS);
+  cases_.bindStorage(FIRN_BINDING_SURFACE_CASES);
+  if (particles == 0) return;
+
+  // 1. The box of nodes the kernels reach.
+  gpu::SurfaceHeader header{};
+  header.kernelNodesMin = glm::ivec4(std::numeric_limits<std::int32_t>::max());
+  header.kernelNodesMax = glm::ivec4(std::numeric_limits<std::int32_t>::min());
+  header_.upload(0, sizeof header, &header);
+  passes_->measureBounds.runOverParticles(particles, maxWorkGroupsX_, timer_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  header_.download(0, sizeof header, &header);
+  const glm::ivec3 lowest(header.kernelNodesMin), highest(header.kernelNodesMax);
+  if (glm::any(glm::greaterThan(lowest, highest))) return;  // no particle has a kernel
+
+  // The grid: one node to spare on every side, so that its outer nodes are outside and the surface closes.
+  firstNode_ = lowest - 1;
+  const glm::ivec3 nodes = highest - lowest + 3;
+  resizeGrid(nodes, withColors);
+  const std::size_t nodeCount = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
+  uniforms.firstNode = glm::ivec4(firstNode_, 0);
+  uniforms.nodeCounts = glm::ivec4(nodes, int(nodeCount));
+  uniforms_.upload(0, sizeof uniforms, &uniforms);
+  zeroPrefix(density_, nodeCount * kDensityBytesPerNode);
+  if (withColors) zeroPrefix(colors_, nodeCount * kColorBytesPerNode);
+  zeroPrefix(counts_, (nodeCount + 1) * kCountBytesPerNode);
+  density_.bindStorage(FIRN_BINDING_SURFACE_DENSITY);
+  colors_.bindStorage(FIRN_BINDING_SURFACE_COLOR);
+  cells_.bindStorage(FIRN_BINDING_SURFACE_CELLS);
+  counts_.bindStorage(FIRN_BINDING_SURFACE_COUNTS);
+  (withColors ? *particleColors : colors_).bindStorage(FIRN_BINDING_SURFACE_PARTICLE_COLORS);
+
+  // 2. The field; 3. the cells; 4. where each node writes.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  passes_->splatDensity.runOverParticles(particles, maxWorkGroupsX_, timer_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  passes_->classifyCells.runOverParticles(nodeCount, maxWorkGroupsX_, timer_);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  passes_->scan.run(counts_, nodeCount + 1, timer_);
+  glm::uvec2 totals(0u);
+  counts_.download(nodeCount * kCountBytesPerNode, sizeof totals, &totals);
+  stats_.vertices = totals.x;
+  stats_.triangles = totals.y;
+  const std::size_t vertexBytes = stats_.vertices * sizeof(gpu::SurfaceVertex);
+  const std::size_t indexBytes = stats_.triangles * kIndexBytesPerTriangle;
+  if (double(std::max(vertexBytes, indexBytes)) > double(maxBufferBytes_)) {
+    throw InputError(sceneFile_ + ": surface.resolution: at t = " + json::formatApproximately(timeS_) + " s the mesh has " +
+                     std::to_string(stats_.triangles) + " triangles, more than the driver's largest storage buffer (" +
+                     mebibytes(double(maxBufferBytes_)) + ") holds; lower surface.resolution");
+  }
+  ensureCapacity(vertices_, vertexBytes);
+  ensureCapacity(indices_, indexBytes);
+
+  // 5. The mesh.
+  counts_.bindStorage(FIRN_BINDING_SURFACE_COUNTS);
+  vertices_.bindStorage(FIRN_BINDING_SURFACE_VERTICES);
+  indices_.bindStorage(FIRN_BINDING_SURFACE_INDICES);
+  passes_->emitMesh.runOverParticles(nodeCount, maxWorkGroupsX_, timer_);
+  // Drawn as vertex storage and an element array, or read back.
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+SurfaceMesh SurfaceReconstruction::readMesh() const {
+  SurfaceMesh mesh;
+  if (stats_.triangles == 0) return mesh;
+  const std::vector<gpu::SurfaceVertex> vertices = vertices_.read<gpu::SurfaceVertex>(stats_.vertices);
+  mesh.positionsM.reserve(vertices.size());
+  mesh.normals.reserve(vertices.size());
+  for (const gpu::SurfaceVertex& vertex : vertices) {
+    mesh.positionsM.emplace_back(vertex.positionM);
+    mesh.normals.emplace_back(vertex.normal);
+  }
+  mesh.indices = indices_.read<std::uint32_t>(3 * stats_.triangles);
+  return mesh;
+}
+
+LatticeSamples SurfaceReconstruction::readDensity() const {
+  LatticeSamples samples;
+  samples.originM = latticeOriginM_;
+  samples.spacingM = nodeSpacingM_;
+  samples.firstNode = firstNode_;
+  samples.nodeCounts = stats_.gridNodes;
+  const std::size_t count =
+      std::size_t(stats_.gridNodes.x) * std::size_t(stats_.gridNodes.y) * std::size_t(stats_.gridNodes.z);
+  const std::vector<std::int32_t> units = density_.read<std::int32_t>(count);
+  samples.values.reserve(count);
+  for (const std::int32_t value : units) samples.values.push_back(float(value) / gpu::SURFACE_UNITS_PER_VALUE);
+  return samples;
+}
+
+}  // namespace firn::surface

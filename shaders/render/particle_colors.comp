@@ -1,0 +1,22 @@
+#version 430 core
+// Each particle's linear albedo in the frame's colour mode (render/particle_appearance.glsl), for the surface
+// reconstruction to carry onto the snow's surface. One invocation per particle.
+// Reads: positionMass, velocityVolume, plasticState, kirchhoffStress. Writes: the particle colours.
+#include "common/particles.glsl"
+#include "render/lighting.glsl"
+#include "render/particle_appearance.glsl"
+#include "surface/surface_common.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+layout(std430, binding = FIRN_BINDING_SURFACE_PARTICLE_COLORS) writeonly buffer ParticleColorBuffer {
+  vec4 particleColors[];
+};
+
+uniform uint coloredParticles;
+
+void main() {
+  uint p = itemIndex();
+  if (p >= coloredParticles) return;
+  particleColors[p] = vec4(particleAlbedo(p), 1.0);
+}

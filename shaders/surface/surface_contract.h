@@ -1,0 +1,101 @@
+// The surface reconstruction's GPU contract (engine/surface, docs/surfaces.md): binding points, sizes, the structs
+// the host and the shaders share, and the functions both evaluate — the kernel and the numbering of a cell's
+// corners and edges — written once in the part of C++17 and GLSL 4.30 they have in common, as the simulation's
+// common/gpu_contract.h and common/shared_functions.h are. C++ reads it through engine/surface/SurfaceLayout.h;
+// tests/gl/SurfaceTest.cpp checks the structs' offsets against the driver's.
+#ifndef FIRN_SURFACE_CONTRACT_H
+#define FIRN_SURFACE_CONTRACT_H
+
+#include "common/shared_functions.h"
+
+// Shader storage binding points, past the simulation's (0–19), so that the particle buffers stay bound where the
+// simulation binds them while the reconstruction runs.
+#define FIRN_BINDING_SURFACE_HEADER 20           // SurfaceHeader: the particles' kernel bounds
+#define FIRN_BINDING_SURFACE_DENSITY 21          // int per node: the volume fraction, fixed point
+#define FIRN_BINDING_SURFACE_COLOR 22            // ivec4 per node: Σ (weight · albedo), fixed point
+#define FIRN_BINDING_SURFACE_CELLS 23            // uint per node: its cell's case, the crossings of its own edges
+#define FIRN_BINDING_SURFACE_COUNTS 24           // uvec2 per node (+1): vertices and triangles, then their offsets
+#define FIRN_BINDING_SURFACE_VERTICES 25         // SurfaceVertex per vertex of the mesh
+#define FIRN_BINDING_SURFACE_INDICES 26          // uint per triangle corner
+#define FIRN_BINDING_SURFACE_CASES 27            // uvec4 per marching-cubes case (engine/surface/MarchingCubes.h)
+#define FIRN_BINDING_SURFACE_MATERIALS 28        // vec4 per entry of the material table: x 1 / rest density (m³/kg)
+#define FIRN_BINDING_SURFACE_PARTICLE_COLORS 29  // vec4 per particle: the linear albedo to carry onto the surface
+#define FIRN_BINDING_SCAN_VALUES 30              // uvec2 per element: an exclusive prefix sum, in place
+#define FIRN_BINDING_SCAN_SUMS 31                // uvec2 per chunk of SCAN_CHUNK elements
+// Uniform block binding point (the simulation's StepUniforms is 0).
+#define FIRN_BINDING_SURFACE_UNIFORMS 1
+
+// The volume fraction is summed in fixed point with 2^20 units per unit, as the simulation's P2G sums are
+// (docs/numerics.md, Fixed-point atomics): integer sums do not depend on the order of the additions, so the
+// field, and the mesh made from it, are the same bytes from run to run. A node's sum overflows at 2^31 / 2^20 =
+// 2048, a compaction snow never reaches; one particle adds at most 8 / (π smoothing³) ≤ 0.32 (smoothing ≥ 2).
+FIRN_CONSTANT(float, SURFACE_UNITS_PER_VALUE, 1048576.0f)
+// A prefix scan sums chunks of this many elements per invocation (engine/surface/PrefixScan.h).
+FIRN_CONSTANT(uint, SCAN_CHUNK, 64u)
+// The widest kernel, in reconstruction cells (radius): a particle's splat visits (2 · 12 + 1)³ = 15,625 nodes,
+// well inside llvmpipe's 65,535 loop iterations per invocation (docs/platform.md, The loop limit).
+FIRN_CONSTANT(float, MAX_KERNEL_RADIUS_CELLS, 12.0f)
+// The most triangles marching cubes makes in one cell (MarchingCubes.cpp builds its table within it): a case's
+// edges, 3 per triangle, are packed as 4-bit nibbles, 8 per uint, into the y and z of its uvec4.
+FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
+
+// SurfaceUniforms: one reconstruction, written before its passes (std140).
+//   latticeOriginSpacing  the point of node (0, 0, 0) of the lattice all frames share (the domain's origin, m), and
+//                         the node spacing h_r = h / surface.resolution (m)
+//   firstNode             the lattice index of the grid's first node this frame (its box follows the particles)
+//   nodeCounts            nodes per axis of this frame's grid, and w: all of them
+//   kernel                surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units, the
+//                         fixed-point scale
+//   particles             x: the particles, y: with colours (1) or not (0)
+#define FIRN_SURFACE_UNIFORMS(member, array) \
+  member(vec4, latticeOriginSpacing)         \
+  member(ivec4, firstNode)                   \
+  member(ivec4, nodeCounts)                  \
+  member(vec4, kernel)                       \
+  member(uvec4, particles)
+FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
+
+// SurfaceHeader: what the bounds pass finds (std430): the lowest and highest lattice node any particle's kernel
+// reaches (host-initialised to the extremes of int).
+#define FIRN_SURFACE_HEADER(member, array) \
+  member(ivec4, kernelNodesMin)            \
+  member(ivec4, kernelNodesMax)
+FIRN_STRUCT(SurfaceHeader, FIRN_SURFACE_HEADER)
+
+// SurfaceVertex: one vertex of the mesh (std430), on an edge of the grid where the field crosses the iso level.
+//   positionM  xyz (m), w 1
+//   normal     xyz unit, out of the snow (down the field's gradient), w 0
+//   albedo     xyz the linear albedo interpolated from the particles' colours (1 without them), w 1
+#define FIRN_SURFACE_VERTEX(member, array) \
+  member(vec4, positionM)                  \
+  member(vec4, normal)                     \
+  member(vec4, albedo)
+FIRN_STRUCT(SurfaceVertex, FIRN_SURFACE_VERTEX)
+
+// The smoothing kernel: Monaghan's cubic spline (M4) with support radius 1, normalised over the unit ball,
+// w(q) = 8/π (1 − 6q² + 6q³) for q ≤ ½, 16/π (1 − q)³ for ½ < q ≤ 1, 0 beyond (Monaghan 2005, "Smoothed particle
+// hydrodynamics", eq. 2.6 with h = ½). A particle's kernel of radius R is w(r / R) / R³.
+FIRN_FUNCTION float smoothingKernel(float q) {
+  const float normalisation = 2.546479089f;  // 8 / π
+  if (q <= 0.5f) return normalisation * (1.0f - 6.0f * q * q + 6.0f * q * q * q);
+  if (q < 1.0f) return normalisation * 2.0f * (1.0f - q) * (1.0f - q) * (1.0f - q);
+  return 0.0f;
+}
+
+// A cell's corners and edges. Corner c sits at (c & 1, (c >> 1) & 1, (c >> 2) & 1) from the cell's first node.
+// Edge e runs along axis e / 4 from the corner whose other two coordinates (in axis order) are the bits of e % 4;
+// it belongs to the cell whose first node that corner is, as that cell's edge along the axis (each node owns the
+// three edges leaving it towards +x, +y, +z).
+FIRN_FUNCTION ivec3 cellCorner(int corner) { return ivec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1); }
+FIRN_FUNCTION int edgeAxis(int edge) { return edge / 4; }
+FIRN_FUNCTION ivec3 edgeStart(int edge) {
+  int axis = edge / 4;
+  int first = axis == 0 ? 1 : 0;   // the other two axes, in order
+  int second = axis == 2 ? 1 : 2;
+  ivec3 start = ivec3(0);
+  start[first] = edge & 1;
+  start[second] = (edge >> 1) & 1;
+  return start;
+}
+
+#endif
