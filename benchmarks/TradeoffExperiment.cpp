@@ -140,7 +140,8 @@ std::vector<const TradeoffResult*> paretoFront(const std::vector<TradeoffResult>
 }  // namespace
 
 void measureTradeoff(BenchRun& run) {
-  CsvTable table({"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
+  CsvTable table({"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio", "atomics",
+                  "dt_s", "dt_fraction",
                   "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
                   "ms_per_simulated_second", "period_s", "error", "signed_error", "uncorrected_error",
                   "amplitude_retained", "solver_iterations", "kappa", "pareto", "status", "renderer"});

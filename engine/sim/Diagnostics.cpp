@@ -108,8 +108,8 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
   } else if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_SOLVER) {
     events.emplace_back(status.overflowStep,
                         when(status.overflowStep) + ": a contribution to the semi-implicit solve's Hessian product at " +
-                            describeNode(status.overflowNode) + " exceeded its 64-bit fixed-point range (" +
-                            std::to_string(status.overflowCount) +
+                            describeNode(status.overflowNode) + " was not finite or exceeded its 64-bit fixed-point "
+                            "range (" + std::to_string(status.overflowCount) +
                             " contributions dropped): the elastic forces far exceed what the scene's stiffness and "
                             "step lead to, as when a body is crushed or torn within a step. Reduce time.dt, or raise "
                             "solver.max_iterations if a solve failed before; " + stiffness + ".");

@@ -10,7 +10,7 @@
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuLayout.h"
-#include "sim/ImplicitSolver.h"
+#include "sim/SolveReport.h"
 
 namespace firn {
 

@@ -219,6 +219,10 @@ std::vector<glm::vec4> GpuState::readSolverRegisters(std::size_t count) const {
   return solverStatus_.read<glm::vec4>(count, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4));
 }
 
+std::uint32_t GpuState::readSolverEnd() const {
+  return solverStatus_.read<glm::uvec4>(1, offsetof(gpu::SolverStatus, solveEnd) / sizeof(glm::uvec4)).front().x;
+}
+
 void GpuState::bindParticles() const {
   positionMass_.bindStorage(FIRN_BINDING_POSITION_MASS);
   velocityVolume_.bindStorage(FIRN_BINDING_VELOCITY_VOLUME);

@@ -88,6 +88,8 @@ class GpuState {
   const gl::Buffer& solverStatusBuffer() const { return solverStatus_; }
   // The solve's registers 0 … count − 1 (gpu::SolverStatus::registers): each iteration's dot products.
   std::vector<glm::vec4> readSolverRegisters(std::size_t count) const;
+  // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
+  std::uint32_t readSolverEnd() const;
 
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.

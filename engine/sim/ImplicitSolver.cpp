@@ -30,8 +30,7 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 }  // namespace
 
 ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
-    : toleranceSquared_(scene.solver.tolerance * scene.solver.tolerance), maxIterations_(scene.solver.maxIterations),
-      options_(options) {
+    : maxIterations_(scene.solver.maxIterations), options_(options) {
   using Dispatch = ComputePass::Dispatch;
   prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
   begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
@@ -55,6 +54,7 @@ void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProdu
     if (!forceDifferenceProduct_) {
       gl::ShaderOptions options = options_;
       options.defines.emplace_back("FIRN_SOLVER_FORCE_DIFFERENCE", "1");
+      // The embedded files, which the step's own programs were built from.
       forceDifferenceProduct_.emplace(gl::ShaderLibrary(), "sim/solver_product.comp", options,
                                       ComputePass::Dispatch::Indirect);
     }
@@ -72,23 +72,19 @@ void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsig
   glMemoryBarrier(kStorageAndCommands);
 }
 
-bool ImplicitSolver::findEnd(const std::vector<glm::vec4>& registers, SolveReport& report) const {
+SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
+  const std::vector<glm::vec4> registers = state.readSolverRegisters(std::size_t(iterations) + 1);
   const double reference = registers[0].w;
-  for (std::size_t k = 0; k < registers.size(); ++k) {
-    const double residual = registers[k].z;
-    // As solver_reduce.comp decides: done unless above the tolerance (so a NaN ends it too).
-    if (residual > toleranceSquared_ * reference) continue;
-    report.iterations = int(k);
-    if (std::isnan(residual) || std::isnan(reference)) {
-      report.residual = std::numeric_limits<double>::quiet_NaN();
-      report.converged = false;
-    } else {
-      report.residual = reference > 0 ? std::sqrt(std::max(residual, 0.0) / reference) : 0.0;
-      report.converged = true;
-    }
-    return true;
+  const double residual = registers[std::size_t(iterations)].z;
+  SolveReport report;
+  report.iterations = iterations;
+  if (std::isnan(residual) || std::isnan(reference)) {
+    report.residual = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    // A zero reference (no mass moving) leaves nothing to solve.
+    report.residual = reference > 0 ? std::sqrt(std::max(residual, 0.0) / reference) : 0.0;
   }
-  return false;
+  return report;
 }
 
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
@@ -104,9 +100,9 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   glMemoryBarrier(kStorage);
   reduce(state, 0, kResidual | kReference, timer);
 
-  SolveReport report;
-  bool ended = false;
-  for (int k = 0; k < maxIterations_ && !ended; ++k) {
+  // Where the GPU ended the solve (solver_reduce.comp): 1 + the register of the residual that met the tolerance.
+  std::uint32_t end = 0;
+  for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
     product_.set("productOfSolution", 0).runIndirect(status, kProductDispatch, timer);
     glMemoryBarrier(kStorage);
@@ -119,22 +115,13 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
     update_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration + 1, kResidual, timer);
-    if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) {
-      ended = findEnd(state.readSolverRegisters(std::size_t(k) + 2), report);
-    }
+    if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.readSolverEnd();
   }
-  if (!ended) {
-    const std::vector<glm::vec4> registers = state.readSolverRegisters(std::size_t(maxIterations_) + 1);
-    if (!findEnd(registers, report)) {
-      const double reference = registers[0].w;
-      report.iterations = maxIterations_;
-      report.residual = std::sqrt(double(registers[std::size_t(maxIterations_)].z) / reference);
-      report.converged = false;
-    }
-  }
+  // Not ended: max_iterations were taken, and the last residual is the solve's.
+  const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
   finish_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
   glMemoryBarrier(kStorage);
-  return report;
+  return solved;
 }
 
 }  // namespace firn

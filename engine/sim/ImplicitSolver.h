@@ -15,25 +15,9 @@
 #include "scene/Scene.h"
 #include "sim/ComputePass.h"
 #include "sim/GpuState.h"
+#include "sim/SolveReport.h"
 
 namespace firn {
-
-// How a step's solve ended.
-struct SolveReport {
-  int iterations = 0;   // conjugate residual iterations taken
-  double residual = 0;  // the relative residual at the end, ‖r‖ / ‖M v*‖ in the M⁻¹ norm (NaN if it became non-finite)
-  bool converged = true;  // whether it reached the tolerance within max_iterations
-};
-
-// A solve that ends above this many times its tolerance is a failure the watchdog reports (exit 3): the velocities
-// are off by more than a hundredth of the tolerance's reference, and the step is no longer the one asked for.
-constexpr double kSolverFailureFactor = 100;
-
-// The first solve that failed, and in which step.
-struct SolverFailure {
-  std::uint64_t step = 0;
-  SolveReport report;
-};
 
 // How a Hessian product takes the stress's change: its differential ∂²Ψ/∂F² : δF (the solve's), or, for tests,
 // the central difference (P(F + δF) − P(F − δF)) / 2 of the stress the explicit force comes from.
@@ -57,11 +41,10 @@ class ImplicitSolver {
   void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
 
  private:
-  // The end of the solve in the registers read, if it is there: the first iteration whose residual met the tolerance.
-  bool findEnd(const std::vector<glm::vec4>& registers, SolveReport& report) const;
+  // The solve's end after `iterations`: the residual register it ended at, relative to the reference.
+  static SolveReport report(const GpuState& state, int iterations);
   void reduce(const GpuState& state, unsigned registerIndex, unsigned components, PassTimer& timer) const;
 
-  double toleranceSquared_;
   int maxIterations_;
   gl::ShaderOptions options_;
   mutable std::optional<ComputePass> forceDifferenceProduct_;  // built when a test first asks for it

@@ -199,11 +199,11 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
   member(ivec4, productHigh)
 FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
 
-// SolverParticle: of a corotated particle's F = R S (polar), R, and K = (tr(S) I − S)⁻¹, which gives the derivative
-// of R (material_hessians.glsl). Computed once per step (solver_prepare.comp).
+// SolverParticle: of a corotated particle's F = R S (polar), R, and K⁻¹ with K = tr(S) I − S, which gives the
+// derivative of R (material_hessians.glsl). Computed once per step (solver_prepare.comp).
 #define FIRN_SOLVER_PARTICLE(member, array) \
   member(mat3, rotation)                    \
-  member(mat3, rotationDerivative)
+  member(mat3, inversePolarSystem)
 FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 
 // SolverStatus: the solve's progress in this step. The passes of an iteration are dispatched from here, and once
@@ -212,13 +212,15 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   solveBlockDispatch    xyz: work groups of the per-node passes (the block table's, or none)
 //   solveProductDispatch  xyz: of the Hessian product, a transfer over tiles
 //   solveReduceDispatch   xyz: of the dot products' sums (one group, or none)
+//   solveEnd              x: 1 + the register whose residual ended the solve (met the tolerance, or was NaN); 0
+//                         while it runs
 //   registers             per iteration k: x (z, A z)_k, y (A p, M⁻¹ A p)_k, z (r, M⁻¹ r)_k after k iterations,
 //                         w (M v*, v*) (k = 0 only): the tolerance's reference
 #define FIRN_SOLVER_STATUS(member, array) \
   member(uvec4, solveBlockDispatch)       \
   member(uvec4, solveProductDispatch)     \
   member(uvec4, solveReduceDispatch)      \
-  member(uvec4, solveUnused)              \
+  member(uvec4, solveEnd)                 \
   array(vec4, registers, SOLVER_REGISTERS)
 FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
 
@@ -250,7 +252,8 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //   fixedPoint          m_ref (kg), the momentum unit m_ref·h/Δt_ref (kg·m/s), 2^k, 2^−k (docs/numerics.md)
 //   transfer            FLIP ratio α, the simulated time at the start of the step (s), APIC's D⁻¹ (1/m²)
 //   counts              particles, colliders, step index
-//   solver              semi-implicit: β (implicit_ratio), the tolerance², 2^k_H and 2^−k_H (SolverNode.productLow/High's units)
+//   solver              semi-implicit: β (implicit_ratio), the tolerance², 2^k_H and 2^−k_H (the units of
+//                       SolverNode.productLow/High)
 #define FIRN_STEP_UNIFORMS(member, array) \
   member(vec4, gridOriginCellSize)        \
   member(ivec4, gridNodes)                \

@@ -22,8 +22,7 @@ mat3 cofactorDifferential(mat3 F, mat3 dF) {
 
 #if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
 // What the derivative of R needs, once per step: for F = R S (polar; F = U Σ Vᵀ, R = U Vᵀ, S = V Σ Vᵀ), R and
-// K = (tr(S) I − S)⁻¹ = V diag(1 / (σ₂ + σ₃), 1 / (σ₁ + σ₃), 1 / (σ₁ + σ₂)) Vᵀ. A pair of singular values summing to
-// nearly 0 (an inverted solid) leaves R's derivative undefined; the sum is held at 1e-6.
+// K⁻¹ = (tr(S) I − S)⁻¹ = V diag(1 / (σ₂ + σ₃), 1 / (σ₁ + σ₃), 1 / (σ₁ + σ₂)) Vᵀ.
 SolverParticle polarDerivativeSystem(mat3 F) {
   mat3 U, V;
   vec3 sigma;
@@ -31,16 +30,20 @@ SolverParticle polarDerivativeSystem(mat3 F) {
   vec3 pairSums = vec3(sigma.y + sigma.z, sigma.x + sigma.z, sigma.x + sigma.y);
   SolverParticle result;
   result.rotation = U * transpose(V);
-  result.rotationDerivative = V * diagonal(1.0 / max(pairSums, vec3(1e-6))) * transpose(V);
+  // An inverted element (σ₃ < 0 from the SVD's sign convention) can make a pair sum negative: the sign is kept, and
+  // only a sum within 1e-6 of zero, where the rotation is undefined (snow's clamps keep σ near 1, pair sums near 2),
+  // is held at 1e-6 so that the derivative stays finite.
+  vec3 pairSigns = mix(vec3(1.0), vec3(-1.0), lessThan(pairSums, vec3(0.0)));
+  result.inversePolarSystem = V * diagonal(1.0 / (pairSigns * max(abs(pairSums), vec3(1e-6)))) * transpose(V);
   return result;
 }
 
 // δR: RᵀδR is skew, [y]×, and the derivative of F = R S gives Rᵀ δF − δFᵀ R = [y]× S + S [y]× = [(tr(S) I − S) y]×,
-// so y = K b with [b]× = Rᵀ δF − (Rᵀ δF)ᵀ.
+// so y = K⁻¹ b with [b]× = Rᵀ δF − (Rᵀ δF)ᵀ and K = tr(S) I − S.
 mat3 rotationDifferential(SolverParticle polar, mat3 dF) {
   mat3 b = transpose(polar.rotation) * dF;
   vec3 axial = vec3(b[1][2] - b[2][1], b[2][0] - b[0][2], b[0][1] - b[1][0]);
-  return polar.rotation * crossMatrix(polar.rotationDerivative * axial);
+  return polar.rotation * crossMatrix(polar.inversePolarSystem * axial);
 }
 
 // Ψ = μ‖F − R‖² + λ/2 (J − 1)², P = 2μ(F − R) + λ(J − 1) J F⁻ᵀ (Stomakhin 2013 eq. 6), so
@@ -68,8 +71,7 @@ mat3 neoHookeanStressDifferential(mat3 F, mat3 dF, float mu, float lambda) {
 
 // Snow's Lamé parameters as hardened at J_P (eq. 7); the other models' as they are.
 vec2 currentLameParameters(MaterialParams m, float plasticJ) {
-  float hardening = m.model.x == MODEL_SNOW ? exp(m.elastic.z * (1.0 - plasticJ)) : 1.0;
-  return m.elastic.xy * hardening;
+  return m.model.x == MODEL_SNOW ? hardenedLameParameters(m, plasticJ) : m.elastic.xy;
 }
 
 // δP of particle p's material at its F in the direction δF.

@@ -25,6 +25,11 @@ mat3 fixedCorotatedStress(mat3 F, mat3 U, vec3 sigma, float mu, float lambda) {
 }
 #endif
 
+// Snow's Lamé parameters hardened at J_P (eq. 7): μ = μ0 e^{ξ(1−J_P)}, λ = λ0 e^{ξ(1−J_P)}.
+vec2 hardenedLameParameters(MaterialParams m, float plasticJ) {
+  return m.elastic.xy * exp(m.elastic.z * (1.0 - plasticJ));
+}
+
 #ifdef FIRN_MATERIAL_SNOW
 // Stomakhin 2013: SVD F̂_E = U Σ Vᵀ, Σ clamped to [1 − θc, 1 + θs] (eq. 10–11), J_P ← J_P det F̂_E / det F_E,
 // then the fixed corotated stress of the new F_E with hardened Lamé parameters (eq. 6–7).
@@ -37,10 +42,8 @@ MaterialUpdate updateSnow(mat3 F, float plasticJ, mat3 velocityGradient, float d
   result.deformation = U * diagonal(clamped) * transpose(V);
   result.state = plasticJ * (sigma.x * sigma.y * sigma.z) / (clamped.x * clamped.y * clamped.z);
   result.volumeCorrection = 0.0;
-  // Hardening (eq. 7): μ = μ0 e^{ξ(1−J_P)}, λ = λ0 e^{ξ(1−J_P)}.
-  float hardening = exp(m.elastic.z * (1.0 - result.state));
-  result.kirchhoffStress =
-      fixedCorotatedStress(result.deformation, U, clamped, m.elastic.x * hardening, m.elastic.y * hardening);
+  vec2 lame = hardenedLameParameters(m, result.state);
+  result.kirchhoffStress = fixedCorotatedStress(result.deformation, U, clamped, lame.x, lame.y);
   return result;
 }
 #endif
@@ -69,9 +72,13 @@ MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, Ma
 // Blažević 2022 eq. 4.5: ∂Ψ/∂F = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ (the thesis prints F − Fᵀ; the derivative of −μ ln J is
 // −μ F⁻ᵀ), so τ = μ(F Fᵀ − I) + λ ln J I: no SVD. An inverted F (J ≤ 0) gives a non-finite τ, which the
 // watchdog reports.
+mat3 neoHookeanStress(mat3 F, float mu, float lambda) {
+  return mu * (F * transpose(F) - mat3(1.0)) + lambda * log(determinant(F)) * mat3(1.0);
+}
+
 MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
   mat3 Fn = advanceDeformation(F, velocityGradient, dtS);
-  return elasticUpdate(Fn, m.elastic.x * (Fn * transpose(Fn) - mat3(1.0)) + m.elastic.y * log(determinant(Fn)) * mat3(1.0));
+  return elasticUpdate(Fn, neoHookeanStress(Fn, m.elastic.x, m.elastic.y));
 }
 #endif
 

@@ -13,6 +13,7 @@
 // two 32-bit words with the carry: exact, so the same whatever the order. A dot product is summed within a block in
 // a fixed order, and over the blocks, whose slots follow no fixed order, as 64-bit integers at a scale set by the
 // largest block's partial sum: again exact. A run repeats to the bit.
+#include "common/fixed64.glsl"
 #include "common/watchdog.glsl"
 
 //
@@ -24,46 +25,6 @@ layout(std430, binding = FIRN_BINDING_SOLVER_NODES) coherent buffer SolverNodeBu
 
 float implicitRatio() { return solver.x; }
 float toleranceSquared() { return solver.y; }
-
-// --- 64-bit integers as a low (unsigned) and a high (signed) word -------------------------------------------------
-
-const float TWO_TO_32 = 4294967296.0;
-// Largest magnitude a value may have to fit 64 bits with room for a few additions: 2^62.
-const float FIXED64_LIMIT = 4611686018427387904.0;
-
-// x as (low, high): x is an integer-valued float below 2^62 in magnitude, so x − high·2^32 is exact.
-void splitFixed64(vec4 x, out uvec4 low, out ivec4 high) {
-  vec4 highPart = floor(x * (1.0 / TWO_TO_32));
-  low = uvec4(x - highPart * TWO_TO_32);
-  high = ivec4(highPart);
-}
-
-// (low, high) += (addLow, addHigh).
-void addFixed64(inout uvec3 low, inout ivec3 high, uvec3 addLow, ivec3 addHigh) {
-  uvec3 carry;
-  low = uaddCarry(low, addLow, carry);
-  high += addHigh + ivec3(carry);
-}
-void addFixed64(inout uvec4 low, inout ivec4 high, uvec4 addLow, ivec4 addHigh) {
-  uvec4 carry;
-  low = uaddCarry(low, addLow, carry);
-  high += addHigh + ivec4(carry);
-}
-
-// The value of (low, high) as a float: its magnitude is converted, so that a small negative value (high −1, low
-// near 2^32) does not cancel to nothing.
-float fixed64ToFloat(uint low, int high) {
-  bool negative = high < 0;
-  uint carry;
-  uint magnitudeLow = negative ? uaddCarry(~low, 1u, carry) : low;
-  uint magnitudeHigh = negative ? uint(~high) + carry : uint(high);
-  float magnitude = float(magnitudeHigh) * TWO_TO_32 + float(magnitudeLow);
-  return negative ? -magnitude : magnitude;
-}
-vec4 fixed64ToFloat(uvec4 low, ivec4 high) {
-  return vec4(fixed64ToFloat(low.x, high.x), fixed64ToFloat(low.y, high.y), fixed64ToFloat(low.z, high.z),
-              fixed64ToFloat(low.w, high.w));
-}
 
 // --- Hessian products at the nodes -------------------------------------------------------------------------------
 

@@ -18,5 +18,6 @@ void main() {
     solveBlockDispatch = blockDispatch;
     solveProductDispatch = tileDispatch;
     solveReduceDispatch = uvec4(1u, 1u, 1u, 0u);
+    solveEnd = uvec4(0u);
   }
 }

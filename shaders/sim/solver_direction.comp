@@ -20,11 +20,17 @@ void main() {
   if (slot >= activeBlocks()) return;
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
-  float previous = iteration > 0u ? registers[iteration - 1u].x : 0.0;
-  float beta = previous != 0.0 ? registers[iteration].x / previous : 0.0;
   SolverNode node = solverNodes[i];
-  vec3 direction = node.preconditioned.xyz + beta * node.direction.xyz;
-  vec3 directionProduct = node.product.xyz + beta * node.directionProduct.xyz;
+  vec3 direction = node.preconditioned.xyz;
+  vec3 directionProduct = node.product.xyz;
+  // The first iteration's direction is z itself: what the vectors hold from before (v*, or another step's
+  // values in a reused slot) is not multiplied by a zero, which would turn a stale infinity into NaN.
+  if (iteration > 0u) {
+    float previous = registers[iteration - 1u].x;
+    float beta = previous != 0.0 ? registers[iteration].x / previous : 0.0;
+    direction += beta * node.direction.xyz;
+    directionProduct += beta * node.directionProduct.xyz;
+  }
   solverNodes[i].direction.xyz = direction;
   solverNodes[i].directionProduct.xyz = directionProduct;
   float massKg = storedFloats(gridMomentumMass[i]).w;

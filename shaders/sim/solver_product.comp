@@ -40,7 +40,7 @@ mat3 firstPiolaStress(mat3 F, MaterialParams m, float plasticJ) {
 #endif
 #ifdef FIRN_MATERIAL_NEO_HOOKEAN
   if (m.model.x == MODEL_NEO_HOOKEAN) {
-    kirchhoff = lame.x * (F * transpose(F) - mat3(1.0)) + lame.y * log(determinant(F)) * mat3(1.0);
+    kirchhoff = neoHookeanStress(F, lame.x, lame.y);
   }
 #endif
   return kirchhoff * transpose(inverse(F));

@@ -75,5 +75,7 @@ void main() {
     solveBlockDispatch = another ? blockDispatch : uvec4(0u, 1u, 1u, 0u);
     solveProductDispatch = another ? tileDispatch : uvec4(0u, 1u, 1u, 0u);
     solveReduceDispatch = uvec4(another ? 1u : 0u, 1u, 1u, 0u);
+    // The register the solve ended at, for the host to read: the GPU's float comparison is the one that counts.
+    if (!another) solveEnd = uvec4(reduceRegister + 1u, 0u, 0u, 0u);
   }
 }

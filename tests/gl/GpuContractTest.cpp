@@ -20,10 +20,11 @@ using namespace firn::gpu;
 struct Member {
   std::string name;
   std::size_t offsetBytes;
+  bool matrix = false;  // read through its first column: a matrix has no .x
 };
 
 // The members of struct S, named as GLSL names them, with their C++ offsets.
-#define FIRN_LIST_MEMBER(type, name) Member{#name, offsetof(S, name)},
+#define FIRN_LIST_MEMBER(type, name) Member{#name, offsetof(S, name), std::string(#type).rfind("mat", 0) == 0},
 #define FIRN_LIST_ARRAY(type, name, count) Member{#name "[0]", offsetof(S, name)},
 #define FIRN_MEMBER_LIST(Struct, list)                \
   [] {                                                \
@@ -59,6 +60,11 @@ std::vector<SharedStruct> sharedStructs() {
       {"surface/surface_common.glsl", GL_UNIFORM, "", FIRN_MEMBER_LIST(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)},
       {"surface/header.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SurfaceHeader, FIRN_SURFACE_HEADER)},
       {"surface/vertices.glsl", GL_BUFFER_VARIABLE, "vertices[0].", FIRN_MEMBER_LIST(SurfaceVertex, FIRN_SURFACE_VERTEX)},
+      // The semi-implicit solve's (common/solver.glsl).
+      {"common/solver.glsl", GL_BUFFER_VARIABLE, "solverNodes[0].", FIRN_MEMBER_LIST(SolverNode, FIRN_SOLVER_NODE)},
+      {"common/material_hessians.glsl", GL_BUFFER_VARIABLE, "solverParticles[0].",
+       FIRN_MEMBER_LIST(SolverParticle, FIRN_SOLVER_PARTICLE)},
+      {"common/solver_reduction.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SolverStatus, FIRN_SOLVER_STATUS)},
   };
 }
 
@@ -105,7 +111,9 @@ GLint blockProperty(const firn::gl::Program& program, GLenum interface, const st
 TEST(GpuContract, StructMembersSitAtTheDriversOffsets) {
   for (const SharedStruct& shared : sharedStructs()) {
     std::vector<std::string> reads;
-    for (const Member& member : shared.members) reads.push_back(shared.prefix + member.name);
+    for (const Member& member : shared.members) {
+      reads.push_back(shared.prefix + member.name + (member.matrix ? "[0]" : ""));
+    }
     const firn::gl::Program program = probe(shared.include, reads);
     for (const Member& member : shared.members) {
       const std::vector<GLint> values = properties(program, shared.interface, shared.prefix + member.name);
@@ -190,6 +198,13 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_SURFACE_HEADER, sizeof(SurfaceHeader)},
       {"surface/vertices.glsl", "vertices[0].normal", GL_SHADER_STORAGE_BLOCK, "SurfaceVertexBuffer",
        FIRN_BINDING_SURFACE_VERTICES, 0},
+      {"common/solver.glsl", "solverNodes[0].residual", GL_SHADER_STORAGE_BLOCK, "SolverNodeBuffer",
+       FIRN_BINDING_SOLVER_NODES, 0},
+      {"common/material_hessians.glsl", "solverParticles[0].rotation[0]", GL_SHADER_STORAGE_BLOCK,
+       "SolverParticleBuffer", FIRN_BINDING_SOLVER_PARTICLES, 0},
+      // The status, then the blocks' partial sums from its end: the driver counts one element of that array.
+      {"common/solver_reduction.glsl", "registers[0]", GL_SHADER_STORAGE_BLOCK, "SolverStatusBuffer",
+       FIRN_BINDING_SOLVER_STATUS, sizeof(SolverStatus) + sizeof(glm::vec4)},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "Error.h"
@@ -47,6 +48,27 @@ TEST(FixedPoint, ScaleFollowsParticlesPerCell) {
               ppc * firn::kFixedPointCompressionMargin * firn::kFixedPointVelocityMarginCellsPerStep);
     EXPECT_LT(scale.maxNodeValue(),
               2 * ppc * firn::kFixedPointCompressionMargin * firn::kFixedPointVelocityMarginCellsPerStep);
+  }
+}
+
+// k_H, the semi-implicit Hessian product's scale: the largest P2G node value (256 at 8 per cell) times (c Δt / h)²
+// (at least 1) times 2^8 for hardening must fit below 2^62 in units of 2^−k_H, and k_H is the largest that fits:
+// 256 · 1 · 256 = 2^16 gives 46 bits; at c Δt / h = 30, 2^16 · 900 < 2^26 gives 36; at 100, < 2^30 gives 32.
+TEST(FixedPoint, SolverScaleLeavesRoomForTheStiffestWave) {
+  const firn::FixedPointScale eight = firn::deriveFixedPointScale(1e-3, 8, 0.02, 1e-4);
+  const double cellSizeM = 0.02, dtS = 1e-3;
+  const auto bitsAtCourant = [&](double courant) {
+    return firn::deriveSolverFractionBits(eight, courant * cellSizeM / dtS, cellSizeM, dtS);
+  };
+  EXPECT_EQ(bitsAtCourant(0.5), 46);
+  EXPECT_EQ(bitsAtCourant(1), 46);
+  EXPECT_EQ(bitsAtCourant(30), 36);
+  EXPECT_EQ(bitsAtCourant(100), 32);
+  for (double courant : {0.5, 2.0, 7.0, 30.0, 94.0, 300.0}) {
+    const int bits = bitsAtCourant(courant);
+    const double largest = eight.maxNodeValue() * std::max(1.0, courant * courant) * 256;
+    EXPECT_LE(largest, std::ldexp(1.0, 62 - bits)) << "c dt / h = " << courant;
+    EXPECT_GT(largest, std::ldexp(1.0, 61 - bits)) << "c dt / h = " << courant;  // no bit left unused
   }
 }
 

@@ -1,0 +1,50 @@
+// 64-bit integers as a low (unsigned) and a high (signed) 32-bit word, for the sums that must be exact and whose
+// values need more than 32 bits (docs/numerics.md, The semi-implicit solve). GLSL 4.30 has no 64-bit integers, and
+// llvmpipe no 64-bit atomics: a sum is two words, with the carry taken by hand.
+
+const float TWO_TO_32 = 4294967296.0;
+// Largest magnitude a value may have to fit 64 bits with room for a few additions: 2^62.
+const float FIXED64_LIMIT = 4611686018427387904.0;
+
+// x as (low, high): x is an integer-valued float below 2^62 in magnitude. Its magnitude splits exactly (|x| mod
+// 2^32 is a multiple of |x|'s last place, and so a float), and a negative x is then negated in integers: a
+// float split of x itself would round, as 2^32 − |x| needs 32 bits where a float has 24.
+void splitFixed64(vec4 x, out uvec4 low, out ivec4 high) {
+  vec4 magnitude = abs(x);
+  vec4 highPart = floor(magnitude * (1.0 / TWO_TO_32));
+  uvec4 magnitudeLow = uvec4(magnitude - highPart * TWO_TO_32);
+  uvec4 magnitudeHigh = uvec4(highPart);
+  uvec4 carry;
+  uvec4 negatedLow = uaddCarry(~magnitudeLow, uvec4(1u), carry);
+  // All ones where x is negative (GLSL 4.30's mix takes no integer vectors).
+  uvec4 negative = uvec4(lessThan(x, vec4(0.0))) * 0xffffffffu;
+  low = (negatedLow & negative) | (magnitudeLow & ~negative);
+  high = ivec4(((~magnitudeHigh + carry) & negative) | (magnitudeHigh & ~negative));
+}
+
+// (low, high) += (addLow, addHigh).
+void addFixed64(inout uvec3 low, inout ivec3 high, uvec3 addLow, ivec3 addHigh) {
+  uvec3 carry;
+  low = uaddCarry(low, addLow, carry);
+  high += addHigh + ivec3(carry);
+}
+void addFixed64(inout uvec4 low, inout ivec4 high, uvec4 addLow, ivec4 addHigh) {
+  uvec4 carry;
+  low = uaddCarry(low, addLow, carry);
+  high += addHigh + ivec4(carry);
+}
+
+// The value of (low, high) as a float: its magnitude is converted, so that a small negative value (high −1, low
+// near 2^32) does not cancel to nothing.
+float fixed64ToFloat(uint low, int high) {
+  bool negative = high < 0;
+  uint carry;
+  uint magnitudeLow = negative ? uaddCarry(~low, 1u, carry) : low;
+  uint magnitudeHigh = negative ? uint(~high) + carry : uint(high);
+  float magnitude = float(magnitudeHigh) * TWO_TO_32 + float(magnitudeLow);
+  return negative ? -magnitude : magnitude;
+}
+vec4 fixed64ToFloat(uvec4 low, ivec4 high) {
+  return vec4(fixed64ToFloat(low.x, high.x), fixed64ToFloat(low.y, high.y), fixed64ToFloat(low.z, high.z),
+              fixed64ToFloat(low.w, high.w));
+}
