@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -17,6 +18,7 @@
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/Video.h"
+#include "run/Budget.h"
 #include "run/Preflight.h"
 #include "sim/Simulation.h"
 
@@ -97,10 +99,20 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   std::filesystem::create_directories(options.outputDir, error);
   if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
 
-  const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-  // Before any GL work: a scene that cannot run says so at once (exit 2).
-  const PreflightReport preflightReport = preflight(scene, seeds);
+  // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context;
+  std::optional<ProgressLine> progressLine;
+  std::function<void(std::size_t, double)> progress;
+  if (options.showProgress) {
+    progressLine.emplace(stderr);
+    progress = [&](std::size_t body, double fraction) {
+      progressLine->show("firn: sampling bodies[" + std::to_string(body) + "]:", fraction);
+    };
+  }
+  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, context.info(), 0, progress);
+  progressLine.reset();
+  // Before any simulation: a scene that cannot run says so at once (exit 2).
+  const PreflightReport preflightReport = preflight(scene, seeds, frames);
   Simulation simulation(scene, seeds, context.info());
   log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
       << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z

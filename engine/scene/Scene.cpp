@@ -21,6 +21,10 @@ const std::vector<Material>& snowPresets() {
   return presets;
 }
 
+std::string sceneFileName(const Scene& scene) {
+  return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
+}
+
 Scene defaultScene() {
   // The asset file, parsed like any other, so the built-in scene obeys exactly the rules a user's file does.
   Scene scene = parseScene(embeddedSceneFiles().at("snowball_wall.json"), kBuiltInSceneName);

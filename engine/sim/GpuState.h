@@ -28,6 +28,7 @@ struct ParticleSnapshot {
 
 // Which buffers a scene needs, and how large.
 struct GpuStateLayout {
+  std::string sceneFile;  // how messages name the scene (sceneFileName)
   GridSpec grid;
   std::size_t particleCapacity = 0;
   std::size_t blockCapacity = 0;    // slots of the block pool
@@ -39,6 +40,19 @@ struct GpuStateLayout {
                                  bool deformationGradient);
   // Blocks of BLOCK_WIDTH³ nodes over the domain, per axis.
   glm::ivec3 blocksPerAxis() const;
+
+  // The largest particle buffers hold a 3×4 float matrix per particle (F, τ, C); each buffer must fit one shader
+  // storage block.
+  static constexpr std::size_t largestParticleBufferBytesPerParticle = sizeof(gpu::Mat3x4);
+  // All of this layout's particle buffers together, per particle.
+  std::size_t particleBytesPerParticle() const;
+  // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer.
+  static std::size_t maxPoolBlocks(long long maxStorageBlockBytes);
+  // The pool's buffers per block, and the block map's bytes over the domain.
+  std::size_t poolBytesPerBlock() const;
+  std::size_t blockMapBytes() const;
+  // Throws InputError naming grid.cells when the block map exceeds what the driver allows per buffer.
+  void checkBlockMapFits(const gl::ContextInfo& gl) const;
 };
 
 // The blocks of the grid's pool that particles' stencils reached.

@@ -9,7 +9,7 @@ set(allowed_io "")
 set(allowed_scene "io;voxelizer")
 set(allowed_sim "gl;io;scene;common")
 set(allowed_render "gl;io;scene;sim;common")
-set(allowed_run "gl;io;scene;sim;render;common")
+set(allowed_run "gl;io;scene;sim;render;common;voxelizer")
 set(engine_layers gl io scene sim render run)
 
 set(violations "")
