@@ -218,11 +218,11 @@ std::uint64_t allocatableBytes() {
   }
   rlimit limit{};
   if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
-    // Address space is also taken by what is not memory in use: each thread's stack (8 MiB) and malloc arena
-    // (64 MiB reserved), for the sampler's threads and the driver's, one of each per hardware thread.
+    // Address space is also taken by what is not memory in use: the stacks (8 MiB each) of the threads yet to
+    // start, the sampler's one per hardware thread, and a malloc arena (64 MiB reserved) or two.
     const std::uint64_t threads = std::max(1u, std::thread::hardware_concurrency());
-    const std::uint64_t threadReserve = 2 * threads * (std::uint64_t{8 + 64} << 20);
-    const std::uint64_t taken = mappedBytes() + threadReserve;
+    const std::uint64_t reserve = (threads * 8 + 2 * 64) * (std::uint64_t{1} << 20);
+    const std::uint64_t taken = mappedBytes() + reserve;
     available = std::min<std::uint64_t>(available, limit.rlim_cur > taken ? limit.rlim_cur - taken : 0);
   }
   return available;

@@ -81,13 +81,13 @@ std::string whyNoParticles(const TriangleMesh& mesh, const MeshSurface& surface,
 std::string sheetWarning(const MeshSurface& surface, std::size_t particles, double spacingM) {
   if (!surface.open() || !(surface.areaM2 > 0)) return "";
   const double layerM = double(particles) * spacingM * spacingM * spacingM / surface.areaM2;
-  constexpr double sheetSpacings = 0.5;
-  if (layerM >= sheetSpacings * spacingM) return "";
+  // Less than one spacing on average is at most one layer of particles: a sheet, however it is spread.
+  if (layerM >= spacingM) return "";
   char area[32];
   std::snprintf(area, sizeof area, "%.3g m²", surface.areaM2);
   return "the mesh is open (" + std::to_string(surface.boundaryEdges) + " edges border holes) and its " +
          std::to_string(particles) + " particles cover its " + area + " of surface only " + metres(layerM) +
-         " thick on average, less than half the spacing " + metres(spacingM) +
+         " thick on average, less than the spacing " + metres(spacingM) +
          ": it encloses next to no volume, and fills as a sheet along its surface; close the mesh";
 }
 

@@ -26,7 +26,7 @@ SampleEstimate estimateVoxelize(const TriangleMesh& mesh, const SamplingOptions&
 std::string whyNoParticles(const TriangleMesh& mesh, const MeshSurface& surface, double spacingM);
 
 // A warning, or "": `particles` at `spacingM` fill an open mesh only as a sheet, on average thinner over its
-// surface than half a spacing. An open mesh that encloses next to nothing is filled only where the winding
+// surface than one spacing (one layer of particles). An open mesh that encloses next to nothing is filled only where the winding
 // number's rounding passes ½ right at its surface, more so the finer the spacing.
 std::string sheetWarning(const MeshSurface& surface, std::size_t particles, double spacingM);
 

@@ -19,6 +19,7 @@
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "run/Budget.h"
 #include "run/Preflight.h"
 #include "run/StepAccumulator.h"
 #include "sim/Simulation.h"
@@ -38,6 +39,20 @@ constexpr double kMinSpeed = 1.0 / 64, kMaxSpeed = 4.0;
 constexpr double kSnowballRadiusCells = 4.0;
 constexpr double kSnowballSpeedMPerS = 8.0;
 constexpr int kSnowballCapacity = 8;
+
+// The snowball T throws: a sphere of the first body's material and particles per cell, at the domain's centre.
+// A points body's particles per cell, (cell_size / the cloud's spacing)³, can be any number: the snowball takes
+// at most what a sampled body may (docs/scene-format.md, bodies).
+Body snowballBody(const Scene& scene) {
+  constexpr double maxSampledParticlesPerCell = 1000;
+  Body body;
+  body.shape = BodyShape::Sphere;
+  body.radiusM = kSnowballRadiusCells * scene.grid.cellSizeM;
+  body.centerM = scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
+  body.materialIndex = scene.bodies.front().materialIndex;
+  body.particlesPerCell = std::min(scene.bodies.front().particlesPerCell, maxSampledParticlesPerCell);
+  return body;
+}
 
 std::string& lastGlfwError() {
   static std::string message = "no error reported";
@@ -150,7 +165,9 @@ std::string withThousands(std::size_t value) {
 class Viewer {
  public:
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
-      : scene_(scene), options_(options), window_(window), gl_(gl), seeds_(sampleBodies(scene)),
+      : scene_(scene), options_(options), window_(window), gl_(gl),
+        seeds_(sampleWithinBudget(scene, gl, kSnowballCapacity * estimateBody(snowballBody(scene), scene.grid).particles,
+                                  nullptr)),
         snowballTemplate_(sampleSnowball()), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode) {
@@ -306,15 +323,10 @@ class Viewer {
     return heightPx > 0 ? float(widthPx) / float(heightPx) : 1.0f;
   }
 
-  // A sphere of the first body's material and particle spacing, centred at the origin, at rest.
+  // The snowball, centred at the origin, at rest.
   std::vector<ParticleSeed> sampleSnowball() const {
     Scene ball = scene_;
-    Body body;
-    body.shape = BodyShape::Sphere;
-    body.radiusM = kSnowballRadiusCells * scene_.grid.cellSizeM;
-    body.centerM = scene_.grid.originM + 0.5 * glm::dvec3(scene_.grid.cells) * scene_.grid.cellSizeM;
-    body.materialIndex = scene_.bodies.front().materialIndex;
-    body.particlesPerCell = scene_.bodies.front().particlesPerCell;
+    const Body body = snowballBody(scene_);
     ball.bodies = {body};
     std::vector<ParticleSeed> particles = sampleBodies(ball);
     for (ParticleSeed& particle : particles) {

@@ -109,8 +109,8 @@ void noteEmitters(const Scene& scene, const std::vector<ParticleSeed>& particles
       report.notes.push_back(name + "emitter: its " + particlesText + " join at once at frame " +
                              std::to_string(body.startFrame) + " (duration_frames 0)");
     } else {
-      report.notes.push_back(name + "emitter: its " + particlesText + " join over frames " +
-                             std::to_string(body.startFrame) + " to " +
+      report.notes.push_back(name + "emitter: its " + particlesText + " join between frames " +
+                             std::to_string(body.startFrame) + " and " +
                              std::to_string(body.startFrame + body.durationFrames) + ", " +
                              format("%.4g", double(bodyParticles[b]) / body.durationFrames) + " per frame");
     }
@@ -119,9 +119,12 @@ void noteEmitters(const Scene& scene, const std::vector<ParticleSeed>& particles
       report.warnings.push_back(name + "the emitter starts at frame " + std::to_string(body.startFrame) +
                                 ", after the run's last frame " + std::to_string(*lastFrame) + ": none of its " +
                                 particlesText + " will join (they still take room in the particle buffers)");
-    } else if (body.startFrame + body.durationFrames > *lastFrame + 1) {
-      // Release times are spread evenly over the window (docs/scene-format.md, Emitters).
-      const double joining = double(bodyParticles[b]) * double(*lastFrame - body.startFrame) / body.durationFrames;
+    } else if (body.startFrame + body.durationFrames > *lastFrame) {
+      // Release times are spread evenly over the window (docs/scene-format.md, Emitters): those up to the last
+      // frame's time join.
+      const double joining =
+          std::min(double(bodyParticles[b]),
+                   std::floor(double(bodyParticles[b]) * double(*lastFrame - body.startFrame) / body.durationFrames) + 1);
       report.warnings.push_back(name + "the emitter's window ends at frame " +
                                 std::to_string(body.startFrame + body.durationFrames) + ", after the run's last frame " +
                                 std::to_string(*lastFrame) + ": only about " + count(std::size_t(joining)) +

@@ -22,6 +22,7 @@ const Scene& requireParticles(const Scene& scene, const std::vector<ParticleSeed
 // The particles present from the start; the emitters' others go to `pending`, in order of release.
 std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& particles, std::vector<ParticleSeed>& pending) {
   std::vector<ParticleSeed> initial;
+  initial.reserve(particles.size());
   for (const ParticleSeed& seed : particles) (seed.releaseTimeS > 0 ? pending : initial).push_back(seed);
   std::stable_sort(pending.begin(), pending.end(),
                    [](const ParticleSeed& a, const ParticleSeed& b) { return a.releaseTimeS < b.releaseTimeS; });
