@@ -23,6 +23,7 @@ constexpr double kBarWidthM = 0.12;
 constexpr double kBarYoungsModulusPa = 1e6;
 constexpr double kBarDensityKgPerM3 = 400;
 constexpr double kBarSpeedAmplitudeMPerS = 0.25;
+constexpr int kBarMinimumSteps = 12;
 
 // 2L / √(E/ρ): the period of the bar's fundamental with ν = 0 and exact volumes.
 double barAnalyticPeriodS();
@@ -39,6 +40,7 @@ struct BarSetup {
   double particlesPerCell = 8;
   double dtFraction = 0.4;        // dt as a fraction of the elastic bound h / c (sim/Materials.h)
   int periods = 1;                // how many periods to measure
+  std::string integrator = "explicit";  // or "semi_implicit" (its defaults: β = 1, tolerance 1e-4)
 };
 
 // Whether the snow model's plasticity clamps never acted: J_P ← J_P det F̂_E / det F_E stays 1 up to the float
@@ -54,15 +56,19 @@ struct BarVibration {
   double periodS = 0;            // the 2N-th zero crossing of the modal displacement over N; 0 if not reached
   double kappa = 0;              // the Rayleigh quotient's volume factor κ
   bool elastic = false;          // whether J_P stayed 1 (the snow model's clamps never acted)
-  double amplitudeRetained = 0;  // the modal displacement's peak in the last half period over that in the first
+  // The modal displacement's peak in the last half period over that in the first; without a period (a step too
+  // long to resolve one), its peak over the last half of the steps over that over the first half.
+  double amplitudeRetained = 0;
+  double meanSolverIterations = 0;  // semi-implicit: conjugate residual iterations per step
   double dtS = 0;
   std::size_t particles = 0;
   std::vector<double> stepWallMs;  // each step's wall time, dispatch to glFinish (the readbacks excluded)
 };
 
 // Steps the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero
-// 2N times (N periods: q starts at 0), or for N + ½ analytic periods. Measuring q filters out the higher modes
-// that the slabs' velocity steps excite. Throws SimulationError (exit 3) if the run goes unstable.
+// 2N times (N periods: q starts at 0), or for N + ½ analytic periods (and at least kBarMinimumSteps). Measuring
+// q filters out the higher modes that the slabs' velocity steps excite. Throws SimulationError (exit 3) if the run
+// goes unstable.
 BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& gl);
 
 }  // namespace firn::bench

@@ -12,7 +12,8 @@ namespace firn {
 
 const char* StatsCsvWriter::header() {
   return "frame,time_s,steps,particles,mass_kg,momentum_x,momentum_y,momentum_z,kinetic_energy_j,wall_ms,"
-         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j,particles_at_walls,active_blocks";
+         "center_of_mass_x,center_of_mass_y,center_of_mass_z,mean_plastic_j,particles_at_walls,active_blocks,"
+         "solver_iterations,solver_residual";
 }
 
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path, std::ios::trunc) {
@@ -24,16 +25,17 @@ StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path),
 void StatsCsvWriter::write(const FrameStats& s) {
   const double values[] = {s.massKg,           s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z,
                            s.kineticEnergyJ,   s.wallMs,            s.centerOfMassM.x,   s.centerOfMassM.y,
-                           s.centerOfMassM.z,  s.meanPlasticJ,      s.timeS};
+                           s.centerOfMassM.z,  s.meanPlasticJ,      s.timeS,             s.solverResidual};
   for (double value : values) {
     if (!std::isfinite(value)) throw std::invalid_argument("stats row for frame " + std::to_string(s.frame) + " is not finite");
   }
   char row[512];
-  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g,%llu,%llu\n", s.frame,
+  std::snprintf(row, sizeof row, "%d,%.9g,%llu,%llu,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f,%.9g,%.9g,%.9g,%.9g,%llu,%llu,%d,%.3g\n", s.frame,
                 s.timeS, static_cast<unsigned long long>(s.steps), static_cast<unsigned long long>(s.particles),
                 s.massKg, s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z, s.kineticEnergyJ, s.wallMs,
                 s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ,
-                static_cast<unsigned long long>(s.particlesAtWalls), static_cast<unsigned long long>(s.activeBlocks));
+                static_cast<unsigned long long>(s.particlesAtWalls), static_cast<unsigned long long>(s.activeBlocks),
+                s.solverIterations, s.solverResidual);
   out_ << row;
   out_.flush();
   if (!out_) throw InputError(path_.string() + ": writing the stats failed (disk full?)");

@@ -25,6 +25,10 @@ struct FrameStats {
   std::uint64_t particlesAtWalls = 0;
   // Blocks of the grid (4³ nodes each) the frame's last step used: the grid's cost and memory follow them.
   std::uint64_t activeBlocks = 0;
+  // Semi-implicit steps (solver.integrator): the most conjugate residual iterations any of the frame's steps took,
+  // and the largest relative residual one ended with; 0 for explicit steps.
+  int solverIterations = 0;
+  double solverResidual = 0;
 };
 
 class StatsCsvWriter {

@@ -69,7 +69,7 @@ double blocksReached(const Scene& scene) {
 // the driver's buffers hold), as Simulation makes it.
 double gridBytes(const Scene& scene, const GpuStateLayout& layout, const gl::ContextInfo& gl) {
   const double poolBlocks = std::min(std::max(4 * blocksReached(scene), 256.0),
-                                     double(GpuStateLayout::maxPoolBlocks(gl.maxStorageBlockBytes)));
+                                     double(GpuStateLayout::maxPoolBlocks(gl.maxStorageBlockBytes, layout.semiImplicit)));
   return double(layout.blockMapBytes()) + poolBlocks * double(layout.poolBytesPerBlock());
 }
 
@@ -78,7 +78,7 @@ Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
   const GpuStateLayout layout = GpuStateLayout::forScene(scene, 0, 0, true);
   layout.checkBlockMapFits(gl);
   const double gpuBytesPerParticle = double(layout.particleBytesPerParticle());
-  const double largestBufferBytesPerParticle = double(GpuStateLayout::largestParticleBufferBytesPerParticle);
+  const double largestBufferBytesPerParticle = double(layout.largestParticleBufferBytesPerParticle());
   const double grid = gridBytes(scene, layout, gl);
   std::vector<Limit> limits;
   limits.push_back({double(std::numeric_limits<std::int32_t>::max()), "the GPU's 32-bit particle indices"});

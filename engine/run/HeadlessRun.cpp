@@ -136,6 +136,9 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.steps = steps;
     row.wallMs = wallMs;
     row.activeBlocks = simulation.blockUsage().lastStep;
+    const SolverSummary solves = simulation.takeSolverSummary();
+    row.solverIterations = solves.mostIterations;
+    row.solverResidual = solves.largestResidual;
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, "ply"), toPointCache(particles));
     if (pictures) {

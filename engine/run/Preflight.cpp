@@ -166,23 +166,39 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
   double fastestMPerS = 0;
   for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
   const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
-  report.stableDtS = std::min(elasticDt, cflDt);
-  report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffestName +
-                         (std::isfinite(cflDt) ? ", CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
-                                                     format("%.3g m/s", fastestMPerS) + ")"
-                                               : std::string()) +
-                         "; time.dt = " + seconds(dt));
+  // A semi-implicit step takes the elastic forces implicitly: only the particles' CFL bound limits it, and the
+  // elastic bound is what an explicit step of the scene would need.
+  const bool semiImplicit = scene.solver.semiImplicit();
+  report.stableDtS = semiImplicit ? cflDt : std::min(elasticDt, cflDt);
+  const std::string cflNote = std::isfinite(cflDt) ? "CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
+                                                         format("%.3g m/s", fastestMPerS) + ")"
+                                                   : std::string();
+  if (semiImplicit) {
+    report.notes.push_back("stable time step: semi-implicit, bounded by the particles' CFL condition" +
+                           (cflNote.empty() ? std::string(" (the particles start at rest)") : ": " + cflNote) +
+                           "; time.dt = " + seconds(dt) + " is " + format("%.3g", dt / elasticDt) +
+                           " times the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName +
+                           " that an explicit step would need");
+  } else {
+    report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffestName +
+                           (cflNote.empty() ? std::string() : ", " + cflNote) + "; time.dt = " + seconds(dt));
+  }
   if (scene.time.adaptive) {
     report.notes.push_back("adaptive time step: each step at most " + seconds(dt) + " and " +
                            format("%.2g", scene.time.cfl) + " of the bounds");
   } else {
-    const std::string limit = elasticDt <= cflDt
+    const std::string limit = !semiImplicit && elasticDt <= cflDt
                                   ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName
                                   : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
     if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
+      const std::string advice = semiImplicit || elasticDt > cflDt
+                                     ? ""
+                                     : ", or set solver.integrator to \"semi_implicit\", which the elastic bound does "
+                                       "not limit";
       throw InputError(sceneFileName(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
-                       " times " + limit + "; the explicit step cannot be stable beyond it. Set time.dt to at most " +
-                       seconds(report.stableDtS) + " (a fifth of it is a safe choice)");
+                       " times " + limit + "; the " + (semiImplicit ? "semi-implicit" : "explicit") +
+                       " step cannot be stable beyond it. Set time.dt to at most " + seconds(report.stableDtS) +
+                       " (a fifth of it is a safe choice)" + advice);
     }
     if (dt > report.stableDtS) {
       report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +

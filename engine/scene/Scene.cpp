@@ -1,4 +1,4 @@
-// The snow presets a scene may name, and the built-in scene `firn run` uses with no SCENE.
+// The snow presets a scene may name, the models' names, and the built-in scene `firn run` uses with no SCENE.
 #include "scene/Scene.h"
 
 namespace firn {
@@ -23,6 +23,17 @@ const std::vector<Material>& snowPresets() {
 
 std::string sceneFileName(const Scene& scene) {
   return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
+}
+
+const char* modelName(MaterialModel model) {
+  switch (model) {
+    case MaterialModel::Snow: return "snow";
+    case MaterialModel::FixedCorotated: return "fixed_corotated";
+    case MaterialModel::NeoHookean: return "neo_hookean";
+    case MaterialModel::Water: return "water";
+    case MaterialModel::DruckerPrager: return "drucker_prager";
+  }
+  return "unknown";
 }
 
 Scene defaultScene() {

@@ -23,6 +23,9 @@ enum class Boundary { Sticky, Slip, Separate };   // Blažević 2022 ch. 5
 // (Stomakhin 2013 §6 step 2; too large near free surfaces, where the kernel reads the density low), or the
 // material's density, V0 = m / ρ (exact where the body is filled at that density, as sampled bodies are).
 enum class ParticleVolume { GridDensity, MaterialDensity };
+// How the grid velocities of a step are found: explicitly (v* alone: Δt below the elastic bound h / c), or
+// semi-implicitly (Stomakhin 2013 §6, eq. 9: (I + β Δt² M⁻¹ H) v = v*, steps bounded by the particles' CFL alone).
+enum class Integrator { Explicit, SemiImplicit };
 enum class BodyShape { Sphere, Box, Mesh, Points };
 enum class BodySampler { Lattice, PoissonDisk };  // how sphere, box and mesh bodies are filled
 enum class ColliderShape { Plane, Sphere, Box };
@@ -52,6 +55,15 @@ struct SolverSpec {
   double flipRatio = 0.95;  // α in v = α v_FLIP + (1 − α) v_PIC
   Atomics atomics = Atomics::FixedPoint;
   ParticleVolume particleVolume = ParticleVolume::GridDensity;
+  Integrator integrator = Integrator::Explicit;
+  // Semi-implicit only: β (0 explicit, 1 backward Euler), the relative residual ‖r‖ / ‖M v*‖ (in the M⁻¹ norm) at
+  // which the solve stops, and the most conjugate residual iterations it takes.
+  double implicitRatio = 1;
+  double tolerance = 1e-4;
+  int maxIterations = 100;
+  static constexpr int maxIterationsAllowed = 1000;  // the GPU's registers (gpu_contract.h SOLVER_MAX_ITERATIONS)
+
+  bool semiImplicit() const { return integrator == Integrator::SemiImplicit; }
 };
 
 // The material families of the source theses (docs/scene-format.md's table of models and keys).
@@ -86,7 +98,15 @@ struct Material {
   double hardeningH3Deg = 0;
 
   bool needsDeformationGradient() const { return model != MaterialModel::Water; }
+  // Whether the semi-implicit step can take it: the Hessian of its energy is implemented for the elastic models
+  // (snow's with its plasticity held for the step), not for water or sand.
+  bool hasHessian() const {
+    return model == MaterialModel::Snow || model == MaterialModel::FixedCorotated || model == MaterialModel::NeoHookean;
+  }
 };
+
+// The model's name in scene files.
+const char* modelName(MaterialModel model);
 
 struct Body {
   BodyShape shape = BodyShape::Sphere;

@@ -57,7 +57,9 @@ TimeSpec readTime(const Object& time) {
 }
 
 SolverSpec readSolver(const Object& solver) {
-  solver.checkKeys({"kernel", "transfer", "flip_ratio", "atomics", "particle_volume"}, {}, "\"solver\"");
+  solver.checkKeys({"kernel", "transfer", "flip_ratio", "atomics", "particle_volume", "integrator", "implicit_ratio",
+                    "tolerance", "max_iterations"},
+                   {}, "\"solver\"");
   SolverSpec spec;
   spec.kernel = solver.choice<Kernel>("kernel", spec.kernel, {{"quadratic", Kernel::Quadratic}, {"cubic", Kernel::Cubic}});
   spec.transfer =
@@ -69,7 +71,28 @@ SolverSpec readSolver(const Object& solver) {
   spec.particleVolume = solver.choice<ParticleVolume>(
       "particle_volume", spec.particleVolume,
       {{"grid_density", ParticleVolume::GridDensity}, {"material_density", ParticleVolume::MaterialDensity}});
+  spec.integrator = solver.choice<Integrator>(
+      "integrator", spec.integrator, {{"explicit", Integrator::Explicit}, {"semi_implicit", Integrator::SemiImplicit}});
+  for (const char* key : {"implicit_ratio", "tolerance", "max_iterations"}) {
+    if (solver.has(key) && !spec.semiImplicit()) solver.fail(key, "applies only with \"integrator\": \"semi_implicit\"");
+  }
+  spec.implicitRatio = solver.number("implicit_ratio", spec.implicitRatio, Interval::closed(0, 1));
+  // Below 1e-7 the float vectors' rounding is the residual; at 1 nothing is solved.
+  spec.tolerance = solver.number("tolerance", spec.tolerance, Interval::closedOpen(1e-7, 1));
+  spec.maxIterations = solver.integer("max_iterations", spec.maxIterations, 1, SolverSpec::maxIterationsAllowed);
   return spec;
+}
+
+// A semi-implicit step needs the Hessian of every material the bodies use (common/material_hessians.glsl).
+void requireHessians(const Object& solver, const std::vector<Material>& materials, const std::vector<Body>& bodies) {
+  for (const Body& body : bodies) {
+    const Material& material = materials.at(std::size_t(body.materialIndex));
+    if (material.hasHessian()) continue;
+    solver.fail("integrator", "\"semi_implicit\" needs the Hessian of each material's energy, and material \"" +
+                                  material.name + "\" uses the model \"" + modelName(material.model) +
+                                  "\", whose Hessian Firn does not implement (snow, fixed_corotated and neo_hookean "
+                                  "have one); use \"explicit\" for this scene");
+  }
 }
 
 CameraSpec readCamera(const Object& camera) {
@@ -93,7 +116,8 @@ Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   scene.grid = readGrid(Object(root.required("grid")));
   scene.time = readTime(Object(root.required("time")));
   scene.gravityMPerS2 = root.vec3("gravity", scene.gravityMPerS2);
-  if (const auto solver = root.optional("solver")) scene.solver = readSolver(Object(*solver));
+  const auto solver = root.optional("solver");
+  if (solver) scene.solver = readSolver(Object(*solver));
   scene.materials = readMaterials(Object(root.required("materials")));
 
   const Value bodies = root.required("bodies");
@@ -102,6 +126,7 @@ Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   for (std::size_t i = 0; i < bodies.json().size(); ++i) {
     scene.bodies.push_back(readBody(Object(bodies.element(i)), scene.grid, scene.materials, sceneFolder));
   }
+  if (scene.solver.semiImplicit()) requireHessians(Object(*solver), scene.materials, scene.bodies);
 
   if (const auto colliders = root.optional("colliders")) {
     if (!colliders->json().is_array()) {

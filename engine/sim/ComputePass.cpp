@@ -44,6 +44,12 @@ void ComputePass::dispatch(PassTimer& timer, GLuint x, GLuint y) const {
   timer.end(program_.name());
 }
 
+const ComputePass& ComputePass::set(const char* uniform, unsigned value) const {
+  program_.use();
+  program_.set(uniform, value);
+  return *this;
+}
+
 void ComputePass::runOnce(PassTimer& timer) const {
   if (dispatch_ != Dispatch::Once) throw std::logic_error(program_.name() + " is not a single-group pass");
   dispatch(timer, 1, 1);

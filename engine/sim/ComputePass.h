@@ -53,6 +53,9 @@ class ComputePass {
   explicit operator bool() const { return program_.id() != 0; }
   const gl::Program& program() const { return program_; }
 
+  // Sets a uint uniform of the program for the dispatches that follow (a name the compiler dropped is ignored).
+  const ComputePass& set(const char* uniform, unsigned value) const;
+
   void runOnce(PassTimer& timer) const;
   // More groups than one dimension allows (maxWorkGroupsX) are laid out in rows; the shader folds y back into
   // the particle index (common/bindings.glsl, particleInvocationIndex).

@@ -1,6 +1,7 @@
 #include "sim/Diagnostics.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <utility>
 
@@ -31,7 +32,8 @@ const char* channelName(std::uint32_t channel) {
 Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
-      maxNodeValue_(fixedPoint.maxNodeValue()), kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3) {
+      solver_(scene.solver), maxNodeValue_(fixedPoint.maxNodeValue()),
+      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3) {
   for (const Material& material : scene.materials) materialNames_.push_back(material.name);
 }
 
@@ -66,11 +68,17 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 }
 
 void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
-                        std::size_t blockCapacity) const {
-  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0 && blocksNeeded == 0) return;
+                        std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure) const {
+  if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0 && blocksNeeded == 0 &&
+      !solverFailure) {
+    return;
+  }
 
-  const std::string stiffness = "the elastic wave bound is dt < h / c = " + formatNumber(stableDtS_) +
-                                " s for the stiffest material (scene dt " + formatNumber(dtS_) + " s)";
+  // A semi-implicit step is not bounded by the elastic wave, an explicit one is.
+  const std::string stiffness = solver_.semiImplicit()
+                                    ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
+                                    : "the elastic wave bound is dt < h / c = " + formatNumber(stableDtS_) +
+                                          " s for the stiffest material (scene dt " + formatNumber(dtS_) + " s)";
   auto when = [&](std::uint32_t step) {
     return "step " + std::to_string(step) + " (t ≈ " + formatNumber(double(step) * dtS_) + " s)";
   };
@@ -117,6 +125,19 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                             formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
                             std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower "
                             "the body velocities; " + stiffness + ".");
+  }
+  if (solverFailure) {
+    const SolveReport& solve = solverFailure->report;
+    const std::string ended = std::isnan(solve.residual)
+                                  ? "became non-finite after " + std::to_string(solve.iterations) + " iterations"
+                                  : "stopped after " + std::to_string(solve.iterations) +
+                                        " iterations at relative residual " + formatNumber(solve.residual);
+    events.emplace_back(std::uint32_t(solverFailure->step),
+                        when(std::uint32_t(solverFailure->step)) + ": the semi-implicit solve " + ended +
+                            ", more than " + formatNumber(kSolverFailureFactor) + " times solver.tolerance (" +
+                            formatNumber(solver_.tolerance) + "): its velocities are not the step's. Raise "
+                            "solver.max_iterations (now " + std::to_string(solver_.maxIterations) +
+                            "), reduce time.dt, or lower solver.implicit_ratio towards 0.5.");
   }
   std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string message = "the simulation became unstable:";

@@ -3,12 +3,14 @@
 // body or which grid node, and which key of the scene to change. The watchdog itself is common/watchdog.glsl.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuLayout.h"
+#include "sim/ImplicitSolver.h"
 
 namespace firn {
 
@@ -24,10 +26,11 @@ class Diagnostics {
   void keepParticles(std::size_t count);
 
   // Throws SimulationError (exit 3) listing, in the order they happened, the fixed-point overflows, non-finite
-  // values and CFL violations `status` records, and a step that needed `blocksNeeded` blocks of the grid when its
-  // pool held `blockCapacity` (0: none did); `state` gives the positions of the particles it names.
+  // values and CFL violations `status` records, a step that needed `blocksNeeded` blocks of the grid when its
+  // pool held `blockCapacity` (0: none did), and a semi-implicit solve that failed; `state` gives the positions of
+  // the particles it names.
   void check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
-             std::size_t blockCapacity) const;
+             std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure) const;
 
  private:
   std::string describeNode(std::int32_t node) const;
@@ -36,6 +39,7 @@ class Diagnostics {
   GridSpec grid_;
   double dtS_ = 0;
   double stableDtS_ = 0;      // h / c of the stiffest material
+  SolverSpec solver_;
   double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
   int kernelWidth_ = 4;       // nodes of a particle's stencil per axis
   std::vector<std::string> materialNames_;

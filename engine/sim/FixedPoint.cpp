@@ -6,6 +6,7 @@
 
 #include "Error.h"
 #include "scene/Scene.h"
+#include "sim/Materials.h"
 
 namespace firn {
 
@@ -18,7 +19,19 @@ double maxParticlesPerCell(const Scene& scene) {
 FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<ParticleSeed>& particles) {
   double referenceMassKg = 0;
   for (const ParticleSeed& particle : particles) referenceMassKg = std::max(referenceMassKg, double(particle.massKg));
-  return deriveFixedPointScale(referenceMassKg, maxParticlesPerCell(scene), scene.grid.cellSizeM, scene.time.dtS);
+  FixedPointScale scale =
+      deriveFixedPointScale(referenceMassKg, maxParticlesPerCell(scene), scene.grid.cellSizeM, scene.time.dtS);
+  scale.solverFractionBits =
+      deriveSolverFractionBits(scale, stiffestBody(scene).waveSpeedMPerS, scene.grid.cellSizeM, scene.time.dtS);
+  return scale;
+}
+
+int deriveSolverFractionBits(const FixedPointScale& scale, double waveSpeedMPerS, double cellSizeM, double dtS) {
+  constexpr double kHardeningMargin = 256;
+  constexpr int kMaximumFractionBits = 50;
+  const double courantNumber = waveSpeedMPerS * dtS / cellSizeM;
+  const double bound = scale.maxNodeValue() * std::max(1.0, courantNumber * courantNumber) * kHardeningMargin;
+  return std::min(62 - static_cast<int>(std::ceil(std::log2(bound))), kMaximumFractionBits);
 }
 
 double FixedPointScale::unitsPerValue() const { return std::ldexp(1.0, fractionBits); }

@@ -22,11 +22,18 @@ struct FixedPointScale {
   double referenceMassKg = 0;
   double momentumUnitKgMPerS = 0;  // m_ref · h / Δt
   int fractionBits = 0;            // k: a nondimensional 1 is stored as 2^k
+  // k_H: the semi-implicit solve's 64-bit Hessian product sums store a momentum unit as 2^k_H (solverFractionBits).
+  int solverFractionBits = 0;
 
   double unitsPerValue() const;    // 2^k
   double maxNodeValue() const;     // the largest nondimensional sum int32 holds: 2^(31 − k)
   double resolution() const;       // 2^−k
 };
+
+// The semi-implicit solve's Hessian products sum contributions up to (c Δt / h)² times the momentum a P2G node sum
+// may reach (c the fastest elastic wave): k_H leaves 64-bit sums room for that, 2^8 more (snow's hardening stiffens
+// it), and gives the rest, at most 50 bits, to resolution.
+int deriveSolverFractionBits(const FixedPointScale& scale, double waveSpeedMPerS, double cellSizeM, double dtS);
 
 // Throws InputError when the scene's particles per cell leave fewer than 8 bits of resolution.
 FixedPointScale deriveFixedPointScale(double referenceMassKg, double maxParticlesPerCell, double cellSizeM, double dtS);

@@ -14,12 +14,13 @@ using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
 using uvec4 = glm::uvec4;
 
-#include "common/gpu_contract.h"
-
 // std430 mat3 (particle buffers): three columns padded to vec4.
 struct Mat3x4 {
   vec4 columns[3];
 };
+using mat3 = Mat3x4;
+
+#include "common/gpu_contract.h"
 
 static_assert(FIRN_BLOCK_GROUP_SIZE == BLOCK_NODES, "a per-block pass takes an invocation per node");
 static_assert(FIRN_BLOCK_TILES == BLOCK_TILES, "order_tiles.comp takes an invocation per row");
@@ -30,6 +31,9 @@ static_assert(sizeof(ColliderParams) == 64, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 96 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 16, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
-static_assert(sizeof(StepUniforms) == 96, "std140 StepUniforms");
+static_assert(sizeof(StepUniforms) == 112, "std140 StepUniforms");
+static_assert(sizeof(SolverNode) == 128, "std430 SolverNode");
+static_assert(sizeof(SolverParticle) == 96, "std430 SolverParticle");
+static_assert(sizeof(SolverStatus) == 64 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
 
 }  // namespace firn::gpu

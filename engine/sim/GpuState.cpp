@@ -37,21 +37,28 @@ GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particle
   layout.deformationGradient = deformationGradient;
   layout.affine = scene.solver.transfer == Transfer::Apic;
   layout.impulse = scene.solver.transfer == Transfer::PicFlip;
+  layout.semiImplicit = scene.solver.semiImplicit();
   return layout;
 }
 
 glm::ivec3 GpuStateLayout::blocksPerAxis() const { return (grid.cells + 1 + gpu::BLOCK_WIDTH - 1) / gpu::BLOCK_WIDTH; }
 
+std::size_t GpuStateLayout::largestParticleBufferBytesPerParticle() const {
+  return semiImplicit ? std::max(sizeof(gpu::Mat3x4), sizeof(gpu::SolverParticle)) : sizeof(gpu::Mat3x4);
+}
+
 std::size_t GpuStateLayout::particleBytesPerParticle() const {
   // As GpuState's constructor allocates them.
   return 2 * sizeof(glm::vec4) + sizeof(gpu::ParticlePlasticState) + (deformationGradient ? sizeof(gpu::Mat3x4) : 0) +
-         sizeof(gpu::Mat3x4) + (affine ? sizeof(gpu::Mat3x4) : 0) + 2 * sizeof(std::uint32_t);
+         sizeof(gpu::Mat3x4) + (affine ? sizeof(gpu::Mat3x4) : 0) + (semiImplicit ? sizeof(gpu::SolverParticle) : 0) +
+         2 * sizeof(std::uint32_t);
 }
 
 std::size_t GpuStateLayout::poolBytesPerBlock() const {
-  // As allocateBlockPool allocates them.
+  // As allocateBlockPool allocates them; the solve's status holds a vec4 per slot.
   return nodeStorageBytes(1) * (impulse ? 2 : 1) + gpu::BLOCK_NODES * sizeof(glm::uvec2) +
-         gpu::BLOCK_TILES * sizeof(std::uint32_t) + sizeof(gpu::BlockSlot);
+         gpu::BLOCK_TILES * sizeof(std::uint32_t) + sizeof(gpu::BlockSlot) +
+         (semiImplicit ? gpu::BLOCK_NODES * sizeof(gpu::SolverNode) + sizeof(glm::vec4) : 0);
 }
 
 std::size_t GpuStateLayout::blockMapBytes() const {
@@ -70,9 +77,9 @@ void GpuStateLayout::checkBlockMapFits(const gl::ContextInfo& gl) const {
   }
 }
 
-std::size_t GpuStateLayout::maxPoolBlocks(long long maxStorageBlockBytes) {
-  // The pool's largest buffers hold an ivec4 per node.
-  return std::size_t(maxStorageBlockBytes) / nodeStorageBytes(1);
+std::size_t GpuStateLayout::maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit) {
+  const std::size_t largestPerBlock = semiImplicit ? gpu::BLOCK_NODES * sizeof(gpu::SolverNode) : nodeStorageBytes(1);
+  return std::size_t(maxStorageBlockBytes) / largestPerBlock;
 }
 
 GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
@@ -81,7 +88,7 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
   const double maxBytes = double(gl.maxStorageBlockBytes);
   layout_.checkBlockMapFits(gl);
   const std::size_t n = layout_.particleCapacity;
-  const double particleBytes = double(n) * GpuStateLayout::largestParticleBufferBytesPerParticle;
+  const double particleBytes = double(n) * double(layout_.largestParticleBufferBytesPerParticle());
   if (particleBytes > maxBytes) {
     throw InputError(layout_.sceneFile + ": bodies: " + std::to_string(n) + " particles need " + mebibytes(particleBytes) +
                      " per particle buffer, more than the " + mebibytes(maxBytes) +
@@ -96,6 +103,7 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
   if (layout_.deformationGradient) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
   if (layout_.affine) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4));
+  if (layout_.semiImplicit) solverParticles_ = gl::Buffer(n * sizeof(gpu::SolverParticle));
   sortedParticles_ = gl::Buffer(n * sizeof(std::uint32_t));
   particleRanks_ = gl::Buffer(n * sizeof(std::uint32_t));
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms));
@@ -108,6 +116,13 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   const std::size_t capacity = layout_.blockCapacity;
   const double maxBytes = double(gl.maxStorageBlockBytes);
   const double gridBytes = double(nodeStorageBytes(capacity));
+  const double solverBytes = layout_.semiImplicit ? double(capacity) * gpu::BLOCK_NODES * sizeof(gpu::SolverNode) : 0;
+  if (solverBytes > maxBytes) {
+    throw InputError(layout_.sceneFile + ": solver.integrator: the particles reach " + std::to_string(capacity) + " blocks of " +
+                     std::to_string(gpu::BLOCK_NODES) + " nodes, whose semi-implicit solve needs " +
+                     mebibytes(solverBytes) + " of vectors, more than the " + mebibytes(maxBytes) + " " + gl.renderer +
+                     " allows per shader storage block; use fewer particles, a coarser grid.cell_size or \"explicit\"");
+  }
   if (gridBytes > maxBytes) {
     throw InputError(layout_.sceneFile + ": grid: the particles reach " + std::to_string(capacity) + " blocks of " +
                      std::to_string(gpu::BLOCK_NODES) + " nodes, whose grid buffer of " + mebibytes(gridBytes) +
@@ -124,6 +139,10 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   header.blockCounts.y = static_cast<std::uint32_t>(capacity);
   blockTable_ = gl::Buffer(sizeof header + capacity * sizeof(gpu::BlockSlot));
   blockTable_.upload(0, sizeof header, &header);
+  if (layout_.semiImplicit) {
+    solverNodes_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(gpu::SolverNode));  // zero: no product summed
+    solverStatus_ = gl::Buffer(sizeof(gpu::SolverStatus) + capacity * sizeof(glm::vec4));
+  }
 }
 
 void GpuState::resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl) {
@@ -138,7 +157,7 @@ BlockUsage GpuState::blockUsage() const {
   usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
   usage.capacity = layout_.blockCapacity;
   usage.poolBytes = gridMomentumMass_.bytes() + gridImpulse_.bytes() + bins_.bytes() + tileOrder_.bytes() +
-                    blockTable_.bytes();
+                    blockTable_.bytes() + solverNodes_.bytes() + solverStatus_.bytes();
   usage.mapBytes = blockMap_.bytes();
   return usage;
 }
@@ -196,6 +215,39 @@ void GpuState::bindAll() const {
   sortedParticles_.bindStorage(FIRN_BINDING_SORTED_PARTICLES);
   particleRanks_.bindStorage(FIRN_BINDING_PARTICLE_RANKS);
   tileOrder_.bindStorage(FIRN_BINDING_TILE_ORDER);
+  if (layout_.semiImplicit) {
+    solverNodes_.bindStorage(FIRN_BINDING_SOLVER_NODES);
+    solverParticles_.bindStorage(FIRN_BINDING_SOLVER_PARTICLES);
+    solverStatus_.bindStorage(FIRN_BINDING_SOLVER_STATUS);
+  }
+}
+
+void GpuState::writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress) {
+  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(byAddress.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i].preconditioned = glm::vec4(byAddress[i], 0);
+  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
+}
+
+std::vector<glm::dvec3> GpuState::takeSolverProducts(std::size_t addresses, double valuePerUnit) {
+  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
+  std::vector<glm::dvec3> products;
+  products.reserve(nodes.size());
+  for (gpu::SolverNode& node : nodes) {
+    glm::dvec3 product;
+    for (int c = 0; c < 3; ++c) {
+      const std::int64_t sum = std::int64_t((std::uint64_t(std::uint32_t(node.productHigh[c])) << 32) | node.productLow[c]);
+      product[c] = double(sum) * valuePerUnit;
+    }
+    products.push_back(product);
+    node.productLow = glm::uvec4(0);
+    node.productHigh = glm::ivec4(0);
+  }
+  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
+  return products;
+}
+
+std::vector<glm::vec4> GpuState::readSolverRegisters(std::size_t count) const {
+  return solverStatus_.read<glm::vec4>(count, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4));
 }
 
 void GpuState::bindParticles() const {
@@ -217,22 +269,30 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-std::vector<StoredNode> GpuState::readGrid() const {
+std::vector<glm::ivec3> GpuState::activeNodes() const {
   const BlockUsage usage = blockUsage();
   const std::vector<gpu::BlockSlot> slots = blockTable_.read<gpu::BlockSlot>(usage.lastStep, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
-  const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(usage.lastStep * gpu::BLOCK_NODES);
   const glm::ivec3 blocks = layout_.blocksPerAxis();
-  std::vector<StoredNode> nodes;
-  nodes.reserve(sums.size());
-  for (std::size_t slot = 0; slot < slots.size(); ++slot) {
-    const int index = static_cast<int>(slots[slot].block);
+  std::vector<glm::ivec3> nodes;
+  nodes.reserve(slots.size() * gpu::BLOCK_NODES);
+  for (const gpu::BlockSlot& slot : slots) {
+    const int index = static_cast<int>(slot.block);
     const glm::ivec3 block(index % blocks.x, (index / blocks.x) % blocks.y, index / (blocks.x * blocks.y));
     for (int local = 0; local < gpu::BLOCK_NODES; ++local) {
       const glm::ivec3 offset(local % gpu::BLOCK_WIDTH, (local / gpu::BLOCK_WIDTH) % gpu::BLOCK_WIDTH,
                               local / (gpu::BLOCK_WIDTH * gpu::BLOCK_WIDTH));
-      nodes.push_back({block * gpu::BLOCK_WIDTH + offset, sums[slot * gpu::BLOCK_NODES + std::size_t(local)]});
+      nodes.push_back(block * gpu::BLOCK_WIDTH + offset);
     }
   }
+  return nodes;
+}
+
+std::vector<StoredNode> GpuState::readGrid() const {
+  const std::vector<glm::ivec3> addresses = activeNodes();
+  const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(addresses.size());
+  std::vector<StoredNode> nodes;
+  nodes.reserve(sums.size());
+  for (std::size_t address = 0; address < addresses.size(); ++address) nodes.push_back({addresses[address], sums[address]});
   std::sort(nodes.begin(), nodes.end(), [](const StoredNode& a, const StoredNode& b) {
     return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
   });

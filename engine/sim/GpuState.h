@@ -35,19 +35,21 @@ struct GpuStateLayout {
   bool deformationGradient = true;  // F: every model but water
   bool affine = false;              // APIC's C
   bool impulse = true;              // PIC/FLIP's second grid buffer
+  bool semiImplicit = false;        // the solve's vectors per node and polar decompositions per particle
 
   static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
                                  bool deformationGradient);
   // Blocks of BLOCK_WIDTH³ nodes over the domain, per axis.
   glm::ivec3 blocksPerAxis() const;
 
-  // The largest particle buffers hold a 3×4 float matrix per particle (F, τ, C); each buffer must fit one shader
-  // storage block.
-  static constexpr std::size_t largestParticleBufferBytesPerParticle = sizeof(gpu::Mat3x4);
+  // Each buffer must fit one shader storage block. The largest particle buffers hold a 3×4 float matrix per
+  // particle (F, τ, C), or the semi-implicit solve's SolverParticle (96 bytes).
+  std::size_t largestParticleBufferBytesPerParticle() const;
   // All of this layout's particle buffers together, per particle.
   std::size_t particleBytesPerParticle() const;
-  // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer.
-  static std::size_t maxPoolBlocks(long long maxStorageBlockBytes);
+  // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer: the largest pool
+  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (128 bytes).
+  static std::size_t maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit);
   // The pool's buffers per block, and the block map's bytes over the domain.
   std::size_t poolBytesPerBlock() const;
   std::size_t blockMapBytes() const;
@@ -97,6 +99,10 @@ class GpuState {
 
   // The block table: its header holds the per-block passes' indirect dispatches.
   const gl::Buffer& blockTableBuffer() const { return blockTable_; }
+  // The semi-implicit solve's status: its header holds the iterations' indirect dispatches.
+  const gl::Buffer& solverStatusBuffer() const { return solverStatus_; }
+  // The solve's registers 0 … count − 1 (gpu::SolverStatus::registers): each iteration's dot products.
+  std::vector<glm::vec4> readSolverRegisters(std::size_t count) const;
 
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
@@ -104,6 +110,14 @@ class GpuState {
 
   // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
   std::vector<StoredNode> readGrid() const;
+  // The node index per axis of each storage address of the last step's active blocks (slot after slot).
+  std::vector<glm::ivec3> activeNodes() const;
+
+  // Test hooks for the semi-implicit solve's Hessian product (Simulation::hessianProduct): the solve's vector z at
+  // each storage address of activeNodes(), and the product sums there, converted to doubles (times
+  // `valuePerUnit`) and cleared.
+  void writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress);
+  std::vector<glm::dvec3> takeSolverProducts(std::size_t addresses, double valuePerUnit);
 
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.
@@ -136,6 +150,9 @@ class GpuState {
   gl::Buffer blockMap_;          // per block of the domain
   gl::Buffer bins_;              // per base node of the pool
   gl::Buffer tileOrder_;          // per row of the pool
+  gl::Buffer solverNodes_;        // semi-implicit: per node of the pool
+  gl::Buffer solverStatus_;       // semi-implicit: SolverStatus, then a vec4 per slot of the pool
+  gl::Buffer solverParticles_;    // semi-implicit: per particle
   gl::Buffer materials_;
   gl::Buffer colliders_;
   gl::Buffer watchdog_;

@@ -1,9 +1,12 @@
 #include "sim/Simulation.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -29,9 +32,10 @@ std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& partic
   return initial;
 }
 
-// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed.
+// Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed
+// (semi-implicit steps: the speed alone, as g2p.comp reports it).
 double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  const double fastestWaveMPerS = stiffestBody(scene).waveSpeedMPerS;
+  const double fastestWaveMPerS = scene.solver.semiImplicit() ? 0.0 : stiffestBody(scene).waveSpeedMPerS;
   double fastestMPerS = 0;
   for (const ParticleSeed& seed : seeds) {
     fastestMPerS = std::max(fastestMPerS, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
@@ -41,8 +45,8 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
 
 // A pool of `wanted` blocks, or of as many as the driver's buffers hold if that is fewer but still the `needed`; a
 // pool that cannot hold what is needed is left for GpuState to refuse, with the sizes.
-std::size_t poolCapacity(std::size_t needed, std::size_t wanted, const gl::ContextInfo& gl) {
-  const std::size_t most = GpuStateLayout::maxPoolBlocks(gl.maxStorageBlockBytes);
+std::size_t poolCapacity(const Scene& scene, std::size_t needed, std::size_t wanted, const gl::ContextInfo& gl) {
+  const std::size_t most = GpuStateLayout::maxPoolBlocks(gl.maxStorageBlockBytes, scene.solver.semiImplicit());
   return needed > most ? needed : std::min(wanted, most);
 }
 
@@ -50,7 +54,7 @@ std::size_t poolCapacity(std::size_t needed, std::size_t wanted, const gl::Conte
 // emitters' included (and at least a few hundred: a pool of 256 blocks is 256 KiB of nodes).
 std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl) {
   const std::size_t reached = blocksReached(scene, seeds);
-  return poolCapacity(reached, std::max<std::size_t>(4 * reached, 256), gl);
+  return poolCapacity(scene, reached, std::max<std::size_t>(4 * reached, 256), gl);
 }
 
 // When the pool is this full at the end of a frame, it doubles for the frames to come.
@@ -94,7 +98,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     // A pool given too small for the first particles grows, and their grid is summed again.
     const BlockUsage usage = state_.blockUsage();
     if (usage.mostInAStep > usage.capacity) {
-      state_.resizeBlockPool(poolCapacity(usage.mostInAStep, 2 * usage.mostInAStep, gl_), gl_);
+      state_.resizeBlockPool(poolCapacity(scene_, usage.mostInAStep, 2 * usage.mostInAStep, gl_), gl_);
       pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     }
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
@@ -147,9 +151,29 @@ void Simulation::releaseDueParticles() {
 void Simulation::step(double dtS) {
   releaseDueParticles();
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
-  pipeline_.step(state_, particleCount_, passTimer_);
+  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
+  if (scene_.solver.semiImplicit()) noteSolve(solve);
   timeS_ += dtS;
   ++steps_;
+}
+
+void Simulation::noteSolve(const SolveReport& solve) {
+  ++solverSummary_.solves;
+  solverSummary_.iterations += std::uint64_t(solve.iterations);
+  solverSummary_.mostIterations = std::max(solverSummary_.mostIterations, solve.iterations);
+  if (std::isnan(solve.residual) || std::isnan(solverSummary_.largestResidual)) {
+    solverSummary_.largestResidual = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    solverSummary_.largestResidual = std::max(solverSummary_.largestResidual, solve.residual);
+  }
+  const bool failed = !(solve.residual <= kSolverFailureFactor * scene_.solver.tolerance);  // NaN fails
+  if (failed && !solverFailure_) solverFailure_ = SolverFailure{steps_, solve};
+}
+
+SolverSummary Simulation::takeSolverSummary() {
+  const SolverSummary summary = solverSummary_;
+  solverSummary_ = SolverSummary{};
+  return summary;
 }
 
 int Simulation::advanceTo(double timeS) {
@@ -167,7 +191,7 @@ void Simulation::growBlockPool(double fullness) {
 }
 
 void Simulation::growBlockPoolTo(std::size_t neededBlocks) {
-  const std::size_t capacity = poolCapacity(neededBlocks, 2 * neededBlocks, gl_);
+  const std::size_t capacity = poolCapacity(scene_, neededBlocks, 2 * neededBlocks, gl_);
   if (capacity != state_.blockUsage().capacity) state_.resizeBlockPool(capacity, gl_);
 }
 
@@ -202,7 +226,8 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS()};
+  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
+            solverFailure_};
 }
 
 void Simulation::restoreState() {
@@ -213,6 +238,8 @@ void Simulation::restoreState() {
   diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
+  solverSummary_ = saved_.solverSummary;
+  solverFailure_ = saved_.solverFailure;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {
@@ -252,7 +279,7 @@ void Simulation::checkWatchdog() const {
   const BlockUsage usage = state_.blockUsage();
   const std::size_t blocksNeeded =
       std::max(blocksBeyondPool_, usage.mostInAStep > usage.capacity ? usage.mostInAStep : std::size_t(0));
-  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity);
+  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
 }
 
 ParticleSnapshot Simulation::snapshot() const { return state_.readParticles(particleCount_); }
@@ -273,6 +300,32 @@ GridTotals Simulation::transferToGrid() {
     ++totals.activeNodes;
   }
   return totals;
+}
+
+std::vector<Simulation::NodeVector> Simulation::hessianProduct(
+    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
+  const ImplicitSolver* solver = pipeline_.implicitSolver();
+  if (!solver) throw std::logic_error("hessianProduct: the scene's integrator is explicit");
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
+  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+  solver->prepare(particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_);
+  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  std::vector<glm::vec3> velocities;
+  velocities.reserve(nodes.size());
+  for (const glm::ivec3& node : nodes) {
+    velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
+  }
+  state_.writeSolverPreconditioned(velocities);
+  solver->productOfPreconditioned(state_, product, passTimer_);
+  const std::vector<glm::dvec3> products =
+      state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits));
+  std::vector<NodeVector> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], products[i]});
+  std::sort(result.begin(), result.end(), [](const NodeVector& a, const NodeVector& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {

@@ -7,7 +7,9 @@
 // and the scene's conversion into buffers (sim/SceneUpload.h, sim/Materials.h).
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,14 @@ struct GridNodeSums {
   glm::ivec3 node{0};                  // node index per axis
   double massKg = 0;                   // Σ_p w_ip m_p
   glm::dvec3 momentumKgMPerS{0.0};     // Σ_p w_ip m_p v_p (APIC: plus the affine part and the elastic impulse)
+};
+
+// The semi-implicit solves of a stretch of steps (Simulation::takeSolverSummary); explicit steps solve nothing.
+struct SolverSummary {
+  std::uint64_t solves = 0;
+  std::uint64_t iterations = 0;  // in all
+  int mostIterations = 0;        // of any one step
+  double largestResidual = 0;    // the largest relative residual a step ended with (NaN if one was not finite)
 };
 
 class Simulation {
@@ -80,8 +90,12 @@ class Simulation {
   void resume(const Checkpoint& checkpoint, const std::filesystem::path& source);
 
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
-  // fixed-point overflow, a non-finite value or a CFL violation since the start.
+  // fixed-point overflow, a non-finite value or a CFL violation since the start, or a semi-implicit solve ended
+  // with a residual above kSolverFailureFactor times its tolerance.
   void checkWatchdog() const;
+
+  // The solves since the last call (or the start), and a fresh count from here.
+  SolverSummary takeSolverSummary();
 
   ParticleSnapshot snapshot() const;
   // Binds the particle buffers to their storage binding points (FIRN_BINDING_POSITION_MASS, …VELOCITY_VOLUME,
@@ -110,6 +124,16 @@ class Simulation {
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
+  // Test hook (semi-implicit scenes): the Hessian product β Δt² H u (kg·m/s; Δt the scene's dt) at every node of the
+  // grid the current particles reach, for the grid velocities `velocityAtNode(node position)` (m/s), in the order of
+  // the dense grid, as the solve computes it or (ForceDifference) by the central difference of the stress.
+  struct NodeVector {
+    glm::ivec3 node{0};
+    glm::dvec3 value{0.0};
+  };
+  std::vector<NodeVector> hessianProduct(const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode,
+                                         HessianProduct product);
+
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
@@ -123,6 +147,8 @@ class Simulation {
   // too small for `neededBlocks`).
   void growBlockPoolTo(std::size_t neededBlocks);
   void releaseDueParticles();
+  // Adds a semi-implicit step's solve to the summary, and notes the first that failed (kSolverFailureFactor).
+  void noteSolve(const SolveReport& solve);
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
   void appendParticles(const std::vector<ParticleSeed>& particles);
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
@@ -145,6 +171,8 @@ class Simulation {
   double timeS_ = 0;
   std::uint64_t steps_ = 0;
   std::size_t blocksBeyondPool_ = 0;  // the most blocks a step needed, when that was more than the pool held
+  SolverSummary solverSummary_;
+  std::optional<SolverFailure> solverFailure_;  // the first solve that ended far from its tolerance
 
   // saveState's counters (GpuState keeps the buffers' copies).
   struct SavedCounters {
@@ -153,6 +181,8 @@ class Simulation {
     std::size_t particleCount = 0;
     std::size_t nextPending = 0;
     double fastestSignalMPerS = 0;
+    SolverSummary solverSummary;
+    std::optional<SolverFailure> solverFailure;
   };
   SavedCounters saved_;
 };

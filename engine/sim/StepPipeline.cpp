@@ -1,6 +1,7 @@
 #include "sim/StepPipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -14,7 +15,9 @@ constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
 // A pass whose output sizes the next dispatch (glDispatchComputeIndirect) also needs the command barrier.
 constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
 
-gl::ShaderOptions shaderOptions(const Scene& scene, MaterialPrograms programs) {
+}  // namespace
+
+gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms programs) {
   gl::ShaderOptions options;
   options.defines.emplace_back("FIRN_WALL_CELLS", std::to_string(GridSpec::wallCells));
   options.defines.emplace_back(scene.solver.kernel == Kernel::Cubic ? "FIRN_KERNEL_CUBIC" : "FIRN_KERNEL_QUADRATIC", "1");
@@ -35,14 +38,13 @@ gl::ShaderOptions shaderOptions(const Scene& scene, MaterialPrograms programs) {
   }
   if (needsDeformationGradient(scene, programs)) options.defines.emplace_back("FIRN_HAS_DEFORMATION_GRADIENT", "1");
   if (scene.time.adaptive) options.defines.emplace_back("FIRN_ADAPTIVE_DT", "1");
+  if (scene.solver.semiImplicit()) options.defines.emplace_back("FIRN_SEMI_IMPLICIT", "1");
   if (scene.solver.atomics == Atomics::Float) {
     options.defines.emplace_back("FIRN_FLOAT_ATOMICS", "1");
     options.extensions.push_back("GL_NV_shader_atomic_float");
   }
   return options;
 }
-
-}  // namespace
 
 bool needsDeformationGradient(const Scene& scene, MaterialPrograms programs) {
   if (programs == MaterialPrograms::EveryModel) return true;
@@ -67,6 +69,11 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   const double inverseInertia = (scene.solver.kernel == Kernel::Cubic ? 3.0 : 4.0) / (h * h);
   uniforms.transfer = glm::vec4(float(scene.solver.flipRatio), float(timeS), float(inverseInertia), 0);
   uniforms.counts = glm::uvec4(particles, scene.colliders.size(), static_cast<std::uint32_t>(step), 0);
+  if (scene.solver.semiImplicit()) {
+    const double unitsPerValue = std::ldexp(1.0, fixedPoint.solverFractionBits);
+    uniforms.solver = glm::vec4(float(scene.solver.implicitRatio), float(scene.solver.tolerance * scene.solver.tolerance),
+                                float(unitsPerValue), float(1.0 / unitsPerValue));
+  }
   return uniforms;
 }
 
@@ -77,7 +84,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
                      " does not offer; use \"fixed\"");
   }
   using Dispatch = ComputePass::Dispatch;
-  const gl::ShaderOptions options = shaderOptions(scene, programs);
+  const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
   prepareBlocks_ = ComputePass(library, "sim/prepare_blocks.comp", options, Dispatch::Once);
   releaseBlocks_ = ComputePass(library, "sim/release_blocks.comp", options, Dispatch::Indirect);
@@ -92,6 +99,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   updateGrid_ = ComputePass(library, "sim/update_grid.comp", options, Dispatch::Indirect);
   gridToParticle_ = ComputePass(library, "sim/g2p.comp", options, Dispatch::Particles);
   computeVolumes_ = ComputePass(library, "sim/compute_volumes.comp", options, Dispatch::Particles);
+  if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
 }
 
 // The blocks the particles' stencils reach claim slots of the pool (last step's are released first), and the
@@ -124,13 +132,16 @@ void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, PassTi
   glMemoryBarrier(kStorage);
 }
 
-void StepPipeline::step(GpuState& state, std::size_t particles, PassTimer& timer) const {
+SolveReport StepPipeline::step(GpuState& state, std::size_t particles, PassTimer& timer) const {
   const std::size_t blockDispatch = offsetof(gpu::BlockTableHeader, blockDispatch);
   transferToGrid(state, particles, timer);
   updateGrid_.runIndirect(state.blockTableBuffer(), blockDispatch, timer);
   glMemoryBarrier(kStorage);
+  SolveReport solve;
+  if (implicitSolver_) solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
   gridToParticle_.runOverParticles(particles, maxWorkGroupsX_, timer);
   glMemoryBarrier(kStorage);
+  return solve;
 }
 
 void StepPipeline::computeVolumes(GpuState& state, std::size_t particles, PassTimer& timer) const {

@@ -6,6 +6,7 @@
 // and nothing else.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "gl/Context.h"
 #include "scene/Scene.h"
@@ -13,6 +14,7 @@
 #include "sim/FixedPoint.h"
 #include "sim/GpuLayout.h"
 #include "sim/GpuState.h"
+#include "sim/ImplicitSolver.h"
 
 namespace firn {
 
@@ -22,6 +24,10 @@ enum class MaterialPrograms { SceneModels, EveryModel };
 
 // Whether the scene's particles carry a deformation gradient F (every model but water needs one).
 bool needsDeformationGradient(const Scene& scene, MaterialPrograms programs);
+
+// The defines and extensions the step's programs are built with: the scene's kernel, transfer, atomics, colliders,
+// material models and integrator.
+gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms programs);
 
 // The uniform block of one step of `dtS` seconds starting at `timeS`.
 gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedPoint, double dtS, double timeS,
@@ -34,8 +40,11 @@ class StepPipeline {
 
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them, then particle to grid.
   void transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const;
-  // One whole step: transferToGrid, the grid update, grid to particle.
-  void step(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
+  // particle. Returns how the solve ended (explicit steps: no iterations).
+  SolveReport step(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  // The semi-implicit solve, if the scene has one (tests reach its passes through it).
+  const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
   void computeVolumes(GpuState& state, std::size_t particles, PassTimer& timer) const;
 
@@ -56,6 +65,7 @@ class StepPipeline {
   ComputePass updateGrid_;
   ComputePass gridToParticle_;
   ComputePass computeVolumes_;
+  std::optional<ImplicitSolver> implicitSolver_;
 };
 
 }  // namespace firn

@@ -19,8 +19,8 @@ SteppingPolicy::SteppingPolicy(const Scene& scene, double fastestSignalMPerS)
       gravityMPerS2_(glm::length(scene.gravityMPerS2)), fastestSignalMPerS_(fastestSignalMPerS) {}
 
 // Each adaptive step is the largest that the CFL condition on the fastest signal, max over particles of |v| + c
-// (the particle's speed plus its material's wave speed in its present, hardened state), allows, times time.cfl,
-// and no larger than time.dt. Gravity may add |g| dt during the step.
+// (the particle's speed plus its material's wave speed in its present, hardened state; semi-implicit steps: |v|
+// alone), allows, times time.cfl, and no larger than time.dt. Gravity may add |g| dt during the step.
 double SteppingPolicy::adaptiveDtS() const {
   const double cfl = cfl_ * stepScale_;
   const double speedMPerS = fastestSignalMPerS_ + gravityMPerS2_ * dtS_;

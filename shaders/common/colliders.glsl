@@ -36,6 +36,46 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
   return v;
 }
 
+#ifdef FIRN_SEMI_IMPLICIT
+// The constraint the colliders put on a node whose velocity before their response is v, for the semi-implicit
+// solve (common/solver.glsl): a sticky collider holds all of it, a slip one the component along its normal, a
+// separating one that component only while approaching. Two colliders holding different normals hold it all.
+// Returns SolverNode.constraint: the normal held, and the CONSTRAINT_* bits.
+vec4 colliderConstraint(vec3 probe, vec3 v, float timeS) {
+  int code = 0;
+  vec3 heldNormal = vec3(0.0);
+#ifdef FIRN_HAS_COLLIDERS
+  for (uint i = 0u; i < counts.y; ++i) {
+    ColliderParams c = colliders[i];
+    vec3 normal;
+    if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
+    int boundary = c.shapeBoundary.y;
+    if (boundary == BOUNDARY_STICKY) {
+      code |= CONSTRAINT_FIXED;
+    } else if (boundary == BOUNDARY_SLIP || dot(v - c.velocityFriction.xyz, normal) < 0.0) {
+      if ((code & CONSTRAINT_NORMAL) != 0 && heldNormal != normal) code |= CONSTRAINT_FIXED;
+      code |= CONSTRAINT_NORMAL;
+      heldNormal = normal;
+    }
+    v = boundaryResponse(v, normal, c.velocityFriction.xyz, c.velocityFriction.w, boundary);
+  }
+#endif
+  return vec4(heldNormal, float(code));
+}
+
+// The axes on which the domain walls hold a node whose velocity before their response is v: CONSTRAINT_WALL_X
+// shifted by the axis.
+int wallConstraint(vec3 probe, vec3 v, vec3 interiorMin, vec3 interiorMax) {
+  int code = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if ((probe[axis] <= interiorMin[axis] && v[axis] < 0.0) || (probe[axis] >= interiorMax[axis] && v[axis] > 0.0)) {
+      code |= CONSTRAINT_WALL_X << axis;
+    }
+  }
+  return code;
+}
+#endif
+
 // The domain's outer cells are walls: beyond `interiorMin`/`interiorMax` motion out of the domain stops
 // (a frictionless separating boundary on each face).
 vec3 collideWithDomainWalls(vec3 probe, vec3 v, vec3 interiorMin, vec3 interiorMax) {

@@ -42,6 +42,10 @@
 #define FIRN_BINDING_SORTED_PARTICLES 14    // uint per particle: particle indices, block after block, bin after bin
 #define FIRN_BINDING_PARTICLE_RANKS 15      // uint per particle: its place in its bin
 #define FIRN_BINDING_TILE_ORDER 16          // uint per tile of the pool: the tiles holding particles, fullest first
+// The semi-implicit solve's (solver.integrator "semi_implicit" only; common/solver.glsl).
+#define FIRN_BINDING_SOLVER_NODES 17        // SolverNode per node of the pool: the conjugate residual method's vectors
+#define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: what the Hessian needs of F's polar decomposition
+#define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 
@@ -52,6 +56,8 @@
 #define FIRN_BLOCK_GROUP_SIZE 64  // BLOCK_NODES
 #define FIRN_BLOCK_TILES 16       // BLOCK_TILES: order_tiles.comp takes a block's tiles
 #define FIRN_TILE_GROUP_SIZE 16
+// Invocations of the single work group that sums the blocks' partial sums of a dot product (solver_reduce.comp).
+#define FIRN_REDUCTION_GROUP_SIZE 256
 
 // Material models (MaterialParams.model.x).
 FIRN_CONSTANT(int, MODEL_SNOW, 0)
@@ -74,7 +80,8 @@ FIRN_CONSTANT(uint, CHANNEL_MASS, 0u)
 FIRN_CONSTANT(uint, CHANNEL_MOMENTUM, 1u)
 FIRN_CONSTANT(uint, CHANNEL_IMPULSE, 4u)
 FIRN_CONSTANT(uint, CHANNEL_TILE, 7u)
-FIRN_CONSTANT(uint, CHANNEL_COUNT, 8u)
+FIRN_CONSTANT(uint, CHANNEL_SOLVER, 8u)  // the semi-implicit solve's Hessian product sums
+FIRN_CONSTANT(uint, CHANNEL_COUNT, 9u)
 
 // The block-sparse grid (common/blocks.glsl, docs/numerics.md): nodes are stored by blocks of BLOCK_WIDTH³,
 // allocated each step where particles' stencils reach, from a pool of slots; a block's nodes are contiguous.
@@ -159,6 +166,62 @@ FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
   member(uint, unused)
 FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 
+// The semi-implicit solve (common/solver.glsl, docs/numerics.md "The semi-implicit solve"): how a grid node's
+// velocity is held by a collider or a domain wall, as bits of SolverNode.constraint.w. A wall holds one axis; a
+// slip or separating collider the component along its normal; a sticky one, or a node without mass, all three.
+FIRN_CONSTANT(int, CONSTRAINT_WALL_X, 1)
+FIRN_CONSTANT(int, CONSTRAINT_NORMAL, 8)
+FIRN_CONSTANT(int, CONSTRAINT_FIXED, 16)
+// The most conjugate residual iterations a step may take (solver.max_iterations), and the registers that hold
+// each iteration's dot products.
+FIRN_CONSTANT(int, SOLVER_MAX_ITERATIONS, 1000)
+FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
+
+// SolverNode: one node's vectors of the conjugate residual method (solver_*.comp), in its storage of the pool.
+// The solution x, the node's velocity, stays in the grid's own storage (common/grid.glsl).
+//   residual             r = S (M v* − A x) (kg·m/s), S the constraints' projection
+//   preconditioned       z = M⁻¹ r (m/s)
+//   product              A z (kg·m/s)
+//   direction            p (m/s); before the first iteration v*, which the initial residual's product takes
+//   directionProduct     A p (kg·m/s)
+//   constraint           xyz: the collider's unit normal (CONSTRAINT_NORMAL), w: CONSTRAINT_* bits
+//   productLow/High      a Hessian product's sums, x y z as 64-bit integers (low and high words) in units of 2^−k_H
+//                        of the momentum unit (StepUniforms.solver): exact, so the same whatever the order of the
+//                        additions
+#define FIRN_SOLVER_NODE(member, array) \
+  member(vec4, residual)                \
+  member(vec4, preconditioned)          \
+  member(vec4, product)                 \
+  member(vec4, direction)               \
+  member(vec4, directionProduct)        \
+  member(vec4, constraint)              \
+  member(uvec4, productLow)             \
+  member(ivec4, productHigh)
+FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
+
+// SolverParticle: of a corotated particle's F = R S (polar), R, and K = (tr(S) I − S)⁻¹, which gives the derivative
+// of R (material_hessians.glsl). Computed once per step (solver_prepare.comp).
+#define FIRN_SOLVER_PARTICLE(member, array) \
+  member(mat3, rotation)                    \
+  member(mat3, rotationDerivative)
+FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
+
+// SolverStatus: the solve's progress in this step. The passes of an iteration are dispatched from here, and once
+// the residual is below the tolerance their records hold no work groups: what is left of the iterations the host
+// dispatched before its next look costs nothing.
+//   solveBlockDispatch    xyz: work groups of the per-node passes (the block table's, or none)
+//   solveProductDispatch  xyz: of the Hessian product, a transfer over tiles
+//   solveReduceDispatch   xyz: of the dot products' sums (one group, or none)
+//   registers             per iteration k: x (z, A z)_k, y (A p, M⁻¹ A p)_k, z (r, M⁻¹ r)_k after k iterations,
+//                         w (M v*, v*) (k = 0 only): the tolerance's reference
+#define FIRN_SOLVER_STATUS(member, array) \
+  member(uvec4, solveBlockDispatch)       \
+  member(uvec4, solveProductDispatch)     \
+  member(uvec4, solveReduceDispatch)      \
+  member(uvec4, solveUnused)              \
+  array(vec4, registers, SOLVER_REGISTERS)
+FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
+
 // WatchdogStatus: what the GPU watchdog saw (common/watchdog.glsl). The first event of each kind is recorded by
 // the invocation that flips its `…Node`/`…Particle` field from −1.
 //   overflow…      fixed-point overflows: count, linear node index, step, CHANNEL_*
@@ -187,13 +250,15 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //   fixedPoint          m_ref (kg), the momentum unit m_ref·h/Δt_ref (kg·m/s), 2^k, 2^−k (docs/numerics.md)
 //   transfer            FLIP ratio α, the simulated time at the start of the step (s), APIC's D⁻¹ (1/m²)
 //   counts              particles, colliders, step index
+//   solver              semi-implicit: β (implicit_ratio), the tolerance², 2^k_H and 2^−k_H (SolverNode.productLow/High's units)
 #define FIRN_STEP_UNIFORMS(member, array) \
   member(vec4, gridOriginCellSize)        \
   member(ivec4, gridNodes)                \
   member(vec4, gravityDt)                 \
   member(vec4, fixedPoint)                \
   member(vec4, transfer)                  \
-  member(uvec4, counts)
+  member(uvec4, counts)                   \
+  member(vec4, solver)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

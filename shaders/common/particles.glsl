@@ -1,6 +1,10 @@
 // The per-particle buffers (common/gpu_contract.h): declared here alone, with nothing compute-only, so that the
-// simulation's passes and the renderer's vertex shader share one declaration.
+// simulation's passes and the renderer's vertex shader share one declaration. Passes over the grid alone define
+// FIRN_WITHOUT_PARTICLE_BUFFERS before their includes: llvmpipe counts every storage block a shader declares, used
+// or not, against its 16 (docs/platform.md).
 #include "common/gpu_contract.h"
+
+#ifndef FIRN_WITHOUT_PARTICLE_BUFFERS
 
 layout(std430, binding = FIRN_BINDING_POSITION_MASS) buffer PositionMassBuffer { vec4 positionMass[]; };
 layout(std430, binding = FIRN_BINDING_VELOCITY_VOLUME) buffer VelocityVolumeBuffer { vec4 velocityVolume[]; };
@@ -13,3 +17,4 @@ layout(std430, binding = FIRN_BINDING_AFFINE) buffer AffineBuffer { mat3 affine[
 #endif
 
 layout(std430, binding = FIRN_BINDING_PLASTIC_STATE) buffer PlasticStateBuffer { ParticlePlasticState plasticState[]; };
+#endif

@@ -415,6 +415,50 @@ TEST(SceneLoader, ReadsAdaptiveTimeStep) {
   expectError(scene, "time.cfl", "applies only with \"adaptive\": true");
 }
 
+TEST(SceneLoader, ReadsSemiImplicitSolverKeys) {
+  Json scene = validScene();
+  EXPECT_EQ(parseScene(scene.dump(), sceneFile).solver.integrator, Integrator::Explicit);
+  scene["solver"] = {{"integrator", "semi_implicit"}};
+  Scene parsed = parseScene(scene.dump(), sceneFile);
+  EXPECT_TRUE(parsed.solver.semiImplicit());
+  EXPECT_DOUBLE_EQ(parsed.solver.implicitRatio, 1.0);
+  EXPECT_DOUBLE_EQ(parsed.solver.tolerance, 1e-4);
+  EXPECT_EQ(parsed.solver.maxIterations, 100);
+  scene["solver"] = {{"integrator", "semi_implicit"}, {"implicit_ratio", 0.5}, {"tolerance", 1e-3}, {"max_iterations", 40}};
+  parsed = parseScene(scene.dump(), sceneFile);
+  EXPECT_DOUBLE_EQ(parsed.solver.implicitRatio, 0.5);
+  EXPECT_DOUBLE_EQ(parsed.solver.tolerance, 1e-3);
+  EXPECT_EQ(parsed.solver.maxIterations, 40);
+
+  scene["solver"]["integrator"] = "implicit";
+  expectError(scene, "solver.integrator", "\"explicit\", \"semi_implicit\"");
+  scene["solver"]["integrator"] = "semi_implicit";
+  scene["solver"]["implicit_ratio"] = 1.5;
+  expectError(scene, "solver.implicit_ratio", "must be in [0, 1] (got 1.5)");
+  scene["solver"]["implicit_ratio"] = 1;
+  scene["solver"]["tolerance"] = 0;
+  expectError(scene, "solver.tolerance", "must be in [1e-07, 1)");
+  scene["solver"]["tolerance"] = 1e-4;
+  scene["solver"]["max_iterations"] = 1001;
+  expectError(scene, "solver.max_iterations", "1000");
+  scene["solver"] = {{"tolerance", 1e-3}};
+  expectError(scene, "solver.tolerance", "applies only with \"integrator\": \"semi_implicit\"");
+}
+
+// The semi-implicit step needs each material's Hessian: water and sand have none, and are refused by name.
+TEST(SceneLoader, RefusesSemiImplicitForMaterialsWithoutAHessian) {
+  Json scene = validScene();
+  scene["solver"] = {{"integrator", "semi_implicit"}};
+  scene["materials"]["wet"] = {{"model", "water"}, {"density", 1000}, {"bulk_modulus", 1e5}, {"gamma", 7}};
+  EXPECT_NO_THROW(parseScene(scene.dump(), sceneFile));  // not used by a body
+  scene["bodies"][0]["material"] = "wet";
+  expectError(scene, "solver.integrator", "material \"wet\" uses the model \"water\", whose Hessian Firn does not implement");
+  scene["materials"]["sand"] = {{"model", "drucker_prager"}, {"youngs_modulus", 3.5e5}, {"poisson_ratio", 0.3},
+                                {"density", 1600}, {"friction_angle_deg", 35}};
+  scene["bodies"][0]["material"] = "sand";
+  expectError(scene, "solver.integrator", "material \"sand\" uses the model \"drucker_prager\"");
+}
+
 TEST(SceneLoader, ReportsSyntaxErrorWithLineAndColumn) {
   const std::string text = "{\n  \"grid\": {\n    \"cells\": [32, 32, 32],,\n  }\n}";
   try {

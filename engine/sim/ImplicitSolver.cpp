@@ -1,0 +1,140 @@
+#include "sim/ImplicitSolver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "sim/GpuLayout.h"
+
+namespace firn {
+
+namespace {
+
+constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
+constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
+
+// The registers' components (gpu::SolverStatus): bits of solver_reduce.comp's reduceComponents.
+constexpr unsigned kProduct = 1;           // x: (z, A z)
+constexpr unsigned kDirectionProduct = 2;  // y: (A p, M⁻¹ A p)
+constexpr unsigned kResidual = 4;          // z: (r, M⁻¹ r)
+constexpr unsigned kReference = 8;         // w: (M v*, v*)
+
+constexpr std::size_t kBlockDispatch = offsetof(gpu::SolverStatus, solveBlockDispatch);
+constexpr std::size_t kProductDispatch = offsetof(gpu::SolverStatus, solveProductDispatch);
+constexpr std::size_t kReduceDispatch = offsetof(gpu::SolverStatus, solveReduceDispatch);
+
+static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "the scene's limit is the GPU's");
+
+}  // namespace
+
+ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
+    : toleranceSquared_(scene.solver.tolerance * scene.solver.tolerance), maxIterations_(scene.solver.maxIterations),
+      options_(options) {
+  using Dispatch = ComputePass::Dispatch;
+  prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
+  begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
+  product_ = ComputePass(library, "sim/solver_product.comp", options, Dispatch::Indirect);
+  residual_ = ComputePass(library, "sim/solver_residual.comp", options, Dispatch::Indirect);
+  apply_ = ComputePass(library, "sim/solver_apply.comp", options, Dispatch::Indirect);
+  direction_ = ComputePass(library, "sim/solver_direction.comp", options, Dispatch::Indirect);
+  update_ = ComputePass(library, "sim/solver_update.comp", options, Dispatch::Indirect);
+  reduce_ = ComputePass(library, "sim/solver_reduce.comp", options, Dispatch::Indirect);
+  finish_ = ComputePass(library, "sim/solver_finish.comp", options, Dispatch::Indirect);
+}
+
+void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const {
+  prepare_.runOverParticles(particles, maxWorkGroupsX, timer);
+  glMemoryBarrier(kStorage);
+}
+
+void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const {
+  const ComputePass* pass = &product_;
+  if (product == HessianProduct::ForceDifference) {
+    if (!forceDifferenceProduct_) {
+      gl::ShaderOptions options = options_;
+      options.defines.emplace_back("FIRN_SOLVER_FORCE_DIFFERENCE", "1");
+      forceDifferenceProduct_.emplace(gl::ShaderLibrary(), "sim/solver_product.comp", options,
+                                      ComputePass::Dispatch::Indirect);
+    }
+    pass = &*forceDifferenceProduct_;
+  }
+  pass->set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
+                                                timer);
+  glMemoryBarrier(kStorage);
+}
+
+void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsigned components, PassTimer& timer) const {
+  reduce_.set("reduceRegister", registerIndex)
+      .set("reduceComponents", components)
+      .runIndirect(state.solverStatusBuffer(), kReduceDispatch, timer);
+  glMemoryBarrier(kStorageAndCommands);
+}
+
+bool ImplicitSolver::findEnd(const std::vector<glm::vec4>& registers, SolveReport& report) const {
+  const double reference = registers[0].w;
+  for (std::size_t k = 0; k < registers.size(); ++k) {
+    const double residual = registers[k].z;
+    // As solver_reduce.comp decides: done unless above the tolerance (so a NaN ends it too).
+    if (residual > toleranceSquared_ * reference) continue;
+    report.iterations = int(k);
+    if (std::isnan(residual) || std::isnan(reference)) {
+      report.residual = std::numeric_limits<double>::quiet_NaN();
+      report.converged = false;
+    } else {
+      report.residual = reference > 0 ? std::sqrt(std::max(residual, 0.0) / reference) : 0.0;
+      report.converged = true;
+    }
+    return true;
+  }
+  return false;
+}
+
+SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
+                                  PassTimer& timer) const {
+  const gl::Buffer& status = state.solverStatusBuffer();
+  prepare(particles, maxWorkGroupsX, timer);
+  begin_.runOnce(timer);
+  glMemoryBarrier(kStorageAndCommands);
+  // r₀ = −S β Δt² H v*, z₀, and the reference (M v*, v*).
+  product_.set("productOfSolution", 1).runIndirect(status, kProductDispatch, timer);
+  glMemoryBarrier(kStorage);
+  residual_.runIndirect(status, kBlockDispatch, timer);
+  glMemoryBarrier(kStorage);
+  reduce(state, 0, kResidual | kReference, timer);
+
+  SolveReport report;
+  bool ended = false;
+  for (int k = 0; k < maxIterations_ && !ended; ++k) {
+    const unsigned iteration = static_cast<unsigned>(k);
+    product_.set("productOfSolution", 0).runIndirect(status, kProductDispatch, timer);
+    glMemoryBarrier(kStorage);
+    apply_.runIndirect(status, kBlockDispatch, timer);
+    glMemoryBarrier(kStorage);
+    reduce(state, iteration, kProduct, timer);
+    direction_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
+    glMemoryBarrier(kStorage);
+    reduce(state, iteration, kDirectionProduct, timer);
+    update_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
+    glMemoryBarrier(kStorage);
+    reduce(state, iteration + 1, kResidual, timer);
+    if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) {
+      ended = findEnd(state.readSolverRegisters(std::size_t(k) + 2), report);
+    }
+  }
+  if (!ended) {
+    const std::vector<glm::vec4> registers = state.readSolverRegisters(std::size_t(maxIterations_) + 1);
+    if (!findEnd(registers, report)) {
+      const double reference = registers[0].w;
+      report.iterations = maxIterations_;
+      report.residual = std::sqrt(double(registers[std::size_t(maxIterations_)].z) / reference);
+      report.converged = false;
+    }
+  }
+  finish_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
+  glMemoryBarrier(kStorage);
+  return report;
+}
+
+}  // namespace firn

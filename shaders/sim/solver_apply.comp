@@ -1,0 +1,26 @@
+#version 430 core
+// The semi-implicit solve's product A z = S (M z + β Δt² H z) (common/solver.glsl), from the Hessian product's sums
+// (solver_product.comp), and the block's partial sum of (z, A z). A work group per active block, an invocation per
+// node.
+// Reads: the grid's masses, the product sums, preconditioned, constraints. Writes: product, the product sums
+// (cleared), the block's partial sums.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/grid.glsl"
+#include "common/blocks.glsl"
+#include "common/solver.glsl"
+#include "common/solver_reduction.glsl"
+
+layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+void main() {
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
+
+  float massKg = storedFloats(gridMomentumMass[i]).w;
+  vec3 z = solverNodes[i].preconditioned.xyz;
+  vec3 product = constrain(massKg * z + takeProduct(i), solverNodes[i].constraint);
+  solverNodes[i].product.xyz = product;
+  writeBlockPartial(slot, vec4(dot(z, product), 0.0, 0.0, 0.0));
+}

@@ -1,0 +1,32 @@
+#version 430 core
+// The semi-implicit solve's search direction (common/solver.glsl): p = z + β_k p and A p = A z + β_k A p with
+// β_k = (z, A z)_k / (z, A z)_{k−1} (p = z at the first iteration), and the block's partial sum of (A p, M⁻¹ A p).
+// A work group per active block, an invocation per node.
+// Reads: the registers, the grid's masses, preconditioned, product, direction, directionProduct. Writes: direction,
+// directionProduct, the block's partial sums.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/grid.glsl"
+#include "common/blocks.glsl"
+#include "common/solver.glsl"
+#include "common/solver_reduction.glsl"
+
+layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+uniform uint iteration;
+
+void main() {
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
+
+  float previous = iteration > 0u ? registers[iteration - 1u].x : 0.0;
+  float beta = previous != 0.0 ? registers[iteration].x / previous : 0.0;
+  SolverNode node = solverNodes[i];
+  vec3 direction = node.preconditioned.xyz + beta * node.direction.xyz;
+  vec3 directionProduct = node.product.xyz + beta * node.directionProduct.xyz;
+  solverNodes[i].direction.xyz = direction;
+  solverNodes[i].directionProduct.xyz = directionProduct;
+  float massKg = storedFloats(gridMomentumMass[i]).w;
+  writeBlockPartial(slot, vec4(0.0, dot(directionProduct, directionProduct) * inverseMass(massKg), 0.0, 0.0));
+}

@@ -1,0 +1,31 @@
+#version 430 core
+// The semi-implicit solve's end (common/solver.glsl): the solution keeps the components its constraints held at their
+// collided values, but a node the constraints left free — outside the colliders, or separating from one, when v* was
+// computed — may now move into a collider or out of the domain: it meets them as update_grid.comp's nodes do. A node
+// the solve did not change meets them unchanged, so with β = 0 the step is the explicit one to the bit.
+// A work group per active block, an invocation per node.
+// Reads: the grid's velocities and masses, constraints, colliders. Writes: the grid's velocities.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/grid.glsl"
+#include "common/blocks.glsl"
+#include "common/colliders.glsl"
+#include "common/solver.glsl"
+
+layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+void main() {
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
+  uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
+
+  vec4 velocityMass = storedFloats(gridMomentumMass[i]);
+  if (velocityMass.w <= 0.0) return;
+  int code = int(solverNodes[i].constraint.w);
+  vec3 x = nodePosition(node);
+  vec3 velocity = velocityMass.xyz;
+  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) velocity = collideWithColliders(x, velocity, transfer.y);
+  velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
+  gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));
+}
