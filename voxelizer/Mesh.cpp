@@ -33,6 +33,8 @@ glm::dmat4 toGlm(const aiMatrix4x4& matrix) {
   return result;
 }
 
+bool isFinite(const glm::dvec3& point) { return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z); }
+
 // Appends the meshes that `node` and its descendants place, each with its node's transform composed with its
 // ancestors'. A mesh placed by several nodes is appended once per placement.
 void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& parentTransform, TriangleMesh& mesh) {
@@ -43,7 +45,10 @@ void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& pare
     const auto firstVertex = static_cast<unsigned>(mesh.vertices.size());
     for (unsigned v = 0; v < part.mNumVertices; ++v) {
       const aiVector3D& vertex = part.mVertices[v];
-      mesh.vertices.emplace_back(nodeTransform * glm::dvec4(vertex.x, vertex.y, vertex.z, 1.0));
+      const glm::dvec3 fileM(vertex.x, vertex.y, vertex.z);
+      // A vertex that is not finite is kept as the file has it, for the message: the product with the transform
+      // would spread its infinity to every coordinate as NaN (0 · ∞).
+      mesh.vertices.push_back(isFinite(fileM) ? glm::dvec3(nodeTransform * glm::dvec4(fileM, 1.0)) : fileM);
     }
     for (unsigned f = 0; f < part.mNumFaces; ++f) {
       const aiFace& face = part.mFaces[f];
@@ -106,7 +111,6 @@ std::string describePoint(const glm::dvec3& pointM) {
   return text;
 }
 
-bool isFinite(const glm::dvec3& point) { return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z); }
 
 // The triangles must index the vertices and every vertex they use must be finite; the vertices no triangle uses
 // are dropped, so that a stray vertex does not stretch the mesh's box.

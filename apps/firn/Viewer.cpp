@@ -19,6 +19,7 @@
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "io/Text.h"
 #include "run/Budget.h"
 #include "run/Preflight.h"
 #include "run/StepAccumulator.h"
@@ -156,12 +157,6 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
   return enter;
 }
 
-std::string withThousands(std::size_t value) {
-  std::string digits = std::to_string(value);
-  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
-  return digits;
-}
-
 class Viewer {
  public:
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
@@ -186,7 +181,7 @@ class Viewer {
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, T throw a snowball, F reframe, Q quit\n",
-                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(seeds_.size()).c_str());
+                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(seeds_.size())).c_str());
   }
 
   void run() {
@@ -266,7 +261,7 @@ class Viewer {
     std::snprintf(text, sizeof text,
                   "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | colour: %s%s",
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
-                  withThousands(simulation_->particleCount()).c_str(), simulation_->timeS(), speed_,
+                  withThousands(double(simulation_->particleCount())).c_str(), simulation_->timeS(), speed_,
                   render::colorModeName(colorMode_), unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
     glfwSetWindowTitle(window_, text);
     stepsSinceTitle_ = 0;

@@ -21,6 +21,7 @@
 #include "Viewer.h"
 #include "gl/Context.h"
 #include "io/Ply.h"
+#include "io/Text.h"
 #include "io/Video.h"
 #include "run/Budget.h"
 #include "run/HeadlessRun.h"
@@ -69,20 +70,10 @@ struct VoxelizeOptions {
 };
 
 // Host memory per particle of `firn voxelize`: the sampled positions (24 bytes, up to twice that while their
-// vector grows), then the point cache (32) and the PLY's bytes (32) — measured in docs/command-line.md.
+// vector grows), then the point cache (32) and the PLY's bytes (32) (docs/platform.md, Memory the driver reports).
 constexpr double kVoxelizeBytesPerParticle = 112;
 
-std::string withThousands(double value) {
-  std::string digits = std::to_string(static_cast<unsigned long long>(std::max(0.0, value)));
-  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
-  return digits;
-}
-
-std::string formatG(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
+std::string formatG(double value) { return firn::format("%.3g", value); }
 
 // Refuses, before sampling, a fill estimated beyond --max-particles or the memory this process can allocate,
 // with the spacing that would fit. Returns the most particles sampling may make.
@@ -99,9 +90,9 @@ std::size_t checkVoxelizeBudget(const VoxelizeOptions& options, const firn::voxe
   const std::string limit = memoryBinds ? "the " + formatG(allocatable / double(1 << 30)) +
                                               " GiB this process can still allocate (about " +
                                               formatG(kVoxelizeBytesPerParticle) + " bytes per particle)"
-                                        : "--max-particles " + withThousands(double(options.maxParticles));
-  throw firn::InputError(options.meshPath + ": about " + withThousands(estimate.points) + " particles at spacing " +
-                         formatG(spacingM) + " m (" + withThousands(estimate.insideTests) +
+                                        : "--max-particles " + firn::withThousands(double(options.maxParticles));
+  throw firn::InputError(options.meshPath + ": about " + firn::withThousands(estimate.points) + " particles at spacing " +
+                         formatG(spacingM) + " m (" + firn::withThousands(estimate.insideTests) +
                          " positions to test), more than " + limit + "; a spacing of " +
                          formatG(std::ceil(fitting / unit) * unit) + " m or a smaller --scale would fit" +
                          (memoryBinds ? std::string() : ", or raise --max-particles"));
@@ -131,7 +122,7 @@ int voxelizeCommand(const VoxelizeOptions& options) {
   const voxelizer::SampleEstimate estimate = voxelizer::estimateVoxelize(mesh, sampling);
   sampling.maxPoints = checkVoxelizeBudget(options, estimate, sampling.spacingM);
   std::fprintf(stderr, "firn voxelize: about %s particles to sample (%s positions to test)\n",
-               withThousands(estimate.points).c_str(), withThousands(estimate.insideTests).c_str());
+               firn::withThousands(estimate.points).c_str(), firn::withThousands(estimate.insideTests).c_str());
   std::optional<firn::ProgressLine> progressLine;
   if (isatty(STDERR_FILENO) != 0) {
     progressLine.emplace(stderr);
@@ -141,9 +132,9 @@ int voxelizeCommand(const VoxelizeOptions& options) {
     try {
       return voxelizer::voxelize(mesh, with);
     } catch (const voxelizer::TooManySamples& tooMany) {
-      throw firn::InputError(options.meshPath + ": sampling stopped past " + withThousands(double(tooMany.maxPoints())) +
+      throw firn::InputError(options.meshPath + ": sampling stopped past " + firn::withThousands(double(tooMany.maxPoints())) +
                              " particles, the most --max-particles and this process's memory allow (the estimate "
-                             "before sampling was " + withThousands(estimate.points) + "); use a coarser spacing");
+                             "before sampling was " + firn::withThousands(estimate.points) + "); use a coarser spacing");
     }
   };
   std::vector<glm::dvec3> positions = sample(sampling);

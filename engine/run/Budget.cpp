@@ -9,24 +9,13 @@
 #include <glm/common.hpp>
 
 #include "Error.h"
+#include "io/Text.h"
 #include "sim/GpuLayout.h"
 #include "sim/GpuState.h"
 #include "voxelizer/ChildProcess.h"
 
 namespace firn {
 namespace {
-
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
-std::string count(double value) {
-  std::string digits = format("%.0f", std::max(0.0, std::floor(value)));
-  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
-  return digits;
-}
 
 std::string bytes(double value) {
   return value >= double(1 << 30) ? format("%.3g GiB", value / double(1 << 30)) : format("%.4g MiB", value / double(1 << 20));
@@ -122,7 +111,7 @@ std::string suggestion(const Scene& scene, const std::vector<BodyEstimate>& esti
   constexpr double estimateMargin = 0.97;
   const double fraction = estimateMargin * othersRoom / estimates[largest].particles;
   if (body.shape == BodyShape::Points) {
-    return "give " + name + " a cloud of at most " + count(othersRoom) + " points";
+    return "give " + name + " a cloud of at most " + withThousands(othersRoom) + " points";
   }
   // Rounded down to 3 significant digits, so that the suggestion does fit.
   const double perCell = body.particlesPerCell * fraction;
@@ -145,14 +134,14 @@ ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl
   for (const BodyEstimate& estimate : budget.bodies) estimated += estimate.particles;
   if (estimated <= room) return budget;
 
-  std::string message = sceneFileName(scene) + ": bodies: about " + count(estimated) + " particles (";
+  std::string message = sceneFileName(scene) + ": bodies: about " + withThousands(estimated) + " particles (";
   for (std::size_t b = 0; b < budget.bodies.size(); ++b) {
     message += (b > 0 ? "; " : "") + std::string("bodies[") + std::to_string(b) + "], " +
-               describeBody(scene.bodies[b]) + ": " + count(budget.bodies[b].particles);
+               describeBody(scene.bodies[b]) + ": " + withThousands(budget.bodies[b].particles);
   }
   message += ")";
-  if (reservedParticles > 0) message += " and room for " + count(reservedParticles) + " more (the viewer's snowballs)";
-  throw InputError(message + " need more than the " + count(room) + " that fit " + limit.what + "; " +
+  if (reservedParticles > 0) message += " and room for " + withThousands(reservedParticles) + " more (the viewer's snowballs)";
+  throw InputError(message + " need more than the " + withThousands(room) + " that fit " + limit.what + "; " +
                    suggestion(scene, budget.bodies, room));
 }
 

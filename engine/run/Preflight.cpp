@@ -12,6 +12,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "Error.h"
+#include "io/Text.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuFunctions.h"
@@ -22,12 +23,6 @@
 namespace firn {
 namespace {
 
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
 std::string seconds(double valueS) { return format("%.3g s", valueS); }
 
 const char* colliderName(ColliderShape shape) {
@@ -37,12 +32,6 @@ const char* colliderName(ColliderShape shape) {
     case ColliderShape::Box: return "box";
   }
   return "collider";
-}
-
-std::string count(std::size_t value) {
-  std::string digits = std::to_string(value);
-  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
-  return digits;
 }
 
 // Particles that start inside a collider are moved out to its surface as they are uploaded (escapeColliders):
@@ -77,15 +66,15 @@ void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>
   }
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     if (bodyParticles[b] > 0 && bodyInside[b] == bodyParticles[b]) {
-      throw InputError(bodyName(scene, b) + ": every one of its " + count(bodyParticles[b]) +
+      throw InputError(bodyName(scene, b) + ": every one of its " + withThousands(bodyParticles[b]) +
                        " particles starts inside a collider; moved out they would form a sheet on the collider's "
                        "surface. Move the body out of the collider");
     }
     for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
       const Overlap& overlap = overlaps[b][c];
       if (overlap.particles == 0) continue;
-      report.warnings.push_back("bodies[" + std::to_string(b) + "]: " + count(overlap.particles) + " of its " +
-                                count(bodyParticles[b]) + " particles start inside colliders[" + std::to_string(c) +
+      report.warnings.push_back("bodies[" + std::to_string(b) + "]: " + withThousands(overlap.particles) + " of its " +
+                                withThousands(bodyParticles[b]) + " particles start inside colliders[" + std::to_string(c) +
                                 "] (a " + colliderName(scene.colliders[c].shape) + "), up to " +
                                 format("%.3g m", overlap.deepestM) +
                                 " deep; they are moved out to its surface before the first step");
@@ -104,7 +93,7 @@ void noteEmitters(const Scene& scene, const std::vector<ParticleSeed>& particles
     const Body& body = scene.bodies[b];
     if (!body.isEmitter()) continue;
     const std::string name = "bodies[" + std::to_string(b) + "]: ";
-    const std::string particlesText = count(bodyParticles[b]) + " particles";
+    const std::string particlesText = withThousands(bodyParticles[b]) + " particles";
     if (body.durationFrames == 0) {
       report.notes.push_back(name + "emitter: its " + particlesText + " join at once at frame " +
                              std::to_string(body.startFrame) + " (duration_frames 0)");
@@ -127,7 +116,7 @@ void noteEmitters(const Scene& scene, const std::vector<ParticleSeed>& particles
                    std::floor(double(bodyParticles[b]) * double(*lastFrame - body.startFrame) / body.durationFrames) + 1);
       report.warnings.push_back(name + "the emitter's window ends at frame " +
                                 std::to_string(body.startFrame + body.durationFrames) + ", after the run's last frame " +
-                                std::to_string(*lastFrame) + ": only about " + count(std::size_t(joining)) +
+                                std::to_string(*lastFrame) + ": only about " + withThousands(joining) +
                                 " of its " + particlesText + " will join");
     }
   }

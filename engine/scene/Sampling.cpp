@@ -11,6 +11,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "Error.h"
+#include "io/Text.h"
 #include "scene/Sampling.h"
 #include "voxelizer/Voxelizer.h"
 
@@ -33,12 +34,6 @@ voxelizer::SamplingOptions samplingOptions(const Scene& scene, std::size_t bodyI
   options.seed = jitterSeedBase + static_cast<std::uint32_t>(bodyIndex);
   options.latticeOriginM = scene.grid.originM;
   return options;
-}
-
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
 }
 
 // Why a sphere or box body yields no particle, and the particles per cell that would fill it.
