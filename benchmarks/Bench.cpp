@@ -94,6 +94,7 @@ std::string runExperiments(BenchRun& run) {
   if (run.wanted("passes")) measurePasses(run);
   if (run.wanted("p2g_atomics")) measureP2GAtomics(run);
   if (run.wanted("tradeoff")) measureTradeoff(run);
+  if (run.wanted("stiff")) measureStiff(run);
   if (!run.options().thesisCloud.empty() && run.wanted("thesis")) measureThesis(run);
   const double minutes = std::chrono::duration<double>(Clock::now() - start).count() / 60;
   std::string summary = "firn bench (" + sizeName(run.options().size) + ") on " + run.renderer() + ", " +
@@ -109,7 +110,7 @@ std::string runExperiments(BenchRun& run) {
 
 const std::vector<std::string>& tableNames() {
   static const std::vector<std::string> names = {"particles", "grid", "domain", "passes", "p2g_atomics", "tradeoff",
-                                                    "thesis"};
+                                                    "stiff", "thesis"};
   return names;
 }
 

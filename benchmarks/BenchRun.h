@@ -17,6 +17,7 @@
 #include "StepTiming.h"
 #include "gl/Context.h"
 #include "sim/GpuState.h"
+#include "sim/Simulation.h"
 
 namespace firn::bench {
 
@@ -35,6 +36,7 @@ struct Sizes {
   double domainSnowballParticles = 50000;
   TimingPlan timing;
   int barPeriods = 2;  // tradeoff: periods measured (the amplitude after them shows PIC's damping)
+  double stiffSimulatedS = 0.05;  // stiff: the snowball's run, each integrator the same simulated time
 };
 
 Sizes sizesFor(BenchSize size);
@@ -53,6 +55,7 @@ struct Timed {
   std::size_t particles = 0;
   std::int64_t activeNodes = 0;
   BlockUsage blocks;  // the grid's blocks at the end of the timing, and their memory
+  SolverSummary solves;  // semi-implicit scenes: the solves of the warm-up and timed steps
 };
 
 // A timed row's status and, when it was timed, the columns active_nodes, steps, repeats, ms_per_step, ms_min,

@@ -92,7 +92,7 @@ Scene BunnyScenes::scene(const BunnySetup& setup) const {
 }
 
 Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const std::string& atomics,
-                       const std::string& kernel) {
+                       const std::string& kernel, const std::string& integrator) {
   if (!std::filesystem::is_regular_file(cloudPath)) {
     throw InputError("--thesis-cloud: " + cloudPath.string() + ": no such file (a point cloud, one x,y,z per line)");
   }
@@ -101,7 +101,8 @@ Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const
       {"name", "thesis bunny"},
       {"grid", {{"cells", {kThesisGridCells, kThesisGridCells, kThesisGridCells}}, {"cell_size", 0.05}}},
       {"time", {{"dt", dtS}, {"frame_rate", 30}, {"frames", 1}}},
-      {"solver", {{"kernel", kernel}, {"transfer", "pic_flip"}, {"flip_ratio", 0.95}, {"atomics", atomics}}},
+      {"solver", {{"kernel", kernel}, {"transfer", "pic_flip"}, {"flip_ratio", 0.95}, {"atomics", atomics},
+                  {"integrator", integrator}}},
       {"materials",
        {{"snow",
          {{"model", "snow"}, {"youngs_modulus", 6e6}, {"poisson_ratio", 0.2}, {"density", 400},

@@ -52,9 +52,10 @@ constexpr int kThesisGridCells = 201;
 
 // What the implementation of Snow thesis 2015 runs on its bunny: its 91,897-particle bunny cloud scaled by 15.74
 // and offset by (5, 0, 5) into 201³ cells of 0.05 m, 6.25e-3 kg per particle, cubic B-splines, PIC/FLIP 0.95,
-// E = 6e6 Pa, ν = 0.2, ξ = 30, θc = 1e-2, θs = 1e-3, at `dtS`, with P2G summing by `atomics` (solver.atomics).
+// E = 6e6 Pa, ν = 0.2, ξ = 30, θc = 1e-2, θs = 1e-3, at `dtS`, with P2G summing by `atomics` (solver.atomics),
+// stepped by `integrator` (solver.integrator; semi-implicit with the solver's defaults).
 // Throws InputError naming --thesis-cloud if the file is missing or is not a point cloud.
 Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const std::string& atomics,
-                       const std::string& kernel = "cubic");
+                       const std::string& kernel = "cubic", const std::string& integrator = "explicit");
 
 }  // namespace firn::bench

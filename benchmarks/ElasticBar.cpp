@@ -55,6 +55,7 @@ Scene barScene(const BarSetup& setup) {
   Json solver = {{"kernel", setup.kernel}, {"transfer", setup.transfer}, {"atomics", setup.atomics},
                  {"particle_volume", setup.particleVolume}, {"integrator", setup.integrator}};
   if (setup.transfer != "apic") solver["flip_ratio"] = setup.flipRatio;
+  if (setup.integrator == "semi_implicit") solver["implicit_ratio"] = setup.implicitRatio;
   const int crossAxisCells = crossCells + 2 * kMarginCells;
   const double dtS = setup.dtFraction * elasticStableDtS(material, cellSizeM);
   const Json scene = {

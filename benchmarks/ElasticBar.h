@@ -41,6 +41,7 @@ struct BarSetup {
   double dtFraction = 0.4;        // dt as a fraction of the elastic bound h / c (sim/Materials.h)
   int periods = 1;                // how many periods to measure
   std::string integrator = "explicit";  // or "semi_implicit" (its defaults: β = 1, tolerance 1e-4)
+  double implicitRatio = 1;             // semi-implicit: β
 };
 
 // Whether the snow model's plasticity clamps never acted: J_P ← J_P det F̂_E / det F_E stays 1 up to the float

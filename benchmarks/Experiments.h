@@ -11,6 +11,7 @@ void measureDomain(BenchRun& run);      // domain.csv (DomainExperiment.cpp)
 void measurePasses(BenchRun& run);      // passes.csv (PassesExperiment.cpp)
 void measureP2GAtomics(BenchRun& run);  // p2g_atomics.csv (P2GAtomicsExperiment.cpp)
 void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)
+void measureStiff(BenchRun& run);       // stiff.csv (StiffExperiment.cpp)
 void measureThesis(BenchRun& run);      // thesis.csv (ThesisExperiment.cpp)
 
 }  // namespace firn::bench

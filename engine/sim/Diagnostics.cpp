@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 #include <utility>
 
@@ -22,8 +23,9 @@ std::string formatNumber(double value) {
 }
 
 const char* channelName(std::uint32_t channel) {
-  static const char* const names[gpu::CHANNEL_COUNT] = {"mass",      "momentum x", "momentum y", "momentum z",
-                                                        "impulse x", "impulse y",  "impulse z",  "tile"};
+  static constexpr const char* names[] = {"mass",      "momentum x", "momentum y", "momentum z",           "impulse x",
+                                          "impulse y", "impulse z",  "tile",       "semi-implicit product"};
+  static_assert(std::size(names) == gpu::CHANNEL_COUNT, "a name for every overflow channel");
   return channel < gpu::CHANNEL_COUNT ? names[channel] : "unknown";
 }
 
@@ -103,6 +105,14 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                             "shader's loops after 65,535 iterations): the snow compressed far beyond its "
                             "particles_per_cell. Lower particles_per_cell, or stiffen the snow's compression "
                             "(a smaller critical_compression or a larger hardening).");
+  } else if (status.overflowCount > 0 && status.overflowChannel == gpu::CHANNEL_SOLVER) {
+    events.emplace_back(status.overflowStep,
+                        when(status.overflowStep) + ": a contribution to the semi-implicit solve's Hessian product at " +
+                            describeNode(status.overflowNode) + " exceeded its 64-bit fixed-point range (" +
+                            std::to_string(status.overflowCount) +
+                            " contributions dropped): the elastic forces far exceed what the scene's stiffness and "
+                            "step lead to, as when a body is crushed or torn within a step. Reduce time.dt, or raise "
+                            "solver.max_iterations if a solve failed before; " + stiffness + ".");
   } else if (status.overflowCount > 0) {
     events.emplace_back(status.overflowStep,
                         when(status.overflowStep) + ": fixed-point overflow of the P2G " +
@@ -137,7 +147,8 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                             ", more than " + formatNumber(kSolverFailureFactor) + " times solver.tolerance (" +
                             formatNumber(solver_.tolerance) + "): its velocities are not the step's. Raise "
                             "solver.max_iterations (now " + std::to_string(solver_.maxIterations) +
-                            "), reduce time.dt, or lower solver.implicit_ratio towards 0.5.");
+                            "), raise solver.tolerance, reduce time.dt, or lower solver.implicit_ratio towards "
+                            "0.5.");
   }
   std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string message = "the simulation became unstable:";

@@ -41,9 +41,12 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       {"passes.csv", {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
       {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
-      {"tradeoff.csv", {"configuration", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
+      {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio", "atomics", "dt_s", "dt_fraction",
                         "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
                         "ms_per_simulated_second", "period_s", "error"}},
+      {"stiff.csv", {"configuration", "youngs_modulus_pa", "integrator", "dt_s", "dt_over_elastic_bound",
+                     "tolerance", "max_iterations", "particles", "simulated_s", "steps", "ms_per_step",
+                     "ms_per_simulated_second", "cost_over_explicit", "mean_iterations"}},
   };
   for (const auto& [file, columns] : leadingColumns) {
     const auto rows = readCsv(out / file);
@@ -62,7 +65,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
     }
   }
   // Every configuration of the tiny sizes runs on llvmpipe: each row says "ok" and has its time.
-  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv"}) {
+  for (const std::string file : {"particles.csv", "grid.csv", "domain.csv", "tradeoff.csv", "stiff.csv"}) {
     const auto rows = readCsv(out / file);
     std::size_t status = 0, time = 0;
     for (std::size_t c = 0; c < rows[0].size(); ++c) {

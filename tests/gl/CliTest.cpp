@@ -134,6 +134,18 @@ TEST(Cli, TimeStepFarBeyondTheStableBoundIsBadInput) {
   const auto column = std::find(rows[0].begin(), rows[0].end(), "solver_residual");
   ASSERT_NE(column, rows[0].end());
   EXPECT_LE(std::stod(rows[2][std::size_t(column - rows[0].begin())]), 1e-2);
+
+  // Two iterations cannot solve a step 38 times the elastic bound: the first solve ends far above 100 times the
+  // tolerance, the watchdog stops the run at the frame's end (exit 3) with what to change, and the steps after the
+  // failed solve, whose velocities were wrong, overflow the Hessian product's 64-bit sums, which it names too.
+  json.replace(json.find("\"semi_implicit\""), 15, "\"semi_implicit\", \"max_iterations\": 2");
+  const fs::path starved = writeScene(directory, "two_iterations.json", json);
+  const Result failed = runFirn("run " + starved.string() + " --no-ply --out " + (directory / "starved").string());
+  EXPECT_EQ(failed.exitCode, 3) << failed.output;
+  EXPECT_NE(failed.output.find("the semi-implicit solve stopped after 2 iterations"), std::string::npos)
+      << failed.output;
+  EXPECT_NE(failed.output.find("Raise solver.max_iterations (now 2)"), std::string::npos) << failed.output;
+  EXPECT_NE(failed.output.find("semi-implicit solve's Hessian product"), std::string::npos) << failed.output;
 }
 
 TEST(Cli, UnstableSceneExitsWithThreeAndKeepsGoodFrames) {
