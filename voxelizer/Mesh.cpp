@@ -1,6 +1,10 @@
 #include "voxelizer/Mesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -29,6 +33,8 @@ glm::dmat4 toGlm(const aiMatrix4x4& matrix) {
   return result;
 }
 
+bool isFinite(const glm::dvec3& point) { return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z); }
+
 // Appends the meshes that `node` and its descendants place, each with its node's transform composed with its
 // ancestors'. A mesh placed by several nodes is appended once per placement.
 void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& parentTransform, TriangleMesh& mesh) {
@@ -39,7 +45,10 @@ void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& pare
     const auto firstVertex = static_cast<unsigned>(mesh.vertices.size());
     for (unsigned v = 0; v < part.mNumVertices; ++v) {
       const aiVector3D& vertex = part.mVertices[v];
-      mesh.vertices.emplace_back(nodeTransform * glm::dvec4(vertex.x, vertex.y, vertex.z, 1.0));
+      const glm::dvec3 fileM(vertex.x, vertex.y, vertex.z);
+      // A vertex that is not finite is kept as the file has it, for the message: the product with the transform
+      // would spread its infinity to every coordinate as NaN (0 · ∞).
+      mesh.vertices.push_back(isFinite(fileM) ? glm::dvec3(nodeTransform * glm::dvec4(fileM, 1.0)) : fileM);
     }
     for (unsigned f = 0; f < part.mNumFaces; ++f) {
       const aiFace& face = part.mFaces[f];
@@ -51,7 +60,108 @@ void appendNode(const aiScene& scene, const aiNode& node, const glm::dmat4& pare
   for (unsigned c = 0; c < node.mNumChildren; ++c) appendNode(scene, *node.mChildren[c], nodeTransform, mesh);
 }
 
+// What the child sends back: 'M', the vertex and triangle counts (u64), the vertices (3 doubles each) and the
+// triangles (3 u32 each); or 'E' and assimp's error message.
+constexpr char kMeshReply = 'M';
+constexpr char kErrorReply = 'E';
+
+template <class T>
+void appendBytes(std::string& out, const T* data, std::size_t count) {
+  out.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+}
+
+// Runs in the child process: assimp's import of `path`, as bytes.
+std::string importInThisProcess(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  // Only triangulation and vertex welding: face removal or normal fixing would change what the winding
+  // number sees.
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (scene == nullptr || scene->mRootNode == nullptr) return kErrorReply + std::string(importer.GetErrorString());
+  TriangleMesh mesh;
+  appendNode(*scene, *scene->mRootNode, glm::dmat4(1.0), mesh);
+  std::string reply(1, kMeshReply);
+  const std::uint64_t counts[2] = {mesh.vertices.size(), mesh.triangles.size()};
+  appendBytes(reply, counts, 2);
+  appendBytes(reply, mesh.vertices.data(), mesh.vertices.size());
+  appendBytes(reply, mesh.triangles.data(), mesh.triangles.size());
+  return reply;
+}
+
+TriangleMesh parseReply(const std::filesystem::path& path, const std::string& reply) {
+  if (!reply.empty() && reply[0] == kErrorReply) fail(path, "cannot read mesh (" + reply.substr(1) + ")");
+  std::uint64_t counts[2] = {0, 0};
+  constexpr std::size_t headerBytes = 1 + sizeof counts;
+  if (reply.size() < headerBytes || reply[0] != kMeshReply) fail(path, "the importer's reply was cut short");
+  std::memcpy(counts, reply.data() + 1, sizeof counts);
+  const std::uint64_t vertexBytes = counts[0] * sizeof(glm::dvec3), triangleBytes = counts[1] * sizeof(glm::uvec3);
+  if (counts[0] > reply.size() || counts[1] > reply.size() || reply.size() != headerBytes + vertexBytes + triangleBytes) {
+    fail(path, "the importer's reply was cut short");
+  }
+  TriangleMesh mesh;
+  mesh.vertices.resize(counts[0]);
+  mesh.triangles.resize(counts[1]);
+  std::memcpy(mesh.vertices.data(), reply.data() + headerBytes, vertexBytes);
+  std::memcpy(mesh.triangles.data(), reply.data() + headerBytes + vertexBytes, triangleBytes);
+  return mesh;
+}
+
+std::string describePoint(const glm::dvec3& pointM) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", pointM.x, pointM.y, pointM.z);
+  return text;
+}
+
+
+// The triangles must index the vertices and every vertex they use must be finite; the vertices no triangle uses
+// are dropped, so that a stray vertex does not stretch the mesh's box.
+void checkAndCompact(const std::filesystem::path& path, TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) fail(path, "the file holds no triangles");
+  const auto vertexCount = static_cast<unsigned>(mesh.vertices.size());
+  std::vector<unsigned> newIndex(mesh.vertices.size(), std::numeric_limits<unsigned>::max());
+  for (const glm::uvec3& triangle : mesh.triangles) {
+    for (int corner = 0; corner < 3; ++corner) {
+      if (triangle[corner] >= vertexCount) {
+        fail(path, "a triangle refers to vertex " + std::to_string(triangle[corner]) + " of " +
+                       std::to_string(vertexCount));
+      }
+      newIndex[triangle[corner]] = 0;
+    }
+  }
+  std::vector<glm::dvec3> used;
+  std::size_t notFinite = 0;
+  glm::dvec3 firstNotFinite(0.0);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (newIndex[v] != 0) continue;
+    if (!isFinite(mesh.vertices[v]) && notFinite++ == 0) firstNotFinite = mesh.vertices[v];
+    newIndex[v] = static_cast<unsigned>(used.size());
+    used.push_back(mesh.vertices[v]);
+  }
+  if (notFinite > 0) {
+    fail(path, std::to_string(notFinite) + " of its vertices " + (notFinite == 1 ? "has" : "have") +
+                   " a coordinate that is not finite (the first: " + describePoint(firstNotFinite) + ")");
+  }
+  for (glm::uvec3& triangle : mesh.triangles) triangle = {newIndex[triangle.x], newIndex[triangle.y], newIndex[triangle.z]};
+  mesh.vertices = std::move(used);
+}
+
 }  // namespace
+
+ChildLimits importLimits(std::uint64_t fileBytes) {
+  // Measured (docs/platform.md, Importing meshes): the whole of `firn voxelize` peaked at 16, 20 and 13 times the
+  // file's size for a million-triangle OBJ, binary PLY and binary STL (38, 19 and 50 MB), and read them at about
+  // 10 MB/s. The importer gets 64 times the file's size (room for compressed formats) over a base for small
+  // files, and a second per MB, ten times what it needed, over a base for a loaded machine.
+  constexpr std::uint64_t baseBytes = std::uint64_t{256} << 20;
+  constexpr std::uint64_t bytesPerFileByte = 64;
+  constexpr double baseS = 10;
+  constexpr double secondsPerFileByte = 1e-6;
+  ChildLimits limits;
+  const std::uint64_t wanted = baseBytes + bytesPerFileByte * std::min<std::uint64_t>(fileBytes, std::uint64_t{1} << 50);
+  limits.memoryBytes = std::min(wanted, allocatableBytes());
+  limits.wallS = baseS + secondsPerFileByte * double(fileBytes);
+  limits.cpuS = limits.wallS;
+  return limits;
+}
 
 TriangleMesh loadMesh(const std::filesystem::path& path) {
   std::error_code error;
@@ -60,16 +170,16 @@ TriangleMesh loadMesh(const std::filesystem::path& path) {
   if (std::filesystem::is_directory(status)) fail(path, "is a folder, not a mesh file");
   // A device or pipe (/dev/zero) could be read for ever.
   if (!std::filesystem::is_regular_file(status)) fail(path, "is not a regular file (a device, pipe or socket)");
-  Assimp::Importer importer;
-  // Only triangulation and vertex welding: face removal or normal fixing would change what the winding
-  // number sees.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
-  if (scene == nullptr || scene->mRootNode == nullptr) {
-    fail(path, std::string("cannot read mesh (") + importer.GetErrorString() + ")");
+  const std::uintmax_t fileBytes = std::filesystem::file_size(path, error);
+  if (error) fail(path, "cannot read mesh (" + error.message() + ")");
+  const ChildLimits limits = importLimits(fileBytes);
+  const ChildOutcome outcome = runInChildProcess([&] { return importInThisProcess(path); }, limits);
+  if (!outcome.succeeded) {
+    throw MeshError("the importer failed on " + path.string() + ": it " + outcome.failure +
+                    (outcome.lastWords.empty() ? std::string() : " (\"" + outcome.lastWords + "\")"));
   }
-  TriangleMesh mesh;
-  appendNode(*scene, *scene->mRootNode, glm::dmat4(1.0), mesh);
-  if (mesh.triangles.empty()) fail(path, "the file holds no triangles");
+  TriangleMesh mesh = parseReply(path, outcome.result);
+  checkAndCompact(path, mesh);
   return mesh;
 }
 
@@ -103,12 +213,100 @@ Bounds bounds(const TriangleMesh& mesh) {
 }
 
 double signedVolume(const TriangleMesh& mesh) {
+  const Bounds box = bounds(mesh);
+  const glm::dvec3 centerM = 0.5 * (box.minM + box.maxM);
   double sixTimesVolume = 0;
   for (const glm::uvec3& triangle : mesh.triangles) {
-    sixTimesVolume += glm::dot(mesh.vertices[triangle.x],
-                               glm::cross(mesh.vertices[triangle.y], mesh.vertices[triangle.z]));
+    sixTimesVolume += glm::dot(mesh.vertices[triangle.x] - centerM,
+                               glm::cross(mesh.vertices[triangle.y] - centerM, mesh.vertices[triangle.z] - centerM));
   }
   return sixTimesVolume / 6;
+}
+
+MeshSurface measureSurface(const TriangleMesh& mesh) {
+  MeshSurface surface;
+  // Vertices welded by position, so that a vertex split for its normals or texture coordinates (or an STL's
+  // corners, one per triangle) does not leave a seam that looks like a hole.
+  std::vector<unsigned> byPosition(mesh.vertices.size());
+  for (unsigned v = 0; v < byPosition.size(); ++v) byPosition[v] = v;
+  const auto lexicographic = [&](unsigned a, unsigned b) {
+    const glm::dvec3 &p = mesh.vertices[a], &q = mesh.vertices[b];
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  std::sort(byPosition.begin(), byPosition.end(), lexicographic);
+  std::vector<unsigned> weld(mesh.vertices.size());
+  for (std::size_t i = 0; i < byPosition.size(); ++i) {
+    const bool same = i > 0 && mesh.vertices[byPosition[i]] == mesh.vertices[byPosition[i - 1]];
+    weld[byPosition[i]] = same ? weld[byPosition[i - 1]] : byPosition[i];
+  }
+  // An edge of a closed surface is shared by an even number of triangles (two, for a manifold).
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  double largestAreaM2 = -1;
+  glm::dvec3 planePointM(0.0), planeNormal(0.0);
+  for (const glm::uvec3& triangle : mesh.triangles) {
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::uint64_t a = weld[triangle[corner]], b = weld[triangle[(corner + 1) % 3]];
+      if (a != b) edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+    }
+    const glm::dvec3& a = mesh.vertices[triangle.x];
+    const glm::dvec3 areaNormal = glm::cross(mesh.vertices[triangle.y] - a, mesh.vertices[triangle.z] - a);
+    const double areaM2 = 0.5 * glm::length(areaNormal);
+    surface.areaM2 += areaM2;
+    if (areaM2 > largestAreaM2) {
+      largestAreaM2 = areaM2;
+      planePointM = a;
+      planeNormal = areaM2 > 0 ? glm::normalize(areaNormal) : glm::dvec3(0.0);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t first = 0, next = 0; first < edges.size(); first = next) {
+    while (next < edges.size() && edges[next] == edges[first]) ++next;
+    if ((next - first) % 2 == 1) ++surface.boundaryEdges;
+  }
+  // With every triangle of zero area there is no plane, and the mesh is as flat as can be.
+  if (planeNormal != glm::dvec3(0.0)) {
+    for (const glm::dvec3& vertexM : mesh.vertices) {
+      surface.thicknessM = std::max(surface.thicknessM, std::abs(glm::dot(vertexM - planePointM, planeNormal)));
+    }
+  }
+  return surface;
+}
+
+std::string whyNotFillable(const TriangleMesh& mesh, const MeshSurface& surface, double spacingM) {
+  const Bounds box = bounds(mesh);
+  if (!isFinite(box.minM) || !isFinite(box.maxM)) {
+    return "placing the mesh (scale, rotation, translation) takes a vertex beyond the range of a double";
+  }
+  // Positions live in 32-bit floats on the GPU and in the PLY files; far enough from the origin, neighbouring
+  // floats are further apart than the particles, which would pile onto them.
+  const glm::dvec3 reachM = glm::max(glm::abs(box.minM), glm::abs(box.maxM));
+  const double farthestM = std::max({reachM.x, reachM.y, reachM.z});
+  const auto farthest = static_cast<float>(farthestM);
+  const double floatGapM = double(std::nextafter(farthest, std::numeric_limits<float>::infinity()) - farthest);
+  constexpr double floatGapPerSpacing = 0.1;
+  if (floatGapM > floatGapPerSpacing * spacingM) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the mesh reaches %.4g m from the origin, where 32-bit floats (the GPU's and the PLY's positions) "
+                  "are %.3g m apart, more than a tenth of the spacing %.3g m; move it nearer the origin",
+                  farthestM, floatGapM, spacingM);
+    return text;
+  }
+  // A mesh is flat when its thickness is at the level of the rounding of its coordinates (files hold floats):
+  // a millionth of its size, and a few float steps where it lies.
+  constexpr double flatThicknessPerSize = 1e-6;
+  constexpr double flatThicknessFloatGaps = 4;
+  const double flatThicknessM = flatThicknessPerSize * glm::length(box.maxM - box.minM) + flatThicknessFloatGaps * floatGapM;
+  if (surface.thicknessM <= flatThicknessM) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the mesh is flat (its vertices lie within %.3g m of one plane), so it encloses no volume to fill; a "
+                  "body needs a closed surface",
+                  surface.thicknessM);
+    return text;
+  }
+  return "";
 }
 
 }  // namespace firn::voxelizer

@@ -1,16 +1,21 @@
 #pragma once
 // Triangle meshes to fill with particles: loading them (assimp), placing them in the scene, measuring them.
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
+#include "voxelizer/ChildProcess.h"
+
 namespace firn::voxelizer {
 
-// A mesh file that cannot be used: missing, not a regular file, unreadable, or without triangles. The message
-// reads "<file>: <problem>"; the engine reports it as bad input.
+// A mesh file that cannot be used: missing, not a regular file, unreadable, without triangles, with a coordinate
+// that is not finite, one the importer fails on, or a mesh that cannot be filled. The message names the file
+// ("<file>: <problem>", or "the importer failed on <file>: …"); the engine reports it as bad input.
 class MeshError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -25,8 +30,17 @@ struct TriangleMesh {
 
 // Loads anything assimp reads (OBJ, PLY, STL, glTF/GLB, ...): every mesh of the file's node hierarchy with the
 // node transforms applied, polygons triangulated. No normal fixing and no face removal: the winding number must
-// see the faces as the file gives them. Throws MeshError naming the file and the problem.
+// see the faces as the file gives them; vertices no triangle uses are dropped.
+// assimp runs in a child process (voxelizer/ChildProcess.h) held to importLimits(the file's size), so a file
+// that makes it abort, crash, exhaust memory or loop ends as a MeshError here ("the importer failed on <file>:
+// it was killed by signal 6 (Aborted): <what assimp said>"), within those limits. Throws MeshError naming the file
+// and the problem; a vertex that is not finite is one.
 TriangleMesh loadMesh(const std::filesystem::path& path);
+
+// What the importer may use for a file of `fileBytes`: memory and time in proportion to the file, with room
+// for small files, and never more memory than this process could allocate itself (docs/platform.md, Importing
+// meshes).
+ChildLimits importLimits(std::uint64_t fileBytes);
 
 // p' = translateM + R · (scale · p), with R = Rz · Ry · Rx: rotate about x first, then y, then z.
 struct Transform {
@@ -46,8 +60,28 @@ struct Bounds {
 // The box around all vertices; the mesh must have at least one.
 Bounds bounds(const TriangleMesh& mesh);
 
-// Σ v0 · (v1 × v2) / 6 over the triangles (divergence theorem): the enclosed volume for a closed, outward
-// mesh, negative for an inverted one. For reporting.
+// Σ (v0 − c) · ((v1 − c) × (v2 − c)) / 6 over the triangles, c the centre of the mesh's box (divergence
+// theorem): the enclosed volume for a closed, outward mesh, negative for an inverted one. An open mesh encloses
+// no definite volume, and its sum depends on where its holes are (c makes it at least independent of where the
+// mesh is placed); MeshSurface says whether the mesh is open. For reporting.
 double signedVolume(const TriangleMesh& mesh);
+
+// What the surface is like, for reports and for the checks before filling it.
+struct MeshSurface {
+  double areaM2 = 0;
+  // Edges (of vertices welded by position) that one triangle, or an odd number, uses: they border holes. 0 for a
+  // closed mesh.
+  std::size_t boundaryEdges = 0;
+  // The farthest any vertex lies from the plane of the largest triangle: 0 (to rounding) for a flat mesh.
+  double thicknessM = 0;
+  bool open() const { return boundaryEdges > 0; }
+};
+MeshSurface measureSurface(const TriangleMesh& mesh);
+
+// Why `mesh`, placed, cannot be filled with particles `spacingM` apart, or "" if it can: a vertex that is not
+// finite (a placement that overflowed); coordinates so far from the origin that 32-bit floats, which the GPU and
+// the PLY files hold positions in, are further apart there than a tenth of the spacing; or a flat mesh, which
+// encloses no volume. Callers prefix the file.
+std::string whyNotFillable(const TriangleMesh& mesh, const MeshSurface& surface, double spacingM);
 
 }  // namespace firn::voxelizer

@@ -38,6 +38,7 @@ constexpr int poissonCandidatesPerSample = 30;
 // Samples also pack more densely against a boundary than in the bulk: the same fills held 0.17 ± 0.01 extra
 // samples per s² of face, so a body of volume V and area A gets about V/s³ + 0.17 A/s² samples.
 constexpr double poissonRadiusPerSpacing = 0.8323;
+constexpr double poissonExtraSamplesPerArea = 0.17;
 
 // A uniform real in [0, 1) from mt19937's raw output, which the C++ standard fixes bit for bit, rather than
 // std::uniform_real_distribution, whose output each standard library may compute differently: the same seed
@@ -87,21 +88,37 @@ std::vector<char> evaluateInside(const std::vector<glm::vec3>& candidatesM, cons
   return isInside;
 }
 
+// The lattice points whose jittered position could land in `box`: indices first to last per axis.
+struct LatticeRange {
+  glm::dvec3 first;
+  glm::dvec3 last;
+  double count() const {
+    const glm::dvec3 perAxis = last - first + 1.0;
+    return perAxis.x * perAxis.y * perAxis.z;
+  }
+};
+
+LatticeRange latticeRange(const Bounds& box, const SamplingOptions& options) {
+  return {glm::floor((box.minM - options.latticeOriginM) / options.spacingM - 0.5 - jitterFraction),
+          glm::ceil((box.maxM - options.latticeOriginM) / options.spacingM - 0.5 + jitterFraction)};
+}
+
 // Lattice points at origin + (i + 0.5) s, each jittered; this is, draw for draw and operation for operation,
 // the sampling Firn's scene bodies have always used, so spheres and boxes keep their particles.
 std::vector<glm::dvec3> sampleLattice(const Bounds& box, const InsideTest& inside, const SamplingOptions& options) {
   const double spacingM = options.spacingM;
   const glm::dvec3 originM = options.latticeOriginM;
-  // Every lattice point whose jittered position could land in the box.
-  const glm::dvec3 firstIndexReal = glm::floor((box.minM - originM) / spacingM - 0.5 - jitterFraction);
-  const glm::dvec3 lastIndexReal = glm::ceil((box.maxM - originM) / spacingM - 0.5 + jitterFraction);
+  const LatticeRange range = latticeRange(box, options);
   constexpr double largestIndex = std::numeric_limits<int>::max() - 1;
-  if (glm::any(glm::lessThan(firstIndexReal, glm::dvec3(-largestIndex))) ||
-      glm::any(glm::greaterThan(lastIndexReal, glm::dvec3(largestIndex)))) {
+  // Written so that a NaN fails too.
+  if (!glm::all(glm::greaterThanEqual(range.first, glm::dvec3(-largestIndex))) ||
+      !glm::all(glm::lessThanEqual(range.last, glm::dvec3(largestIndex)))) {
     throw std::invalid_argument("samplePoints: the box spans more lattice points than 32-bit indices reach");
   }
-  const glm::ivec3 firstIndex(firstIndexReal);
-  const glm::ivec3 lastIndex(lastIndexReal);
+  const glm::ivec3 firstIndex(range.first);
+  const glm::ivec3 lastIndex(range.last);
+  const double candidateCount = range.count();
+  double candidatesTested = 0;
 
   std::mt19937 random(options.seed);
   std::vector<glm::dvec3> pointsM;
@@ -112,6 +129,9 @@ std::vector<glm::dvec3> sampleLattice(const Bounds& box, const InsideTest& insid
     for (std::size_t c = 0; c < candidatesM.size(); ++c) {
       if (isInside[c]) pointsM.emplace_back(candidatesM[c]);
     }
+    if (pointsM.size() > options.maxPoints) throw TooManySamples(options.maxPoints);
+    candidatesTested += double(candidatesM.size());
+    if (options.progress) options.progress(candidatesTested / candidateCount);
     candidatesM.clear();
   };
   for (int k = firstIndex.z; k <= lastIndex.z; ++k) {
@@ -218,6 +238,7 @@ std::vector<glm::dvec3> samplePoissonDisk(const Bounds& box, const InsideTest& i
       return false;
     }
     if (grid.hasSampleWithinRadius(candidateM, samplesM) || !inside(candidateM)) return false;
+    if (samplesM.size() == options.maxPoints) throw TooManySamples(options.maxPoints);
     grid.insert(candidateM, samplesM.size());
     active.push_back(samplesM.size());
     samplesM.push_back(candidateM);
@@ -227,6 +248,7 @@ std::vector<glm::dvec3> samplePoissonDisk(const Bounds& box, const InsideTest& i
   const double seedSpacingM = 2 * radiusM;
   const glm::ivec3 seedCount(glm::max(glm::ceil((box.maxM - box.minM) / seedSpacingM), glm::dvec3(1.0)));
   for (int k = 0; k < seedCount.z; ++k) {
+    if (options.progress) options.progress(double(k) / seedCount.z);
     for (int j = 0; j < seedCount.y; ++j) {
       for (int i = 0; i < seedCount.x; ++i) {
         const glm::vec3 seedM(box.minM + (glm::dvec3(i, j, k) + 0.5) * seedSpacingM);
@@ -260,6 +282,21 @@ std::vector<glm::dvec3> samplePoissonDisk(const Bounds& box, const InsideTest& i
 }
 
 }  // namespace
+
+SampleEstimate estimateSamples(const Bounds& box, double volumeM3, double areaM2, const SamplingOptions& options) {
+  checkSpacing(options.spacingM);
+  const double s = options.spacingM;
+  SampleEstimate estimate;
+  estimate.points = volumeM3 / (s * s * s);
+  // Without the index check sampling makes: a box beyond 32-bit indices has an estimate all the same, which is
+  // what tells the caller that it is too large.
+  estimate.insideTests = latticeRange(box, options).count();
+  if (options.sampler == Sampler::PoissonDisk) {
+    estimate.points += poissonExtraSamplesPerArea * areaM2 / (s * s);
+    estimate.insideTests += poissonCandidatesPerSample * estimate.points;
+  }
+  return estimate;
+}
 
 double volumePerSampleM3(std::size_t sampleCount, const SamplingOptions& options, const RegionSampler& sampleWith) {
   const double latticeCellM3 = options.spacingM * options.spacingM * options.spacingM;

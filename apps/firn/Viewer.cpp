@@ -20,6 +20,8 @@
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "io/Text.h"
+#include "run/Budget.h"
 #include "run/Preflight.h"
 #include "run/StepAccumulator.h"
 #include "sim/Simulation.h"
@@ -40,6 +42,20 @@ constexpr double kMinSpeed = 1.0 / 64, kMaxSpeed = 4.0;
 constexpr double kSnowballRadiusCells = 4.0;
 constexpr double kSnowballSpeedMPerS = 8.0;
 constexpr int kSnowballCapacity = 8;
+
+// The snowball T throws: a sphere of the first body's material and particles per cell, at the domain's centre.
+// A points body's particles per cell, (cell_size / the cloud's spacing)³, can be any number: the snowball takes
+// at most what a sampled body may (docs/scene-format.md, bodies).
+Body snowballBody(const Scene& scene) {
+  constexpr double maxSampledParticlesPerCell = 1000;
+  Body body;
+  body.shape = BodyShape::Sphere;
+  body.radiusM = kSnowballRadiusCells * scene.grid.cellSizeM;
+  body.centerM = scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
+  body.materialIndex = scene.bodies.front().materialIndex;
+  body.particlesPerCell = std::min(scene.bodies.front().particlesPerCell, maxSampledParticlesPerCell);
+  return body;
+}
 
 std::string& lastGlfwError() {
   static std::string message = "no error reported";
@@ -143,16 +159,12 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
   return enter;
 }
 
-std::string withThousands(std::size_t value) {
-  std::string digits = std::to_string(value);
-  for (int i = int(digits.size()) - 3; i > 0; i -= 3) digits.insert(std::size_t(i), ",");
-  return digits;
-}
-
 class Viewer {
  public:
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
-      : scene_(scene), options_(options), window_(window), gl_(gl), seeds_(sampleBodies(scene)),
+      : scene_(scene), options_(options), window_(window), gl_(gl),
+        seeds_(sampleWithinBudget(scene, gl, kSnowballCapacity * estimateBody(snowballBody(scene), scene.grid).particles,
+                                  nullptr)),
         snowballTemplate_(sampleSnowball()), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode), renderMode_(options.renderMode) {
@@ -173,7 +185,7 @@ class Viewer {
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, V particles/surface, T throw a snowball, F reframe, Q quit\n",
-                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(seeds_.size()).c_str());
+                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(seeds_.size())).c_str());
   }
 
   void run() {
@@ -282,7 +294,7 @@ class Viewer {
     std::snprintf(text, sizeof text,
                   "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | %s, colour: %s%s",
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
-                  withThousands(simulation_->particleCount()).c_str(), simulation_->timeS(), speed_,
+                  withThousands(double(simulation_->particleCount())).c_str(), simulation_->timeS(), speed_,
                   render::renderModeName(renderMode_), render::colorModeName(colorMode_),
                   unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
     glfwSetWindowTitle(window_, text);
@@ -341,15 +353,10 @@ class Viewer {
     return heightPx > 0 ? float(widthPx) / float(heightPx) : 1.0f;
   }
 
-  // A sphere of the first body's material and particle spacing, centred at the origin, at rest.
+  // The snowball, centred at the origin, at rest.
   std::vector<ParticleSeed> sampleSnowball() const {
     Scene ball = scene_;
-    Body body;
-    body.shape = BodyShape::Sphere;
-    body.radiusM = kSnowballRadiusCells * scene_.grid.cellSizeM;
-    body.centerM = scene_.grid.originM + 0.5 * glm::dvec3(scene_.grid.cells) * scene_.grid.cellSizeM;
-    body.materialIndex = scene_.bodies.front().materialIndex;
-    body.particlesPerCell = scene_.bodies.front().particlesPerCell;
+    const Body body = snowballBody(scene_);
     ball.bodies = {body};
     std::vector<ParticleSeed> particles = sampleBodies(ball);
     for (ParticleSeed& particle : particles) {

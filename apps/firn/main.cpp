@@ -2,6 +2,7 @@
 // 3 unstable or overflowed simulation, 4 no usable OpenGL 4.3.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -20,7 +21,9 @@
 #include "Viewer.h"
 #include "gl/Context.h"
 #include "io/Ply.h"
+#include "io/Text.h"
 #include "io/Video.h"
+#include "run/Budget.h"
 #include "run/HeadlessRun.h"
 #include "scene/Scene.h"
 #include "voxelizer/Voxelizer.h"
@@ -63,51 +66,109 @@ struct VoxelizeOptions {
   std::uint32_t seed = 0x4669726e;
   firn::voxelizer::Transform placement;
   double densityKgPerM3 = 400;
+  std::size_t maxParticles = 20000000;
 };
+
+// Host memory per particle of `firn voxelize`: the sampled positions (24 bytes, up to twice that while their
+// vector grows), then the point cache (32) and the PLY's bytes (32) (docs/platform.md, Memory the driver reports).
+constexpr double kVoxelizeBytesPerParticle = 112;
+
+std::string formatG(double value) { return firn::format("%.3g", value); }
+
+// Refuses, before sampling, a fill estimated beyond --max-particles or the memory this process can allocate,
+// with the spacing that would fit. Returns the most particles sampling may make.
+std::size_t checkVoxelizeBudget(const VoxelizeOptions& options, const firn::voxelizer::SampleEstimate& estimate,
+                                double spacingM) {
+  const double allocatable = double(firn::voxelizer::allocatableBytes());
+  const double memoryParticles = allocatable / kVoxelizeBytesPerParticle;
+  const bool memoryBinds = memoryParticles < double(options.maxParticles);
+  const double most = std::min(memoryParticles, double(options.maxParticles));
+  if (estimate.points <= most) return static_cast<std::size_t>(most);
+  // N ∝ 1/s³: the spacing for `most` particles, rounded up to 3 significant digits so that it does fit.
+  const double fitting = spacingM * std::cbrt(estimate.points / most);
+  const double unit = std::pow(10.0, std::floor(std::log10(fitting)) - 2);
+  const std::string limit = memoryBinds ? "the " + formatG(allocatable / double(1 << 30)) +
+                                              " GiB this process can still allocate (about " +
+                                              formatG(kVoxelizeBytesPerParticle) + " bytes per particle)"
+                                        : "--max-particles " + firn::withThousands(double(options.maxParticles));
+  throw firn::InputError(options.meshPath + ": about " + firn::withThousands(estimate.points) + " particles at spacing " +
+                         formatG(spacingM) + " m (" + firn::withThousands(estimate.insideTests) +
+                         " positions to test), more than " + limit + "; a spacing of " +
+                         formatG(std::ceil(fitting / unit) * unit) + " m or a smaller --scale would fit" +
+                         (memoryBinds ? std::string() : ", or raise --max-particles"));
+}
 
 int voxelizeCommand(const VoxelizeOptions& options) {
   using Clock = std::chrono::steady_clock;
+  namespace voxelizer = firn::voxelizer;
   const auto start = Clock::now();
-  firn::voxelizer::SamplingOptions sampling;
+  voxelizer::SamplingOptions sampling;
   // --spacing, or the spacing a body of particles_per_cell gets on a grid of cell_size (Sampling.cpp's rule).
   sampling.spacingM = options.spacingM > 0 ? options.spacingM : options.cellSizeM / std::cbrt(options.particlesPerCell);
-  sampling.sampler = options.sampler == "poisson_disk" ? firn::voxelizer::Sampler::PoissonDisk
-                                                        : firn::voxelizer::Sampler::Lattice;
+  sampling.sampler = options.sampler == "poisson_disk" ? voxelizer::Sampler::PoissonDisk : voxelizer::Sampler::Lattice;
   sampling.seed = options.seed;
-  firn::voxelizer::TriangleMesh mesh;
+  voxelizer::TriangleMesh mesh;
+  // The voxelizer knows no exit statuses; a bad mesh file is bad input.
   try {
-    mesh = firn::voxelizer::transformed(firn::voxelizer::loadMesh(options.meshPath), options.placement);
-  } catch (const firn::voxelizer::MeshError& error) {
-    throw firn::InputError(error.what());  // the voxelizer knows no exit statuses; a bad mesh file is bad input
+    mesh = voxelizer::transformed(voxelizer::loadMesh(options.meshPath), options.placement);
+  } catch (const voxelizer::MeshError& error) {
+    throw firn::InputError(error.what());
   }
+  const voxelizer::MeshSurface surface = voxelizer::measureSurface(mesh);
+  const std::string problem = voxelizer::whyNotFillable(mesh, surface, sampling.spacingM);
+  if (!problem.empty()) throw firn::InputError(options.meshPath + ": " + problem);
   const auto loaded = Clock::now();
-  const std::vector<glm::dvec3> positions = firn::voxelizer::voxelize(mesh, sampling);
+
+  const voxelizer::SampleEstimate estimate = voxelizer::estimateVoxelize(mesh, sampling);
+  sampling.maxPoints = checkVoxelizeBudget(options, estimate, sampling.spacingM);
+  std::fprintf(stderr, "firn voxelize: about %s particles to sample (%s positions to test)\n",
+               firn::withThousands(estimate.points).c_str(), firn::withThousands(estimate.insideTests).c_str());
+  std::optional<firn::ProgressLine> progressLine;
+  if (isatty(STDERR_FILENO) != 0) {
+    progressLine.emplace(stderr);
+    sampling.progress = [&](double fraction) { progressLine->show("firn voxelize: sampling", fraction); };
+  }
+  const auto sample = [&](const voxelizer::SamplingOptions& with) {
+    try {
+      return voxelizer::voxelize(mesh, with);
+    } catch (const voxelizer::TooManySamples& tooMany) {
+      throw firn::InputError(options.meshPath + ": sampling stopped past " + firn::withThousands(double(tooMany.maxPoints())) +
+                             " particles, the most --max-particles and this process's memory allow (the estimate "
+                             "before sampling was " + firn::withThousands(estimate.points) + "); use a coarser spacing");
+    }
+  };
+  std::vector<glm::dvec3> positions = sample(sampling);
+  progressLine.reset();
   const auto sampled = Clock::now();
   if (positions.empty()) {
-    throw firn::InputError(options.meshPath + ": no particles: the mesh is smaller than the spacing " +
-                           std::to_string(sampling.spacingM) + " m, or encloses nothing");
+    throw firn::InputError(options.meshPath + ": " + voxelizer::whyNoParticles(mesh, surface, sampling.spacingM));
   }
+  sampling.progress = nullptr;
   // Each particle carries its share of the volume the samples fill (voxelizer/Samplers.h).
-  const double volumePerParticleM3 = firn::voxelizer::volumePerSampleM3(
-      positions.size(), sampling, [&](const auto& o) { return firn::voxelizer::voxelize(mesh, o); });
+  const double volumePerParticleM3 = voxelizer::volumePerSampleM3(positions.size(), sampling, sample);
   const double volumeM3 = volumePerParticleM3 * double(positions.size());
-  const float massKg = float(options.densityKgPerM3 * volumePerParticleM3);
+  const std::string sheet = voxelizer::sheetWarning(surface, positions.size(), sampling.spacingM);
+  if (!sheet.empty()) std::fprintf(stderr, "firn voxelize: warning: %s: %s\n", options.meshPath.c_str(), sheet.c_str());
+  const auto massKg = float(options.densityKgPerM3 * volumePerParticleM3);
+  const std::size_t particleCount = positions.size();
   firn::PointCache cloud;
-  for (const glm::dvec3& p : positions) {
-    cloud.positionsM.emplace_back(p);
-    cloud.velocitiesMPerS.emplace_back(0.0f);
-    cloud.massesKg.push_back(massKg);
-    cloud.plasticJ.push_back(1.0f);
-  }
+  cloud.positionsM.assign(positions.begin(), positions.end());
+  std::vector<glm::dvec3>().swap(positions);  // freed before the PLY's bytes are made
+  cloud.velocitiesMPerS.assign(particleCount, glm::vec3(0.0f));
+  cloud.massesKg.assign(particleCount, massKg);
+  cloud.plasticJ.assign(particleCount, 1.0f);
   firn::writePly(options.outputPath, cloud);
-  const firn::voxelizer::Bounds box = firn::voxelizer::bounds(mesh);
+  const voxelizer::Bounds box = voxelizer::bounds(mesh);
   const auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
   std::printf("firn voxelize: %zu triangles, bounds [%.4g, %.4g, %.4g] to [%.4g, %.4g, %.4g] m\n",
               mesh.triangles.size(), box.minM.x, box.minM.y, box.minM.z, box.maxM.x, box.maxM.y, box.maxM.z);
-  std::printf("firn voxelize: %zu particles at spacing %.4g m (%s): volume %.6g m³ (the mesh's signed volume is "
-              "%.6g m³)\n",
-              positions.size(), sampling.spacingM, options.sampler.c_str(), volumeM3,
-              firn::voxelizer::signedVolume(mesh));
+  const std::string meshVolume =
+      surface.open() ? "the mesh is open, " + std::to_string(surface.boundaryEdges) +
+                           " edges bordering holes, so it has no exact volume; its signed volume about its centre is " +
+                           formatG(voxelizer::signedVolume(mesh)) + " m³"
+                     : "the mesh's signed volume is " + formatG(voxelizer::signedVolume(mesh)) + " m³";
+  std::printf("firn voxelize: %zu particles at spacing %.4g m (%s): volume %.6g m³ (%s)\n", particleCount,
+              sampling.spacingM, options.sampler.c_str(), volumeM3, meshVolume.c_str());
   std::printf("firn voxelize: wrote %s in %.2f s (load %.2f s, sample %.2f s)\n", options.outputPath.c_str(),
               seconds(Clock::now() - start), seconds(loaded - start), seconds(sampled - loaded));
   return 0;
@@ -254,6 +315,9 @@ int main(int argc, char** argv) {
   voxelize->add_option("--translate", translateM, "Translation X,Y,Z in metres, applied last")->expected(3)->delimiter(',');
   voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³ of the particles' masses (density · s³ on the lattice)")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  voxelize->add_option("--max-particles", voxelizeOptions.maxParticles,
+                       "Refuse, before sampling, a mesh estimated to yield more particles than this")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{2147483647}))->capture_default_str();
 
   BenchCommand benchOptions;
   benchOptions.outputDir = benchOptions.options.outputDir.string();

@@ -219,6 +219,19 @@ void loadGLFunctions(ContextInfo& info) {
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlockBytes);
   info.maxStorageBlockBytes = maxBlockBytes;
   glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &info.maxComputeWorkGroupCountX);
+  // Both report KiB: NVX the dedicated memory free now, ATI the free memory for buffers (the first of four).
+  constexpr GLenum currentAvailableVidmemNvx = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
+  constexpr GLenum vboFreeMemoryAti = 0x87FB;           // GL_VBO_FREE_MEMORY_ATI
+  GLint freeKiB[4] = {0, 0, 0, 0};
+  if (hasExtension("GL_NVX_gpu_memory_info")) {
+    glGetIntegerv(currentAvailableVidmemNvx, freeKiB);
+  } else if (hasExtension("GL_ATI_meminfo")) {
+    glGetIntegerv(vboFreeMemoryAti, freeKiB);
+  }
+  info.availableMemoryBytes = 1024LL * freeKiB[0];
+  for (const char* software : {"llvmpipe", "softpipe", "swrast"}) {
+    if (info.renderer.find(software) != std::string::npos) info.buffersInHostMemory = true;
+  }
 }
 
 }  // namespace firn::gl

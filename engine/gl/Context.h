@@ -16,6 +16,11 @@ struct ContextInfo {
   bool hasFloatAtomics = false;  // GL_NV_shader_atomic_float
   long long maxStorageBlockBytes = 0;
   int maxComputeWorkGroupCountX = 0;
+  // GPU memory free when the context was made, where the driver says (GL_NVX_gpu_memory_info, GL_ATI_meminfo);
+  // 0 where it does not.
+  long long availableMemoryBytes = 0;
+  // A software renderer (Mesa's llvmpipe, softpipe): its buffers live in host memory.
+  bool buffersInHostMemory = false;
 };
 
 class HeadlessContext {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "io/SurfaceMesh.h"
 #include "io/Vdb.h"
 #include "io/Video.h"
+#include "run/Budget.h"
 #include "run/Preflight.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
@@ -109,15 +111,25 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   std::filesystem::create_directories(options.outputDir, error);
   if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
 
-  const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-  // Before any GL work: a scene that cannot run says so at once (exit 2).
-  const PreflightReport preflightReport = preflight(scene, seeds);
+  // The context first: what its buffers hold is part of the estimate that precedes sampling.
+  gl::HeadlessContext context;
+  std::optional<ProgressLine> progressLine;
+  std::function<void(std::size_t, double)> progress;
+  if (options.showProgress) {
+    progressLine.emplace(stderr);
+    progress = [&](std::size_t body, double fraction) {
+      progressLine->show("firn: sampling bodies[" + std::to_string(body) + "]:", fraction);
+    };
+  }
+  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, context.info(), 0, progress);
+  progressLine.reset();
+  // Before any simulation: a scene that cannot run says so at once (exit 2).
+  const PreflightReport preflightReport = preflight(scene, seeds, frames);
   const bool surfacePictures =
       (options.writePng || !options.videoPath.empty()) && options.renderMode == render::RenderMode::Surface;
   const bool withSurface = surfacePictures || options.writeMesh || options.writeVdb;
   std::optional<surface::KernelRange> kernels;
   if (withSurface) kernels = surface::checkKernelRange(scene, seeds);
-  gl::HeadlessContext context;
   Simulation simulation(scene, seeds, context.info());
   log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
       << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z

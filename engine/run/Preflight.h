@@ -1,7 +1,8 @@
 #pragma once
-// The check before a run (issue "Numerical robustness", pre-flight): the time step against each material's
-// elastic wave bound and the bodies' starting speeds, the particles per cell, bodies that start inside
-// colliders, and the fixed-point headroom. Nothing here needs a GL context.
+// The check before a run: the time step against each material's elastic wave bound and the bodies' starting
+// speeds, the particles per cell, emitters, mesh bodies that fill as a sheet, bodies that start inside colliders,
+// and the fixed-point headroom. Nothing here needs a GL context.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,10 @@ struct PreflightReport {
   std::vector<std::string> warnings; // what is likely to go wrong
 };
 
-// Throws InputError (exit 2) with the numbers when the scene's dt is far beyond its stable bound.
-PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles);
+// Throws InputError (exit 2) with the numbers when the scene's dt is far beyond its stable bound, when a body
+// starts wholly inside colliders, or particles inside one cannot be moved out (sim/SceneUpload.h). With the run's
+// `lastFrame`, also says which emitters would not finish within it.
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles,
+                          std::optional<int> lastFrame = std::nullopt);
 
 }  // namespace firn

@@ -3,15 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
-#include <sstream>
 #include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "Error.h"
-#include "scene/Scene.h"
+#include "io/Text.h"
+#include "scene/Sampling.h"
 #include "voxelizer/Voxelizer.h"
 
 namespace firn {
@@ -21,10 +22,35 @@ namespace {
 // body leaves the others' particles unchanged.
 constexpr std::uint32_t jitterSeedBase = 0x4669726e;  // "Firn" in ASCII; any fixed value would do
 // Particle and body indices are 32-bit on the GPU.
-constexpr std::int64_t maxParticles = std::numeric_limits<std::int32_t>::max();
+constexpr std::size_t maxParticleIndices = std::numeric_limits<std::int32_t>::max();
+constexpr double pi = 3.14159265358979323846;
 
-std::string sceneFileName(const Scene& scene) {
-  return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
+voxelizer::SamplingOptions samplingOptions(const Scene& scene, std::size_t bodyIndex) {
+  const Body& body = scene.bodies[bodyIndex];
+  voxelizer::SamplingOptions options;
+  options.spacingM = particleSpacingM(body, scene.grid);
+  options.sampler = body.sampler == BodySampler::PoissonDisk ? voxelizer::Sampler::PoissonDisk
+                                                             : voxelizer::Sampler::Lattice;
+  options.seed = jitterSeedBase + static_cast<std::uint32_t>(bodyIndex);
+  options.latticeOriginM = scene.grid.originM;
+  return options;
+}
+
+// Why a sphere or box body yields no particle, and the particles per cell that would fill it.
+std::string whyShapeHasNoParticles(const Body& body, const GridSpec& grid) {
+  const glm::dvec3 extentM = body.boundsMaxM() - body.boundsMinM();
+  const double thinnestM = std::min({extentM.x, extentM.y, extentM.z});
+  // A lattice a quarter of the thinnest extent apart puts points across it (voxelizer::whyNoParticles).
+  const double fillingSpacingM = thinnestM / 4;
+  const double fillingParticlesPerCell = std::pow(grid.cellSizeM / fillingSpacingM, 3.0);
+  std::string message = "no particles: the body, " + format("%.3g m", thinnestM) +
+                        " at its thinnest, is smaller than the particle spacing s = " +
+                        format("%.3g m", particleSpacingM(body, grid)) + " (cell_size / cbrt(particles_per_cell)); ";
+  if (fillingParticlesPerCell <= 1000) {
+    return message + "particles_per_cell " + format("%.3g", std::ceil(fillingParticlesPerCell)) + " would fill it";
+  }
+  return message + "make it larger, or use a smaller cell_size (" + format("%.3g m", fillingSpacingM * 10) +
+         " with 1000 particles per cell)";
 }
 
 std::vector<glm::dvec3> sampleShape(const Body& body, const voxelizer::SamplingOptions& options) {
@@ -79,36 +105,76 @@ void setReleaseTimes(const Body& body, double frameRateHz, SeedIterator begin, S
 
 }  // namespace
 
+double particleSpacingM(const Body& body, const GridSpec& grid) {
+  return grid.cellSizeM / std::cbrt(body.particlesPerCell);
+}
+
+std::string bodyName(const Scene& scene, std::size_t bodyIndex) {
+  return sceneFileName(scene) + ": bodies[" + std::to_string(bodyIndex) + "]";
+}
+
+BodyEstimate estimateBody(const Body& body, const GridSpec& grid) {
+  if (body.shape == BodyShape::Points) return {double(body.pointsM->size()), 0};
+  voxelizer::SamplingOptions options;
+  options.spacingM = particleSpacingM(body, grid);
+  options.sampler = body.sampler == BodySampler::PoissonDisk ? voxelizer::Sampler::PoissonDisk
+                                                             : voxelizer::Sampler::Lattice;
+  options.latticeOriginM = grid.originM;
+  const voxelizer::Bounds box{body.boundsMinM(), body.boundsMaxM()};
+  voxelizer::SampleEstimate estimate;
+  if (body.shape == BodyShape::Mesh) {
+    estimate = voxelizer::estimateVoxelize(*body.mesh, options);
+  } else if (body.shape == BodyShape::Sphere) {
+    const double r = body.radiusM;
+    estimate = voxelizer::estimateSamples(box, 4.0 / 3.0 * pi * r * r * r, 4 * pi * r * r, options);
+  } else {
+    const glm::dvec3 e = body.maxM - body.minM;
+    estimate = voxelizer::estimateSamples(box, e.x * e.y * e.z, 2 * (e.x * e.y + e.y * e.z + e.z * e.x), options);
+  }
+  return {estimate.points, estimate.insideTests};
+}
+
+std::vector<BodyEstimate> estimateBodies(const Scene& scene) {
+  std::vector<BodyEstimate> estimates;
+  for (const Body& body : scene.bodies) estimates.push_back(estimateBody(body, scene.grid));
+  return estimates;
+}
+
 std::vector<ParticleSeed> sampleBodies(const Scene& scene) {
+  SamplingLimits limits;
+  limits.maxParticles = maxParticleIndices;
+  limits.reason = "the GPU's 32-bit particle indices";
+  return sampleBodies(scene, limits);
+}
+
+std::vector<ParticleSeed> sampleBodies(const Scene& scene, const SamplingLimits& limits) {
+  const std::size_t maxParticles = std::min(limits.maxParticles, maxParticleIndices);
   std::vector<ParticleSeed> particles;
+  particles.reserve(std::min(limits.expectedParticles, maxParticles));
   for (std::size_t bodyIndex = 0; bodyIndex < scene.bodies.size(); ++bodyIndex) {
     const Body& body = scene.bodies[bodyIndex];
-    const std::string bodyName = sceneFileName(scene) + ": bodies[" + std::to_string(bodyIndex) + "]";
+    const std::string name = bodyName(scene, bodyIndex);
     const Material& material = scene.materials.at(body.materialIndex);
-    const double spacingM = scene.grid.cellSizeM / std::cbrt(body.particlesPerCell);
-
-    // The lattice has about one candidate per spacing³ of the bounding box (plus a jitter margin).
-    const glm::dvec3 candidatesPerAxis = (body.boundsMaxM() - body.boundsMinM()) / spacingM + 2.0;
-    const double candidates = body.shape == BodyShape::Points
-                                  ? double(body.pointsM->size())
-                                  : candidatesPerAxis.x * candidatesPerAxis.y * candidatesPerAxis.z;
-    if (double(particles.size()) + candidates > double(maxParticles)) {
-      throw InputError(bodyName + ": too many particles: the scene would exceed " + std::to_string(maxParticles) +
-                       "; lower particles_per_cell or the body's size");
+    voxelizer::SamplingOptions options = samplingOptions(scene, bodyIndex);
+    options.maxPoints = maxParticles - std::min(maxParticles, particles.size());
+    if (limits.progress) options.progress = [&](double fraction) { limits.progress(bodyIndex, fraction); };
+    const auto tooMany = [&] {
+      return InputError(name + ": sampling stopped past " + format("%.0f", double(options.maxPoints)) + " particles" +
+                        (particles.empty() ? "" : " (beyond the other bodies' " + format("%.0f", double(particles.size())) + ")") +
+                        ", the most " + limits.reason + " leaves room for; lower particles_per_cell or the body's size");
+    };
+    std::vector<glm::dvec3> positionsM;
+    try {
+      positionsM = sampleShape(body, options);
+    } catch (const voxelizer::TooManySamples&) {
+      throw tooMany();
     }
-
-    voxelizer::SamplingOptions options;
-    options.spacingM = spacingM;
-    options.sampler = body.sampler == BodySampler::PoissonDisk ? voxelizer::Sampler::PoissonDisk
-                                                               : voxelizer::Sampler::Lattice;
-    options.seed = jitterSeedBase + static_cast<std::uint32_t>(bodyIndex);
-    options.latticeOriginM = scene.grid.originM;
-    const std::vector<glm::dvec3> positionsM = sampleShape(body, options);
+    if (positionsM.size() > options.maxPoints) throw tooMany();  // a points body's cloud
     if (positionsM.empty()) {
-      std::ostringstream message;
-      message << bodyName << ": no particles: the body is smaller than the particle spacing s = " << spacingM
-              << " m (cell_size / cbrt(particles_per_cell))";
-      throw InputError(message.str());
+      throw InputError(name + ": " + (body.shape == BodyShape::Mesh
+                                          ? voxelizer::whyNoParticles(*body.mesh, voxelizer::measureSurface(*body.mesh),
+                                                                      options.spacingM)
+                                          : whyShapeHasNoParticles(body, scene.grid)));
     }
 
     // Each sampled particle carries its share of the shape's volume (voxelizer/Samplers.h); a points body brings

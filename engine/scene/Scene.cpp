@@ -21,6 +21,10 @@ const std::vector<Material>& snowPresets() {
   return presets;
 }
 
+std::string sceneFileName(const Scene& scene) {
+  return scene.sourcePath.empty() ? kBuiltInSceneName : scene.sourcePath.string();
+}
+
 const char* modelName(MaterialModel model) {
   switch (model) {
     case MaterialModel::Snow: return "snow";

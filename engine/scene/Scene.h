@@ -223,6 +223,8 @@ struct ParticleSeed {
 
 // How messages name the built-in scene, which has no file.
 constexpr const char* kBuiltInSceneName = "<built-in default scene>";
+// The scene's file as messages name it (kBuiltInSceneName for the built-in scene).
+std::string sceneFileName(const Scene& scene);
 
 // Reads and validates a scene file; throws InputError naming the file, the key and the problem.
 Scene loadScene(const std::filesystem::path& path);

@@ -13,6 +13,7 @@
 
 #include "Error.h"
 #include "io/PointCloud.h"
+#include "scene/Sampling.h"
 #include "scene/SceneSections.h"
 #include "voxelizer/Mesh.h"
 
@@ -51,13 +52,16 @@ voxelizer::Transform readPlacement(const Object& body) {
   return placement;
 }
 
-void loadMeshBody(const Object& body, Body& result, const voxelizer::Transform& placement) {
+void loadMeshBody(const Object& body, Body& result, const voxelizer::Transform& placement, const GridSpec& grid) {
   voxelizer::TriangleMesh mesh;
   try {
     mesh = voxelizer::transformed(voxelizer::loadMesh(result.resolvedPath), placement);
   } catch (const voxelizer::MeshError& error) {
     body.fail("path", error.what());
   }
+  const std::string problem =
+      voxelizer::whyNotFillable(mesh, voxelizer::measureSurface(mesh), particleSpacingM(result, grid));
+  if (!problem.empty()) body.fail("path", result.resolvedPath.string() + ": " + problem);
   const voxelizer::Bounds box = voxelizer::bounds(mesh);
   result.loadedMinM = box.minM;
   result.loadedMaxM = box.maxM;
@@ -183,7 +187,7 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
   result.particlesPerCell = body.number("particles_per_cell", result.particlesPerCell, Interval::openClosed(0, 1000));
   result.sampler = body.choice<BodySampler>("sampler", result.sampler,
                                             {{"lattice", BodySampler::Lattice}, {"poisson_disk", BodySampler::PoissonDisk}});
-  if (result.shape == BodyShape::Mesh) loadMeshBody(body, result, readPlacement(body));
+  if (result.shape == BodyShape::Mesh) loadMeshBody(body, result, readPlacement(body), grid);
   if (result.shape == BodyShape::Points) {
     loadPointsBody(body, result, readPlacement(body), grid,
                    materials[std::size_t(result.materialIndex)].densityKgPerM3);

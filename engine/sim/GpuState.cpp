@@ -30,6 +30,7 @@ std::size_t nodeStorageBytes(std::size_t blocks) { return blocks * gpu::BLOCK_NO
 GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
                                         bool deformationGradient) {
   GpuStateLayout layout;
+  layout.sceneFile = sceneFileName(scene);
   layout.grid = scene.grid;
   layout.particleCapacity = particleCapacity;
   layout.blockCapacity = blockCapacity;
@@ -42,23 +43,54 @@ GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particle
 
 glm::ivec3 GpuStateLayout::blocksPerAxis() const { return (grid.cells + 1 + gpu::BLOCK_WIDTH - 1) / gpu::BLOCK_WIDTH; }
 
+std::size_t GpuStateLayout::largestParticleBufferBytesPerParticle() const {
+  return semiImplicit ? std::max(sizeof(gpu::Mat3x4), sizeof(gpu::SolverParticle)) : sizeof(gpu::Mat3x4);
+}
+
+std::size_t GpuStateLayout::particleBytesPerParticle() const {
+  // As GpuState's constructor allocates them.
+  return 2 * sizeof(glm::vec4) + sizeof(gpu::ParticlePlasticState) + (deformationGradient ? sizeof(gpu::Mat3x4) : 0) +
+         sizeof(gpu::Mat3x4) + (affine ? sizeof(gpu::Mat3x4) : 0) + (semiImplicit ? sizeof(gpu::SolverParticle) : 0) +
+         2 * sizeof(std::uint32_t);
+}
+
+std::size_t GpuStateLayout::poolBytesPerBlock() const {
+  // As allocateBlockPool allocates them; the solve's status holds a vec4 per slot.
+  return nodeStorageBytes(1) * (impulse ? 2 : 1) + gpu::BLOCK_NODES * sizeof(glm::uvec2) +
+         gpu::BLOCK_TILES * sizeof(std::uint32_t) + sizeof(gpu::BlockSlot) +
+         (semiImplicit ? gpu::BLOCK_NODES * sizeof(gpu::SolverNode) + sizeof(glm::vec4) : 0);
+}
+
+std::size_t GpuStateLayout::blockMapBytes() const {
+  const glm::ivec3 blocks = blocksPerAxis();
+  return std::size_t(blocks.x) * std::size_t(blocks.y) * std::size_t(blocks.z) * sizeof(std::uint32_t);
+}
+
+void GpuStateLayout::checkBlockMapFits(const gl::ContextInfo& gl) const {
+  const double maxBytes = double(gl.maxStorageBlockBytes);
+  const double mapBytes = double(blockMapBytes());
+  if (mapBytes > maxBytes) {
+    throw InputError(sceneFile + ": grid.cells: " + std::to_string(grid.cells.x) + "×" + std::to_string(grid.cells.y) +
+                     "×" + std::to_string(grid.cells.z) + " cells need a block map of " + mebibytes(mapBytes) +
+                     " (4 bytes per " + std::to_string(gpu::BLOCK_NODES) + " nodes), but " + gl.renderer + " allows " +
+                     mebibytes(maxBytes) + " per shader storage block; use fewer cells");
+  }
+}
+
+std::size_t GpuStateLayout::maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit) {
+  const std::size_t largestPerBlock = semiImplicit ? gpu::BLOCK_NODES * sizeof(gpu::SolverNode) : nodeStorageBytes(1);
+  return std::size_t(maxStorageBlockBytes) / largestPerBlock;
+}
+
 GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
                    const std::vector<gpu::ColliderParams>& colliders, const gl::ContextInfo& gl)
     : layout_(layout) {
   const double maxBytes = double(gl.maxStorageBlockBytes);
-  const glm::ivec3 blocks = layout_.blocksPerAxis();
-  const double mapBytes = double(blocks.x) * blocks.y * blocks.z * sizeof(std::uint32_t);
-  if (mapBytes > maxBytes) {
-    const glm::ivec3 cells = layout_.grid.cells;
-    throw InputError("grid.cells: " + std::to_string(cells.x) + "×" + std::to_string(cells.y) + "×" +
-                     std::to_string(cells.z) + " cells need a block map of " + mebibytes(mapBytes) + " (4 bytes per " +
-                     std::to_string(gpu::BLOCK_NODES) + " nodes), but " + gl.renderer + " allows " +
-                     mebibytes(maxBytes) + " per shader storage block; use fewer cells");
-  }
+  layout_.checkBlockMapFits(gl);
   const std::size_t n = layout_.particleCapacity;
-  const double particleBytes = double(n) * sizeof(gpu::Mat3x4);
+  const double particleBytes = double(n) * double(layout_.largestParticleBufferBytesPerParticle());
   if (particleBytes > maxBytes) {
-    throw InputError("bodies: " + std::to_string(n) + " particles need " + mebibytes(particleBytes) +
+    throw InputError(layout_.sceneFile + ": bodies: " + std::to_string(n) + " particles need " + mebibytes(particleBytes) +
                      " per particle buffer, more than the " + mebibytes(maxBytes) +
                      " this driver allows; use fewer particles_per_cell");
   }
@@ -86,13 +118,13 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   const double gridBytes = double(nodeStorageBytes(capacity));
   const double solverBytes = layout_.semiImplicit ? double(capacity) * gpu::BLOCK_NODES * sizeof(gpu::SolverNode) : 0;
   if (solverBytes > maxBytes) {
-    throw InputError("solver.integrator: the particles reach " + std::to_string(capacity) + " blocks of " +
+    throw InputError(layout_.sceneFile + ": solver.integrator: the particles reach " + std::to_string(capacity) + " blocks of " +
                      std::to_string(gpu::BLOCK_NODES) + " nodes, whose semi-implicit solve needs " +
                      mebibytes(solverBytes) + " of vectors, more than the " + mebibytes(maxBytes) + " " + gl.renderer +
                      " allows per shader storage block; use fewer particles, a coarser grid.cell_size or \"explicit\"");
   }
   if (gridBytes > maxBytes) {
-    throw InputError("grid: the particles reach " + std::to_string(capacity) + " blocks of " +
+    throw InputError(layout_.sceneFile + ": grid: the particles reach " + std::to_string(capacity) + " blocks of " +
                      std::to_string(gpu::BLOCK_NODES) + " nodes, whose grid buffer of " + mebibytes(gridBytes) +
                      " is more than the " + mebibytes(maxBytes) + " " + gl.renderer +
                      " allows per shader storage block; use fewer particles or a coarser grid.cell_size");
@@ -102,8 +134,7 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   gridImpulse_ = layout_.impulse ? gl::Buffer(nodeStorageBytes(capacity)) : gl::Buffer();
   bins_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(glm::uvec2));
   tileOrder_ = gl::Buffer(capacity * gpu::BLOCK_TILES * sizeof(std::uint32_t));
-  const glm::ivec3 blocks = layout_.blocksPerAxis();
-  blockMap_ = gl::Buffer(std::size_t(blocks.x) * blocks.y * blocks.z * sizeof(std::uint32_t));
+  blockMap_ = gl::Buffer(layout_.blockMapBytes());
   gpu::BlockTableHeader header{};
   header.blockCounts.y = static_cast<std::uint32_t>(capacity);
   blockTable_ = gl::Buffer(sizeof header + capacity * sizeof(gpu::BlockSlot));

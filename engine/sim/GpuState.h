@@ -28,6 +28,7 @@ struct ParticleSnapshot {
 
 // Which buffers a scene needs, and how large.
 struct GpuStateLayout {
+  std::string sceneFile;  // how messages name the scene (sceneFileName)
   GridSpec grid;
   std::size_t particleCapacity = 0;
   std::size_t blockCapacity = 0;    // slots of the block pool
@@ -40,6 +41,20 @@ struct GpuStateLayout {
                                  bool deformationGradient);
   // Blocks of BLOCK_WIDTH³ nodes over the domain, per axis.
   glm::ivec3 blocksPerAxis() const;
+
+  // Each buffer must fit one shader storage block. The largest particle buffers hold a 3×4 float matrix per
+  // particle (F, τ, C), or the semi-implicit solve's SolverParticle (96 bytes).
+  std::size_t largestParticleBufferBytesPerParticle() const;
+  // All of this layout's particle buffers together, per particle.
+  std::size_t particleBytesPerParticle() const;
+  // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer: the largest pool
+  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (128 bytes).
+  static std::size_t maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit);
+  // The pool's buffers per block, and the block map's bytes over the domain.
+  std::size_t poolBytesPerBlock() const;
+  std::size_t blockMapBytes() const;
+  // Throws InputError naming grid.cells when the block map exceeds what the driver allows per buffer.
+  void checkBlockMapFits(const gl::ContextInfo& gl) const;
 };
 
 // The blocks of the grid's pool that particles' stencils reached.

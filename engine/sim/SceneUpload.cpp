@@ -5,8 +5,10 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "io/Checkpoint.h"
+#include "sim/GpuFunctions.h"
 
 namespace firn {
 
@@ -39,15 +41,54 @@ std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene) {
   return colliders;
 }
 
+ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
+                               const ParticleSeed& seed) {
+  // A few passes settle a particle in overlapping colliders (a box resting on a plane); one still inside after
+  // them is wedged between colliders.
+  constexpr int passes = 4;
+  // Just past the surface, so that rounding to float leaves it outside.
+  constexpr double marginCells = 1e-3;
+  const auto timeS = static_cast<float>(seed.releaseTimeS);
+  const auto marginM = static_cast<float>(marginCells * grid.cellSizeM);
+  ColliderEscape escape;
+  escape.positionM = seed.positionM;
+  bool inside = false;
+  for (int pass = 0; pass < passes; ++pass) {
+    inside = false;
+    for (std::size_t c = 0; c < colliders.size(); ++c) {
+      glm::vec3 normal;
+      const float distanceM = gpu::colliderDistance(colliders[c], escape.positionM, timeS, normal);
+      if (!(distanceM < 0)) continue;
+      if (escape.collider < 0) {
+        escape.collider = static_cast<int>(c);
+        escape.depthM = -distanceM;
+      }
+      inside = true;
+      escape.positionM += (marginM - distanceM) * normal;
+    }
+    if (!inside) break;
+  }
+  if (escape.collider < 0) return escape;
+  const glm::dvec3 movedM(escape.positionM);
+  escape.stuck = inside || !glm::all(glm::greaterThanEqual(movedM, grid.interiorMinM())) ||
+                 !glm::all(glm::lessThanEqual(movedM, grid.interiorMaxM()));
+  if (escape.stuck) escape.positionM = seed.positionM;
+  return escape;
+}
+
 ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
                                 bool volumeFromDensity) {
+  const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene);
+  const bool hasColliders = !scene.colliders.empty();
   ParticleRecords records;
   records.positionMass.reserve(seeds.size());
   records.velocityVolume.reserve(seeds.size());
   records.plastic.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
     const Material& material = scene.materials.at(std::size_t(seed.materialIndex));
-    records.positionMass.emplace_back(seed.positionM, seed.massKg);
+    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders, seed).positionM
+                                                                    : seed.positionM;
+    records.positionMass.emplace_back(positionM, seed.massKg);
     const double volumeM3 = volumeFromDensity ? seed.massKg / material.densityKgPerM3 : 0.0;
     records.velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
     // Particles added while running (bodyIndex −1) use their material's own entry.

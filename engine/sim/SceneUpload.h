@@ -15,7 +15,22 @@ namespace firn {
 // One entry per collider, at least one (zeroed) so the binding is always a valid buffer.
 std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene);
 
-// New particles as their buffers hold them: undeformed, unstressed, at rest relative to their seed velocity.
+// Where a particle of a scene body starts, given the colliders: one that starts inside a collider (where the
+// collider is at the particle's release time) is moved along the collider's outward normal to just outside its
+// surface, since the grid's collision response only stops motion into a collider and would leave it inside for
+// good. Moving it out of one collider may move it into another: a few passes over them all settle that, or say
+// it cannot be done.
+struct ColliderEscape {
+  glm::vec3 positionM{0.0f};  // where the particle starts: moved out, or where it was sampled
+  int collider = -1;          // the first collider it started inside, or −1
+  float depthM = 0;           // how deep inside that collider it started
+  bool stuck = false;         // inside colliders still after the passes, or moved out of the grid's interior
+};
+ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
+                               const ParticleSeed& seed);
+
+// New particles as their buffers hold them: undeformed, unstressed, at rest relative to their seed velocity, and
+// out of the colliders (escapeColliders; particles added while running, bodyIndex −1, are placed as given).
 struct ParticleRecords {
   std::vector<glm::vec4> positionMass;    // x (m), m (kg)
   std::vector<glm::vec4> velocityVolume;  // v (m/s), V0 (m³)

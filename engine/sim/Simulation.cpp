@@ -18,13 +18,14 @@ namespace firn {
 namespace {
 
 const Scene& requireParticles(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  if (seeds.empty()) throw InputError("bodies: the scene has no particles");
+  if (seeds.empty()) throw InputError(sceneFileName(scene) + ": bodies: the scene has no particles");
   return scene;
 }
 
 // The particles present from the start; the emitters' others go to `pending`, in order of release.
 std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& particles, std::vector<ParticleSeed>& pending) {
   std::vector<ParticleSeed> initial;
+  initial.reserve(particles.size());
   for (const ParticleSeed& seed : particles) (seed.releaseTimeS > 0 ? pending : initial).push_back(seed);
   std::stable_sort(pending.begin(), pending.end(),
                    [](const ParticleSeed& a, const ParticleSeed& b) { return a.releaseTimeS < b.releaseTimeS; });
@@ -42,10 +43,18 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
   return fastestMPerS;
 }
 
+// A pool of `wanted` blocks, or of as many as the driver's buffers hold if that is fewer but still the `needed`; a
+// pool that cannot hold what is needed is left for GpuState to refuse, with the sizes.
+std::size_t poolCapacity(const Scene& scene, std::size_t needed, std::size_t wanted, const gl::ContextInfo& gl) {
+  const std::size_t most = GpuStateLayout::maxPoolBlocks(gl.maxStorageBlockBytes, scene.solver.semiImplicit());
+  return needed > most ? needed : std::min(wanted, most);
+}
+
 // The block pool starts with room for the particles to spread: four times the blocks they reach at the start, the
 // emitters' included (and at least a few hundred: a pool of 256 blocks is 256 KiB of nodes).
-std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  return std::max<std::size_t>(4 * blocksReached(scene, seeds), 256);
+std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl) {
+  const std::size_t reached = blocksReached(scene, seeds);
+  return poolCapacity(scene, reached, std::max<std::size_t>(4 * reached, 256), gl);
 }
 
 // When the pool is this full at the end of a frame, it doubles for the frames to come.
@@ -68,7 +77,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
-                                      blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds),
+                                      blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_), gl),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
@@ -89,7 +98,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     // A pool given too small for the first particles grows, and their grid is summed again.
     const BlockUsage usage = state_.blockUsage();
     if (usage.mostInAStep > usage.capacity) {
-      state_.resizeBlockPool(2 * usage.mostInAStep, gl_);
+      state_.resizeBlockPool(poolCapacity(scene_, usage.mostInAStep, 2 * usage.mostInAStep, gl_), gl_);
       pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     }
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
@@ -108,7 +117,7 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   // grown now rather than a step leaving them out (a window throwing snowballs has no frame to redo).
   const BlockUsage usage = state_.blockUsage();
   const std::size_t needed = usage.mostInAStep + blocksReached(scene_, particles);
-  if (double(needed) > kBlockPoolGrowthFullness * double(usage.capacity)) state_.resizeBlockPool(2 * needed, gl_);
+  if (double(needed) > kBlockPoolGrowthFullness * double(usage.capacity)) growBlockPoolTo(needed);
 }
 
 void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
@@ -178,7 +187,12 @@ int Simulation::advanceTo(double timeS) {
 void Simulation::growBlockPool(double fullness) {
   const BlockUsage usage = state_.blockUsage();
   if (usage.mostInAStep > usage.capacity) blocksBeyondPool_ = std::max(blocksBeyondPool_, usage.mostInAStep);
-  if (double(usage.mostInAStep) > fullness * double(usage.capacity)) state_.resizeBlockPool(2 * usage.mostInAStep, gl_);
+  if (double(usage.mostInAStep) > fullness * double(usage.capacity)) growBlockPoolTo(usage.mostInAStep);
+}
+
+void Simulation::growBlockPoolTo(std::size_t neededBlocks) {
+  const std::size_t capacity = poolCapacity(scene_, neededBlocks, 2 * neededBlocks, gl_);
+  if (capacity != state_.blockUsage().capacity) state_.resizeBlockPool(capacity, gl_);
 }
 
 int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {

@@ -143,6 +143,9 @@ class Simulation {
   // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);
+  // A pool of twice `neededBlocks`, or as many as the driver's buffers hold if fewer (GpuState refuses a pool
+  // too small for `neededBlocks`).
+  void growBlockPoolTo(std::size_t neededBlocks);
   void releaseDueParticles();
   // Adds a semi-implicit step's solve to the summary, and notes the first that failed (kSolverFailureFactor).
   void noteSolve(const SolveReport& solve);

@@ -10,7 +10,7 @@ set(allowed_scene "io;voxelizer")
 set(allowed_sim "gl;io;scene;common")
 set(allowed_surface "gl;io;scene;sim;common")
 set(allowed_render "gl;io;scene;sim;surface;common")
-set(allowed_run "gl;io;scene;sim;surface;render;common")
+set(allowed_run "gl;io;scene;sim;surface;render;common;voxelizer")
 set(engine_layers gl io scene sim surface render run)
 
 set(violations "")

@@ -283,6 +283,158 @@ TEST(WindingNumber, ReversedOrDuplicatedFacesFillTheSameParticles) {
   EXPECT_EQ(voxelize(duplicated, options), particlesM);
 }
 
+// Before sampling, the count comes from voxelizing on a coarse lattice of at most 32,768 points (Voxelizer.h). Its
+// error is that of a lattice count at spacing c: the surface's share, about √(A/c²) points of the V/c³ counted,
+// 1.3% for the sphere and 2% for the torus at these sizes; 5% holds with room. Poisson-disk sampling adds its
+// surface layer of 0.17 A/s² (Samplers.h), itself good to 0.01 A/s².
+TEST(Voxelizer, EstimateBeforeSamplingMatchesTheCount) {
+  for (const TriangleMesh& mesh : {uvSphere(sphereRadiusM, 24, 48), torus(1.0, 0.4, 64, 32)}) {
+    for (const Sampler sampler : {Sampler::Lattice, Sampler::PoissonDisk}) {
+      SamplingOptions options;
+      options.spacingM = sphereSpacingM;
+      options.sampler = sampler;
+      const SampleEstimate estimate = estimateVoxelize(mesh, options);
+      const double counted = double(voxelize(mesh, options).size());
+      EXPECT_NEAR(estimate.points / counted, 1.0, 0.05) << counted << " points";
+      // The lattice tests every point of the box's lattice (and Poisson-disk sampling 30 per sample more).
+      EXPECT_GE(estimate.insideTests, counted);
+    }
+  }
+}
+
+TEST(Voxelizer, SamplingStopsPastMaxPoints) {
+  const TriangleMesh mesh = uvSphere(sphereRadiusM, 12, 24);
+  for (const Sampler sampler : {Sampler::Lattice, Sampler::PoissonDisk}) {
+    SamplingOptions options;
+    options.spacingM = 0.1;  // about 4,200 points
+    options.sampler = sampler;
+    options.maxPoints = 1000;
+    try {
+      voxelize(mesh, options);
+      FAIL() << "expected TooManySamples";
+    } catch (const TooManySamples& tooMany) {
+      EXPECT_EQ(tooMany.maxPoints(), 1000u);
+    }
+    double lastFraction = -1;
+    options.maxPoints = 100000;
+    options.progress = [&](double fraction) {
+      EXPECT_GE(fraction, lastFraction);
+      lastFraction = fraction;
+    };
+    EXPECT_GT(voxelize(mesh, options).size(), 1000u);
+    // The lattice reports each batch, the last at the end; Poisson-disk sampling each row of seeds as it starts.
+    EXPECT_GT(lastFraction, sampler == Sampler::Lattice ? 0.999 : 0.5);
+  }
+}
+
+TEST(MeshSurface, FindsTheHolesOfOpenMeshes) {
+  const TriangleMesh sphere = uvSphere(sphereRadiusM, 24, 48);
+  EXPECT_EQ(measureSurface(sphere).boundaryEdges, 0u);
+  // The polyhedron's area is a little under the sphere's, by about its volume's 0.7% deficit times 2/3... and
+  // the rest: 2% covers a 24 × 48 tessellation.
+  EXPECT_NEAR(measureSurface(sphere).areaM2 / (4 * pi), 1.0, 0.02);
+  TriangleMesh holed = sphere;
+  holed.triangles.erase(holed.triangles.begin() + 1000);  // a band triangle: its three edges border the hole
+  EXPECT_EQ(measureSurface(holed).boundaryEdges, 3u);
+  // Split vertices (an STL's three per triangle) are welded by position: a closed torus stays closed.
+  const TriangleMesh closed = torus(1.0, 0.4, 32, 16);
+  TriangleMesh split;
+  for (const glm::uvec3& triangle : closed.triangles) {
+    const auto first = static_cast<unsigned>(split.vertices.size());
+    for (int corner = 0; corner < 3; ++corner) split.vertices.push_back(closed.vertices[triangle[corner]]);
+    split.triangles.emplace_back(first, first + 1, first + 2);
+  }
+  EXPECT_EQ(measureSurface(split).boundaryEdges, 0u);
+}
+
+TEST(MeshSurface, SignedVolumeOfAnOpenMeshDoesNotDependOnItsPlacement) {
+  TriangleMesh holed = uvSphere(sphereRadiusM, 24, 48);
+  holed.triangles.resize(holed.triangles.size() / 2);  // the northern half: a bowl
+  const double atOrigin = signedVolume(holed);
+  // Measured about the box's centre, as a closed mesh's is anywhere (1e-9 m³ of rounding at 1000 m).
+  EXPECT_NEAR(signedVolume(transformed(holed, {1, glm::dvec3(0.0), glm::dvec3(1000, -400, 30)})), atOrigin, 1e-9);
+  // And it cannot exceed the box (the divergence-theorem sum about the origin would, far from it).
+  const Bounds box = bounds(holed);
+  EXPECT_LE(std::abs(atOrigin), (box.maxM.x - box.minM.x) * (box.maxM.y - box.minM.y) * (box.maxM.z - box.minM.z));
+}
+
+TEST(MeshChecks, FlatMeshesCannotBeFilled) {
+  // A square of two triangles, turned off the axes so that no coordinate is constant.
+  TriangleMesh square;
+  square.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const TriangleMesh turned = transformed(square, {2, glm::dvec3(30, 40, 50), glm::dvec3(0.5)});
+  const std::string problem = whyNotFillable(turned, measureSurface(turned), 0.01);
+  EXPECT_NE(problem.find("the mesh is flat"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("encloses no volume"), std::string::npos) << problem;
+  // A closed mesh is fillable; one far out where floats are coarser than the spacing is not.
+  const TriangleMesh sphere = uvSphere(sphereRadiusM, 12, 24);
+  EXPECT_EQ(whyNotFillable(sphere, measureSurface(sphere), 0.01), "");
+  const TriangleMesh far = transformed(sphere, {1, glm::dvec3(0.0), glm::dvec3(5e6, 0, 0)});
+  // Between 2²² and 2²³ m (4.2e6 to 8.4e6) floats are 0.5 m apart, more than a tenth of 1 m.
+  EXPECT_NE(whyNotFillable(far, measureSurface(far), 1.0).find("0.5 m apart"), std::string::npos);
+  // 1e308 m scaled, then moved 1e308 m: 2e308 overflows a double.
+  const TriangleMesh overflowed = transformed(sphere, {1e308, glm::dvec3(0.0), glm::dvec3(1e308, 0, 0)});
+  EXPECT_NE(whyNotFillable(overflowed, measureSurface(overflowed), 1.0).find("beyond the range of a double"),
+            std::string::npos);
+}
+
+TEST(MeshChecks, NoParticlesSaysTheBoundsAndASpacingThatFills) {
+  const TriangleMesh sphere = uvSphere(0.01, 12, 24);  // 2 cm across
+  SamplingOptions options;
+  options.spacingM = 0.1;
+  ASSERT_TRUE(voxelize(sphere, options).empty());
+  const std::string why = whyNoParticles(sphere, measureSurface(sphere), options.spacingM);
+  EXPECT_NE(why.find("[-0.01, -0.01, -0.01] to [0.01, 0.01, 0.01] m"), std::string::npos) << why;
+  EXPECT_NE(why.find("a spacing of 0.005 m or less would fill it"), std::string::npos) << why;
+  // And that spacing does.
+  options.spacingM = 0.005;
+  EXPECT_FALSE(voxelize(sphere, options).empty());
+}
+
+// The cap of the unit sphere within `halfAngleDeg` of the pole: an open bowl whose winding number passes ½ only in
+// the lens between it and its rim's plane, of thickness h = 1 − cos θ at the pole.
+TriangleMesh sphericalCap(double halfAngleDeg) {
+  const TriangleMesh sphere = uvSphere(sphereRadiusM, 180, 48);  // 1° rings
+  const double minZ = std::cos(halfAngleDeg * pi / 180) - 1e-9;
+  // The vertices are those of the cap (the sampler's box is the vertices' box): the first 1 + 48 per ring.
+  const auto ringsInCap = static_cast<unsigned>(std::floor(halfAngleDeg + 1e-9));
+  const auto capVertices = 1 + 48 * ringsInCap;
+  TriangleMesh cap;
+  cap.vertices.assign(sphere.vertices.begin(), sphere.vertices.begin() + capVertices);
+  for (const glm::uvec3& triangle : sphere.triangles) {
+    if (sphere.vertices[triangle.x].z >= minZ && sphere.vertices[triangle.y].z >= minZ &&
+        sphere.vertices[triangle.z].z >= minZ) {
+      cap.triangles.push_back(triangle);
+    }
+  }
+  return cap;
+}
+
+TEST(MeshChecks, AnOpenMeshFilledOnlyAlongItsSurfaceIsASheet) {
+  // A 3° cap: its lens is h = 1.37 mm thick at the pole, under the spacing of 2 mm, so the lattice has one layer of
+  // points across it, about half of them inside the lens: an average layer of about half a spacing over its
+  // 0.0086 m², under the one spacing that makes a sheet.
+  const TriangleMesh shallow = sphericalCap(3);
+  const MeshSurface shallowSurface = measureSurface(shallow);
+  ASSERT_TRUE(shallowSurface.open());
+  EXPECT_EQ(whyNotFillable(shallow, shallowSurface, 0.002), "");  // curved, not flat: the check before filling passes
+  SamplingOptions options;
+  options.spacingM = 0.002;
+  const std::size_t shallowParticles = voxelize(shallow, options).size();
+  EXPECT_GT(shallowParticles, 0u);
+  EXPECT_NE(sheetWarning(shallowSurface, shallowParticles, options.spacingM).find("fills as a sheet"), std::string::npos)
+      << shallowParticles << " particles";
+  // A 15° cap at 5 mm: a lens 34 mm thick at the pole, 17 mm (3.4 spacings) on average. Open, but it does enclose
+  // volume: no warning.
+  const TriangleMesh deep = sphericalCap(15);
+  options.spacingM = 0.005;
+  const std::size_t deepParticles = voxelize(deep, options).size();
+  EXPECT_EQ(sheetWarning(measureSurface(deep), deepParticles, options.spacingM), "") << deepParticles << " particles";
+  const TriangleMesh sphere = uvSphere(sphereRadiusM, 24, 48);
+  EXPECT_EQ(sheetWarning(measureSurface(sphere), 33000, sphereSpacingM), "");  // closed
+}
+
 // Rotations are exact up to the rounding of cos 90° (6e-17) and sin; 1e-12 allows for it.
 TEST(VoxelizerMesh, RotationTurnsAboutXThenYThenZ) {
   const glm::dvec3 up(0, 1, 0);

@@ -1,0 +1,128 @@
+// The estimate before sampling (run/Budget.h; docs/scene-format.md, Sizes and limits): each body's particles
+// against the GPU's buffers, with the semi-implicit solve's buffers counted where the scene has them. No GL: the
+// driver's limits are given as a gl::ContextInfo.
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "Error.h"
+#include "run/Budget.h"
+#include "scene/Sampling.h"
+#include "scene/Scene.h"
+#include "sim/GpuLayout.h"
+#include "sim/GpuState.h"
+
+namespace firn {
+namespace {
+
+// A 0.5 m box at 8 particles per cell of 1 cm: a lattice of spacing 5 mm, 100³ = 1,000,000 particles.
+Scene boxScene(const std::string& solver) {
+  return parseScene(R"({
+    "grid": { "cells": [64, 64, 64], "cell_size": 0.01 },
+    "time": { "dt": 1e-5, "frame_rate": 50, "frames": 1 },
+    "solver": )" + solver + R"(,
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": [0.05, 0.05, 0.05], "max": [0.55, 0.55, 0.55], "material": "snow" } ] })",
+                    "budget.json");
+}
+
+const std::string kExplicit = R"({ "integrator": "explicit" })";
+const std::string kSemiImplicit = R"({ "integrator": "semi_implicit" })";
+
+// A driver that allows 64 MiB per storage block and says nothing of its free memory. The host's memory (22 GiB
+// available on the build machines, at 256 bytes a particle) binds far above a million particles.
+gl::ContextInfo driver() {
+  gl::ContextInfo info;
+  info.renderer = "a test driver";
+  info.maxStorageBlockBytes = 64LL << 20;
+  return info;
+}
+
+std::string refusal(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles = 0) {
+  try {
+    checkParticleBudget(scene, gl, reservedParticles);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(Budget, BoxesAreEstimatedAnalytically) {
+  // The lattice puts exactly 100 points along each 0.5 m edge (faces half a spacing from the lattice's planes); the
+  // estimate is the volume over s³, exact here but for the rounding of the box's corners (1e-6 relative).
+  EXPECT_NEAR(estimateBodies(boxScene(kExplicit)).front().particles, 1e6, 1.0);
+}
+
+TEST(Budget, SemiImplicitScenesCountTheSolversBuffers) {
+  // The layouts as GpuState allocates them: the solve adds a SolverParticle (96 bytes) per particle, which is also
+  // the largest particle buffer, and a SolverNode (128 bytes) per node of the pool.
+  const GpuStateLayout explicitLayout = GpuStateLayout::forScene(boxScene(kExplicit), 0, 0, true);
+  const GpuStateLayout semiLayout = GpuStateLayout::forScene(boxScene(kSemiImplicit), 0, 0, true);
+  EXPECT_EQ(explicitLayout.largestParticleBufferBytesPerParticle(), 48u);
+  EXPECT_EQ(semiLayout.largestParticleBufferBytesPerParticle(), 96u);
+  EXPECT_EQ(semiLayout.particleBytesPerParticle() - explicitLayout.particleBytesPerParticle(), 96u);
+  EXPECT_EQ(semiLayout.poolBytesPerBlock() - explicitLayout.poolBytesPerBlock(), 64u * 128u + 16u);
+  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, false), (64u << 20) / (64u * 16u));
+  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 128u));
+
+  // 64 MiB per buffer hold 1,398,101 particles at 48 bytes, 699,050 at 96: the explicit scene fits, the
+  // semi-implicit one is refused with its estimate, the limit and what to change.
+  const ParticleBudget explicitBudget = checkParticleBudget(boxScene(kExplicit), driver(), 0);
+  EXPECT_EQ(explicitBudget.maxParticles, 1398101u);
+  const std::string message = refusal(boxScene(kSemiImplicit), driver());
+  EXPECT_NE(message.find("budget.json: bodies: about 1,000,000 particles"), std::string::npos) << message;
+  EXPECT_NE(message.find("need more than the 699,050 that fit the 64 MiB a test driver allows per particle buffer "
+                         "(96 bytes per particle)"),
+            std::string::npos)
+      << message;
+  // 8 × 699,050 / 1,000,000 = 5.59, less the 3% kept for the estimate's error: 5.42.
+  EXPECT_NE(message.find("particles_per_cell 5.42 on bodies[0] would fit"), std::string::npos) << message;
+}
+
+TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
+  // A driver with large buffers and 320 MiB free: the particles' bytes in all bind, 152 explicit (positions,
+  // velocities, plastic state, F, τ, sort keys) and 248 semi-implicit, after the grid's start. That start is a pool
+  // of four times the 15³ blocks of 4³ nodes the box reaches with the stencil, 13,500 blocks: 2.6 KiB each explicit
+  // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.01 MiB, and 8,208 bytes more
+  // semi-implicit (64 SolverNodes and a vec4), 139.7 MiB.
+  gl::ContextInfo gl = driver();
+  gl.maxStorageBlockBytes = 1LL << 30;
+  gl.availableMemoryBytes = 320LL << 20;
+  const ParticleBudget explicitBudget = checkParticleBudget(boxScene(kExplicit), gl, 0);
+  EXPECT_NE(explicitBudget.limit.find("of GPU memory a test driver has free (152 bytes per particle in all, after "
+                                      "34.01 MiB for the grid)"),
+            std::string::npos)
+      << explicitBudget.limit;
+  // (320 − 34.01) MiB / 152 B = 1,972,906; the message's 34.01 MiB is rounded to 0.005 MiB, 35 particles' worth.
+  EXPECT_NEAR(double(explicitBudget.maxParticles), 1972906, 35);
+  // (320 − 139.7) MiB / 248 B = 762,400: the million are refused.
+  const std::string message = refusal(boxScene(kSemiImplicit), gl);
+  EXPECT_NE(message.find("the 762,4"), std::string::npos) << message;
+  EXPECT_NE(message.find("(248 bytes per particle in all, after 139.7 MiB for the grid)"), std::string::npos)
+      << message;
+}
+
+TEST(Budget, RoomForTheViewersSnowballsCounts) {
+  // 398,101 particles of room are left beside the box: 400,000 more do not fit.
+  const std::string message = refusal(boxScene(kExplicit), driver(), 400000);
+  EXPECT_NE(message.find("and room for 400,000 more (the viewer's snowballs)"), std::string::npos) << message;
+  EXPECT_EQ(refusal(boxScene(kExplicit), driver(), 390000), "");
+}
+
+TEST(Budget, SamplingStopsAtTheLimitWhenTheEstimateIsShort) {
+  // Held to 1,000 particles, the million-particle box stops at once, naming the scene file, the body and the reason.
+  SamplingLimits limits;
+  limits.maxParticles = 1000;
+  limits.reason = "a test limit";
+  try {
+    sampleBodies(boxScene(kExplicit), limits);
+    FAIL() << "sampling went past the limit";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("budget.json: bodies[0]"), std::string::npos) << message;
+    EXPECT_NE(message.find("a test limit"), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace firn
