@@ -56,7 +56,7 @@ struct SolverSpec {
   Atomics atomics = Atomics::FixedPoint;
   ParticleVolume particleVolume = ParticleVolume::GridDensity;
   Integrator integrator = Integrator::Explicit;
-  // Semi-implicit only: β (0 explicit, 1 backward Euler), the relative residual ‖r‖ / ‖M v*‖ (in the M⁻¹ norm) at
+  // Semi-implicit only: β (0 explicit, 1 backward Euler), the relative residual ‖r‖ / ‖M v*‖ (in the P⁻¹ norm, P the preconditioner) at
   // which the solve stops, and the most conjugate residual iterations it takes.
   double implicitRatio = 1;
   double tolerance = 1e-4;

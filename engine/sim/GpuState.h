@@ -35,7 +35,7 @@ struct GpuStateLayout {
   bool deformationGradient = true;  // F: every model but water
   bool affine = false;              // APIC's C
   bool impulse = true;              // PIC/FLIP's second grid buffer
-  bool semiImplicit = false;        // the solve's vectors per node and polar decompositions per particle
+  bool semiImplicit = false;        // the solve's vectors per node and stiffness per particle
 
   static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
                                  bool deformationGradient);
@@ -43,7 +43,7 @@ struct GpuStateLayout {
   glm::ivec3 blocksPerAxis() const;
 
   // Each buffer must fit one shader storage block. The largest particle buffers hold a 3×4 float matrix per
-  // particle (F, τ, C), or the semi-implicit solve's SolverParticle (96 bytes).
+  // particle (F, τ, C), or the semi-implicit solve's SolverParticle (144 bytes).
   std::size_t largestParticleBufferBytesPerParticle() const;
   // All of this layout's particle buffers together, per particle.
   std::size_t particleBytesPerParticle() const;

@@ -17,9 +17,9 @@ constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_CO
 
 // The registers' components (gpu::SolverStatus): bits of solver_reduce.comp's reduceComponents.
 constexpr unsigned kProduct = 1;           // x: (z, A z)
-constexpr unsigned kDirectionProduct = 2;  // y: (A p, M⁻¹ A p)
-constexpr unsigned kResidual = 4;          // z: (r, M⁻¹ r)
-constexpr unsigned kReference = 8;         // w: (M v*, v*)
+constexpr unsigned kDirectionProduct = 2;  // y: (A p, P⁻¹ A p)
+constexpr unsigned kResidual = 4;          // z: (r, P⁻¹ r)
+constexpr unsigned kReference = 8;         // w: (M v*, P⁻¹ M v*)
 
 constexpr std::size_t kBlockDispatch = offsetof(gpu::SolverStatus, solveBlockDispatch);
 constexpr std::size_t kProductDispatch = offsetof(gpu::SolverStatus, solveProductDispatch);
@@ -43,8 +43,29 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   finish_ = ComputePass(library, "sim/solver_finish.comp", options, Dispatch::Indirect);
 }
 
-void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const {
-  prepare_.runOverParticles(particles, maxWorkGroupsX, timer);
+namespace {
+
+// A test's variant of one of the solve's programs, with `define` set: built from the embedded files, which the
+// step's own programs were built from.
+ComputePass variant(const gl::ShaderOptions& options, const char* path, const char* define,
+                    ComputePass::Dispatch dispatch) {
+  gl::ShaderOptions variantOptions = options;
+  variantOptions.defines.emplace_back(define, "1");
+  return ComputePass(gl::ShaderLibrary(), path, variantOptions, dispatch);
+}
+
+}  // namespace
+
+void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer, HessianProduct product) const {
+  const ComputePass* pass = &prepare_;
+  if (product == HessianProduct::Unprojected) {
+    if (!unprojectedPrepare_) {
+      unprojectedPrepare_ = variant(options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN",
+                                    ComputePass::Dispatch::Particles);
+    }
+    pass = &*unprojectedPrepare_;
+  }
+  pass->runOverParticles(particles, maxWorkGroupsX, timer);
   glMemoryBarrier(kStorage);
 }
 
@@ -52,11 +73,8 @@ void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProdu
   const ComputePass* pass = &product_;
   if (product == HessianProduct::ForceDifference) {
     if (!forceDifferenceProduct_) {
-      gl::ShaderOptions options = options_;
-      options.defines.emplace_back("FIRN_SOLVER_FORCE_DIFFERENCE", "1");
-      // The embedded files, which the step's own programs were built from.
-      forceDifferenceProduct_.emplace(gl::ShaderLibrary(), "sim/solver_product.comp", options,
-                                      ComputePass::Dispatch::Indirect);
+      forceDifferenceProduct_ = variant(options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE",
+                                        ComputePass::Dispatch::Indirect);
     }
     pass = &*forceDifferenceProduct_;
   }

@@ -1,7 +1,7 @@
 #pragma once
 // The semi-implicit solve of a step (Stomakhin et al. 2013 §6, eq. 9; docs/algorithm.md "Semi-implicit steps"):
 // between the grid update, which leaves the explicit velocities v* on the grid, and G2P, it replaces them with the
-// solution of (M + β Δt² H) v = M v* by the conjugate residual method, preconditioned with M⁻¹, matrix-free on the
+// solution of (M + β Δt² H) v = M v* by the conjugate residual method with Jacobi's preconditioner, matrix-free on the
 // GPU (common/solver.glsl). The host dispatches the iterations and looks at the residual every few of them; the GPU
 // stops doing work once it is below the tolerance.
 #include <cstddef>
@@ -19,9 +19,10 @@
 
 namespace firn {
 
-// How a Hessian product takes the stress's change: its differential ∂²Ψ/∂F² : δF (the solve's), or, for tests,
-// the central difference (P(F + δF) − P(F − δF)) / 2 of the stress the explicit force comes from.
-enum class HessianProduct { Differential, ForceDifference };
+// How a Hessian product takes the stress's change: its differential ∂²Ψ/∂F² : δF with the stiffness projected onto
+// the positive semi-definite (the solve's), or, for tests, the differential as it is, or the central difference
+// (P(F + δF) − P(F − δF)) / 2 of the stress the explicit force comes from.
+enum class HessianProduct { Differential, Unprojected, ForceDifference };
 
 class ImplicitSolver {
  public:
@@ -35,9 +36,10 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
 
-  // Test hooks (Simulation::hessianProduct): the per-particle preparation and one Hessian product of the solve's
-  // vector z (SolverNode::preconditioned), leaving its sums in the product buffer.
-  void prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
+  // Test hooks (Simulation::hessianProduct): the per-particle preparation for a product of that kind, and the product
+  // of the solve's vector z (SolverNode::preconditioned), leaving its sums in the product buffer.
+  void prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
+               HessianProduct product = HessianProduct::Differential) const;
   void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
 
  private:
@@ -47,7 +49,9 @@ class ImplicitSolver {
 
   int maxIterations_;
   gl::ShaderOptions options_;
-  mutable std::optional<ComputePass> forceDifferenceProduct_;  // built when a test first asks for it
+  // Built when a test first asks for them.
+  mutable std::optional<ComputePass> unprojectedPrepare_;
+  mutable std::optional<ComputePass> forceDifferenceProduct_;
   ComputePass prepare_;
   ComputePass begin_;
   ComputePass product_;

@@ -8,7 +8,7 @@ namespace firn {
 // How a step's solve ended.
 struct SolveReport {
   int iterations = 0;   // conjugate residual iterations taken
-  double residual = 0;  // the relative residual at the end, ‖r‖ / ‖M v*‖ in the M⁻¹ norm (NaN if it became non-finite)
+  double residual = 0;  // the relative residual at the end, ‖r‖ / ‖M v*‖ in the P⁻¹ norm (NaN if it became non-finite)
 };
 
 // A solve that ends above this many times its tolerance is a failure the watchdog reports (exit 3): the velocities

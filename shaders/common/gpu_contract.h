@@ -44,7 +44,7 @@
 #define FIRN_BINDING_TILE_ORDER 16          // uint per tile of the pool: the tiles holding particles, fullest first
 // The semi-implicit solve's (solver.integrator "semi_implicit" only; common/solver.glsl).
 #define FIRN_BINDING_SOLVER_NODES 17        // SolverNode per node of the pool: the conjugate residual method's vectors
-#define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: what the Hessian needs of F's polar decomposition
+#define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: its stiffness in the frame of F's SVD
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
@@ -179,8 +179,8 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 
 // SolverNode: one node's vectors of the conjugate residual method (solver_*.comp), in its storage of the pool.
 // The solution x, the node's velocity, stays in the grid's own storage (common/grid.glsl).
-//   residual             r = S (M v* − A x) (kg·m/s), S the constraints' projection
-//   preconditioned       z = M⁻¹ r (m/s)
+//   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w: P (kg)
+//   preconditioned       z = P⁻¹ r (m/s), P = M + β Δt² diag(H) (common/solver.glsl)
 //   product              A z (kg·m/s)
 //   direction            p (m/s); before the first iteration v*, which the initial residual's product takes
 //   directionProduct     A p (kg·m/s)
@@ -199,11 +199,25 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
   member(ivec4, productHigh)
 FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
 
-// SolverParticle: of a corotated particle's F = R S (polar), R, and K⁻¹ with K = tr(S) I − S, which gives the
-// derivative of R (material_hessians.glsl). Computed once per step (solver_prepare.comp).
+// SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite
+// (material_hessians.glsl), so that the iterations' products need no SVD. Computed once per step
+// (solver_prepare.comp).
+//   left                 U
+//   singularValues       xyz: σ (signed: σ₃ < 0 for an inverted F)
+//   scalingDiagonal      xyz: ∂²Ψ/∂σᵢ² (projected with the off-diagonal: the 3×3 block of δF̂'s diagonal)
+//   scalingOffDiagonal   xyz: ∂²Ψ/∂σ₂∂σ₃, ∂²Ψ/∂σ₃∂σ₁, ∂²Ψ/∂σ₁∂σ₂
+//   pairSame, pairCross  xyz, for the pairs of axes other than 1, 2, 3: the 2×2 block [[a, b], [b, a]] on
+//                        (δF̂ᵢⱼ, δF̂ⱼᵢ), a and b
+//   preconditionerWeights xyz: what the Jacobi preconditioner's node diagonal takes of this particle per
+//                        (Uᵀ ∇w)ᵢ² (common/solver.glsl)
 #define FIRN_SOLVER_PARTICLE(member, array) \
-  member(mat3, rotation)                    \
-  member(mat3, inversePolarSystem)
+  member(mat3, left)                        \
+  member(vec4, singularValues)              \
+  member(vec4, scalingDiagonal)             \
+  member(vec4, scalingOffDiagonal)          \
+  member(vec4, pairSame)                    \
+  member(vec4, pairCross)                   \
+  member(vec4, preconditionerWeights)
 FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 
 // SolverStatus: the solve's progress in this step. The passes of an iteration are dispatched from here, and once
@@ -214,8 +228,8 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   solveReduceDispatch   xyz: of the dot products' sums (one group, or none)
 //   solveEnd              x: 1 + the register whose residual ended the solve (met the tolerance, or was NaN); 0
 //                         while it runs
-//   registers             per iteration k: x (z, A z)_k, y (A p, M⁻¹ A p)_k, z (r, M⁻¹ r)_k after k iterations,
-//                         w (M v*, v*) (k = 0 only): the tolerance's reference
+//   registers             per iteration k: x (z, A z)_k, y (A p, P⁻¹ A p)_k, z (r, P⁻¹ r)_k after k iterations,
+//                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference
 #define FIRN_SOLVER_STATUS(member, array) \
   member(uvec4, solveBlockDispatch)       \
   member(uvec4, solveProductDispatch)     \

@@ -1,90 +1,142 @@
-// The semi-implicit solve's material derivatives (docs/algorithm.md, "Semi-implicit steps"): for each model with a
-// Hessian, the differential of the first Piola–Kirchhoff stress P = ∂Ψ/∂F in the direction δF,
-// δP = ∂²Ψ/∂F² : δF (Stomakhin et al. 2013 §6 and their technical report, "Derivation of the Hessian"). Snow and
-// the fixed corotated solid share one; neo-Hookean has its own; water and sand have none, and the scene loader
-// refuses them for a semi-implicit step.
+// The semi-implicit solve's material stiffness (docs/algorithm.md, "Semi-implicit steps"): the differential of the
+// first Piola–Kirchhoff stress P = ∂Ψ/∂F in the direction δF, δP = ∂²Ψ/∂F² : δF (Stomakhin et al. 2013 §6), for
+// the models with a Hessian: snow and the fixed corotated solid, and neo-Hookean. Water and sand have none, and the
+// scene loader refuses them for a semi-implicit step.
+//
+// Every model here is isotropic, Ψ(F) = Ψ(σ) of the singular values of F = U Σ Vᵀ, and its Hessian takes a closed
+// form in that frame (Stomakhin et al. 2012, "Energetically consistent invertible elasticity", §5; Smith et al.
+// 2019, "Analytic eigensystems for isotropic distortion energies"): with δF̂ = Uᵀ δF V and ψ = ∂Ψ/∂σ,
+//   δP̂ᵢᵢ = Σⱼ ∂²Ψ/∂σᵢ∂σⱼ δF̂ⱼⱼ, a 3×3 block on the diagonal, and for each pair of axes i ≠ j
+//   (δP̂ᵢⱼ, δP̂ⱼᵢ) = [[a, b], [b, a]] (δF̂ᵢⱼ, δF̂ⱼᵢ), a 2×2 block with the eigenvalues
+//   a + b = (ψᵢ − ψⱼ) / (σᵢ − σⱼ) on shear (δF̂ᵢⱼ = δF̂ⱼᵢ) and a − b = (ψᵢ + ψⱼ) / (σᵢ + σⱼ) on rotation.
+// Compressed snow makes the rotation eigenvalue negative (fixed corotated: 2μ(1 − 2 / (σᵢ + σⱼ)) + λ(J − 1)σₖ), and
+// β Δt² H then outweighs M at steps many times the elastic bound: the system is indefinite, and the conjugate
+// residual method stalls or diverges on it. Each block is therefore projected onto the positive semi-definite
+// matrices (its negative eigenvalues set to 0), as projected Newton methods do: the step is unchanged where the
+// Hessian is definite, and elsewhere the solve damps the modes that would soften instead of amplifying them.
 #include "common/materials.glsl"
 
 layout(std430, binding = FIRN_BINDING_SOLVER_PARTICLES) buffer SolverParticleBuffer { SolverParticle solverParticles[]; };
 
-// [y]×, the matrix of the cross product y × (·).
-mat3 crossMatrix(vec3 y) { return mat3(0.0, y.z, -y.y, -y.z, 0.0, y.x, y.y, -y.x, 0.0); }
+// Ψ's Hessian in the frame of F's singular values: ∂²Ψ/∂σ², and per pair of axes other than 1, 2, 3 (the pair
+// (2, 3), then (3, 1), then (1, 2)) the 2×2 block's eigenvalues on shear and on rotation.
+struct PrincipalHessian {
+  mat3 scaling;
+  vec3 shear;
+  vec3 rotation;
+};
 
-// A : B.
-float contract(mat3 a, mat3 b) { return dot(a[0], b[0]) + dot(a[1], b[1]) + dot(a[2], b[2]); }
-
-// J F⁻ᵀ, the cofactor matrix: its columns are the cross products of F's other two columns (defined for any F).
-mat3 cofactor(mat3 F) { return mat3(cross(F[1], F[2]), cross(F[2], F[0]), cross(F[0], F[1])); }
-mat3 cofactorDifferential(mat3 F, mat3 dF) {
-  return mat3(cross(dF[1], F[2]) + cross(F[1], dF[2]), cross(dF[2], F[0]) + cross(F[2], dF[0]),
-              cross(dF[0], F[1]) + cross(F[0], dF[1]));
+// The symmetric matrix with `offDiagonal` (the entries of the pairs (2, 3), (3, 1), (1, 2)) off its diagonal.
+mat3 pairMatrix(vec3 offDiagonal) {
+  return mat3(0.0, offDiagonal.z, offDiagonal.y, offDiagonal.z, 0.0, offDiagonal.x, offDiagonal.y, offDiagonal.x, 0.0);
 }
 
 #if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
-// What the derivative of R needs, once per step: for F = R S (polar; F = U Σ Vᵀ, R = U Vᵀ, S = V Σ Vᵀ), R and
-// K⁻¹ = (tr(S) I − S)⁻¹ = V diag(1 / (σ₂ + σ₃), 1 / (σ₁ + σ₃), 1 / (σ₁ + σ₂)) Vᵀ.
-SolverParticle polarDerivativeSystem(mat3 F) {
-  mat3 U, V;
-  vec3 sigma;
-  svd3(F, U, sigma, V);
-  vec3 pairSums = vec3(sigma.y + sigma.z, sigma.x + sigma.z, sigma.x + sigma.y);
-  SolverParticle result;
-  result.rotation = U * transpose(V);
-  // An inverted element (σ₃ < 0 from the SVD's sign convention) can make a pair sum negative: the sign is kept, and
-  // only a sum within 1e-6 of zero, where the rotation is undefined (snow's clamps keep σ near 1, pair sums near 2),
-  // is held at 1e-6 so that the derivative stays finite.
+// Ψ = μ Σ(σᵢ − 1)² + λ/2 (J − 1)² (Stomakhin 2013 eq. 6 in singular values), ψᵢ = 2μ(σᵢ − 1) + λ(J − 1) J/σᵢ:
+// ∂²Ψ/∂σᵢ∂σⱼ = 2μ δᵢⱼ + λ (J/σᵢ)(J/σⱼ) + λ(J − 1) σₖ (i ≠ j), shear 2μ − λ(J − 1)σₖ and rotation
+// 2μ(1 − 2 / (σᵢ + σⱼ)) + λ(J − 1)σₖ. J/σᵢ is the product of the other two: nothing divides by a singular value.
+PrincipalHessian fixedCorotatedHessian(vec3 sigma, float mu, float lambda) {
+  float J = sigma.x * sigma.y * sigma.z;
+  vec3 others = vec3(sigma.y * sigma.z, sigma.z * sigma.x, sigma.x * sigma.y);  // J/σᵢ
+  // An inverted F (σ₃ < 0) can make a pair's sum negative: its sign is kept, and only a sum within 1e-6 of zero,
+  // where the rotation of F is undefined, is held there so that the block stays finite.
+  vec3 pairSums = vec3(sigma.y + sigma.z, sigma.z + sigma.x, sigma.x + sigma.y);
   vec3 pairSigns = mix(vec3(1.0), vec3(-1.0), lessThan(pairSums, vec3(0.0)));
-  result.inversePolarSystem = V * diagonal(1.0 / (pairSigns * max(abs(pairSums), vec3(1e-6)))) * transpose(V);
-  return result;
-}
-
-// δR: RᵀδR is skew, [y]×, and the derivative of F = R S gives Rᵀ δF − δFᵀ R = [y]× S + S [y]× = [(tr(S) I − S) y]×,
-// so y = K⁻¹ b with [b]× = Rᵀ δF − (Rᵀ δF)ᵀ and K = tr(S) I − S.
-mat3 rotationDifferential(SolverParticle polar, mat3 dF) {
-  mat3 b = transpose(polar.rotation) * dF;
-  vec3 axial = vec3(b[1][2] - b[2][1], b[2][0] - b[0][2], b[0][1] - b[1][0]);
-  return polar.rotation * crossMatrix(polar.inversePolarSystem * axial);
-}
-
-// Ψ = μ‖F − R‖² + λ/2 (J − 1)², P = 2μ(F − R) + λ(J − 1) J F⁻ᵀ (Stomakhin 2013 eq. 6), so
-// δP = 2μ(δF − δR) + λ (J F⁻ᵀ : δF) J F⁻ᵀ + λ(J − 1) δ(J F⁻ᵀ).
-mat3 fixedCorotatedStressDifferential(mat3 F, mat3 dF, SolverParticle polar, float mu, float lambda) {
-  mat3 C = cofactor(F);
-  float J = dot(F[0], C[0]);
-  return 2.0 * mu * (dF - rotationDifferential(polar, dF)) + lambda * contract(C, dF) * C +
-         lambda * (J - 1.0) * cofactorDifferential(F, dF);
+  pairSums = pairSigns * max(abs(pairSums), vec3(1e-6));
+  PrincipalHessian h;
+  h.scaling = 2.0 * mu * mat3(1.0) + lambda * outerProduct(others, others) + lambda * (J - 1.0) * pairMatrix(sigma);
+  h.shear = 2.0 * mu - lambda * (J - 1.0) * sigma;
+  h.rotation = 2.0 * mu * (1.0 - 2.0 / pairSums) + lambda * (J - 1.0) * sigma;
+  return h;
 }
 #endif
 
 #ifdef FIRN_MATERIAL_NEO_HOOKEAN
-// P = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ, with δ(F⁻ᵀ) = −F⁻ᵀ δFᵀ F⁻ᵀ and δ ln J = tr(F⁻¹ δF):
-// δP = μ δF + (μ − λ ln J) F⁻ᵀ δFᵀ F⁻ᵀ + λ tr(F⁻¹ δF) F⁻ᵀ.
-mat3 neoHookeanStressDifferential(mat3 F, mat3 dF, float mu, float lambda) {
-  mat3 inverseF = inverse(F);
-  mat3 inverseTransposeF = transpose(inverseF);
-  mat3 inverseTimesDF = inverseF * dF;
-  float traceTerm = inverseTimesDF[0][0] + inverseTimesDF[1][1] + inverseTimesDF[2][2];
-  return mu * dF + (mu - lambda * log(determinant(F))) * inverseTransposeF * transpose(dF) * inverseTransposeF +
-         lambda * traceTerm * inverseTransposeF;
+// P = μ(F − F⁻ᵀ) + λ ln J F⁻ᵀ, so ψᵢ = μ(σᵢ − 1/σᵢ) + λ ln J / σᵢ: ∂²Ψ/∂σᵢ∂σⱼ = μ δᵢⱼ + (μ − λ ln J) δᵢⱼ / σᵢ² +
+// λ / (σᵢσⱼ), shear μ + (μ − λ ln J) / (σᵢσⱼ) and rotation μ − (μ − λ ln J) / (σᵢσⱼ), σᵢσⱼ = J/σₖ.
+PrincipalHessian neoHookeanHessian(vec3 sigma, float mu, float lambda) {
+  vec3 inverse = 1.0 / sigma;
+  float logJ = log(sigma.x * sigma.y * sigma.z);
+  vec3 pairProducts = vec3(sigma.y * sigma.z, sigma.z * sigma.x, sigma.x * sigma.y);
+  PrincipalHessian h;
+  h.scaling = mu * mat3(1.0) + (mu - lambda * logJ) * diagonal(inverse * inverse) + lambda * outerProduct(inverse, inverse);
+  h.shear = mu + (mu - lambda * logJ) / pairProducts;
+  h.rotation = mu - (mu - lambda * logJ) / pairProducts;
+  return h;
 }
 #endif
+
+// The nearest positive semi-definite matrix to the symmetric S: S itself when its leading minors are positive
+// (Sylvester's criterion), otherwise S with its negative eigenvalues set to 0 (svd3.glsl's Jacobi eigenanalysis).
+mat3 positiveSemiDefinite(mat3 S) {
+  float minor2 = S[0][0] * S[1][1] - S[1][0] * S[1][0];
+  if (S[0][0] > 0.0 && minor2 > 0.0 && determinant(S) > 0.0) return S;
+  mat3 Q = svd3_quatToMat3(svd3_jacobiEigenanalysis(S));
+  mat3 D = transpose(Q) * S * Q;
+  return Q * diagonal(max(vec3(D[0][0], D[1][1], D[2][2]), vec3(0.0))) * transpose(Q);
+}
 
 // Snow's Lamé parameters as hardened at J_P (eq. 7); the other models' as they are.
 vec2 currentLameParameters(MaterialParams m, float plasticJ) {
   return m.model.x == MODEL_SNOW ? hardenedLameParameters(m, plasticJ) : m.elastic.xy;
 }
 
-// δP of particle p's material at its F in the direction δF.
-mat3 stressDifferential(uint p, mat3 F, mat3 dF, MaterialParams m, float plasticJ) {
+// A particle's stiffness for the step (solver_prepare.comp): its model's Hessian at F, in F's frame, projected
+// (test builds with FIRN_SOLVER_UNPROJECTED_HESSIAN keep it as it is, to compare it with the force's difference).
+SolverParticle principalStiffness(mat3 F, MaterialParams m, float plasticJ) {
+  mat3 U, V;
+  vec3 sigma;
+  svd3(F, U, sigma, V);
   vec2 lame = currentLameParameters(m, plasticJ);
-  switch (m.model.x) {
+  PrincipalHessian h;
 #if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
-    case MODEL_SNOW:
-    case MODEL_FIXED_COROTATED: return fixedCorotatedStressDifferential(F, dF, solverParticles[p], lame.x, lame.y);
+  if (m.model.x == MODEL_SNOW || m.model.x == MODEL_FIXED_COROTATED) h = fixedCorotatedHessian(sigma, lame.x, lame.y);
 #endif
 #ifdef FIRN_MATERIAL_NEO_HOOKEAN
-    case MODEL_NEO_HOOKEAN: return neoHookeanStressDifferential(F, dF, lame.x, lame.y);
+  if (m.model.x == MODEL_NEO_HOOKEAN) h = neoHookeanHessian(sigma, lame.x, lame.y);
 #endif
-  }
-  return mat3(0.0);  // unreachable: the scene loader refuses the models without one
+#ifndef FIRN_SOLVER_UNPROJECTED_HESSIAN
+  h.scaling = positiveSemiDefinite(h.scaling);
+  h.shear = max(h.shear, vec3(0.0));
+  h.rotation = max(h.rotation, vec3(0.0));
+#endif
+  vec3 same = 0.5 * (h.shear + h.rotation);
+  SolverParticle s;
+  s.left = U;
+  s.singularValues = vec4(sigma, 0.0);
+  s.scalingDiagonal = vec4(h.scaling[0][0], h.scaling[1][1], h.scaling[2][2], 0.0);
+  s.scalingOffDiagonal = vec4(h.scaling[2][1], h.scaling[0][2], h.scaling[1][0], 0.0);
+  s.pairSame = vec4(same, 0.0);
+  s.pairCross = vec4(0.5 * (h.shear - h.rotation), 0.0);
+  // The diagonal of the 9×9 stiffness on δF̂ = e_b ⊗ ĝ, summed over b, is Σ_b ĝ_b² (∂²Ψ/∂σ_b² + Σ of a over b's
+  // two pairs), and ĝ = Vᵀ Fᵀ ∇w = Σ Uᵀ ∇w.
+  vec3 pairsOfAxis = vec3(same.y + same.z, same.z + same.x, same.x + same.y);
+  s.preconditionerWeights = vec4(sigma * sigma * (s.scalingDiagonal.xyz + pairsOfAxis), 0.0);
+  return s;
+}
+
+// δP Fᵀ (Pa) of a particle's stiffness for the velocity gradient G = Σᵢ uᵢ ∇wᵢᵀ over Δt, δF = Δt G F. In F's frame
+// δF̂ = Uᵀ δF V = Δt Uᵀ G U Σ, and δP Fᵀ = U δP̂ Σ Uᵀ: V drops out.
+mat3 stressDifferentialTimesFT(SolverParticle s, mat3 velocityGradient, float dtS) {
+  mat3 U = s.left;
+  vec3 sigma = s.singularValues.xyz;
+  mat3 dF = dtS * transpose(U) * velocityGradient * U * diagonal(sigma);
+  vec3 scaled = vec3(dF[0][0], dF[1][1], dF[2][2]);
+  vec3 scaledStress = s.scalingDiagonal.xyz * scaled + pairMatrix(s.scalingOffDiagonal.xyz) * scaled;
+  // The pairs (2, 3), (3, 1), (1, 2): entry (i, j) of a mat3 is m[j][i].
+  vec3 upper = vec3(dF[2][1], dF[0][2], dF[1][0]);  // δF̂₂₃, δF̂₃₁, δF̂₁₂
+  vec3 lower = vec3(dF[1][2], dF[2][0], dF[0][1]);  // δF̂₃₂, δF̂₁₃, δF̂₂₁
+  vec3 upperStress = s.pairSame.xyz * upper + s.pairCross.xyz * lower;
+  vec3 lowerStress = s.pairSame.xyz * lower + s.pairCross.xyz * upper;
+  mat3 dP = mat3(scaledStress.x, lowerStress.z, upperStress.y,
+                 upperStress.z, scaledStress.y, lowerStress.x,
+                 lowerStress.y, upperStress.x, scaledStress.z);
+  return U * dP * diagonal(sigma) * transpose(U);
+}
+
+// What a particle adds at a node of weight gradient ∇w (1/m) to the trace of H's 3×3 block there, per unit of its
+// volume (Pa/m²): the Jacobi preconditioner's diagonal (common/solver.glsl).
+float stiffnessDiagonal(SolverParticle s, vec3 weightGradient) {
+  vec3 g = transpose(s.left) * weightGradient;
+  return dot(s.preconditionerWeights.xyz, g * g);
 }

@@ -2,10 +2,13 @@
 //
 // Stomakhin et al. 2013 eq. 9 takes the grid velocities of the step from (I + β Δt² M⁻¹ H) v = v*, H = ∂²Φ/∂x² the
 // Hessian of the elastic energy and v* the explicit update (update_grid.comp). Firn solves the same system in its
-// symmetric form A v = M v*, A = M + β Δt² H, by the conjugate residual method preconditioned with M⁻¹ (which is
-// the method in the inner product of M⁻¹ A that eq. 9 suggests), with the colliders and walls as constraints: the
-// projection S of each node's held components (SolverNode.constraint) is applied to every residual and product, so
-// the held components keep the collided values of v*.
+// symmetric form A v = M v*, A = M + β Δt² H, by the conjugate residual method, with the colliders and walls as
+// constraints: the projection S of each node's held components (SolverNode.constraint) is applied to every residual
+// and product, so the held components keep the collided values of v*. H is the Hessian with each particle's stiffness
+// projected onto the positive semi-definite (common/material_hessians.glsl), so A is positive definite on the free
+// components. The preconditioner is Jacobi's, P = M + β Δt² diag(H) with a node's diagonal the mean of its 3×3 block:
+// M alone (eq. 9's own scaling) lets the nodes at a body's surface, whose mass is a sliver of their stiffness, set
+// the spectrum's top.
 //
 // Determinism. A Hessian product is summed at the nodes from every particle's contribution, like P2G. Its
 // contributions are (c Δt / h)² times larger than the product they add up to, too many bits for P2G's 32-bit fixed
@@ -28,23 +31,20 @@ float toleranceSquared() { return solver.y; }
 
 // --- Hessian products at the nodes -------------------------------------------------------------------------------
 
-// A contribution in momentum units, as the 64-bit integer of units 2^−k_H; one too large (or NaN) is dropped and
-// reported: k_H leaves 2^8 of headroom over the stiffest wave the scene states (sim/FixedPoint.h).
-bool productToFixed64(vec3 momentumUnits, out uvec3 low, out ivec3 high) {
-  vec3 scaled = floor(momentumUnits * solver.z + 0.5);
-  bool fits = all(lessThan(abs(scaled), vec3(FIXED64_LIMIT)));  // also false for NaN
-  uvec4 low4;
-  ivec4 high4;
-  splitFixed64(vec4(fits ? scaled : vec3(0.0), 0.0), low4, high4);
-  low = low4.xyz;
-  high = high4.xyz;
+// A contribution in momentum units (xyz; w the diagonal's, in reference masses), as the 64-bit integers of units
+// 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the stiffest wave the
+// scene states (sim/FixedPoint.h).
+bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
+  vec4 scaled = floor(units * solver.z + 0.5);
+  bool fits = all(lessThan(abs(scaled), vec4(FIXED64_LIMIT)));  // also false for NaN
+  splitFixed64(fits ? scaled : vec4(0.0), low, high);
   return fits;
 }
 
 // Adds a node's sums, a word at a time: the low word's atomicAdd returns the sum before, which tells whether it
 // carried into the high word. The words end as the exact 64-bit sum whatever the order of the additions.
-void addProductToNode(uint address, uvec3 low, ivec3 high) {
-  for (int c = 0; c < 3; ++c) {
+void addProductToNode(uint address, uvec4 low, ivec4 high) {
+  for (int c = 0; c < 4; ++c) {
     if (low[c] == 0u && high[c] == 0) continue;
     uint previous = atomicAdd(solverNodes[address].productLow[c], low[c]);
     int carry = previous + low[c] < previous ? 1 : 0;
@@ -52,12 +52,13 @@ void addProductToNode(uint address, uvec3 low, ivec3 high) {
   }
 }
 
-// A node's Hessian product (kg·m/s: β Δt² H u), and its sums cleared for the next product.
-vec3 takeProduct(uint address) {
-  vec3 sum = fixed64ToFloat(solverNodes[address].productLow, solverNodes[address].productHigh).xyz;
+// A node's Hessian product (xyz, kg·m/s: β Δt² H u) and, after the first product of a step, the stiffness part of
+// the preconditioner's diagonal (w, kg: β Δt² tr(Hᵢᵢ) / 3); the sums are cleared for the next product.
+vec4 takeProduct(uint address) {
+  vec4 sums = fixed64ToFloat(solverNodes[address].productLow, solverNodes[address].productHigh);
   solverNodes[address].productLow = uvec4(0u);
   solverNodes[address].productHigh = ivec4(0);
-  return sum * (solver.w * fixedPoint.y);
+  return sums * solver.w * vec4(vec3(fixedPoint.y), fixedPoint.x);
 }
 
 // --- Constraints -------------------------------------------------------------------------------------------------
@@ -71,5 +72,6 @@ vec3 constrain(vec3 v, vec4 constraint) {
   return mix(v, vec3(0.0), notEqual(walls, ivec3(0)));
 }
 
-// M⁻¹ for a node of `massKg` (0 for a node without mass, which the constraints hold).
-float inverseMass(float massKg) { return massKg > 0.0 ? 1.0 / massKg : 0.0; }
+// The preconditioner P⁻¹ = diag(M + β Δt² H)⁻¹ at a node of `massKg` and diagonal `diagonalKg` (residual.w): Jacobi's,
+// with H's diagonal as the mean of its 3×3 block's. 0 for a node without mass, which the constraints hold.
+float inversePreconditioner(float massKg, float diagonalKg) { return massKg > 0.0 ? 1.0 / diagonalKg : 0.0; }

@@ -20,7 +20,7 @@ void main() {
 
   float massKg = storedFloats(gridMomentumMass[i]).w;
   vec3 z = solverNodes[i].preconditioned.xyz;
-  vec3 product = constrain(massKg * z + takeProduct(i), solverNodes[i].constraint);
+  vec3 product = constrain(massKg * z + takeProduct(i).xyz, solverNodes[i].constraint);
   solverNodes[i].product.xyz = product;
   writeBlockPartial(slot, vec4(dot(z, product), 0.0, 0.0, 0.0));
 }

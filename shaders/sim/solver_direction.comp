@@ -1,8 +1,9 @@
 #version 430 core
 // The semi-implicit solve's search direction (common/solver.glsl): p = z + β_k p and A p = A z + β_k A p with
-// β_k = (z, A z)_k / (z, A z)_{k−1} (p = z at the first iteration), and the block's partial sum of (A p, M⁻¹ A p).
+// β_k = (z, A z)_k / (z, A z)_{k−1} (p = z at the first iteration), and the block's partial sum of (A p, P⁻¹ A p).
 // A work group per active block, an invocation per node.
-// Reads: the registers, the grid's masses, preconditioned, product, direction, directionProduct. Writes: direction,
+// Reads: the registers, the grid's masses, residual (its w: the diagonal), preconditioned, product, direction,
+// directionProduct. Writes: direction,
 // directionProduct, the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -33,6 +34,6 @@ void main() {
   }
   solverNodes[i].direction.xyz = direction;
   solverNodes[i].directionProduct.xyz = directionProduct;
-  float massKg = storedFloats(gridMomentumMass[i]).w;
-  writeBlockPartial(slot, vec4(0.0, dot(directionProduct, directionProduct) * inverseMass(massKg), 0.0, 0.0));
+  float inverse = inversePreconditioner(storedFloats(gridMomentumMass[i]).w, node.residual.w);
+  writeBlockPartial(slot, vec4(0.0, dot(directionProduct, directionProduct) * inverse, 0.0, 0.0));
 }

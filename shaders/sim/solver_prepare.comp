@@ -1,7 +1,7 @@
 #version 430 core
-// The semi-implicit solve's per-particle preparation, once per step: for the corotated models, the rotation of F's
-// polar decomposition and the system its derivative solves (common/material_hessians.glsl), so that the iterations'
-// products need no SVD. One invocation per particle.
+// The semi-implicit solve's per-particle preparation, once per step: each particle's stiffness ∂²Ψ/∂F² at its F, in
+// the frame of F's SVD and projected onto the positive semi-definite (common/material_hessians.glsl), so that the
+// iterations' products need no SVD. One invocation per particle.
 // Reads: elasticDeformation, plasticState, materials. Writes: solverParticles.
 #include "common/bindings.glsl"
 #include "common/material_hessians.glsl"
@@ -11,8 +11,6 @@ layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 void main() {
   uint p = particleInvocationIndex();
   if (p >= particleCount()) return;
-#if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
-  int model = materials[plasticState[p].materialIndex].model.x;
-  if (model == MODEL_SNOW || model == MODEL_FIXED_COROTATED) solverParticles[p] = polarDerivativeSystem(elasticDeformation[p]);
-#endif
+  ParticlePlasticState state = plasticState[p];
+  solverParticles[p] = principalStiffness(elasticDeformation[p], materials[state.materialIndex], state.plasticJ);
 }

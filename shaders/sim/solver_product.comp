@@ -1,12 +1,12 @@
 #version 430 core
 // The semi-implicit solve's Hessian product, β Δt² H u (common/solver.glsl): a transfer over the tiles of base nodes
 // like P2G (p2g.comp, common/blocks.glsl). The invocation reads u at its tile's region of nodes once, then for each
-// particle of the tile gathers δF = Δt (Σ_i u_i ∇w_ipᵀ) F (the change of F if the nodes moved Δt u), takes the
-// stress differential δP = ∂²Ψ/∂F² : δF (common/material_hessians.glsl) and scatters β Δt V0 δP Fᵀ ∇w_ip to the
-// region, as P2G scatters the force of τ (Stomakhin 2013 §6 and eq. 9). Plasticity is held fixed for the step:
-// F is F_E. The region's sums go to the nodes as 64-bit integers (exact, so deterministic).
+// particle of the tile gathers the velocity gradient G = Σᵢ uᵢ ∇wᵢₚᵀ (δF = Δt G F, the change of F if the nodes moved
+// Δt u), takes δP Fᵀ from the particle's stiffness (common/material_hessians.glsl; δP = ∂²Ψ/∂F² : δF) and scatters
+// β Δt V0 δP Fᵀ ∇wᵢₚ to the region, as P2G scatters the force of τ (Stomakhin 2013 §6 and eq. 9). Plasticity is held
+// fixed for the step: F is F_E. The region's sums go to the nodes as 64-bit integers (exact, so deterministic).
 // u is x₀ = v* (the initial residual, `productOfSolution` 1, which update_grid.comp left in the direction) or the
-// preconditioned residual z.
+// preconditioned residual z. The first product also sums the Jacobi preconditioner's diagonal in the w components.
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
 // vectors. Writes: the solver's product sums, the watchdog.
 #include "common/bindings.glsl"
@@ -20,8 +20,8 @@ layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 uniform uint productOfSolution;
 
 vec3 regionVector[REGION_NODES];  // u at the region's nodes (m/s)
-uvec3 sumLow[REGION_NODES];       // the region's sums, 64-bit
-ivec3 sumHigh[REGION_NODES];
+uvec4 sumLow[REGION_NODES];       // the region's sums, 64-bit: xyz the product, w the preconditioner's diagonal
+ivec4 sumHigh[REGION_NODES];
 bool overflowed = false;
 
 #ifdef FIRN_SOLVER_FORCE_DIFFERENCE
@@ -54,16 +54,20 @@ void loadRegion(ivec3 firstBase) {
     vec3 u = vec3(0.0);
     if (address >= 0) u = productOfSolution != 0u ? solverNodes[address].direction.xyz : solverNodes[address].preconditioned.xyz;
     regionVector[i] = u;
-    sumLow[i] = uvec3(0u);
-    sumHigh[i] = ivec3(0);
+    sumLow[i] = uvec4(0u);
+    sumHigh[i] = ivec4(0);
   }
 }
 
-// Adds the contribution stress · ∇w of the stencil's node k to its region sum.
-void scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 bin) {
-  uvec3 low;
-  ivec3 high;
-  overflowed = !productToFixed64(stressUnits * stencilGradient(stencil, k), low, high) || overflowed;
+// Adds the contribution stress · ∇w of the stencil's node k, and with it `diagonalUnits` of the particle's
+// stiffness there, to its region sum.
+void scatterToNode(mat3 stressUnits, float diagonalUnits, SolverParticle stiffness, Stencil stencil, ivec3 k,
+                   ivec3 bin) {
+  vec3 gradient = stencilGradient(stencil, k);
+  float diagonal = diagonalUnits != 0.0 ? diagonalUnits * stiffnessDiagonal(stiffness, gradient) : 0.0;
+  uvec4 low;
+  ivec4 high;
+  overflowed = !productToFixed64(vec4(stressUnits * gradient, diagonal), low, high) || overflowed;
   int i = regionIndex(bin + k);
   addFixed64(sumLow[i], sumHigh[i], low, high);
 }
@@ -72,29 +76,35 @@ void scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 bin) {
 void scatterParticle(uint p, ivec3 bin) {
   vec3 x = positionMass[p].xyz;
   Stencil stencil = particleStencil(x);
-  mat3 velocityGradient = mat3(0.0);  // Σ_i u_i ∇w_ipᵀ
+  mat3 velocityGradient = mat3(0.0);  // G = Σᵢ uᵢ ∇wᵢₚᵀ
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     velocityGradient += outerProduct(regionVector[regionIndex(bin + k)], stencilGradient(stencil, k));
   }
+  SolverParticle stiffness = solverParticles[p];
+#ifdef FIRN_SOLVER_FORCE_DIFFERENCE
   mat3 F = elasticDeformation[p];
   mat3 dF = stepDt() * velocityGradient * F;
   ParticlePlasticState state = plasticState[p];
   MaterialParams material = materials[state.materialIndex];
-#ifdef FIRN_SOLVER_FORCE_DIFFERENCE
   mat3 dP = 0.5 * (firstPiolaStress(F + dF, material, state.plasticJ) - firstPiolaStress(F - dF, material, state.plasticJ));
+  mat3 stressTimesFT = dP * transpose(F);
 #else
-  mat3 dP = stressDifferential(p, F, dF, material, state.plasticJ);
+  mat3 stressTimesFT = stressDifferentialTimesFT(stiffness, velocityGradient, stepDt());
 #endif
-  // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m).
-  mat3 stressUnits = (implicitRatio() * stepDt() * velocityVolume[p].w / fixedPoint.y) * (dP * transpose(F));
+  // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and the diagonal β Δt² V0 tr(H block) / 3 (kg) in the
+  // same units per reference mass.
+  float volume = velocityVolume[p].w;
+  mat3 stressUnits = (implicitRatio() * stepDt() * volume / fixedPoint.y) * stressTimesFT;
+  float diagonalUnits =
+      productOfSolution != 0u ? implicitRatio() * stepDt() * stepDt() * volume / (3.0 * fixedPoint.x) : 0.0;
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
     ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
-    scatterToNode(stressUnits, stencil, k, bin);
-    scatterToNode(stressUnits, stencil, k + ivec3(1, 0, 0), bin);
-    scatterToNode(stressUnits, stencil, k + ivec3(2, 0, 0), bin);
+    scatterToNode(stressUnits, diagonalUnits, stiffness, stencil, k, bin);
+    scatterToNode(stressUnits, diagonalUnits, stiffness, stencil, k + ivec3(1, 0, 0), bin);
+    scatterToNode(stressUnits, diagonalUnits, stiffness, stencil, k + ivec3(2, 0, 0), bin);
 #ifdef FIRN_KERNEL_CUBIC
-    scatterToNode(stressUnits, stencil, k + ivec3(3, 0, 0), bin);
+    scatterToNode(stressUnits, diagonalUnits, stiffness, stencil, k + ivec3(3, 0, 0), bin);
 #endif
   }
 }
@@ -117,7 +127,7 @@ void main() {
 
   StencilBlocks blocks = stencilBlocks(firstBase);
   for (int i = 0; i < REGION_NODES; ++i) {
-    if (sumLow[i] == uvec3(0u) && sumHigh[i] == ivec3(0)) continue;
+    if (sumLow[i] == uvec4(0u) && sumHigh[i] == ivec4(0)) continue;
     int address = stencilNodeAddress(blocks, regionOffset(i));
     if (address >= 0) addProductToNode(uint(address), sumLow[i], sumHigh[i]);
   }

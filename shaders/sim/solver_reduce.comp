@@ -69,7 +69,7 @@ void main() {
   bvec4 components = notEqual(uvec4(reduceComponents) & uvec4(1u, 2u, 4u, 8u), uvec4(0u));
   registers[reduceRegister] = mix(registers[reduceRegister], total, components);
   if (components.z) {
-    // Another iteration while (r, M⁻¹ r) > tolerance² (M v*, v*); a NaN residual ends the solve for the host to report.
+    // Another iteration while (r, P⁻¹ r) > tolerance² (M v*, P⁻¹ M v*); a NaN residual ends the solve for the host to report.
     float reference = components.w ? total.w : registers[0].w;
     bool another = total.z > toleranceSquared() * reference;
     solveBlockDispatch = another ? blockDispatch : uvec4(0u, 1u, 1u, 0u);

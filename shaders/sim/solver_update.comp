@@ -1,6 +1,6 @@
 #version 430 core
-// The semi-implicit solve's step along p (common/solver.glsl): α = (z, A z)_k / (A p, M⁻¹ A p)_k, x += α p (the
-// grid's velocities), r −= α A p, z = M⁻¹ r, and the block's partial sum of (r, z), the residual after the
+// The semi-implicit solve's step along p (common/solver.glsl): α = (z, A z)_k / (A p, P⁻¹ A p)_k, x += α p (the
+// grid's velocities), r −= α A p, z = P⁻¹ r, and the block's partial sum of (r, z), the residual after the
 // iteration. A work group per active block, an invocation per node.
 // Reads: the registers, the grid's velocities and masses, residual, direction, directionProduct. Writes: the grid's
 // velocities, residual, preconditioned, the block's partial sums.
@@ -26,7 +26,7 @@ void main() {
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   gridMomentumMass[i] = floatsToStored(vec4(velocityMass.xyz + alpha * node.direction.xyz, velocityMass.w));
   vec3 residual = node.residual.xyz - alpha * node.directionProduct.xyz;
-  vec3 preconditioned = residual * inverseMass(velocityMass.w);
+  vec3 preconditioned = residual * inversePreconditioner(velocityMass.w, node.residual.w);
   solverNodes[i].residual.xyz = residual;
   solverNodes[i].preconditioned.xyz = preconditioned;
   writeBlockPartial(slot, vec4(0.0, 0.0, dot(residual, preconditioned), 0.0));

@@ -119,7 +119,8 @@ std::string deformingSlabs() {
   return bodies;
 }
 
-// The Hessian product β Δt² H u against the central difference of the force, (P(F + δF) − P(F − δF)) / 2 through the
+// The Hessian product β Δt² H u, unprojected (the closed form in F's singular values, before its negative eigenvalues
+// are set to 0), against the central difference of the force, (P(F + δF) − P(F − δF)) / 2 through the
 // same scatter, for a smooth u whose δF = Δt ∇u F reaches 1e-2. Their difference is the central difference's
 // truncation, O(|δF|²) ≈ 1e-4 of the product, and the stress's float rounding over the difference: the SVD gives R
 // to a few float ε (tests/gl/SvdTest.cpp), which |δF| = 1e-2 turns into ~1e-4 of the product. Bound 1e-3 (measured
@@ -138,7 +139,7 @@ void expectProductMatchesForceDifference(const std::string& material) {
     return amplitude * glm::dvec3(std::sin(wavenumber * x.y), std::cos(wavenumber * x.z) * 0.7,
                                   std::sin(wavenumber * (x.x + x.y)) * 0.5);
   };
-  const auto analytic = simulation.hessianProduct(velocity, HessianProduct::Differential);
+  const auto analytic = simulation.hessianProduct(velocity, HessianProduct::Unprojected);
   const auto difference = simulation.hessianProduct(velocity, HessianProduct::ForceDifference);
   ASSERT_EQ(analytic.size(), difference.size());
   double differenceNorm = 0, productNorm = 0;
@@ -156,6 +157,44 @@ TEST_F(SemiImplicit, FixedCorotatedHessianProductIsTheDerivativeOfTheForce) {
   expectProductMatchesForceDifference(kFixedCorotated);
 }
 TEST_F(SemiImplicit, NeoHookeanHessianProductIsTheDerivativeOfTheForce) { expectProductMatchesForceDifference(kNeoHookean); }
+
+// The solve's product is positive semi-definite: Σᵢ uᵢ · (H u)ᵢ = Σₚ V0 δF : ∂²Ψ/∂F² : δF ≥ 0 for any u, where the
+// unprojected Hessian of compressed snow is not. Two snow blocks collide head-on at 2 m/s and compress at their
+// contact (to snow's critical compression, 2.5%), and u is a rigid rotation about the contact, ω × (x − c): for a
+// particle compressed uniformly, δF̂ is a pure rotation, on which fixed corotated snow's Hessian is
+// 2μ(1 − 2/(σᵢ + σⱼ)) + λ(J − 1)σₖ < 0. The unprojected quadratic form must come out negative (else this scene tests
+// nothing), the projected one non-negative up to the sums' rounding: 1e-5 of Σᵢ |uᵢ| |(H u)ᵢ|, far above the 64-bit
+// sums' and the float products' 1e-7, far below the unprojected form's magnitude (measured: see below).
+TEST_F(SemiImplicit, ProjectedHessianProductIsPositiveSemiDefinite) {
+  const std::string bodies = box({0.3, 0.45, 0.45}, {0.6, 0.75, 0.75}, {1.0, 0, 0}) + "," +
+                             box({0.6, 0.45, 0.45}, {0.9, 0.75, 0.75}, {-1.0, 0, 0});
+  const Scene scene = makeScene(kSnow, R"("kernel": "quadratic", "transfer": "apic", "integrator": "semi_implicit")",
+                                bodies, 0.5, "[0, 0, 0]");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  for (int i = 0; i < 20; ++i) simulation.step(scene.time.dtS);
+  simulation.checkWatchdog();
+
+  const glm::dvec3 contact(0.6, 0.6, 0.6);
+  const double angularSpeed = 1e-2 / scene.time.dtS;  // Δt |∇u| = 1e-2
+  for (const glm::dvec3 axis : {glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0)}) {
+    const auto rotation = [&](const glm::dvec3& x) { return angularSpeed * glm::cross(axis, x - contact); };
+    const auto form = [&](HessianProduct product) {
+      double quadratic = 0, magnitude = 0;
+      for (const Simulation::NodeVector& n : simulation.hessianProduct(rotation, product)) {
+        const glm::dvec3 u = rotation(scene.grid.originM + glm::dvec3(n.node) * scene.grid.cellSizeM);
+        quadratic += glm::dot(u, n.value);
+        magnitude += glm::length(u) * glm::length(n.value);
+      }
+      return std::make_pair(quadratic, magnitude);
+    };
+    const auto [unprojected, unprojectedMagnitude] = form(HessianProduct::Unprojected);
+    const auto [projected, projectedMagnitude] = form(HessianProduct::Differential);
+    SCOPED_TRACE("axis " + vec3(axis) + ": unprojected " + std::to_string(unprojected / unprojectedMagnitude) +
+                 ", projected " + std::to_string(projected / projectedMagnitude) + " of the magnitude");
+    EXPECT_LT(unprojected, 0.0);
+    EXPECT_GE(projected, -1e-5 * projectedMagnitude);
+  }
+}
 
 double totalMassKg(const ParticleSnapshot& s) {
   double mass = 0;
