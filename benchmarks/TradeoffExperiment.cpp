@@ -99,6 +99,13 @@ std::vector<TradeoffCase> tradeoffCases(BenchSize size, int periods) {
         s.dtFraction = 4;
         s.implicitRatio = 0.5;
       }),
+      // Both: β = 1/2 at 18 steps per period, ω dt = 2π/18, where the step's own period error is 1.4%.
+      with("semi_implicit_dt_4_h_L36_ratio_0.5", [](BarSetup& s) {
+        s.integrator = "semi_implicit";
+        s.dtFraction = 4;
+        s.cellsAlongBar = 36;
+        s.implicitRatio = 0.5;
+      }),
   };
   if (size == BenchSize::Default) {
     cases.push_back(with("ppc_64", [](BarSetup& s) { s.particlesPerCell = 64; }));
