@@ -123,8 +123,10 @@ TEST(Cli, TimeStepFarBeyondTheStableBoundIsBadInput) {
 
   // A semi-implicit step is bounded by the particles' CFL condition alone: the same scene runs, pre-flight gives the
   // elastic bound as information, and the stats say how its solves went: none far from the tolerance (1e-4), or
-  // the watchdog would have stopped the run (at 100 times it).
-  json.replace(json.find("\"materials\""), 0, "\"solver\": { \"integrator\": \"semi_implicit\" }, ");
+  // the watchdog would have stopped the run (at 100 times it). At 38 times the bound a solve takes more than the
+  // default 100 iterations (measured: the residual is 0.019 after 100, and converges within 400).
+  json.replace(json.find("\"materials\""), 0,
+               "\"solver\": { \"integrator\": \"semi_implicit\", \"max_iterations\": 400 }, ");
   const fs::path semiImplicit = writeScene(directory, "stiff_semi_implicit.json", json);
   const Result ran = runFirn("run " + semiImplicit.string() + " --frames 1 --no-ply --out " + (directory / "semi").string());
   ASSERT_EQ(ran.exitCode, 0) << ran.output;
@@ -136,16 +138,14 @@ TEST(Cli, TimeStepFarBeyondTheStableBoundIsBadInput) {
   EXPECT_LE(std::stod(rows[2][std::size_t(column - rows[0].begin())]), 1e-2);
 
   // Two iterations cannot solve a step 38 times the elastic bound: the first solve ends far above 100 times the
-  // tolerance, the watchdog stops the run at the frame's end (exit 3) with what to change, and the steps after the
-  // failed solve, whose velocities were wrong, overflow the Hessian product's 64-bit sums, which it names too.
-  json.replace(json.find("\"semi_implicit\""), 15, "\"semi_implicit\", \"max_iterations\": 2");
+  // tolerance, and the watchdog stops the run at the frame's end (exit 3) with what to change.
+  json.replace(json.find("\"max_iterations\": 400"), 22, "\"max_iterations\": 2");
   const fs::path starved = writeScene(directory, "two_iterations.json", json);
   const Result failed = runFirn("run " + starved.string() + " --no-ply --out " + (directory / "starved").string());
   EXPECT_EQ(failed.exitCode, 3) << failed.output;
   EXPECT_NE(failed.output.find("the semi-implicit solve stopped after 2 iterations"), std::string::npos)
       << failed.output;
   EXPECT_NE(failed.output.find("Raise solver.max_iterations (now 2)"), std::string::npos) << failed.output;
-  EXPECT_NE(failed.output.find("semi-implicit solve's Hessian product"), std::string::npos) << failed.output;
 }
 
 TEST(Cli, UnstableSceneExitsWithThreeAndKeepsGoodFrames) {

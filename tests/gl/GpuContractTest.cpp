@@ -200,7 +200,7 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_SURFACE_VERTICES, 0},
       {"common/solver.glsl", "solverNodes[0].residual", GL_SHADER_STORAGE_BLOCK, "SolverNodeBuffer",
        FIRN_BINDING_SOLVER_NODES, 0},
-      {"common/material_hessians.glsl", "solverParticles[0].rotation[0]", GL_SHADER_STORAGE_BLOCK,
+      {"common/material_hessians.glsl", "solverParticles[0].left[0]", GL_SHADER_STORAGE_BLOCK,
        "SolverParticleBuffer", FIRN_BINDING_SOLVER_PARTICLES, 0},
       // The status, then the blocks' partial sums from its end: the driver counts one element of that array.
       {"common/solver_reduction.glsl", "registers[0]", GL_SHADER_STORAGE_BLOCK, "SolverStatusBuffer",

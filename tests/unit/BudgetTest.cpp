@@ -54,34 +54,34 @@ TEST(Budget, BoxesAreEstimatedAnalytically) {
 }
 
 TEST(Budget, SemiImplicitScenesCountTheSolversBuffers) {
-  // The layouts as GpuState allocates them: the solve adds a SolverParticle (96 bytes) per particle, which is also
+  // The layouts as GpuState allocates them: the solve adds a SolverParticle (144 bytes) per particle, which is also
   // the largest particle buffer, and a SolverNode (128 bytes) per node of the pool.
   const GpuStateLayout explicitLayout = GpuStateLayout::forScene(boxScene(kExplicit), 0, 0, true);
   const GpuStateLayout semiLayout = GpuStateLayout::forScene(boxScene(kSemiImplicit), 0, 0, true);
   EXPECT_EQ(explicitLayout.largestParticleBufferBytesPerParticle(), 48u);
-  EXPECT_EQ(semiLayout.largestParticleBufferBytesPerParticle(), 96u);
-  EXPECT_EQ(semiLayout.particleBytesPerParticle() - explicitLayout.particleBytesPerParticle(), 96u);
+  EXPECT_EQ(semiLayout.largestParticleBufferBytesPerParticle(), 144u);
+  EXPECT_EQ(semiLayout.particleBytesPerParticle() - explicitLayout.particleBytesPerParticle(), 144u);
   EXPECT_EQ(semiLayout.poolBytesPerBlock() - explicitLayout.poolBytesPerBlock(), 64u * 128u + 16u);
   EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, false), (64u << 20) / (64u * 16u));
   EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 128u));
 
-  // 64 MiB per buffer hold 1,398,101 particles at 48 bytes, 699,050 at 96: the explicit scene fits, the
+  // 64 MiB per buffer hold 1,398,101 particles at 48 bytes, 466,033 at 144: the explicit scene fits, the
   // semi-implicit one is refused with its estimate, the limit and what to change.
   const ParticleBudget explicitBudget = checkParticleBudget(boxScene(kExplicit), driver(), 0);
   EXPECT_EQ(explicitBudget.maxParticles, 1398101u);
   const std::string message = refusal(boxScene(kSemiImplicit), driver());
   EXPECT_NE(message.find("budget.json: bodies: about 1,000,000 particles"), std::string::npos) << message;
-  EXPECT_NE(message.find("need more than the 699,050 that fit the 64 MiB a test driver allows per particle buffer "
-                         "(96 bytes per particle)"),
+  EXPECT_NE(message.find("need more than the 466,033 that fit the 64 MiB a test driver allows per particle buffer "
+                         "(144 bytes per particle)"),
             std::string::npos)
       << message;
-  // 8 × 699,050 / 1,000,000 = 5.59, less the 3% kept for the estimate's error: 5.42.
-  EXPECT_NE(message.find("particles_per_cell 5.42 on bodies[0] would fit"), std::string::npos) << message;
+  // 8 × 466,033 / 1,000,000 = 3.73, less the 3% kept for the estimate's error, rounded down: 3.61.
+  EXPECT_NE(message.find("particles_per_cell 3.61 on bodies[0] would fit"), std::string::npos) << message;
 }
 
 TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
   // A driver with large buffers and 320 MiB free: the particles' bytes in all bind, 152 explicit (positions,
-  // velocities, plastic state, F, τ, sort keys) and 248 semi-implicit, after the grid's start. That start is a pool
+  // velocities, plastic state, F, τ, sort keys) and 296 semi-implicit, after the grid's start. That start is a pool
   // of four times the 15³ blocks of 4³ nodes the box reaches with the stencil, 13,500 blocks: 2.6 KiB each explicit
   // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.01 MiB, and 8,208 bytes more
   // semi-implicit (64 SolverNodes and a vec4), 139.7 MiB.
@@ -95,10 +95,10 @@ TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
       << explicitBudget.limit;
   // (320 − 34.01) MiB / 152 B = 1,972,906; the message's 34.01 MiB is rounded to 0.005 MiB, 35 particles' worth.
   EXPECT_NEAR(double(explicitBudget.maxParticles), 1972906, 35);
-  // (320 − 139.7) MiB / 248 B = 762,400: the million are refused.
+  // (320 − 139.7) MiB / 296 B = 638,772: the million are refused.
   const std::string message = refusal(boxScene(kSemiImplicit), gl);
-  EXPECT_NE(message.find("the 762,4"), std::string::npos) << message;
-  EXPECT_NE(message.find("(248 bytes per particle in all, after 139.7 MiB for the grid)"), std::string::npos)
+  EXPECT_NE(message.find("the 638,7"), std::string::npos) << message;
+  EXPECT_NE(message.find("(296 bytes per particle in all, after 139.7 MiB for the grid)"), std::string::npos)
       << message;
 }
 
