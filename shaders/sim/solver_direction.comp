@@ -2,9 +2,8 @@
 // The semi-implicit solve's search direction (common/solver.glsl): p = z + β_k p and A p = A z + β_k A p with
 // β_k = (z, A z)_k / (z, A z)_{k−1} (p = z at the first iteration), and the block's partial sum of (A p, P⁻¹ A p).
 // A work group per active block, an invocation per node.
-// Reads: the registers, the grid's masses, residual (its w: the diagonal), preconditioned, product, direction,
-// directionProduct. Writes: direction,
-// directionProduct, the block's partial sums.
+// Reads: the registers, the grid's masses, residual (its w: the preconditioner P), preconditioned, product,
+// direction, directionProduct. Writes: direction, directionProduct, the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
