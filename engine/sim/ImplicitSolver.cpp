@@ -45,40 +45,37 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
 
 namespace {
 
-// A test's variant of one of the solve's programs, with `define` set: built from the embedded files, which the
-// step's own programs were built from.
-ComputePass variant(const gl::ShaderOptions& options, const char* path, const char* define,
-                    ComputePass::Dispatch dispatch) {
-  gl::ShaderOptions variantOptions = options;
-  variantOptions.defines.emplace_back(define, "1");
-  return ComputePass(gl::ShaderLibrary(), path, variantOptions, dispatch);
+// A test's variant of one of the solve's programs, with `define` set, built into `built` the first time it is asked
+// for: from the embedded files, which the step's own programs were built from.
+const ComputePass& variant(std::optional<ComputePass>& built, const gl::ShaderOptions& options, const char* path,
+                           const char* define, ComputePass::Dispatch dispatch) {
+  if (!built) {
+    gl::ShaderOptions variantOptions = options;
+    variantOptions.defines.emplace_back(define, "1");
+    built.emplace(gl::ShaderLibrary(), path, variantOptions, dispatch);
+  }
+  return *built;
 }
 
 }  // namespace
 
 void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer, HessianProduct product) const {
-  const ComputePass* pass = &prepare_;
-  if (product == HessianProduct::Unprojected) {
-    if (!unprojectedPrepare_) {
-      unprojectedPrepare_ = variant(options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN",
-                                    ComputePass::Dispatch::Particles);
-    }
-    pass = &*unprojectedPrepare_;
-  }
-  pass->runOverParticles(particles, maxWorkGroupsX, timer);
+  const ComputePass& pass =
+      product == HessianProduct::Unprojected
+          ? variant(unprojectedPrepare_, options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN",
+                    ComputePass::Dispatch::Particles)
+          : prepare_;
+  pass.runOverParticles(particles, maxWorkGroupsX, timer);
   glMemoryBarrier(kStorage);
 }
 
 void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const {
-  const ComputePass* pass = &product_;
-  if (product == HessianProduct::ForceDifference) {
-    if (!forceDifferenceProduct_) {
-      forceDifferenceProduct_ = variant(options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE",
-                                        ComputePass::Dispatch::Indirect);
-    }
-    pass = &*forceDifferenceProduct_;
-  }
-  pass->set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
+  const ComputePass& pass =
+      product == HessianProduct::ForceDifference
+          ? variant(forceDifferenceProduct_, options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE",
+                    ComputePass::Dispatch::Indirect)
+          : product_;
+  pass.set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
                                                 timer);
   glMemoryBarrier(kStorage);
 }
