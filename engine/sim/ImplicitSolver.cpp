@@ -32,6 +32,7 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
     : maxIterations_(scene.solver.maxIterations), options_(options) {
   using Dispatch = ComputePass::Dispatch;
+  orderBins_ = ComputePass(library, "sim/solver_order_bins.comp", options, Dispatch::Indirect);
   prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
   begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
   product_ = ComputePass(library, "sim/solver_product.comp", options, Dispatch::Indirect);
@@ -59,7 +60,9 @@ const ComputePass& variant(std::optional<ComputePass>& built, const gl::ShaderOp
 
 }  // namespace
 
-void ImplicitSolver::prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer, HessianProduct product) const {
+void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
+                             HessianProduct product) const {
+  orderBins_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
   const ComputePass& pass =
       product == HessianProduct::Unprojected
           ? variant(unprojectedPrepare_, options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN",
@@ -105,7 +108,7 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
                                   PassTimer& timer) const {
   const gl::Buffer& status = state.solverStatusBuffer();
-  prepare(particles, maxWorkGroupsX, timer);
+  prepare(state, particles, maxWorkGroupsX, timer);
   begin_.runOnce(timer);
   glMemoryBarrier(kStorageAndCommands);
   // r₀ = −S β Δt² H v*, z₀, and the reference (M v*, v*).

@@ -36,9 +36,10 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
 
-  // Test hooks (Simulation::hessianProduct): the per-particle preparation for a product of that kind, and the product
-  // of the solve's vector z (SolverNode::preconditioned), leaving its sums in the product buffer.
-  void prepare(std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
+  // Test hooks (Simulation::hessianProduct): the preparation for a product of that kind (the bins' order by index and
+  // each particle's stiffness), and the product of the solve's vector z (SolverNode::preconditioned), leaving its sums
+  // in the product buffer.
+  void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
                HessianProduct product = HessianProduct::Differential) const;
   void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
 
@@ -52,6 +53,7 @@ class ImplicitSolver {
   // Built when a test first asks for them.
   mutable std::optional<ComputePass> unprojectedPrepare_;
   mutable std::optional<ComputePass> forceDifferenceProduct_;
+  ComputePass orderBins_;
   ComputePass prepare_;
   ComputePass begin_;
   ComputePass product_;

@@ -308,7 +308,7 @@ std::vector<Simulation::NodeVector> Simulation::hessianProduct(
   if (!solver) throw std::logic_error("hessianProduct: the scene's integrator is explicit");
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);
-  solver->prepare(particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_, product);
+  solver->prepare(state_, particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_, product);
   const std::vector<glm::ivec3> nodes = state_.activeNodes();
   std::vector<glm::vec3> velocities;
   velocities.reserve(nodes.size());

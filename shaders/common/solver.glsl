@@ -12,10 +12,11 @@
 //
 // Determinism. A Hessian product is summed at the nodes from every particle's contribution, like P2G. Its
 // contributions are (c Δt / h)² times larger than the product they add up to, too many bits for P2G's 32-bit fixed
-// point and lost in float sums, whose order would not repeat either. They are summed as 64-bit integers instead,
-// two 32-bit words with the carry: exact, so the same whatever the order. A dot product is summed within a block in
-// a fixed order, and over the blocks, whose slots follow no fixed order, as 64-bit integers at a scale set by the
-// largest block's partial sum: again exact. A run repeats to the bit.
+// point. A tile sums its particles' contributions in float, in the particles' index order within each bin
+// (solver_order_bins.comp), which repeats; the tiles' sums, which reach a node in no fixed order, are added there as
+// 64-bit integers, two 32-bit words with the carry: exact, so the same whatever the order. A dot product is summed
+// within a block in a fixed order, and over the blocks, whose slots follow no fixed order, as 64-bit integers at a
+// scale set by the largest block's partial sum: again exact. A run repeats to the bit.
 #include "common/fixed64.glsl"
 #include "common/watchdog.glsl"
 
@@ -31,8 +32,8 @@ float toleranceSquared() { return solver.y; }
 
 // --- Hessian products at the nodes -------------------------------------------------------------------------------
 
-// A contribution in momentum units (xyz; w the diagonal's, in reference masses), as the 64-bit integers of units
-// 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the stiffest wave the
+// A tile's sum at a node in momentum units (xyz; w the diagonal's, in reference masses), as the 64-bit integers of
+// units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the stiffest wave the
 // scene states (sim/FixedPoint.h).
 bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   vec4 scaled = floor(units * solver.z + 0.5);

@@ -4,7 +4,10 @@
 // particle of the tile gathers the velocity gradient G = Σᵢ uᵢ ∇wᵢₚᵀ (δF = Δt G F, the change of F if the nodes moved
 // Δt u), takes δP Fᵀ from the particle's stiffness (common/material_hessians.glsl; δP = ∂²Ψ/∂F² : δF) and scatters
 // β Δt V0 δP Fᵀ ∇wᵢₚ to the region, as P2G scatters the force of τ (Stomakhin 2013 §6 and eq. 9). Plasticity is held
-// fixed for the step: F is F_E. The region's sums go to the nodes as 64-bit integers (exact, so deterministic).
+// fixed for the step: F is F_E. The region's sums are float, taken particle by particle in the tile's order, which
+// solver_order_bins.comp made the particles' index order, so they repeat to the bit; they go to the nodes as 64-bit
+// integers (common/solver.glsl), exact whatever the order of the tiles. A contribution rounded to 64 bits one by one,
+// as P2G quantizes its own, cost a quarter of the product and bought no accuracy: each is a float to begin with.
 // u is x₀ = v* (the initial residual, `productOfSolution` 1, which update_grid.comp left in the direction) or the
 // preconditioned residual z. The first product also sums the Jacobi preconditioner's diagonal in the w components.
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
@@ -20,9 +23,7 @@ layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 uniform uint productOfSolution;
 
 vec3 regionVector[REGION_NODES];  // u at the region's nodes (m/s)
-uvec4 sumLow[REGION_NODES];       // the region's sums, 64-bit: xyz the product, w the preconditioner's diagonal
-ivec4 sumHigh[REGION_NODES];
-bool overflowed = false;
+vec4 regionSum[REGION_NODES];    // the region's sums: xyz the product, w the preconditioner's diagonal
 
 #ifdef FIRN_SOLVER_FORCE_DIFFERENCE
 // Test builds (tests/gl/SemiImplicitTest.cpp) put the central difference of the stress the explicit force comes
@@ -54,8 +55,7 @@ void loadRegion(ivec3 firstBase) {
     vec3 u = vec3(0.0);
     if (address >= 0) u = productOfSolution != 0u ? solverNodes[address].direction.xyz : solverNodes[address].preconditioned.xyz;
     regionVector[i] = u;
-    sumLow[i] = uvec4(0u);
-    sumHigh[i] = ivec4(0);
+    regionSum[i] = vec4(0.0);
   }
 }
 
@@ -65,11 +65,8 @@ void scatterToNode(mat3 stressUnits, float diagonalUnits, SolverParticle stiffne
                    ivec3 bin) {
   vec3 gradient = stencilGradient(stencil, k);
   float diagonal = diagonalUnits != 0.0 ? diagonalUnits * stiffnessDiagonal(stiffness, gradient) : 0.0;
-  uvec4 low;
-  ivec4 high;
-  overflowed = !productToFixed64(vec4(stressUnits * gradient, diagonal), low, high) || overflowed;
   int i = regionIndex(bin + k);
-  addFixed64(sumLow[i], sumHigh[i], low, high);
+  regionSum[i] += vec4(stressUnits * gradient, diagonal);
 }
 
 // The product's contribution of particle p, whose base node is the tile's `bin`-th.
@@ -117,18 +114,20 @@ void main() {
   ivec3 firstBase = tileFirstBase(slot, tile);
 
   loadRegion(firstBase);
-  overflowed = false;
   for (int b = 0; b < TILE_BASE_NODES; ++b) {
     uvec2 particles = binParticles(slot, tileFirstBin(tile) + uint(b));  // first, count
     ivec3 bin = ivec3(b % TILE_WIDTH, b / TILE_WIDTH, 0);
     for (uint j = particles.x; j < particles.x + particles.y; ++j) scatterParticle(sortedParticles[j], bin);
   }
-  if (overflowed) reportOverflow(nodeIndex(firstBase), CHANNEL_SOLVER);
-
   StencilBlocks blocks = stencilBlocks(firstBase);
+  bool overflowed = false;
   for (int i = 0; i < REGION_NODES; ++i) {
-    if (sumLow[i] == uvec4(0u) && sumHigh[i] == ivec4(0)) continue;
+    if (regionSum[i] == vec4(0.0)) continue;
+    uvec4 low;
+    ivec4 high;
+    overflowed = !productToFixed64(regionSum[i], low, high) || overflowed;
     int address = stencilNodeAddress(blocks, regionOffset(i));
-    if (address >= 0) addProductToNode(uint(address), sumLow[i], sumHigh[i]);
+    if (address >= 0) addProductToNode(uint(address), low, high);
   }
+  if (overflowed) reportOverflow(nodeIndex(firstBase), CHANNEL_SOLVER);
 }
