@@ -34,6 +34,6 @@ static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
 static_assert(sizeof(StepUniforms) == 112, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 128, "std430 SolverNode");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");
-static_assert(sizeof(SolverStatus) == 64 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
+static_assert(sizeof(SolverStatus) == 80 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
 
 }  // namespace firn::gpu

@@ -108,9 +108,9 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
                                   PassTimer& timer) const {
   const gl::Buffer& status = state.solverStatusBuffer();
-  prepare(state, particles, maxWorkGroupsX, timer);
   begin_.runOnce(timer);
   glMemoryBarrier(kStorageAndCommands);
+  prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = −S β Δt² H v*, z₀, and the reference (M v*, v*).
   product_.set("productOfSolution", 1).runIndirect(status, kProductDispatch, timer);
   glMemoryBarrier(kStorage);

@@ -209,7 +209,7 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
 //   pairSame, pairCross  xyz, for the pairs of axes other than 1, 2, 3: the 2×2 block [[a, b], [b, a]] on
 //                        (δF̂ᵢⱼ, δF̂ⱼᵢ), a and b
 //   preconditionerWeights xyz: what the Jacobi preconditioner's node diagonal takes of this particle per
-//                        (Uᵀ ∇w)ᵢ² (common/solver.glsl)
+//                        (Uᵀ ∇w)ᵢ² (common/solver.glsl); w: 2μ + λ (Pa), the scale of its stress's rounding
 #define FIRN_SOLVER_PARTICLE(member, array) \
   member(mat3, left)                        \
   member(vec4, singularValues)              \
@@ -228,6 +228,8 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   solveReduceDispatch   xyz: of the dot products' sums (one group, or none)
 //   solveEnd              x: 1 + the register whose residual ended the solve (met the tolerance, or was NaN); 0
 //                         while it runs
+//   roundingStiffness     x: the least V⁰ (2μ + λ) of the step's particles (N·m), as float bits: the scale of the
+//                         rounding floor under the tolerance (common/solver.glsl)
 //   registers             per iteration k: x (z, A z)_k, y (A p, P⁻¹ A p)_k, z (r, P⁻¹ r)_k after k iterations,
 //                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference
 #define FIRN_SOLVER_STATUS(member, array) \
@@ -235,6 +237,7 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
   member(uvec4, solveProductDispatch)     \
   member(uvec4, solveReduceDispatch)      \
   member(uvec4, solveEnd)                 \
+  member(uvec4, roundingStiffness)        \
   array(vec4, registers, SOLVER_REGISTERS)
 FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
 

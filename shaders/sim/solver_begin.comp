@@ -1,6 +1,7 @@
 #version 430 core
 // The semi-implicit solve's start, once per step (common/solver.glsl): the iterations' passes are dispatched over
-// this step's blocks and tiles, and the registers of last step's dot products are cleared.
+// this step's blocks and tiles, and the registers of last step's dot products and the least rounding stiffness are
+// cleared.
 // Reads: the block table's dispatches. Writes: the solver's status.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -19,5 +20,6 @@ void main() {
     solveProductDispatch = tileDispatch;
     solveReduceDispatch = uvec4(1u, 1u, 1u, 0u);
     solveEnd = uvec4(0u);
+    roundingStiffness = uvec4(0x7f800000u, 0u, 0u, 0u);  // +∞
   }
 }

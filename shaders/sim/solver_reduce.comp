@@ -67,6 +67,9 @@ void main() {
   vec4 total = ldexp(fixed64ToFloat(sumLow[0], sumHigh[0]), -scale);
   total = mix(total, vec4(uintBitsToFloat(0x7fc00000u)), greaterThanEqual(largest, uvec4(FLOAT_INFINITY_BITS)));
   bvec4 components = notEqual(uvec4(reduceComponents) & uvec4(1u, 2u, 4u, 8u), uvec4(0u));
+  // The reference's sum comes with the rounding floor's in x (solver_residual.comp): the tolerance is met at
+  // ‖r‖ ≤ max(tolerance ‖M v*‖, ‖δb‖), so the reference is the larger of (M v*, P⁻¹ M v*) and ‖δb‖² / tolerance².
+  if (components.w) total.w = max(total.w, total.x / toleranceSquared());
   registers[reduceRegister] = mix(registers[reduceRegister], total, components);
   if (components.z) {
     // Another iteration while (r, P⁻¹ r) > tolerance² (M v*, P⁻¹ M v*); a NaN residual ends the solve for the host to report.

@@ -2,7 +2,8 @@
 // The semi-implicit solve's initial residual (common/solver.glsl), a work group per active block and an invocation
 // per node: from x₀ = v*, the explicit update with its collisions (update_grid.comp), r₀ = S (M v* − A x₀) =
 // −S β Δt² H v*, the preconditioner's diagonal P = M + β Δt² diag(H) (summed by the same product), z₀ = P⁻¹ r₀, and
-// the block's partial sums of (r₀, z₀) and of (M v*, P⁻¹ M v*), the tolerance's reference.
+// the block's partial sums of (r₀, z₀), of (M v*, P⁻¹ M v*), the tolerance's reference, and of the rounding floor
+// (below).
 // Reads: the grid's velocities and masses, the product sums, constraints. Writes: residual (w: P), preconditioned,
 // the product sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
@@ -13,6 +14,20 @@
 #include "common/solver_reduction.glsl"
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+// The rounding floor at a node of stiffness diagonal `diagonalKg` (β Δt² diag(H), the first product's w) and inverse
+// preconditioner `inverse`: its term of ‖δb‖² in the P⁻¹ norm, δb the float rounding of the right-hand side M v*.
+// The explicit force rounds τ to about ε (2μ + λ) in each entry (ε = 2⁻²⁴; at F = I svd3's rotation alone leaves
+// that), so a node's impulse is uncertain by 3 Σₚ (Δt V⁰ ε (2μ + λ) |∇w|)² (three components, the particles' errors
+// independent). The preconditioner's diagonal is Σₚ β Δt² V⁰ (4μ + λ) |∇w|² / 3 at F = I, so the two relate by
+// about 9 ε² V⁰ (2μ + λ)² / (β (4μ + λ)) ≥ 4.5 ε² V⁰ (2μ + λ) / β per unit of diagonal. Firn takes 3 ε² V⁰ (2μ + λ)
+// / β with the least V⁰ (2μ + λ) of the step's particles (solver_prepare.comp), an underestimate, so that the floor
+// never excuses a residual the right-hand side does determine. 0 where β is 0 (no stiffness, no floor).
+float roundingFloorTerm(float diagonalKg, float inverse) {
+  const float EPSILON_SQUARED = 3.5527137e-15;  // (2⁻²⁴)²
+  float scale = implicitRatio() > 0.0 ? 3.0 * EPSILON_SQUARED * uintBitsToFloat(roundingStiffness.x) / implicitRatio() : 0.0;
+  return scale * diagonalKg * inverse;
+}
 
 void main() {
   uint slot = workGroupSlot();
@@ -28,5 +43,6 @@ void main() {
   solverNodes[i].residual = vec4(residual, diagonalKg);
   solverNodes[i].preconditioned.xyz = preconditioned;
   vec3 momentum = velocityMass.w * velocityMass.xyz;
-  writeBlockPartial(slot, vec4(0.0, 0.0, dot(residual, preconditioned), dot(momentum, momentum) * inverse));
+  writeBlockPartial(slot, vec4(roundingFloorTerm(product.w, inverse), 0.0, dot(residual, preconditioned),
+                               dot(momentum, momentum) * inverse));
 }
