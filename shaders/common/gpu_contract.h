@@ -229,7 +229,7 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   solveEnd              x: 1 + the register whose residual ended the solve (met the tolerance, or was NaN); 0
 //                         while it runs
 //   roundingStiffness     x: the least V⁰ (2μ + λ) of the step's particles (N·m), as float bits: the scale of the
-//                         rounding floor under the tolerance (common/solver.glsl)
+//                         rounding floor under the tolerance (solver_residual.comp)
 //   registers             per iteration k: x (z, A z)_k, y (A p, P⁻¹ A p)_k, z (r, P⁻¹ r)_k after k iterations,
 //                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference
 #define FIRN_SOLVER_STATUS(member, array) \

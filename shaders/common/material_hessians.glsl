@@ -111,7 +111,7 @@ SolverParticle principalStiffness(mat3 F, MaterialParams m, float plasticJ) {
   // The diagonal of the 9×9 stiffness on δF̂ = e_b ⊗ ĝ, summed over b, is Σ_b ĝ_b² (∂²Ψ/∂σ_b² + Σ of a over b's
   // two pairs), and ĝ = Vᵀ Fᵀ ∇w = Σ Uᵀ ∇w.
   vec3 pairsOfAxis = vec3(same.y + same.z, same.z + same.x, same.x + same.y);
-  // w: 2μ + λ, the stiffness the explicit stress's float rounding scales with (the solve's floor, common/solver.glsl).
+  // w: 2μ + λ, the stiffness the explicit stress's float rounding scales with (the solve's floor, solver_residual.comp).
   s.preconditionerWeights = vec4(sigma * sigma * (s.scalingDiagonal.xyz + pairsOfAxis), 2.0 * lame.y + lame.x);
   return s;
 }

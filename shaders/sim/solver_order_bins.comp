@@ -1,6 +1,6 @@
 #version 430 core
 // The semi-implicit solve's order of the particles within each bin (common/blocks.glsl), once per step: by index.
-// The sort gives a bin's particles in the order of bin_count.comp's atomics, which changes from run to run; P2G's
+// The counting sort leaves a bin's particles in the order of bin_count.comp's atomics, which changes from run to run; P2G's
 // fixed-point sums do not mind, but the Hessian products sum their tiles' contributions in float
 // (solver_product.comp), and a float sum repeats only in a repeated order. A work group per active block, an
 // invocation per bin, an insertion sort of the bin's few particles in place.

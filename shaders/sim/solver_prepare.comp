@@ -2,7 +2,7 @@
 // The semi-implicit solve's per-particle preparation, once per step: each particle's stiffness ∂²Ψ/∂F² at its F, in
 // the frame of F's SVD and projected onto the positive semi-definite (common/material_hessians.glsl), so that the
 // iterations' products need no SVD; and the least V⁰ (2μ + λ) of the particles, the scale of the tolerance's rounding
-// floor (common/solver_reduction.glsl), a minimum per work group and one atomic per group. One invocation per particle.
+// floor (solver_residual.comp), a minimum per work group and one atomic per group. One invocation per particle.
 // Reads: elasticDeformation, plasticState, materials, velocityVolume. Writes: solverParticles, roundingStiffness.
 #include "common/bindings.glsl"
 #include "common/material_hessians.glsl"
