@@ -6,7 +6,6 @@
 // Reads: elasticDeformation, plasticState, materials, velocityVolume. Writes: solverParticles, roundingStiffness.
 #include "common/bindings.glsl"
 #include "common/material_hessians.glsl"
-#include "common/solver.glsl"
 #include "common/solver_reduction.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
