@@ -36,7 +36,8 @@ GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particle
   layout.blockCapacity = blockCapacity;
   layout.deformationGradient = deformationGradient;
   layout.affine = scene.solver.transfer == Transfer::Apic;
-  layout.impulse = scene.solver.transfer == Transfer::PicFlip;
+  // The velocity before forces: PIC/FLIP's increment and the semi-implicit solve's start (common/grid.glsl).
+  layout.impulse = scene.solver.transfer == Transfer::PicFlip || scene.solver.semiImplicit();
   layout.semiImplicit = scene.solver.semiImplicit();
   return layout;
 }

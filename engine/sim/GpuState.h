@@ -34,7 +34,7 @@ struct GpuStateLayout {
   std::size_t blockCapacity = 0;    // slots of the block pool
   bool deformationGradient = true;  // F: every model but water
   bool affine = false;              // APIC's C
-  bool impulse = true;              // PIC/FLIP's second grid buffer
+  bool impulse = true;              // the grid's impulse storage: PIC/FLIP or semi-implicit
   bool semiImplicit = false;        // the solve's vectors per node and stiffness per particle
 
   static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
@@ -147,7 +147,7 @@ class GpuState {
   gl::Buffer sortedParticles_;  // particle indices in block, then bin, order
   gl::Buffer particleRanks_;    // each particle's place in its bin
   gl::Buffer gridMomentumMass_;  // per node of the pool
-  gl::Buffer gridImpulse_;       // per node of the pool, PIC/FLIP only
+  gl::Buffer gridImpulse_;       // per node of the pool, PIC/FLIP or semi-implicit only
   gl::Buffer blockTable_;        // BlockTableHeader, then a BlockSlot per slot of the pool
   gl::Buffer blockMap_;          // per block of the domain
   gl::Buffer bins_;              // per base node of the pool

@@ -111,7 +111,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   begin_.runOnce(timer);
   glMemoryBarrier(kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
-  // r₀ = −S β Δt² H v*, z₀, and the reference (M v*, v*).
+  // r₀ = S (M v* − A x₀) from the start x₀, and the reference (M v*, P⁻¹ M v*).
   product_.set("productOfSolution", 1).runIndirect(status, kProductDispatch, timer);
   glMemoryBarrier(kStorage);
   residual_.runIndirect(status, kBlockDispatch, timer);

@@ -18,9 +18,17 @@
 // costs an add per contribution where a hash per contribution cost 40% of P2G on llvmpipe. The dither depends
 // only on which contribution it is, so sums stay exact, order-independent and deterministic.
 //
-// After update_grid.comp the same storage holds floats: (velocity m/s, mass kg) and, for PIC/FLIP, the
-// velocity before forces. FIRN_TRANSFER_APIC needs no second buffer: impulse goes straight into momentum.
+// After update_grid.comp the same storage holds floats: (velocity m/s, mass kg) and, in the impulse's storage, the
+// velocity before forces.
 #include "common/watchdog.glsl"
+
+// The impulse has storage of its own wherever a pass needs the velocity before forces: PIC/FLIP's increment (g2p.comp)
+// and the semi-implicit solve's start (update_grid.comp). An explicit APIC step adds it straight to the momentum. A
+// pass that reads neither defines FIRN_WITHOUT_GRID_IMPULSE: llvmpipe counts every storage block declared
+// (docs/platform.md).
+#if (!defined(FIRN_TRANSFER_APIC) || defined(FIRN_SEMI_IMPLICIT)) && !defined(FIRN_WITHOUT_GRID_IMPULSE)
+#define FIRN_GRID_IMPULSE
+#endif
 
 #ifdef FIRN_FLOAT_ATOMICS
 #define GridVector vec4
@@ -31,7 +39,7 @@
 layout(std430, binding = FIRN_BINDING_GRID_MOMENTUM_MASS) coherent buffer GridMomentumMassBuffer {
   GridVector gridMomentumMass[];
 };
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
 layout(std430, binding = FIRN_BINDING_GRID_IMPULSE) coherent buffer GridImpulseBuffer { GridVector gridImpulse[]; };
 #endif
 
@@ -52,7 +60,7 @@ void addToNode(uint address, vec4 momentumMass, ivec3 node) {
   atomicAdd(gridMomentumMass[address].z, momentumMass.z);
   atomicAdd(gridMomentumMass[address].w, momentumMass.w);
 }
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
 void addImpulseToNode(uint address, vec3 impulse, ivec3 node) {
   atomicAdd(gridImpulse[address].x, impulse.x);
   atomicAdd(gridImpulse[address].y, impulse.y);
@@ -130,7 +138,7 @@ void addToNode(uint address, ivec4 momentumMass, ivec3 node) {
   bvec4 over = overflowed(previous, momentumMass, previous + momentumMass);
   if (any(over)) reportOverflows(over, node, MOMENTUM_MASS_CHANNELS);
 }
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
 void addImpulseToNode(uint address, ivec3 impulse, ivec3 node) {
   ivec4 previous = ivec4(0);
   for (int c = 0; c < 3; ++c) {
@@ -152,7 +160,7 @@ float nodeMassUnits(uint address) { return storedToNondimensional(gridMomentumMa
 
 // After the grid update: velocity after forces and collisions (m/s).
 vec3 nodeVelocity(uint address) { return storedFloats(gridMomentumMass[address]).xyz; }
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
 // After the grid update: velocity before forces (m/s), for the FLIP increment.
 vec3 nodeVelocityBeforeForces(uint address) { return storedFloats(gridImpulse[address]).xyz; }
 #endif

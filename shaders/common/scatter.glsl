@@ -34,14 +34,17 @@ Contribution particleContribution(uint p) {
   return c;
 }
 
-// The contribution to `node` with weight w and gradient ∇w: (momentum, mass), and for PIC/FLIP the impulse,
-// which APIC adds to the momentum.
+// The contribution to `node` with weight w and gradient ∇w: (momentum, mass) and the impulse, which an explicit
+// APIC step adds to the momentum (grid.glsl's FIRN_GRID_IMPULSE).
 void contributionToNode(Contribution c, ivec3 node, float w, vec3 gradient, out vec4 momentumMass, out vec3 impulse) {
   impulse = c.impulseUnits * gradient;
 #ifdef FIRN_TRANSFER_APIC
-  vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x)) + impulse;
-  momentumMass = vec4(momentum, w * c.massUnits);
+  vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x));
 #else
-  momentumMass = vec4(w * c.momentumUnits, w * c.massUnits);
+  vec3 momentum = w * c.momentumUnits;
 #endif
+#ifndef FIRN_GRID_IMPULSE
+  momentum += impulse;
+#endif
+  momentumMass = vec4(momentum, w * c.massUnits);
 }

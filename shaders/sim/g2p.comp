@@ -7,6 +7,9 @@
 // output.
 // Reads: grid velocities, the block map, sortedParticles, particle state, materials, colliders.
 // Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
+#ifdef FIRN_TRANSFER_APIC
+#define FIRN_WITHOUT_GRID_IMPULSE  // APIC reads no velocity before forces (common/grid.glsl)
+#endif
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"

@@ -17,14 +17,14 @@ layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 // The accumulators, and the overflows of any of them per channel (common/grid.glsl: fixed point marks them, float
 // leaves them 0); one mark for the tile rather than one per accumulator keeps the accumulators in a CPU's cache.
 GridVector momentumMass[REGION_NODES];
-GridVector impulses[REGION_NODES];  // PIC/FLIP only; w unused
+GridVector impulses[REGION_NODES];  // with the impulse's own storage only (grid.glsl); w unused
 ivec4 momentumMassOverflow;
 ivec4 impulseOverflow;
 
 void clearAccumulators() {
   for (int i = 0; i < REGION_NODES; ++i) {
     momentumMass[i] = GridVector(0);
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
     impulses[i] = GridVector(0);
 #endif
   }
@@ -44,7 +44,7 @@ void scatterToNode(Contribution contribution, Stencil stencil, ivec3 k, ivec3 bi
   int i = regionIndex(bin + k);
   accumulate(momentumMass[i], quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow),
              momentumMassOverflow);
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
   accumulate(impulses[i], quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow), impulseOverflow);
 #endif
 }
@@ -90,15 +90,15 @@ void main() {
   reportAccumulatorOverflow(impulseOverflow, firstBase, IMPULSE_CHANNELS);
   for (int i = 0; i < REGION_NODES; ++i) {
     ivec3 node = firstBase + regionOffset(i);
-#ifdef FIRN_TRANSFER_APIC
-    if (momentumMass[i] == GridVector(0)) continue;
-#else
+#ifdef FIRN_GRID_IMPULSE
     if (momentumMass[i] == GridVector(0) && impulses[i] == GridVector(0)) continue;
+#else
+    if (momentumMass[i] == GridVector(0)) continue;
 #endif
     int address = stencilNodeAddress(blocks, regionOffset(i));
     if (address < 0) continue;  // a block past the pool's capacity: the host sees the count and grows the pool
     addToNode(uint(address), momentumMass[i], node);
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
     addImpulseToNode(uint(address), impulses[i].xyz, node);
 #endif
   }

@@ -14,7 +14,7 @@ void main() {
   if (slot >= blockCounts.z) return;
   uint address = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
   gridMomentumMass[address] = GridVector(0);
-#ifndef FIRN_TRANSFER_APIC
+#ifdef FIRN_GRID_IMPULSE
   gridImpulse[address] = GridVector(0);
 #endif
   bins[address] = uvec2(0u);

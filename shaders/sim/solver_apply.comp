@@ -1,9 +1,10 @@
 #version 430 core
 // The semi-implicit solve's product A z = S (M z + β Δt² H z) (common/solver.glsl), from the Hessian product's sums
-// (solver_product.comp), and the block's partial sum of (z, A z). A work group per active block, an invocation per
-// node.
-// Reads: the grid's masses, the product sums, preconditioned, constraints. Writes: product, the product sums
-// (cleared), the block's partial sums.
+// (solver_product.comp), and the block's partial sum of (r, P⁻¹ A z): the conjugate residual method's (z, A z) where
+// z = P⁻¹ r, and the first iteration's numerator, whose z is the direction v* − x₀ (solver_residual.comp). A work
+// group per active block, an invocation per node.
+// Reads: the grid's masses, the product sums, residual (w: P), preconditioned, constraints. Writes: product, the
+// product sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -22,5 +23,6 @@ void main() {
   vec3 z = solverNodes[i].preconditioned.xyz;
   vec3 product = constrain(massKg * z + takeProduct(i).xyz, solverNodes[i].constraint);
   solverNodes[i].product.xyz = product;
-  writeBlockPartial(slot, vec4(dot(z, product), 0.0, 0.0, 0.0));
+  vec4 residual = solverNodes[i].residual;  // w: the preconditioner's diagonal
+  writeBlockPartial(slot, vec4(dot(residual.xyz, product) * inversePreconditioner(massKg, residual.w), 0.0, 0.0, 0.0));
 }

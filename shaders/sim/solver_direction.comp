@@ -1,6 +1,7 @@
 #version 430 core
 // The semi-implicit solve's search direction (common/solver.glsl): p = z + β_k p and A p = A z + β_k A p with
-// β_k = (z, A z)_k / (z, A z)_{k−1} (p = z at the first iteration), and the block's partial sum of (A p, P⁻¹ A p).
+// β_k = (z, A z)_k / (z, A z)_{k−1} (p = z in the first two iterations: the first's z is v* − x₀, after which the
+// method starts afresh), and the block's partial sum of (A p, P⁻¹ A p).
 // A work group per active block, an invocation per node.
 // Reads: the registers, the grid's masses, residual (its w: the preconditioner P), preconditioned, product,
 // direction, directionProduct. Writes: direction, directionProduct, the block's partial sums.
@@ -23,9 +24,10 @@ void main() {
   SolverNode node = solverNodes[i];
   vec3 direction = node.preconditioned.xyz;
   vec3 directionProduct = node.product.xyz;
-  // The first iteration's direction is z itself: what the vectors hold from before (v*, or another step's
-  // values in a reused slot) is not multiplied by a zero, which would turn a stale infinity into NaN.
-  if (iteration > 0u) {
+  // The first two iterations' directions are z itself: the first's is v* − x₀ (solver_residual.comp), not a
+  // preconditioned residual, so the method starts afresh after it. What the vectors hold from before (another
+  // step's values in a reused slot) is not multiplied by a zero, which would turn a stale infinity into NaN.
+  if (iteration > 1u) {
     float previous = registers[iteration - 1u].x;
     float beta = previous != 0.0 ? registers[iteration].x / previous : 0.0;
     direction += beta * node.direction.xyz;

@@ -8,7 +8,7 @@
 // solver_order_bins.comp made the particles' index order, so they repeat to the bit; they go to the nodes as 64-bit
 // integers (common/solver.glsl), exact whatever the order of the tiles. A contribution rounded to 64 bits one by one,
 // as P2G quantizes its own, cost a quarter of the product and bought no accuracy: each is a float to begin with.
-// u is x₀ = v* (the initial residual, `productOfSolution` 1, which update_grid.comp left in the direction) or the
+// u is the start x₀ (the initial residual, `productOfSolution` 1, which update_grid.comp left in the direction) or the
 // preconditioned residual z. The first product also sums the Jacobi preconditioner's diagonal in the w components.
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
 // vectors. Writes: the solver's product sums, the watchdog.

@@ -1,11 +1,12 @@
 #version 430 core
 // The semi-implicit solve's initial residual (common/solver.glsl), a work group per active block and an invocation
-// per node: from x₀ = v*, the explicit update with its collisions (update_grid.comp), r₀ = S (M v* − A x₀) =
-// −S β Δt² H v*, the preconditioner's diagonal P = M + β Δt² diag(H) (summed by the same product), z₀ = P⁻¹ r₀, and
-// the block's partial sums of (r₀, z₀), of (M v*, P⁻¹ M v*), the tolerance's reference, and of the rounding floor
-// (below).
-// Reads: the grid's velocities and masses, the product sums, constraints. Writes: residual (w: P), preconditioned,
-// the product sums (cleared), the block's partial sums.
+// per node: from the start x₀ (update_grid.comp: the velocity before the elastic force, with v*'s held components)
+// r₀ = S (M v* − A x₀) = S (M (v* − x₀) − β Δt² H x₀), the preconditioner's diagonal P = M + β Δt² diag(H) (summed
+// by the same product), z₀ = P⁻¹ r₀, and the block's partial sums of (r₀, z₀), of (M v*, P⁻¹ M v*), the tolerance's
+// reference, and of the rounding floor (below). The grid's velocities become x₀, the solution's start.
+// Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product sums, constraints.
+// Writes: the grid's velocities, residual (w: P), preconditioned, the product sums (cleared), the block's partial
+// sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -36,13 +37,14 @@ void main() {
 
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   vec4 product = takeProduct(i);
-  vec3 residual = constrain(-product.xyz, solverNodes[i].constraint);
+  vec3 start = solverNodes[i].direction.xyz;
+  vec3 residual = constrain(velocityMass.w * (velocityMass.xyz - start) - product.xyz, solverNodes[i].constraint);
+  gridMomentumMass[i] = floatsToStored(vec4(start, velocityMass.w));  // the solution's storage from here on
   float diagonalKg = velocityMass.w + product.w;
   float inverse = inversePreconditioner(velocityMass.w, diagonalKg);
-  vec3 preconditioned = residual * inverse;
   solverNodes[i].residual = vec4(residual, diagonalKg);
-  solverNodes[i].preconditioned.xyz = preconditioned;
+  solverNodes[i].preconditioned.xyz = velocityMass.xyz - start;  // the first iteration's direction, v* − x₀
   vec3 momentum = velocityMass.w * velocityMass.xyz;
-  writeBlockPartial(slot, vec4(roundingFloorTerm(product.w, inverse), 0.0, dot(residual, preconditioned),
+  writeBlockPartial(slot, vec4(roundingFloorTerm(product.w, inverse), 0.0, dot(residual, residual) * inverse,
                                dot(momentum, momentum) * inverse));
 }

@@ -1,5 +1,7 @@
 #version 430 core
-// The semi-implicit solve's step along p (common/solver.glsl): α = (z, A z)_k / (A p, P⁻¹ A p)_k, x += α p (the
+// The semi-implicit solve's step along p (common/solver.glsl): α = (r, P⁻¹ A z)_k / (A p, P⁻¹ A p)_k, the numerator
+// solver_apply.comp's: the method's (z, A z), which is (r, P⁻¹ A p) since r is P⁻¹-orthogonal to the last A p, and in
+// the first iteration, whose p = z is v* − x₀, the step that leaves the least residual on that line; x += α p (the
 // grid's velocities), r −= α A p, z = P⁻¹ r, and the block's partial sum of (r, z), the residual after the
 // iteration. A work group per active block, an invocation per node.
 // Reads: the registers, the grid's velocities and masses, residual, direction, directionProduct. Writes: the grid's

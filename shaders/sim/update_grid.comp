@@ -3,7 +3,8 @@
 // v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
 // walls. Nodes without mass stay zero.
 // Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
-// PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints for the solve (solver.glsl).
+// PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
+// (solver.glsl).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -31,12 +32,12 @@ void main() {
   if (sums.w > 0.0) {
     massKg = sums.w * fixedPoint.x;
     float unitsToVelocity = fixedPoint.y / massKg;
-#ifdef FIRN_TRANSFER_APIC
-    velocity = sums.xyz * unitsToVelocity + stepDt() * gravityDt.xyz;  // impulse already in the momentum
-#else
+#ifdef FIRN_GRID_IMPULSE
     vec3 impulse = storedToNondimensional(gridImpulse[i]).xyz;
     velocityBeforeForces = sums.xyz * unitsToVelocity;
     velocity = (sums.xyz + impulse) * unitsToVelocity + stepDt() * gravityDt.xyz;
+#else
+    velocity = sums.xyz * unitsToVelocity + stepDt() * gravityDt.xyz;  // impulse already in the momentum
 #endif
     vec3 x = nodePosition(node);
 #ifdef FIRN_SEMI_IMPLICIT
@@ -53,7 +54,15 @@ void main() {
   }
 #ifdef FIRN_SEMI_IMPLICIT
   solverNodes[i].constraint = constraint;
-  solverNodes[i].direction.xyz = velocity;  // x₀ = v*, for the initial residual's product
+  // The solve's start x₀, for the initial residual's product (solver_residual.comp): the velocity before the elastic
+  // force, with gravity, and with the held components' values of v*. A start at v* = x₀ + Δt M⁻¹ f has the residual
+  // β Δt² H Δt M⁻¹ f more, and H multiplies the force's roughest modes by up to (c Δt / h)², the square of the step
+  // over its elastic bound; where the force is smooth and balanced (snow at rest) v* is the better start. The first
+  // iteration takes the step along v* − x₀ that leaves the least residual (docs/numerics.md), so the solve starts
+  // from the better of the two, or a blend. With β = 0, v* is the solution and the start.
+  vec3 start = velocity;
+  if (implicitRatio() > 0.0) start += constrain(velocityBeforeForces + stepDt() * gravityDt.xyz - velocity, constraint);
+  solverNodes[i].direction.xyz = start;
 #endif
   gridMomentumMass[i] = floatsToStored(vec4(velocity, massKg));
 #ifndef FIRN_TRANSFER_APIC

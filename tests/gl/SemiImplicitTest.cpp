@@ -218,7 +218,7 @@ double fastestSpeed(const ParticleSnapshot& s) {
 // tolerance within max_iterations, and the block stays at rest. Its sag under its own weight, ρ g H / E ≈ 1.2% of
 // its 0.3 m (3.5 mm; its centre drops half that), is its only motion: the particles stay below 0.01 m/s (a tenth of
 // g Δt ≈ 0.11 m/s, so an unbalanced solve would show within a step) and its centre within a tenth of a cell of where
-// it began (measured: 51 iterations at most, 56 before the solve had its rounding floor; 3.5e-5 m/s, 0.9 mm).
+// it began (measured: 53 iterations at most, 51 when the solve started at v*; 3.5e-5 m/s, 0.9 mm).
 TEST_F(SemiImplicit, SolveConvergesOnARestingBlock) {
   const Scene scene = makeScene(kFixedCorotated, R"("kernel": "quadratic", "transfer": "apic", "integrator": "semi_implicit")",
                                 box({0.45, 0.2, 0.45}, {0.75, 0.5, 0.75}, {0, 0, 0}), 4.0, "[0, -9.81, 0]",
@@ -247,10 +247,11 @@ TEST_F(SemiImplicit, SolveConvergesOnARestingBlock) {
 
 // A block at rest without gravity or colliders, at 10 times the elastic bound: F = I, so the only force is the
 // explicit stress's float rounding (svd3 leaves R = U Vᵀ off I by about 2⁻²⁴), and M v* is that rounding and nothing
-// else. Measured: the floor ‖δb‖ (solver_residual.comp) is about 0.1 ‖M v*‖, and the solve starts 300–500 times
-// above ‖M v*‖ (x₀ = v*, whose rounding H amplifies). With the floor it stops once below it, after at most 32
-// iterations; a relative tolerance alone (1e-4) takes all 100 and ends at 3e-4, a bound of 50 between the two. The
-// block stays at rest: all its particles below 1e-4 m/s over 20 steps (the rounding's velocities are 1e-5 m/s).
+// else. Measured: the floor ‖δb‖ (solver_residual.comp) is about 0.1 ‖M v*‖, and the start's residual about
+// ‖M v*‖ (300–500 times it from v*, whose rounding H amplifies). With the floor it stops once below
+// it, after at most 9 iterations (32 from v*); a relative tolerance alone (1e-4) takes 77 to 92, a bound of 50
+// between the two. The block stays at rest: all its particles below 1e-4 m/s over 20 steps (the rounding's
+// velocities are 1e-5 m/s).
 TEST_F(SemiImplicit, SolveStopsAtTheRoundingOfItsRightHandSide) {
   const Scene scene = makeScene(kSnow, R"("kernel": "quadratic", "transfer": "apic", "integrator": "semi_implicit")",
                                 box({0.45, 0.45, 0.45}, {0.75, 0.75, 0.75}, {0, 0, 0}), 10.0, "[0, 0, 0]");
