@@ -17,7 +17,7 @@ constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_CO
 
 // The registers' components (gpu::SolverStatus): bits of solver_reduce.comp's reduceComponents.
 constexpr unsigned kProduct = 1;           // x: (z, A z)
-constexpr unsigned kDirectionProduct = 2;  // y: (A p, P⁻¹ A p)
+constexpr unsigned kDirectionProduct = 2;  // y: (A p, P⁻¹ A p), formed from (A z, P⁻¹ A z) and (A z, P⁻¹ A p') in w
 constexpr unsigned kResidual = 4;          // z: (r, P⁻¹ r)
 constexpr unsigned kReference = 8;         // w: (M v*, P⁻¹ M v*)
 
@@ -38,8 +38,7 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   product_ = ComputePass(library, "sim/solver_product.comp", options, Dispatch::Indirect);
   residual_ = ComputePass(library, "sim/solver_residual.comp", options, Dispatch::Indirect);
   apply_ = ComputePass(library, "sim/solver_apply.comp", options, Dispatch::Indirect);
-  direction_ = ComputePass(library, "sim/solver_direction.comp", options, Dispatch::Indirect);
-  update_ = ComputePass(library, "sim/solver_update.comp", options, Dispatch::Indirect);
+  step_ = ComputePass(library, "sim/solver_step.comp", options, Dispatch::Indirect);
   reduce_ = ComputePass(library, "sim/solver_reduce.comp", options, Dispatch::Indirect);
   finish_ = ComputePass(library, "sim/solver_finish.comp", options, Dispatch::Indirect);
 }
@@ -124,13 +123,10 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
     const unsigned iteration = static_cast<unsigned>(k);
     product_.set("productOfSolution", 0).runIndirect(status, kProductDispatch, timer);
     glMemoryBarrier(kStorage);
-    apply_.runIndirect(status, kBlockDispatch, timer);
+    apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
     glMemoryBarrier(kStorage);
-    reduce(state, iteration, kProduct, timer);
-    direction_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
-    glMemoryBarrier(kStorage);
-    reduce(state, iteration, kDirectionProduct, timer);
-    update_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
+    reduce(state, iteration, kProduct | kDirectionProduct, timer);
+    step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration + 1, kResidual, timer);
     if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.readSolverEnd();

@@ -59,8 +59,7 @@ class ImplicitSolver {
   ComputePass product_;
   ComputePass residual_;
   ComputePass apply_;
-  ComputePass direction_;
-  ComputePass update_;
+  ComputePass step_;
   ComputePass reduce_;
   ComputePass finish_;
 };

@@ -182,7 +182,7 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 //   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w: P (kg)
 //   preconditioned       z = P⁻¹ r (m/s), P = M + β Δt² diag(H) (common/solver.glsl)
 //   product              A z (kg·m/s)
-//   direction            p (m/s); before the first iteration v*, which the initial residual's product takes
+//   direction            p (m/s); before the first iteration the start x₀, which the initial residual's product takes
 //   directionProduct     A p (kg·m/s)
 //   constraint           xyz: the collider's unit normal (CONSTRAINT_NORMAL), w: CONSTRAINT_* bits
 //   productLow/High      a Hessian product's sums, x y z as 64-bit integers (low and high words) in units of 2^−k_H
@@ -231,7 +231,7 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   roundingStiffness     x: the least V⁰ (2μ + λ) of the step's particles (N·m), as float bits: the scale of the
 //                         rounding floor under the tolerance (solver_residual.comp)
 //   registers             per iteration k: x (z, A z)_k, y (A p, P⁻¹ A p)_k, z (r, P⁻¹ r)_k after k iterations,
-//                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference
+//                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference (solver_reduce.comp)
 #define FIRN_SOLVER_STATUS(member, array) \
   member(uvec4, solveBlockDispatch)       \
   member(uvec4, solveProductDispatch)     \

@@ -7,6 +7,12 @@ layout(std430, binding = FIRN_BINDING_SOLVER_STATUS) coherent buffer SolverStatu
   vec4 blockPartials[];  // per slot of the pool: the block's partial sum of this pass's dot product
 };
 
+// β_k = (z, A z)_k / (z, A z)_{k−1} of the conjugate residual method's direction p = z + β_k p (0 after a zero).
+float conjugateResidualBeta(float productDot, uint k) {
+  float previous = registers[k - 1u].x;
+  return previous != 0.0 ? productDot / previous : 0.0;
+}
+
 // A block's partial sums: its nodes' values added in a fixed order (a tree over the work group), written to the
 // block's slot for solver_reduce.comp. Every invocation of the group must call it.
 shared vec4 blockSums[FIRN_BLOCK_GROUP_SIZE];

@@ -1,10 +1,12 @@
 #version 430 core
 // The semi-implicit solve's product A z = S (M z + β Δt² H z) (common/solver.glsl), from the Hessian product's sums
-// (solver_product.comp), and the block's partial sum of (r, P⁻¹ A z): the conjugate residual method's (z, A z) where
-// z = P⁻¹ r, and the first iteration's numerator, whose z is the direction v* − x₀ (solver_residual.comp). A work
-// group per active block, an invocation per node.
-// Reads: the grid's masses, the product sums, residual (w: P), preconditioned, constraints. Writes: product, the
-// product sums (cleared), the block's partial sums.
+// (solver_product.comp), and the block's partial sums of the iteration's dot products: x (r, P⁻¹ A z), which is the
+// conjugate residual method's (z, A z) where z = P⁻¹ r and the first iteration's numerator, whose z is the direction
+// v* − x₀ (solver_residual.comp); y (A z, P⁻¹ A z) and w (A z, P⁻¹ A p) with the last direction's product, from
+// which solver_reduce.comp forms (A p, P⁻¹ A p) of this iteration's direction (solver_step.comp) without a pass of
+// its own. A work group per active block, an invocation per node.
+// Reads: the grid's masses, the product sums, residual (w: P), preconditioned, directionProduct, constraints.
+// Writes: product, the product sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -13,6 +15,8 @@
 #include "common/solver_reduction.glsl"
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+uniform uint iteration;
 
 void main() {
   uint slot = workGroupSlot();
@@ -24,5 +28,10 @@ void main() {
   vec3 product = constrain(massKg * z + takeProduct(i).xyz, solverNodes[i].constraint);
   solverNodes[i].product.xyz = product;
   vec4 residual = solverNodes[i].residual;  // w: the preconditioner's diagonal
-  writeBlockPartial(slot, vec4(dot(residual.xyz, product) * inversePreconditioner(massKg, residual.w), 0.0, 0.0, 0.0));
+  float inverse = inversePreconditioner(massKg, residual.w);
+  vec3 scaledProduct = product * inverse;
+  // The first two iterations' directions are z alone (solver_step.comp): the last direction's product is not read,
+  // whatever a reused slot left there.
+  float crossTerm = iteration > 1u ? dot(scaledProduct, solverNodes[i].directionProduct.xyz) : 0.0;
+  writeBlockPartial(slot, vec4(dot(residual.xyz, scaledProduct), dot(product, scaledProduct), 0.0, crossTerm));
 }

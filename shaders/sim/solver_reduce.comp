@@ -1,6 +1,7 @@
 #version 430 core
 // The semi-implicit solve's dot products (common/solver.glsl): one work group sums the blocks' partial sums of the
-// components `reduceComponents` marks into register `reduceRegister`. The sum is exact and so independent of the
+// components `reduceComponents` marks into register `reduceRegister` (and for the iteration's products, forms the
+// direction's norm from them: below). The sum is exact and so independent of the
 // order of the slots: each partial becomes a 64-bit integer at the scale that puts the largest below 2^41 (room for
 // 2^21 blocks), and integers add exactly. After the residual's sum it decides whether another iteration is needed,
 // and if not empties the dispatches of the iterations the host has still to look at.
@@ -70,6 +71,13 @@ void main() {
   // The reference's sum comes with the rounding floor's in x (solver_residual.comp): the tolerance is met at
   // ‖r‖ ≤ max(tolerance ‖M v*‖, ‖δb‖), so the reference is the larger of (M v*, P⁻¹ M v*) and ‖δb‖² / tolerance².
   if (components.w) total.w = max(total.w, total.x / toleranceSquared());
+  // The iteration's (A p, P⁻¹ A p) of p = z + β p' (solver_step.comp) from solver_apply.comp's sums: (A z, P⁻¹ A z)
+  // + 2β (A z, P⁻¹ A p') + β² (A p', P⁻¹ A p'), the last the previous iteration's y. Each term is summed exactly,
+  // and the first two iterations' directions are z alone.
+  if (components.y && reduceRegister > 1u) {
+    float beta = conjugateResidualBeta(total.x, reduceRegister);
+    total.y = max(total.y + beta * (2.0 * total.w + beta * registers[reduceRegister - 1u].y), 0.0);
+  }
   registers[reduceRegister] = mix(registers[reduceRegister], total, components);
   if (components.z) {
     // Another iteration while (r, P⁻¹ r) > tolerance² (M v*, P⁻¹ M v*); a NaN residual ends the solve for the host to report.

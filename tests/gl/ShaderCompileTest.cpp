@@ -74,7 +74,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
           << "force difference " << kernel << " " << transfer;
       for (const char* pass : {"sim/update_grid.comp", "sim/g2p.comp", "sim/solver_prepare.comp",
                                "sim/solver_order_bins.comp", "sim/solver_begin.comp", "sim/solver_product.comp", "sim/solver_residual.comp",
-                               "sim/solver_apply.comp", "sim/solver_direction.comp", "sim/solver_update.comp",
+                               "sim/solver_apply.comp", "sim/solver_step.comp",
                                "sim/solver_reduce.comp", "sim/solver_finish.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, semiImplicit))
             << pass << " semi-implicit " << kernel << " " << transfer;

@@ -1,0 +1,50 @@
+#version 430 core
+// The semi-implicit solve's step (common/solver.glsl): the search direction p = z + β_k p and its product
+// A p = A z + β_k A p, with β_k = (z, A z)_k / (z, A z)_{k−1}; then the step along it, α = (z, A z)_k / (A p, P⁻¹ A p)_k,
+// x += α p (the grid's velocities), r −= α A p, z = P⁻¹ r, and the block's partial sum of (r, z), the residual after
+// the iteration. The dot products come from one reduction of solver_apply.comp's partial sums (solver_reduce.comp
+// forms (A p, P⁻¹ A p) from them), so an iteration takes one node pass fewer than the method's textbook form.
+// In the first iteration p = z is v* − x₀ (solver_residual.comp) and (z, A z) is (r, P⁻¹ A z), so α is the step that
+// leaves the least residual on that line; the second starts the method afresh (p = z). What the vectors hold from
+// before (another step's values in a reused slot) is then never multiplied by a zero, which would turn a stale
+// infinity into NaN.
+// A work group per active block, an invocation per node.
+// Reads: the registers, the grid's velocities and masses, residual (w: P), preconditioned, product, direction,
+// directionProduct. Writes: the grid's velocities, residual, preconditioned, direction, directionProduct, the
+// block's partial sums.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/grid.glsl"
+#include "common/blocks.glsl"
+#include "common/solver.glsl"
+#include "common/solver_reduction.glsl"
+
+layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
+
+uniform uint iteration;
+
+void main() {
+  uint slot = workGroupSlot();
+  if (slot >= activeBlocks()) return;
+  uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
+
+  vec4 dots = registers[iteration];  // x: (z, A z), y: (A p, P⁻¹ A p)
+  SolverNode node = solverNodes[i];
+  vec3 direction = node.preconditioned.xyz;
+  vec3 directionProduct = node.product.xyz;
+  if (iteration > 1u) {
+    float beta = conjugateResidualBeta(dots.x, iteration);
+    direction += beta * node.direction.xyz;
+    directionProduct += beta * node.directionProduct.xyz;
+  }
+  float alpha = dots.y > 0.0 ? dots.x / dots.y : 0.0;
+  vec4 velocityMass = storedFloats(gridMomentumMass[i]);
+  gridMomentumMass[i] = floatsToStored(vec4(velocityMass.xyz + alpha * direction, velocityMass.w));
+  vec3 residual = node.residual.xyz - alpha * directionProduct;
+  vec3 preconditioned = residual * inversePreconditioner(velocityMass.w, node.residual.w);
+  solverNodes[i].direction.xyz = direction;
+  solverNodes[i].directionProduct.xyz = directionProduct;
+  solverNodes[i].residual.xyz = residual;
+  solverNodes[i].preconditioned.xyz = preconditioned;
+  writeBlockPartial(slot, vec4(0.0, 0.0, dot(residual, preconditioned), 0.0));
+}
