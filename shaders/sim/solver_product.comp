@@ -59,6 +59,11 @@ void loadRegion(ivec3 firstBase) {
   }
 }
 
+// The stencil's node k's term uᵢ ∇wᵢₚᵀ of the velocity gradient.
+mat3 gatherFromNode(Stencil stencil, ivec3 k, ivec3 bin) {
+  return outerProduct(regionVector[regionIndex(bin + k)], stencilGradient(stencil, k));
+}
+
 // Adds the contribution stress · ∇w of the stencil's node k to its region sum.
 void scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 bin) {
   regionSum[regionIndex(bin + k)].xyz += stressUnits * stencilGradient(stencil, k);
@@ -77,10 +82,17 @@ void scatterToNodeWithDiagonal(mat3 stressUnits, float diagonalUnits, SolverPart
 void scatterParticle(uint p, ivec3 bin) {
   vec3 x = positionMass[p].xyz;
   Stencil stencil = particleStencil(x);
-  mat3 velocityGradient = mat3(0.0);  // G = Σᵢ uᵢ ∇wᵢₚᵀ
-  for (int n = 0; n < KERNEL_NODES; ++n) {
-    ivec3 k = stencilOffset(n);
-    velocityGradient += outerProduct(regionVector[regionIndex(bin + k)], stencilGradient(stencil, k));
+  // G = Σᵢ uᵢ ∇wᵢₚᵀ, the stencil row by row along x with each row written out, as the scatter below: the product
+  // took 6% less time on llvmpipe than with one loop over the stencil's nodes.
+  mat3 velocityGradient = mat3(0.0);
+  for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
+    ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
+    velocityGradient += gatherFromNode(stencil, k, bin);
+    velocityGradient += gatherFromNode(stencil, k + ivec3(1, 0, 0), bin);
+    velocityGradient += gatherFromNode(stencil, k + ivec3(2, 0, 0), bin);
+#ifdef FIRN_KERNEL_CUBIC
+    velocityGradient += gatherFromNode(stencil, k + ivec3(3, 0, 0), bin);
+#endif
   }
   SolverParticle stiffness = solverParticles[p];
 #ifdef FIRN_SOLVER_FORCE_DIFFERENCE
