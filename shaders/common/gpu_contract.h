@@ -180,7 +180,8 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 // SolverNode: one node's vectors of the conjugate residual method (solver_*.comp), in its storage of the pool.
 // The solution x, the node's velocity, stays in the grid's own storage (common/grid.glsl).
 //   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w: P (kg)
-//   preconditioned       z = P⁻¹ r (m/s), P = M + β Δt² diag(H) (common/solver.glsl)
+//   preconditioned       z = P⁻¹ r (m/s), P = M + β Δt² diag(H) (common/solver.glsl); before the first iteration
+//                        v* − x₀, the first iteration's direction
 //   product              A z (kg·m/s)
 //   direction            p (m/s); before the first iteration the start x₀, which the initial residual's product takes
 //   directionProduct     A p (kg·m/s)

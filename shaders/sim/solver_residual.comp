@@ -2,11 +2,12 @@
 // The semi-implicit solve's initial residual (common/solver.glsl), a work group per active block and an invocation
 // per node: from the start x₀ (update_grid.comp: the velocity before the elastic force, with v*'s held components)
 // r₀ = S (M v* − A x₀) = S (M (v* − x₀) − β Δt² H x₀), the preconditioner's diagonal P = M + β Δt² diag(H) (summed
-// by the same product), z₀ = P⁻¹ r₀, and the block's partial sums of (r₀, z₀), of (M v*, P⁻¹ M v*), the tolerance's
-// reference, and of the rounding floor (below). The grid's velocities become x₀, the solution's start.
+// by the same product), the first iteration's direction v* − x₀ in place of z₀ (solver_step.comp), and the block's
+// partial sums of (r₀, P⁻¹ r₀), of (M v*, P⁻¹ M v*), the tolerance's reference, and of the rounding floor (below).
+// The grid's velocities become x₀, the solution's start.
 // Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product sums, constraints.
-// Writes: the grid's velocities, residual (w: P), preconditioned, the product sums (cleared), the block's partial
-// sums.
+// Writes: the grid's velocities, residual (w: P), preconditioned (v* − x₀), the product sums (cleared), the block's
+// partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
