@@ -229,16 +229,40 @@ void GpuState::writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress
   solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
 }
 
+namespace {
+
+double fixed64ToDouble(std::uint32_t low, std::int32_t high) {
+  return double(std::int64_t((std::uint64_t(std::uint32_t(high)) << 32) | low));
+}
+
+}  // namespace
+
+std::vector<glm::dmat3> GpuState::takeSolverStiffnessBlocks(std::size_t addresses, double valuePerUnit) {
+  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
+  std::vector<glm::dmat3> blocks;
+  blocks.reserve(nodes.size());
+  for (gpu::SolverNode& node : nodes) {
+    glm::dvec3 diagonal, offDiagonal;  // offDiagonal: yz, zx, xy
+    for (int c = 0; c < 3; ++c) {
+      diagonal[c] = fixed64ToDouble(node.diagonalLow[c], node.diagonalHigh[c]) * valuePerUnit;
+      offDiagonal[c] = fixed64ToDouble(node.offDiagonalLow[c], node.offDiagonalHigh[c]) * valuePerUnit;
+    }
+    blocks.emplace_back(diagonal.x, offDiagonal.z, offDiagonal.y, offDiagonal.z, diagonal.y, offDiagonal.x,
+                        offDiagonal.y, offDiagonal.x, diagonal.z);
+    node.productLow = node.diagonalLow = node.offDiagonalLow = glm::uvec4(0);
+    node.productHigh = node.diagonalHigh = node.offDiagonalHigh = glm::ivec4(0);
+  }
+  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
+  return blocks;
+}
+
 std::vector<glm::dvec3> GpuState::takeSolverProducts(std::size_t addresses, double valuePerUnit) {
   std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
   std::vector<glm::dvec3> products;
   products.reserve(nodes.size());
   for (gpu::SolverNode& node : nodes) {
     glm::dvec3 product;
-    for (int c = 0; c < 3; ++c) {
-      const std::int64_t sum = std::int64_t((std::uint64_t(std::uint32_t(node.productHigh[c])) << 32) | node.productLow[c]);
-      product[c] = double(sum) * valuePerUnit;
-    }
+    for (int c = 0; c < 3; ++c) product[c] = fixed64ToDouble(node.productLow[c], node.productHigh[c]) * valuePerUnit;
     products.push_back(product);
     node.productLow = glm::uvec4(0);
     node.productHigh = glm::ivec4(0);

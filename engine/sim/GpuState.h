@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec4.hpp>
 
 #include "gl/Buffer.h"
@@ -48,7 +49,7 @@ struct GpuStateLayout {
   // All of this layout's particle buffers together, per particle.
   std::size_t particleBytesPerParticle() const;
   // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer: the largest pool
-  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (128 bytes).
+  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (224 bytes).
   static std::size_t maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit);
   // The pool's buffers per block, and the block map's bytes over the domain.
   std::size_t poolBytesPerBlock() const;
@@ -120,6 +121,9 @@ class GpuState {
   // `valuePerUnit`) and cleared.
   void writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress);
   std::vector<glm::dvec3> takeSolverProducts(std::size_t addresses, double valuePerUnit);
+  // The first product's sums of the stiffness blocks β Δt² Hᵢᵢ (gpu::SolverNode::diagonalLow …) at each storage
+  // address, converted to doubles (times `valuePerUnit`, kg), and cleared with the product sums.
+  std::vector<glm::dmat3> takeSolverStiffnessBlocks(std::size_t addresses, double valuePerUnit);
 
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.

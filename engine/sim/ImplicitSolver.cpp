@@ -19,7 +19,7 @@ constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_CO
 constexpr unsigned kProduct = 1;           // x: (z, A z)
 constexpr unsigned kDirectionProduct = 2;  // y: (A p, P⁻¹ A p), formed from (A z, P⁻¹ A z) and (A z, P⁻¹ A p') in w
 constexpr unsigned kResidual = 4;          // z: (r, P⁻¹ r)
-constexpr unsigned kReference = 8;         // w: (M v*, P⁻¹ M v*)
+constexpr unsigned kReference = 8;         // w: (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*)
 
 constexpr std::size_t kBlockDispatch = offsetof(gpu::SolverStatus, solveBlockDispatch);
 constexpr std::size_t kProductDispatch = offsetof(gpu::SolverStatus, solveProductDispatch);
@@ -35,6 +35,9 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   orderBins_ = ComputePass(library, "sim/solver_order_bins.comp", options, Dispatch::Indirect);
   prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
   begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
+  gl::ShaderOptions firstProductOptions = options;
+  firstProductOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
+  firstProduct_ = ComputePass(library, "sim/solver_product.comp", firstProductOptions, Dispatch::Indirect);
   product_ = ComputePass(library, "sim/solver_product.comp", options, Dispatch::Indirect);
   residual_ = ComputePass(library, "sim/solver_residual.comp", options, Dispatch::Indirect);
   apply_ = ComputePass(library, "sim/solver_apply.comp", options, Dispatch::Indirect);
@@ -77,8 +80,12 @@ void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProdu
           ? variant(forceDifferenceProduct_, options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE",
                     ComputePass::Dispatch::Indirect)
           : product_;
-  pass.set("productOfSolution", 0).runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch),
-                                                timer);
+  pass.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
+  glMemoryBarrier(kStorage);
+}
+
+void ImplicitSolver::firstProduct(const GpuState& state, PassTimer& timer) const {
+  firstProduct_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
   glMemoryBarrier(kStorage);
 }
 
@@ -110,8 +117,9 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   begin_.runOnce(timer);
   glMemoryBarrier(kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
-  // r₀ = S (M v* − A x₀) from the start x₀, and the reference (M v*, P⁻¹ M v*).
-  product_.set("productOfSolution", 1).runIndirect(status, kProductDispatch, timer);
+  // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
+  // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
+  firstProduct_.runIndirect(status, kProductDispatch, timer);
   glMemoryBarrier(kStorage);
   residual_.runIndirect(status, kBlockDispatch, timer);
   glMemoryBarrier(kStorage);
@@ -121,7 +129,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product_.set("productOfSolution", 0).runIndirect(status, kProductDispatch, timer);
+    product_.runIndirect(status, kProductDispatch, timer);
     glMemoryBarrier(kStorage);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
     glMemoryBarrier(kStorage);

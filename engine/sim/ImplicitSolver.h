@@ -1,8 +1,8 @@
 #pragma once
 // The semi-implicit solve of a step (Stomakhin et al. 2013 §6, eq. 9; docs/algorithm.md "Semi-implicit steps"):
 // between the grid update, which leaves the explicit velocities v* on the grid, and G2P, it replaces them with the
-// solution of (M + β Δt² H) v = M v* by the conjugate residual method with Jacobi's preconditioner, matrix-free on the
-// GPU (common/solver.glsl). The host dispatches the iterations and looks at the residual every few of them; the GPU
+// solution of (M + β Δt² H) v = M v* by the conjugate residual method with the block Jacobi preconditioner (each
+// node's 3×3 block of M + β Δt² H), matrix-free on the GPU (common/solver.glsl). The host dispatches the iterations and looks at the residual every few of them; the GPU
 // stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
@@ -36,12 +36,14 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
 
-  // Test hooks (Simulation::hessianProduct): the preparation for a product of that kind (the bins' order by index and
+  // Test hooks (Simulation::hessianProduct, Simulation::stiffnessBlocks): the preparation for a product of that kind (the bins' order by index and
   // each particle's stiffness), and the product of the solve's vector z (SolverNode::preconditioned), leaving its sums
   // in the product buffer.
   void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
                HessianProduct product = HessianProduct::Differential) const;
   void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
+  // And the first product of a step, which also sums each node's stiffness block (SolverNode::diagonalLow …).
+  void firstProduct(const GpuState& state, PassTimer& timer) const;
 
  private:
   // The solve's end after `iterations`: the residual register it ended at, relative to the reference.
@@ -56,6 +58,7 @@ class ImplicitSolver {
   ComputePass orderBins_;
   ComputePass prepare_;
   ComputePass begin_;
+  ComputePass firstProduct_;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
   ComputePass product_;
   ComputePass residual_;
   ComputePass apply_;

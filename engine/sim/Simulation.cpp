@@ -328,6 +328,25 @@ std::vector<Simulation::NodeVector> Simulation::hessianProduct(
   return result;
 }
 
+std::vector<Simulation::NodeMatrix> Simulation::stiffnessBlocks() {
+  const ImplicitSolver* solver = pipeline_.implicitSolver();
+  if (!solver) throw std::logic_error("stiffnessBlocks: the scene's integrator is explicit");
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
+  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
+  solver->prepare(state_, particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_);
+  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  solver->firstProduct(state_, passTimer_);
+  const std::vector<glm::dmat3> blocks =
+      state_.takeSolverStiffnessBlocks(nodes.size(), std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
+  std::vector<NodeMatrix> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], blocks[i]});
+  std::sort(result.begin(), result.end(), [](const NodeMatrix& a, const NodeMatrix& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
+}
+
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "gl/Context.h"
@@ -133,6 +134,13 @@ class Simulation {
   };
   std::vector<NodeVector> hessianProduct(const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode,
                                          HessianProduct product);
+  // Test hook (semi-implicit scenes): the stiffness blocks β Δt² Hᵢᵢ (kg) the solve's first product sums for its
+  // block preconditioner, at the same nodes in the same order.
+  struct NodeMatrix {
+    glm::ivec3 node{0};
+    glm::dmat3 value{0.0};
+  };
+  std::vector<NodeMatrix> stiffnessBlocks();
 
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in

@@ -179,16 +179,21 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 
 // SolverNode: one node's vectors of the conjugate residual method (solver_*.comp), in its storage of the pool.
 // The solution x, the node's velocity, stays in the grid's own storage (common/grid.glsl).
-//   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w: P (kg)
-//   preconditioned       z = P⁻¹ r (m/s), P = M + β Δt² diag(H) (common/solver.glsl); before the first iteration
-//                        v* − x₀, the first iteration's direction
+//   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w unused
+//   preconditioned       z = P⁻¹ r (m/s), P the block Jacobi preconditioner (common/solver.glsl); before the first
+//                        iteration v* − x₀, the first iteration's direction
 //   product              A z (kg·m/s)
 //   direction            p (m/s); before the first iteration the start x₀, which the initial residual's product takes
 //   directionProduct     A p (kg·m/s)
 //   constraint           xyz: the collider's unit normal (CONSTRAINT_NORMAL), w: CONSTRAINT_* bits
+//   inverseDiagonal      xyz: P⁻¹'s 3×3 block at the node, its diagonal (1/kg)
+//   inverseOffDiagonal   xyz: its entries yz, zx, xy (1/kg)
 //   productLow/High      a Hessian product's sums, x y z as 64-bit integers (low and high words) in units of 2^−k_H
 //                        of the momentum unit (StepUniforms.solver): exact, so the same whatever the order of the
 //                        additions
+//   diagonalLow/High     the first product's sums of β Δt² Hᵢᵢ, the Hessian's 3×3 block at the node: its diagonal
+//                        (xyz), in units of 2^−k_H reference masses
+//   offDiagonalLow/High  its entries yz, zx, xy
 #define FIRN_SOLVER_NODE(member, array) \
   member(vec4, residual)                \
   member(vec4, preconditioned)          \
@@ -196,8 +201,14 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
   member(vec4, direction)               \
   member(vec4, directionProduct)        \
   member(vec4, constraint)              \
+  member(vec4, inverseDiagonal)         \
+  member(vec4, inverseOffDiagonal)      \
   member(uvec4, productLow)             \
-  member(ivec4, productHigh)
+  member(ivec4, productHigh)            \
+  member(uvec4, diagonalLow)            \
+  member(ivec4, diagonalHigh)           \
+  member(uvec4, offDiagonalLow)         \
+  member(ivec4, offDiagonalHigh)
 FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
 
 // SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite
@@ -209,8 +220,9 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
 //   scalingOffDiagonal   xyz: ∂²Ψ/∂σ₂∂σ₃, ∂²Ψ/∂σ₃∂σ₁, ∂²Ψ/∂σ₁∂σ₂
 //   pairSame, pairCross  xyz, for the pairs of axes other than 1, 2, 3: the 2×2 block [[a, b], [b, a]] on
 //                        (δF̂ᵢⱼ, δF̂ⱼᵢ), a and b
-//   preconditionerWeights xyz: what the Jacobi preconditioner's node diagonal takes of this particle per
-//                        (Uᵀ ∇w)ᵢ² (common/solver.glsl); w: 2μ + λ (Pa), the scale of its stress's rounding
+//   blockCoupling        xyz: ∂²Ψ/∂σⱼ∂σₖ + b of the pair (j, k), for (2, 3), (3, 1), (1, 2): what couples two
+//                        axes in the particle's share of H's 3×3 block at a node (stiffnessBlock); w: 2μ + λ (Pa),
+//                        the scale of its stress's rounding
 #define FIRN_SOLVER_PARTICLE(member, array) \
   member(mat3, left)                        \
   member(vec4, singularValues)              \
@@ -218,7 +230,7 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
   member(vec4, scalingOffDiagonal)          \
   member(vec4, pairSame)                    \
   member(vec4, pairCross)                   \
-  member(vec4, preconditionerWeights)
+  member(vec4, blockCoupling)
 FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 
 // SolverStatus: the solve's progress in this step. The passes of an iteration are dispatched from here, and once
@@ -232,7 +244,8 @@ FIRN_STRUCT(SolverParticle, FIRN_SOLVER_PARTICLE)
 //   roundingStiffness     x: the least V⁰ (2μ + λ) of the step's particles (N·m), as float bits: the scale of the
 //                         rounding floor under the tolerance (solver_residual.comp)
 //   registers             per iteration k: x (z, A z)_k, y (A p, P⁻¹ A p)_k, z (r, P⁻¹ r)_k after k iterations,
-//                         w (M v*, P⁻¹ M v*) (k = 0 only): the tolerance's reference (solver_reduce.comp)
+//                         w (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) (k = 0 only): the tolerance's reference
+//                         (solver_residual.comp, solver_reduce.comp)
 #define FIRN_SOLVER_STATUS(member, array) \
   member(uvec4, solveBlockDispatch)       \
   member(uvec4, solveProductDispatch)     \

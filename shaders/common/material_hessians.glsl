@@ -108,11 +108,8 @@ SolverParticle principalStiffness(mat3 F, MaterialParams m, float plasticJ) {
   s.scalingOffDiagonal = vec4(h.scaling[2][1], h.scaling[0][2], h.scaling[1][0], 0.0);
   s.pairSame = vec4(same, 0.0);
   s.pairCross = vec4(0.5 * (h.shear - h.rotation), 0.0);
-  // The diagonal of the 9×9 stiffness on δF̂ = e_b ⊗ ĝ, summed over b, is Σ_b ĝ_b² (∂²Ψ/∂σ_b² + Σ of a over b's
-  // two pairs), and ĝ = Vᵀ Fᵀ ∇w = Σ Uᵀ ∇w.
-  vec3 pairsOfAxis = vec3(same.y + same.z, same.z + same.x, same.x + same.y);
   // w: 2μ + λ, the stiffness the explicit stress's float rounding scales with (the solve's floor, solver_residual.comp).
-  s.preconditionerWeights = vec4(sigma * sigma * (s.scalingDiagonal.xyz + pairsOfAxis), 2.0 * lame.y + lame.x);
+  s.blockCoupling = vec4(s.scalingOffDiagonal.xyz + s.pairCross.xyz, 2.0 * lame.y + lame.x);
   return s;
 }
 
@@ -135,9 +132,21 @@ mat3 stressDifferentialTimesFT(SolverParticle s, mat3 velocityGradient, float dt
   return U * dP * diagonal(sigma) * transpose(U);
 }
 
-// What a particle adds at a node of weight gradient ∇w (1/m) to the trace of H's 3×3 block there, per unit of its
-// volume (Pa/m²): the Jacobi preconditioner's diagonal (common/solver.glsl).
-float stiffnessDiagonal(SolverParticle s, vec3 weightGradient) {
-  vec3 g = transpose(s.left) * weightGradient;
-  return dot(s.preconditionerWeights.xyz, g * g);
+// What a particle adds at a node of weight gradient ∇w (1/m) to H's 3×3 block there, per unit of its volume (Pa/m²):
+// the block preconditioner's (common/solver.glsl). Moving the node at u changes F by δF = Δt u ∇wᵀ F, so
+// δF̂ = Uᵀ δF V = Δt a ĝᵀ with a = Uᵀ u and ĝ = Vᵀ Fᵀ ∇w = Σ Uᵀ ∇w: rank one. The stiffness's quadratic form on
+// a ĝᵀ is aᵀ B a, with B_kk = ∂²Ψ/∂σₖ² ĝₖ² + Σ_{j≠k} a_{jk} ĝⱼ² (a of the pair's [[a, b], [b, a]] block) and
+// B_jk = (∂²Ψ/∂σⱼ∂σₖ + b_{jk}) ĝⱼ ĝₖ; in the world's frame the block is U B Uᵀ, positive semi-definite as the
+// stiffness is.
+mat3 stiffnessBlock(SolverParticle s, vec3 weightGradient) {
+  vec3 g = s.singularValues.xyz * (transpose(s.left) * weightGradient);
+  vec3 g2 = g * g;
+  vec3 same = s.pairSame.xyz;  // the pairs (2, 3), (3, 1), (1, 2)
+  vec3 diagonal = s.scalingDiagonal.xyz * g2 +
+                  vec3(same.z * g2.y + same.y * g2.z, same.z * g2.x + same.x * g2.z, same.y * g2.x + same.x * g2.y);
+  vec3 offDiagonal = s.blockCoupling.xyz * vec3(g.y * g.z, g.z * g.x, g.x * g.y);  // (2, 3), (3, 1), (1, 2)
+  mat3 B = mat3(diagonal.x, offDiagonal.z, offDiagonal.y,
+                offDiagonal.z, diagonal.y, offDiagonal.x,
+                offDiagonal.y, offDiagonal.x, diagonal.z);
+  return s.left * B * transpose(s.left);
 }

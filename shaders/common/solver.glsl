@@ -6,9 +6,11 @@
 // constraints: the projection S of each node's held components (SolverNode.constraint) is applied to every residual
 // and product, so the held components keep the collided values of v*. H is the Hessian with each particle's stiffness
 // projected onto the positive semi-definite (common/material_hessians.glsl), so A is positive definite on the free
-// components. The preconditioner is Jacobi's, P = M + β Δt² diag(H) with a node's diagonal the mean of its 3×3 block:
-// M alone (eq. 9's own scaling) lets the nodes at a body's surface, whose mass is a sliver of their stiffness, set
-// the spectrum's top.
+// components. The preconditioner is block Jacobi's, P = M + β Δt² Hᵢᵢ per node, Hᵢᵢ the Hessian's 3×3 block there
+// (common/material_hessians.glsl, stiffnessBlock): M alone (eq. 9's own scaling) lets the nodes at a body's surface,
+// whose mass is a sliver of their stiffness, set the spectrum's top, and the block's trace alone misjudges a node
+// whose stiffness is all in one direction — at a floor, ∇w is nearly vertical, and the block's tangential entries,
+// the ones a landing body slides on, are μ|∇w|² against a trace of (4μ + λ)|∇w|².
 //
 // Determinism. A Hessian product is summed at the nodes from every particle's contribution, like P2G. Its
 // contributions are (c Δt / h)² times larger than the product they add up to, too many bits for P2G's 32-bit fixed
@@ -32,9 +34,9 @@ float toleranceSquared() { return solver.y; }
 
 // --- Hessian products at the nodes -------------------------------------------------------------------------------
 
-// A tile's sum at a node in momentum units (xyz; w the diagonal's, in reference masses), as the 64-bit integers of
-// units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the stiffest wave the
-// scene states (sim/FixedPoint.h).
+// A tile's sum at a node in momentum units (a product), or in reference masses (a stiffness block), as the 64-bit
+// integers of units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the
+// stiffest wave the scene states (sim/FixedPoint.h).
 bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   vec4 scaled = floor(units * solver.z + 0.5);
   bool fits = all(lessThan(abs(scaled), vec4(FIXED64_LIMIT)));  // also false for NaN
@@ -42,24 +44,49 @@ bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   return fits;
 }
 
-// Adds a node's sums, a word at a time: the low word's atomicAdd returns the sum before, which tells whether it
-// carried into the high word. The words end as the exact 64-bit sum whatever the order of the additions.
-void addProductToNode(uint address, uvec4 low, ivec4 high) {
-  for (int c = 0; c < 4; ++c) {
-    if (low[c] == 0u && high[c] == 0) continue;
-    uint previous = atomicAdd(solverNodes[address].productLow[c], low[c]);
-    int carry = previous + low[c] < previous ? 1 : 0;
-    if (high[c] + carry != 0) atomicAdd(solverNodes[address].productHigh[c], high[c] + carry);
+// Adds 64-bit sums (low, high) to the words `lowWords`/`highWords` of a node, a word at a time: the low word's
+// atomicAdd returns the sum before, which tells whether it carried into the high word. The words end as the exact
+// 64-bit sum whatever the order of the additions. (A macro: GLSL's atomics take the buffer's variable itself.)
+#define FIRN_ADD_FIXED64(lowWords, highWords, low, high)                    \
+  for (int c = 0; c < 4; ++c) {                                           \
+    if (low[c] == 0u && high[c] == 0) continue;                           \
+    uint previous = atomicAdd(lowWords[c], low[c]);                       \
+    int carry = previous + low[c] < previous ? 1 : 0;                     \
+    if (high[c] + carry != 0) atomicAdd(highWords[c], high[c] + carry);   \
   }
+
+// Adds a tile's sums of a Hessian product at a node.
+void addProductToNode(uint address, uvec4 low, ivec4 high) {
+  FIRN_ADD_FIXED64(solverNodes[address].productLow, solverNodes[address].productHigh, low, high)
 }
 
-// A node's Hessian product (xyz, kg·m/s: β Δt² H u) and, after the first product of a step, the stiffness part of
-// the preconditioner's diagonal (w, kg: β Δt² tr(Hᵢᵢ) / 3); the sums are cleared for the next product.
-vec4 takeProduct(uint address) {
-  vec4 sums = fixed64ToFloat(solverNodes[address].productLow, solverNodes[address].productHigh);
+// Adds a tile's sums of the stiffness block at a node: its diagonal and its entries yz, zx, xy.
+void addStiffnessBlockToNode(uint address, uvec4 diagonalLow, ivec4 diagonalHigh, uvec4 offDiagonalLow,
+                             ivec4 offDiagonalHigh) {
+  FIRN_ADD_FIXED64(solverNodes[address].diagonalLow, solverNodes[address].diagonalHigh, diagonalLow, diagonalHigh)
+  FIRN_ADD_FIXED64(solverNodes[address].offDiagonalLow, solverNodes[address].offDiagonalHigh, offDiagonalLow,
+                   offDiagonalHigh)
+}
+
+// A node's Hessian product (kg·m/s: β Δt² H u); the sums are cleared for the next product.
+vec3 takeProduct(uint address) {
+  vec3 sums = fixed64ToFloat(solverNodes[address].productLow, solverNodes[address].productHigh).xyz;
   solverNodes[address].productLow = uvec4(0u);
   solverNodes[address].productHigh = ivec4(0);
-  return sums * solver.w * vec4(vec3(fixedPoint.y), fixedPoint.x);
+  return sums * (solver.w * fixedPoint.y);
+}
+
+// After the first product of a step: β Δt² Hᵢᵢ, the Hessian's 3×3 block at the node (kg); the sums are cleared for
+// the next step.
+mat3 takeStiffnessBlock(uint address) {
+  vec3 diagonal = fixed64ToFloat(solverNodes[address].diagonalLow, solverNodes[address].diagonalHigh).xyz;
+  vec3 offDiagonal = fixed64ToFloat(solverNodes[address].offDiagonalLow, solverNodes[address].offDiagonalHigh).xyz;
+  solverNodes[address].diagonalLow = solverNodes[address].offDiagonalLow = uvec4(0u);
+  solverNodes[address].diagonalHigh = solverNodes[address].offDiagonalHigh = ivec4(0);
+  float unitKg = solver.w * fixedPoint.x;
+  return unitKg * mat3(diagonal.x, offDiagonal.z, offDiagonal.y,
+                       offDiagonal.z, diagonal.y, offDiagonal.x,
+                       offDiagonal.y, offDiagonal.x, diagonal.z);
 }
 
 // --- Constraints -------------------------------------------------------------------------------------------------
@@ -73,6 +100,30 @@ vec3 constrain(vec3 v, vec4 constraint) {
   return mix(v, vec3(0.0), notEqual(walls, ivec3(0)));
 }
 
-// The preconditioner P⁻¹ = diag(M + β Δt² H)⁻¹ at a node of `massKg` and diagonal `diagonalKg` (residual.w): Jacobi's,
-// with H's diagonal as the mean of its 3×3 block's. 0 for a node without mass, which the constraints hold.
-float inversePreconditioner(float massKg, float diagonalKg) { return massKg > 0.0 ? 1.0 / diagonalKg : 0.0; }
+// --- The preconditioner ------------------------------------------------------------------------------------------
+
+// The block Jacobi preconditioner's inverse at a node of mass `massKg` and stiffness block `stiffnessKg` (β Δt² Hᵢᵢ):
+// P = S (m I + β Δt² Hᵢᵢ) S on the components the constraint leaves free, inverted there, 0 on the held ones (and at a
+// node without mass, which the constraints hold). S P S + (I − S) m keeps the free and held components apart, so its
+// inverse is P⁻¹ on the free ones; a final projection drops what rounding leaves on the held ones. Returned as the
+// diagonal (xyz) and the entries yz, zx, xy of the symmetric inverse.
+void invertPreconditioner(float massKg, mat3 stiffnessKg, vec4 constraint, out vec3 inverseDiagonal,
+                          out vec3 inverseOffDiagonal) {
+  inverseDiagonal = inverseOffDiagonal = vec3(0.0);
+  if (!(massKg > 0.0)) return;
+  mat3 free = mat3(constrain(vec3(1.0, 0.0, 0.0), constraint), constrain(vec3(0.0, 1.0, 0.0), constraint),
+                   constrain(vec3(0.0, 0.0, 1.0), constraint));
+  mat3 block = free * (massKg * mat3(1.0) + stiffnessKg) * free + massKg * (mat3(1.0) - free);
+  mat3 inverseBlock = inverse(block);
+  inverseBlock = free * inverseBlock * free;
+  inverseDiagonal = vec3(inverseBlock[0][0], inverseBlock[1][1], inverseBlock[2][2]);
+  inverseOffDiagonal = vec3(inverseBlock[2][1], inverseBlock[0][2], inverseBlock[1][0]);
+}
+
+// P⁻¹ v at node `address` (invertPreconditioner).
+vec3 precondition(uint address, vec3 v) {
+  vec3 diagonal = solverNodes[address].inverseDiagonal.xyz;
+  vec3 offDiagonal = solverNodes[address].inverseOffDiagonal.xyz;  // yz, zx, xy
+  return diagonal * v + vec3(offDiagonal.z * v.y + offDiagonal.y * v.z, offDiagonal.z * v.x + offDiagonal.x * v.z,
+                             offDiagonal.y * v.x + offDiagonal.x * v.y);
+}

@@ -5,7 +5,8 @@
 // v* − x₀ (solver_residual.comp); y (A z, P⁻¹ A z) and w (A z, P⁻¹ A p) with the last direction's product, from
 // which solver_reduce.comp forms (A p, P⁻¹ A p) of this iteration's direction (solver_step.comp) without a pass of
 // its own. A work group per active block, an invocation per node.
-// Reads: the grid's masses, the product sums, residual (w: P), preconditioned, directionProduct, constraints.
+// Reads: the grid's masses, the product sums, residual, the preconditioner's inverse, preconditioned,
+// directionProduct, constraints.
 // Writes: product, the product sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -25,13 +26,12 @@ void main() {
 
   float massKg = storedFloats(gridMomentumMass[i]).w;
   vec3 z = solverNodes[i].preconditioned.xyz;
-  vec3 product = constrain(massKg * z + takeProduct(i).xyz, solverNodes[i].constraint);
+  vec3 product = constrain(massKg * z + takeProduct(i), solverNodes[i].constraint);
   solverNodes[i].product.xyz = product;
-  vec4 residual = solverNodes[i].residual;  // w: the preconditioner's diagonal
-  float inverse = inversePreconditioner(massKg, residual.w);
-  vec3 scaledProduct = product * inverse;
+  vec3 residual = solverNodes[i].residual.xyz;
+  vec3 scaledProduct = precondition(i, product);
   // The first two iterations' directions are z alone (solver_step.comp): the last direction's product is not read,
   // whatever a reused slot left there.
   float crossTerm = iteration > 1u ? dot(scaledProduct, solverNodes[i].directionProduct.xyz) : 0.0;
-  writeBlockPartial(slot, vec4(dot(residual.xyz, scaledProduct), dot(product, scaledProduct), 0.0, crossTerm));
+  writeBlockPartial(slot, vec4(dot(residual, scaledProduct), dot(product, scaledProduct), 0.0, crossTerm));
 }

@@ -21,7 +21,7 @@ void main() {
     ParticlePlasticState state = plasticState[p];
     SolverParticle s = principalStiffness(elasticDeformation[p], materials[state.materialIndex], state.plasticJ);
     solverParticles[p] = s;
-    bits = floatBitsToUint(velocityVolume[p].w * s.preconditionerWeights.w);
+    bits = floatBitsToUint(velocityVolume[p].w * s.blockCoupling.w);
   }
   leastBits[l] = bits;
   barrier();

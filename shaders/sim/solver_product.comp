@@ -8,8 +8,9 @@
 // solver_order_bins.comp made the particles' index order, so they repeat to the bit; they go to the nodes as 64-bit
 // integers (common/solver.glsl), exact whatever the order of the tiles. A contribution rounded to 64 bits one by one,
 // as P2G quantizes its own, cost a quarter of the product and bought no accuracy: each is a float to begin with.
-// u is the start x₀ (the initial residual, `productOfSolution` 1, which update_grid.comp left in the direction) or the
-// preconditioned residual z. The first product also sums the Jacobi preconditioner's diagonal in the w components.
+// u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
+// which update_grid.comp left in the direction: the first product of a step also sums β Δt² Hᵢᵢ, the Hessian's 3×3
+// block at each node, for the block preconditioner (common/solver.glsl).
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
 // vectors. Writes: the solver's product sums, the watchdog.
 #include "common/bindings.glsl"
@@ -20,10 +21,12 @@
 
 layout(local_size_x = FIRN_TILE_GROUP_SIZE) in;
 
-uniform uint productOfSolution;
-
 vec3 regionVector[REGION_NODES];  // u at the region's nodes (m/s)
-vec4 regionSum[REGION_NODES];    // the region's sums: xyz the product, w the preconditioner's diagonal
+vec3 regionSum[REGION_NODES];     // the region's sums of the product
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+vec3 regionDiagonal[REGION_NODES];     // and of the nodes' stiffness blocks: their diagonals
+vec3 regionOffDiagonal[REGION_NODES];  // and their entries yz, zx, xy
+#endif
 
 #ifdef FIRN_SOLVER_FORCE_DIFFERENCE
 // Test builds (tests/gl/SemiImplicitTest.cpp) put the central difference of the stress the explicit force comes
@@ -53,9 +56,14 @@ void loadRegion(ivec3 firstBase) {
   for (int i = 0; i < REGION_NODES; ++i) {
     int address = stencilNodeAddress(blocks, regionOffset(i));
     vec3 u = vec3(0.0);
-    if (address >= 0) u = productOfSolution != 0u ? solverNodes[address].direction.xyz : solverNodes[address].preconditioned.xyz;
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+    if (address >= 0) u = solverNodes[address].direction.xyz;
+    regionDiagonal[i] = regionOffDiagonal[i] = vec3(0.0);
+#else
+    if (address >= 0) u = solverNodes[address].preconditioned.xyz;
+#endif
     regionVector[i] = u;
-    regionSum[i] = vec4(0.0);
+    regionSum[i] = vec3(0.0);
   }
 }
 
@@ -66,17 +74,23 @@ mat3 gatherFromNode(Stencil stencil, ivec3 k, ivec3 bin) {
 
 // Adds the contribution stress · ∇w of the stencil's node k to its region sum.
 void scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 bin) {
-  regionSum[regionIndex(bin + k)].xyz += stressUnits * stencilGradient(stencil, k);
+  regionSum[regionIndex(bin + k)] += stressUnits * stencilGradient(stencil, k);
 }
 
-// The first product's: adds the contribution stress · ∇w of the stencil's node k and `diagonalUnits` of the
-// particle's stiffness there to its region sum. The iterations' products leave the diagonal out, and with it a
-// quarter of the region's sums' traffic.
-void scatterToNodeWithDiagonal(mat3 stressUnits, float diagonalUnits, SolverParticle stiffness, Stencil stencil,
-                               ivec3 k, ivec3 bin) {
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+// The first product's: adds the contribution stress · ∇w of the stencil's node k, and the particle's share of the
+// node's stiffness block, `blockUnits` times stiffnessBlock, to its region sums. The iterations' products leave the
+// blocks out, and with them two thirds of the region's sums' traffic.
+void scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, SolverParticle stiffness, Stencil stencil, ivec3 k,
+                            ivec3 bin) {
   vec3 gradient = stencilGradient(stencil, k);
-  regionSum[regionIndex(bin + k)] += vec4(stressUnits * gradient, diagonalUnits * stiffnessDiagonal(stiffness, gradient));
+  int r = regionIndex(bin + k);
+  regionSum[r] += stressUnits * gradient;
+  mat3 block = blockUnits * stiffnessBlock(stiffness, gradient);
+  regionDiagonal[r] += vec3(block[0][0], block[1][1], block[2][2]);
+  regionOffDiagonal[r] += vec3(block[2][1], block[0][2], block[1][0]);
 }
+#endif
 
 // The product's contribution of particle p, whose base node is the tile's `bin`-th.
 void scatterParticle(uint p, ivec3 bin) {
@@ -105,17 +119,17 @@ void scatterParticle(uint p, ivec3 bin) {
 #else
   mat3 stressTimesFT = stressDifferentialTimesFT(stiffness, velocityGradient, stepDt());
 #endif
-  // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and the diagonal β Δt² V0 tr(H block) / 3 (kg) in the
-  // same units per reference mass.
+  // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and β Δt² V0 (Pa/m² of stiffnessBlock to kg) in reference
+  // masses.
   float volume = velocityVolume[p].w;
   mat3 stressUnits = (implicitRatio() * stepDt() * volume / fixedPoint.y) * stressTimesFT;
-  if (productOfSolution != 0u) {
-    float diagonalUnits = implicitRatio() * stepDt() * stepDt() * volume / (3.0 * fixedPoint.x);
-    for (int n = 0; n < KERNEL_NODES; ++n) {
-      scatterToNodeWithDiagonal(stressUnits, diagonalUnits, stiffness, stencil, stencilOffset(n), bin);
-    }
-    return;
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+  float blockUnits = implicitRatio() * stepDt() * stepDt() * volume / fixedPoint.x;
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    scatterToNodeWithBlock(stressUnits, blockUnits, stiffness, stencil, stencilOffset(n), bin);
   }
+  return;
+#endif
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
     ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
     scatterToNode(stressUnits, stencil, k, bin);
@@ -143,12 +157,22 @@ void main() {
   StencilBlocks blocks = stencilBlocks(firstBase);
   bool overflowed = false;
   for (int i = 0; i < REGION_NODES; ++i) {
-    if (regionSum[i] == vec4(0.0)) continue;
+    int address = stencilNodeAddress(blocks, regionOffset(i));
     uvec4 low;
     ivec4 high;
-    overflowed = !productToFixed64(regionSum[i], low, high) || overflowed;
-    int address = stencilNodeAddress(blocks, regionOffset(i));
-    if (address >= 0) addProductToNode(uint(address), low, high);
+    if (regionSum[i] != vec3(0.0)) {
+      overflowed = !productToFixed64(vec4(regionSum[i], 0.0), low, high) || overflowed;
+      if (address >= 0) addProductToNode(uint(address), low, high);
+    }
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+    if (regionDiagonal[i] != vec3(0.0)) {
+      uvec4 offLow;
+      ivec4 offHigh;
+      overflowed = !productToFixed64(vec4(regionDiagonal[i], 0.0), low, high) || overflowed;
+      overflowed = !productToFixed64(vec4(regionOffDiagonal[i], 0.0), offLow, offHigh) || overflowed;
+      if (address >= 0) addStiffnessBlockToNode(uint(address), low, high, offLow, offHigh);
+    }
+#endif
   }
   if (overflowed) reportOverflow(nodeIndex(firstBase), CHANNEL_SOLVER);
 }

@@ -69,7 +69,8 @@ void main() {
   total = mix(total, vec4(uintBitsToFloat(0x7fc00000u)), greaterThanEqual(largest, uvec4(FLOAT_INFINITY_BITS)));
   bvec4 components = notEqual(uvec4(reduceComponents) & uvec4(1u, 2u, 4u, 8u), uvec4(0u));
   // The reference's sum comes with the rounding floor's in x (solver_residual.comp): the tolerance is met at
-  // ‖r‖ ≤ max(tolerance ‖M v*‖, ‖δb‖), so the reference is the larger of (M v*, P⁻¹ M v*) and ‖δb‖² / tolerance².
+  // ‖r‖ ≤ max(tolerance ‖M v*‖, ‖δb‖), so the reference is the larger of (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) and
+  // ‖δb‖² / tolerance².
   if (components.w) total.w = max(total.w, total.x / toleranceSquared());
   // The iteration's (A p, P⁻¹ A p) of p = z + β p' (solver_step.comp) from solver_apply.comp's sums: (A z, P⁻¹ A z)
   // + 2β (A z, P⁻¹ A p') + β² (A p', P⁻¹ A p'), the last the previous iteration's y. Each term is summed exactly,
@@ -80,7 +81,7 @@ void main() {
   }
   registers[reduceRegister] = mix(registers[reduceRegister], total, components);
   if (components.z) {
-    // Another iteration while (r, P⁻¹ r) > tolerance² (M v*, P⁻¹ M v*); a NaN residual ends the solve for the host to report.
+    // Another iteration while (r, P⁻¹ r) > tolerance² × the reference; a NaN residual ends the solve for the host to report.
     float reference = components.w ? total.w : registers[0].w;
     bool another = total.z > toleranceSquared() * reference;
     solveBlockDispatch = another ? blockDispatch : uvec4(0u, 1u, 1u, 0u);

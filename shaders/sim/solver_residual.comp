@@ -1,13 +1,14 @@
 #version 430 core
 // The semi-implicit solve's initial residual (common/solver.glsl), a work group per active block and an invocation
 // per node: from the start x₀ (update_grid.comp: the velocity before the elastic force, with v*'s held components)
-// r₀ = S (M v* − A x₀) = S (M (v* − x₀) − β Δt² H x₀), the preconditioner's diagonal P = M + β Δt² diag(H) (summed
-// by the same product), the first iteration's direction v* − x₀ in place of z₀ (solver_step.comp), and the block's
-// partial sums of (r₀, P⁻¹ r₀), of (M v*, P⁻¹ M v*), the tolerance's reference, and of the rounding floor (below).
-// The grid's velocities become x₀, the solution's start.
-// Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product sums, constraints.
-// Writes: the grid's velocities, residual (w: P), preconditioned (v* − x₀), the product sums (cleared), the block's
-// partial sums.
+// r₀ = S (M v* − A x₀) = S (M (v* − x₀) − β Δt² H x₀), the block preconditioner's inverse from the node's
+// stiffness block β Δt² Hᵢᵢ (summed by the same product; common/solver.glsl), the first iteration's direction v* − x₀
+// in place of z₀ (solver_step.comp), and the block's partial sums of (r₀, P⁻¹ r₀), of the tolerance's reference
+// (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) over all the components, held ones too, and of the rounding floor (below). The grid's
+// velocities become x₀, the solution's start.
+// Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product and stiffness block sums,
+// constraints. Writes: the grid's velocities, residual, the preconditioner's inverse, preconditioned (v* − x₀), the
+// sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -17,18 +18,20 @@
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
-// The rounding floor at a node of stiffness diagonal `diagonalKg` (β Δt² diag(H), the first product's w) and inverse
-// preconditioner `inverse`: its term of ‖δb‖² in the P⁻¹ norm, δb the float rounding of the right-hand side M v*.
-// The explicit force rounds τ to about ε (2μ + λ) in each entry (ε = 2⁻²⁴; at F = I svd3's rotation alone leaves
-// that), so a node's impulse is uncertain by 3 Σₚ (Δt V⁰ ε (2μ + λ) |∇w|)² (three components, the particles' errors
-// independent). The preconditioner's diagonal is Σₚ β Δt² V⁰ (4μ + λ) |∇w|² / 3 at F = I, so the two relate by
-// about 9 ε² V⁰ (2μ + λ)² / (β (4μ + λ)) ≥ 4.5 ε² V⁰ (2μ + λ) / β per unit of diagonal. Firn takes 3 ε² V⁰ (2μ + λ)
-// / β with the least V⁰ (2μ + λ) of the step's particles (solver_prepare.comp), an underestimate, so that the floor
-// never excuses a residual the right-hand side does determine. 0 where β is 0 (no stiffness, no floor).
-float roundingFloorTerm(float diagonalKg, float inverse) {
+// The rounding floor at a node of mass `massKg` and stiffness block trace `traceKg` (β Δt² tr(Hᵢᵢ)): its term of ‖δb‖²
+// in the P⁻¹ norm, δb the float rounding of the right-hand side M v*. The explicit force rounds τ to about ε (2μ + λ)
+// in each entry (ε = 2⁻²⁴; at F = I svd3's rotation alone leaves that), so a node's impulse is uncertain by
+// 3 Σₚ (Δt V⁰ ε (2μ + λ) |∇w|)² (three components, the particles' errors independent). The block's trace is
+// Σₚ β Δt² V⁰ (4μ + λ) |∇w|² at F = I, so the two relate by about 9 ε² V⁰ (2μ + λ)² / (β (4μ + λ)) ≥
+// 4.5 ε² V⁰ (2μ + λ) / β per unit of trace / 3. Firn takes 3 ε² V⁰ (2μ + λ) / β with the least V⁰ (2μ + λ) of the
+// step's particles (solver_prepare.comp), and P⁻¹ as the inverse of the block's mean diagonal, which is no larger
+// than P⁻¹'s mean (the harmonic mean is the least): an underestimate, so that the floor never excuses a residual
+// the right-hand side does determine. 0 where β is 0 (no stiffness, no floor).
+float roundingFloorTerm(float massKg, float traceKg) {
   const float EPSILON_SQUARED = 3.5527137e-15;  // (2⁻²⁴)²
   float scale = implicitRatio() > 0.0 ? 3.0 * EPSILON_SQUARED * uintBitsToFloat(roundingStiffness.x) / implicitRatio() : 0.0;
-  return scale * diagonalKg * inverse;
+  float meanDiagonalKg = massKg + traceKg / 3.0;
+  return massKg > 0.0 ? scale * (traceKg / 3.0) / meanDiagonalKg : 0.0;
 }
 
 void main() {
@@ -37,15 +40,21 @@ void main() {
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
-  vec4 product = takeProduct(i);
+  vec3 product = takeProduct(i);
+  mat3 stiffnessKg = takeStiffnessBlock(i);
+  vec4 constraint = solverNodes[i].constraint;
   vec3 start = solverNodes[i].direction.xyz;
-  vec3 residual = constrain(velocityMass.w * (velocityMass.xyz - start) - product.xyz, solverNodes[i].constraint);
+  vec3 residual = constrain(velocityMass.w * (velocityMass.xyz - start) - product, constraint);
   gridMomentumMass[i] = floatsToStored(vec4(start, velocityMass.w));  // the solution's storage from here on
-  float diagonalKg = velocityMass.w + product.w;
-  float inverse = inversePreconditioner(velocityMass.w, diagonalKg);
-  solverNodes[i].residual = vec4(residual, diagonalKg);
+  vec3 inverseDiagonal, inverseOffDiagonal;
+  invertPreconditioner(velocityMass.w, stiffnessKg, constraint, inverseDiagonal, inverseOffDiagonal);
+  solverNodes[i].inverseDiagonal.xyz = inverseDiagonal;
+  solverNodes[i].inverseOffDiagonal.xyz = inverseOffDiagonal;
+  solverNodes[i].residual.xyz = residual;
   solverNodes[i].preconditioned.xyz = velocityMass.xyz - start;  // the first iteration's direction, v* − x₀
   vec3 momentum = velocityMass.w * velocityMass.xyz;
-  writeBlockPartial(slot, vec4(roundingFloorTerm(product.w, inverse), 0.0, dot(residual, residual) * inverse,
-                               dot(momentum, momentum) * inverse));
+  vec3 scaledMomentum = velocityMass.w > 0.0 ? inverse(velocityMass.w * mat3(1.0) + stiffnessKg) * momentum : vec3(0.0);
+  float traceKg = stiffnessKg[0][0] + stiffnessKg[1][1] + stiffnessKg[2][2];
+  writeBlockPartial(slot, vec4(roundingFloorTerm(velocityMass.w, traceKg), 0.0, dot(residual, precondition(i, residual)),
+                               dot(momentum, scaledMomentum)));
 }

@@ -9,8 +9,8 @@
 // before (another step's values in a reused slot) is then never multiplied by a zero, which would turn a stale
 // infinity into NaN.
 // A work group per active block, an invocation per node.
-// Reads: the registers, the grid's velocities and masses, residual (w: P), preconditioned, product, direction,
-// directionProduct. Writes: the grid's velocities, residual, preconditioned, direction, directionProduct, the
+// Reads: the registers, the grid's velocities and masses, residual, the preconditioner's inverse, preconditioned,
+// product, direction, directionProduct. Writes: the grid's velocities, residual, preconditioned, direction, directionProduct, the
 // block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -29,19 +29,18 @@ void main() {
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
   vec4 dots = registers[iteration];  // x: (z, A z), y: (A p, P⁻¹ A p)
-  SolverNode node = solverNodes[i];
-  vec3 direction = node.preconditioned.xyz;
-  vec3 directionProduct = node.product.xyz;
+  vec3 direction = solverNodes[i].preconditioned.xyz;
+  vec3 directionProduct = solverNodes[i].product.xyz;
   if (iteration > 1u) {
     float beta = conjugateResidualBeta(dots.x, iteration);
-    direction += beta * node.direction.xyz;
-    directionProduct += beta * node.directionProduct.xyz;
+    direction += beta * solverNodes[i].direction.xyz;
+    directionProduct += beta * solverNodes[i].directionProduct.xyz;
   }
   float alpha = dots.y > 0.0 ? dots.x / dots.y : 0.0;
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   gridMomentumMass[i] = floatsToStored(vec4(velocityMass.xyz + alpha * direction, velocityMass.w));
-  vec3 residual = node.residual.xyz - alpha * directionProduct;
-  vec3 preconditioned = residual * inversePreconditioner(velocityMass.w, node.residual.w);
+  vec3 residual = solverNodes[i].residual.xyz - alpha * directionProduct;
+  vec3 preconditioned = precondition(i, residual);
   solverNodes[i].direction.xyz = direction;
   solverNodes[i].directionProduct.xyz = directionProduct;
   solverNodes[i].residual.xyz = residual;

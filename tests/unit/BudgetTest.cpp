@@ -55,15 +55,15 @@ TEST(Budget, BoxesAreEstimatedAnalytically) {
 
 TEST(Budget, SemiImplicitScenesCountTheSolversBuffers) {
   // The layouts as GpuState allocates them: the solve adds a SolverParticle (144 bytes) per particle, which is also
-  // the largest particle buffer, and a SolverNode (128 bytes) per node of the pool.
+  // the largest particle buffer, and a SolverNode (224 bytes) per node of the pool.
   const GpuStateLayout explicitLayout = GpuStateLayout::forScene(boxScene(kExplicit), 0, 0, true);
   const GpuStateLayout semiLayout = GpuStateLayout::forScene(boxScene(kSemiImplicit), 0, 0, true);
   EXPECT_EQ(explicitLayout.largestParticleBufferBytesPerParticle(), 48u);
   EXPECT_EQ(semiLayout.largestParticleBufferBytesPerParticle(), 144u);
   EXPECT_EQ(semiLayout.particleBytesPerParticle() - explicitLayout.particleBytesPerParticle(), 144u);
-  EXPECT_EQ(semiLayout.poolBytesPerBlock() - explicitLayout.poolBytesPerBlock(), 64u * 128u + 16u);
+  EXPECT_EQ(semiLayout.poolBytesPerBlock() - explicitLayout.poolBytesPerBlock(), 64u * 224u + 16u);
   EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, false), (64u << 20) / (64u * 16u));
-  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 128u));
+  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 224u));
 
   // 64 MiB per buffer hold 1,398,101 particles at 48 bytes, 466,033 at 144: the explicit scene fits, the
   // semi-implicit one is refused with its estimate, the limit and what to change.
@@ -83,8 +83,8 @@ TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
   // A driver with large buffers and 320 MiB free: the particles' bytes in all bind, 152 explicit (positions,
   // velocities, plastic state, F, τ, sort keys) and 296 semi-implicit, after the grid's start. That start is a pool
   // of four times the 15³ blocks of 4³ nodes the box reaches with the stencil, 13,500 blocks: 2.6 KiB each explicit
-  // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.01 MiB, and 8,208 bytes more
-  // semi-implicit (64 SolverNodes and a vec4), 139.7 MiB.
+  // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.01 MiB, and 14,352 bytes more
+  // semi-implicit (64 SolverNodes and a vec4), 218.8 MiB.
   gl::ContextInfo gl = driver();
   gl.maxStorageBlockBytes = 1LL << 30;
   gl.availableMemoryBytes = 320LL << 20;
@@ -95,10 +95,10 @@ TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
       << explicitBudget.limit;
   // (320 − 34.01) MiB / 152 B = 1,972,906; the message's 34.01 MiB is rounded to 0.005 MiB, 35 particles' worth.
   EXPECT_NEAR(double(explicitBudget.maxParticles), 1972906, 35);
-  // (320 − 139.7) MiB / 296 B = 638,772: the million are refused.
+  // (320 − 218.8) MiB / 296 B = 358,556: the million are refused.
   const std::string message = refusal(boxScene(kSemiImplicit), gl);
-  EXPECT_NE(message.find("the 638,7"), std::string::npos) << message;
-  EXPECT_NE(message.find("(296 bytes per particle in all, after 139.7 MiB for the grid)"), std::string::npos)
+  EXPECT_NE(message.find("the 358,5"), std::string::npos) << message;
+  EXPECT_NE(message.find("(296 bytes per particle in all, after 218.8 MiB for the grid)"), std::string::npos)
       << message;
 }
 
