@@ -134,19 +134,48 @@ mat3 stressDifferentialTimesFT(SolverParticle s, mat3 velocityGradient, float dt
 
 // What a particle adds at a node of weight gradient ∇w (1/m) to H's 3×3 block there, per unit of its volume (Pa/m²):
 // the block preconditioner's (common/solver.glsl). Moving the node at u changes F by δF = Δt u ∇wᵀ F, so
-// δF̂ = Uᵀ δF V = Δt a ĝᵀ with a = Uᵀ u and ĝ = Vᵀ Fᵀ ∇w = Σ Uᵀ ∇w: rank one. The stiffness's quadratic form on
-// a ĝᵀ is aᵀ B a, with B_kk = ∂²Ψ/∂σₖ² ĝₖ² + Σ_{j≠k} a_{jk} ĝⱼ² (a of the pair's [[a, b], [b, a]] block) and
-// B_jk = (∂²Ψ/∂σⱼ∂σₖ + b_{jk}) ĝⱼ ĝₖ; in the world's frame the block is U B Uᵀ, positive semi-definite as the
-// stiffness is.
-mat3 stiffnessBlock(SolverParticle s, vec3 weightGradient) {
-  vec3 g = s.singularValues.xyz * (transpose(s.left) * weightGradient);
-  vec3 g2 = g * g;
+// δF̂ = Uᵀ δF V = Δt a ĝᵀ with a = Uᵀ u and ĝ = Vᵀ Fᵀ ∇w = Σ h, h = Uᵀ ∇w: rank one. The stiffness's quadratic form
+// on a ĝᵀ is aᵀ B a, with B_kk = Σⱼ C_kj σⱼ² hⱼ² (C_kk = ∂²Ψ/∂σₖ², C_kj the a of the pair (k, j)'s [[a, b], [b, a]]
+// block) and B_kl = c_kl σₖ σₗ hₖ hₗ (c_kl = ∂²Ψ/∂σₖ∂σₗ + b of the pair), and in the world's frame the block is
+// U B Uᵀ = Σⱼ hⱼ² Mⱼ + Σ_{k<l} hₖ hₗ Q_kl, Mⱼ = Σₖ C_kj σⱼ² uₖ uₖᵀ and Q_kl = c_kl σₖ σₗ (uₖ uₗᵀ + uₗ uₖᵀ), uₖ U's
+// columns: positive semi-definite as the stiffness is. The six symmetric matrices depend on the particle alone, so a
+// node takes h and the 36 products of their entries with hⱼ², hₖ hₗ.
+struct StiffnessBlockForm {
+  mat3 frame;            // U
+  mat3 squaresDiagonal;  // column j: Mⱼ's diagonal
+  mat3 squaresOff;       // column j: Mⱼ's entries yz, zx, xy
+  mat3 pairsDiagonal;    // column m, the pairs (2, 3), (3, 1), (1, 2): Q's diagonal
+  mat3 pairsOff;         // and its entries yz, zx, xy
+};
+
+// The off-diagonal entries yz, zx, xy of a ⊗ b + b ⊗ a.
+vec3 symmetricOffDiagonal(vec3 a, vec3 b) { return a.yzx * b.zxy + b.yzx * a.zxy; }
+
+StiffnessBlockForm stiffnessBlockForm(SolverParticle s) {
+  StiffnessBlockForm f;
+  mat3 U = s.left;
+  vec3 sigma = s.singularValues.xyz;
   vec3 same = s.pairSame.xyz;  // the pairs (2, 3), (3, 1), (1, 2)
-  vec3 diagonal = s.scalingDiagonal.xyz * g2 +
-                  vec3(same.z * g2.y + same.y * g2.z, same.z * g2.x + same.x * g2.z, same.y * g2.x + same.x * g2.y);
-  vec3 offDiagonal = s.blockCoupling.xyz * vec3(g.y * g.z, g.z * g.x, g.x * g.y);  // (2, 3), (3, 1), (1, 2)
-  mat3 B = mat3(diagonal.x, offDiagonal.z, offDiagonal.y,
-                offDiagonal.z, diagonal.y, offDiagonal.x,
-                offDiagonal.y, offDiagonal.x, diagonal.z);
-  return s.left * B * transpose(s.left);
+  // C with its columns scaled by σⱼ².
+  mat3 C = mat3(s.scalingDiagonal.x, same.z, same.y,
+                same.z, s.scalingDiagonal.y, same.x,
+                same.y, same.x, s.scalingDiagonal.z) * diagonal(sigma * sigma);
+  f.frame = U;
+  f.squaresDiagonal = mat3(U[0] * U[0], U[1] * U[1], U[2] * U[2]) * C;
+  f.squaresOff = 0.5 * mat3(symmetricOffDiagonal(U[0], U[0]), symmetricOffDiagonal(U[1], U[1]),
+                            symmetricOffDiagonal(U[2], U[2])) * C;
+  vec3 coupling = s.blockCoupling.xyz * sigma.yzx * sigma.zxy;
+  f.pairsDiagonal = mat3(2.0 * U[1] * U[2], 2.0 * U[2] * U[0], 2.0 * U[0] * U[1]) * diagonal(coupling);
+  f.pairsOff = mat3(symmetricOffDiagonal(U[1], U[2]), symmetricOffDiagonal(U[2], U[0]),
+                    symmetricOffDiagonal(U[0], U[1])) * diagonal(coupling);
+  return f;
+}
+
+// The block at a node of weight gradient ∇w: its diagonal and its entries yz, zx, xy.
+void stiffnessBlock(StiffnessBlockForm f, vec3 weightGradient, out vec3 blockDiagonal, out vec3 blockOff) {
+  vec3 h = transpose(f.frame) * weightGradient;
+  vec3 squares = h * h;
+  vec3 products = h.yzx * h.zxy;  // h₂h₃, h₃h₁, h₁h₂
+  blockDiagonal = f.squaresDiagonal * squares + f.pairsDiagonal * products;
+  blockOff = f.squaresOff * squares + f.pairsOff * products;
 }

@@ -81,14 +81,15 @@ void scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 bin) {
 // The first product's: adds the contribution stress · ∇w of the stencil's node k, and the particle's share of the
 // node's stiffness block, `blockUnits` times stiffnessBlock, to its region sums. The iterations' products leave the
 // blocks out, and with them two thirds of the region's sums' traffic.
-void scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, SolverParticle stiffness, Stencil stencil, ivec3 k,
+void scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, StiffnessBlockForm form, Stencil stencil, ivec3 k,
                             ivec3 bin) {
   vec3 gradient = stencilGradient(stencil, k);
   int r = regionIndex(bin + k);
   regionSum[r] += stressUnits * gradient;
-  mat3 block = blockUnits * stiffnessBlock(stiffness, gradient);
-  regionDiagonal[r] += vec3(block[0][0], block[1][1], block[2][2]);
-  regionOffDiagonal[r] += vec3(block[2][1], block[0][2], block[1][0]);
+  vec3 blockDiagonal, blockOff;
+  stiffnessBlock(form, gradient, blockDiagonal, blockOff);
+  regionDiagonal[r] += blockUnits * blockDiagonal;
+  regionOffDiagonal[r] += blockUnits * blockOff;
 }
 #endif
 
@@ -125,8 +126,9 @@ void scatterParticle(uint p, ivec3 bin) {
   mat3 stressUnits = (implicitRatio() * stepDt() * volume / fixedPoint.y) * stressTimesFT;
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
   float blockUnits = implicitRatio() * stepDt() * stepDt() * volume / fixedPoint.x;
+  StiffnessBlockForm form = stiffnessBlockForm(stiffness);
   for (int n = 0; n < KERNEL_NODES; ++n) {
-    scatterToNodeWithBlock(stressUnits, blockUnits, stiffness, stencil, stencilOffset(n), bin);
+    scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), bin);
   }
   return;
 #endif
