@@ -32,7 +32,8 @@ static_assert(sizeof(BlockTableHeader) == 96 + TILE_BUCKETS * sizeof(uint), "std
 static_assert(sizeof(BlockSlot) == 16, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
 static_assert(sizeof(StepUniforms) == 112, "std140 StepUniforms");
-static_assert(sizeof(SolverNode) == 224, "std430 SolverNode");
+static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
+static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");
 static_assert(sizeof(SolverStatus) == 80 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
 

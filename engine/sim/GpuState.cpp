@@ -59,7 +59,8 @@ std::size_t GpuStateLayout::poolBytesPerBlock() const {
   // As allocateBlockPool allocates them; the solve's status holds a vec4 per slot.
   return nodeStorageBytes(1) * (impulse ? 2 : 1) + gpu::BLOCK_NODES * sizeof(glm::uvec2) +
          gpu::BLOCK_TILES * sizeof(std::uint32_t) + sizeof(gpu::BlockSlot) +
-         (semiImplicit ? gpu::BLOCK_NODES * sizeof(gpu::SolverNode) + sizeof(glm::vec4) : 0);
+         (semiImplicit ? gpu::BLOCK_NODES * (sizeof(gpu::SolverNode) + sizeof(gpu::SolverPreconditioner)) + sizeof(glm::vec4)
+                       : 0);
 }
 
 std::size_t GpuStateLayout::blockMapBytes() const {
@@ -143,6 +144,7 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   if (layout_.semiImplicit) {
     solverNodes_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(gpu::SolverNode));  // zero: no product summed
     solverStatus_ = gl::Buffer(sizeof(gpu::SolverStatus) + capacity * sizeof(glm::vec4));
+    solverPreconditioners_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(gpu::SolverPreconditioner));
   }
 }
 
@@ -158,7 +160,7 @@ BlockUsage GpuState::blockUsage() const {
   usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
   usage.capacity = layout_.blockCapacity;
   usage.poolBytes = gridMomentumMass_.bytes() + gridImpulse_.bytes() + bins_.bytes() + tileOrder_.bytes() +
-                    blockTable_.bytes() + solverNodes_.bytes() + solverStatus_.bytes();
+                    blockTable_.bytes() + solverNodes_.bytes() + solverStatus_.bytes() + solverPreconditioners_.bytes();
   usage.mapBytes = blockMap_.bytes();
   return usage;
 }
@@ -220,6 +222,7 @@ void GpuState::bindAll() const {
     solverNodes_.bindStorage(FIRN_BINDING_SOLVER_NODES);
     solverParticles_.bindStorage(FIRN_BINDING_SOLVER_PARTICLES);
     solverStatus_.bindStorage(FIRN_BINDING_SOLVER_STATUS);
+    solverPreconditioners_.bindStorage(FIRN_BINDING_SOLVER_PRECONDITIONER);
   }
 }
 

@@ -49,7 +49,7 @@ struct GpuStateLayout {
   // All of this layout's particle buffers together, per particle.
   std::size_t particleBytesPerParticle() const;
   // The most blocks a pool may hold where the driver allows `maxStorageBlockBytes` per buffer: the largest pool
-  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (224 bytes).
+  // buffer holds an ivec4 per node, or the semi-implicit solve's SolverNode (192 bytes).
   static std::size_t maxPoolBlocks(long long maxStorageBlockBytes, bool semiImplicit);
   // The pool's buffers per block, and the block map's bytes over the domain.
   std::size_t poolBytesPerBlock() const;
@@ -159,6 +159,7 @@ class GpuState {
   gl::Buffer solverNodes_;        // semi-implicit: per node of the pool
   gl::Buffer solverStatus_;       // semi-implicit: SolverStatus, then a vec4 per slot of the pool
   gl::Buffer solverParticles_;    // semi-implicit: per particle
+  gl::Buffer solverPreconditioners_;  // semi-implicit: per node of the pool
   gl::Buffer materials_;
   gl::Buffer colliders_;
   gl::Buffer watchdog_;

@@ -46,6 +46,7 @@
 #define FIRN_BINDING_SOLVER_NODES 17        // SolverNode per node of the pool: the conjugate residual method's vectors
 #define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: its stiffness in the frame of F's SVD
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
+#define FIRN_BINDING_SOLVER_PRECONDITIONER 20  // SolverPreconditioner per node of the pool: P⁻¹'s 3×3 block there
 // Uniform block binding point.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 
@@ -186,8 +187,6 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 //   direction            p (m/s); before the first iteration the start x₀, which the initial residual's product takes
 //   directionProduct     A p (kg·m/s)
 //   constraint           xyz: the collider's unit normal (CONSTRAINT_NORMAL), w: CONSTRAINT_* bits
-//   inverseDiagonal      xyz: P⁻¹'s 3×3 block at the node, its diagonal (1/kg)
-//   inverseOffDiagonal   xyz: its entries yz, zx, xy (1/kg)
 //   productLow/High      a Hessian product's sums, x y z as 64-bit integers (low and high words) in units of 2^−k_H
 //                        of the momentum unit (StepUniforms.solver): exact, so the same whatever the order of the
 //                        additions
@@ -201,8 +200,6 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
   member(vec4, direction)               \
   member(vec4, directionProduct)        \
   member(vec4, constraint)              \
-  member(vec4, inverseDiagonal)         \
-  member(vec4, inverseOffDiagonal)      \
   member(uvec4, productLow)             \
   member(ivec4, productHigh)            \
   member(uvec4, diagonalLow)            \
@@ -210,6 +207,15 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
   member(uvec4, offDiagonalLow)         \
   member(ivec4, offDiagonalHigh)
 FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
+
+// SolverPreconditioner: P⁻¹'s 3×3 block at a node (common/solver.glsl), in a buffer of its own: the iterations' node
+// passes read it with the first 128 bytes of the node's SolverNode, and no more.
+//   inverseDiagonal      xyz: its diagonal (1/kg)
+//   inverseOffDiagonal   xyz: its entries yz, zx, xy (1/kg)
+#define FIRN_SOLVER_PRECONDITIONER(member, array) \
+  member(vec4, inverseDiagonal)                   \
+  member(vec4, inverseOffDiagonal)
+FIRN_STRUCT(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)
 
 // SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite
 // (material_hessians.glsl), so that the iterations' products need no SVD. Computed once per step

@@ -108,7 +108,8 @@ SolverParticle principalStiffness(mat3 F, MaterialParams m, float plasticJ) {
   s.scalingOffDiagonal = vec4(h.scaling[2][1], h.scaling[0][2], h.scaling[1][0], 0.0);
   s.pairSame = vec4(same, 0.0);
   s.pairCross = vec4(0.5 * (h.shear - h.rotation), 0.0);
-  // w: 2μ + λ, the stiffness the explicit stress's float rounding scales with (the solve's floor, solver_residual.comp).
+  // xyz: what couples two axes in a node's stiffness block (stiffnessBlockForm); w: 2μ + λ, the stiffness the
+  // explicit stress's float rounding scales with (the solve's floor, solver_residual.comp).
   s.blockCoupling = vec4(s.scalingOffDiagonal.xyz + s.pairCross.xyz, 2.0 * lame.y + lame.x);
   return s;
 }

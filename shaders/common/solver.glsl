@@ -10,7 +10,7 @@
 // (common/material_hessians.glsl, stiffnessBlock): M alone (eq. 9's own scaling) lets the nodes at a body's surface,
 // whose mass is a sliver of their stiffness, set the spectrum's top, and the block's trace alone misjudges a node
 // whose stiffness is all in one direction — at a floor, ∇w is nearly vertical, and the block's tangential entries,
-// the ones a landing body slides on, are μ|∇w|² against a trace of (4μ + λ)|∇w|².
+// the ones a landing body slides on, are μ|∇w|² against the trace's third, (4μ + λ)|∇w|² / 3.
 //
 // Determinism. A Hessian product is summed at the nodes from every particle's contribution, like P2G. Its
 // contributions are (c Δt / h)² times larger than the product they add up to, too many bits for P2G's 32-bit fixed
@@ -28,6 +28,13 @@
 // (docs/platform.md), so the passes include what they use.
 
 layout(std430, binding = FIRN_BINDING_SOLVER_NODES) coherent buffer SolverNodeBuffer { SolverNode solverNodes[]; };
+// The Hessian products, which take no preconditioner and are at llvmpipe's 16 storage blocks with APIC, define
+// FIRN_WITHOUT_SOLVER_PRECONDITIONER.
+#ifndef FIRN_WITHOUT_SOLVER_PRECONDITIONER
+layout(std430, binding = FIRN_BINDING_SOLVER_PRECONDITIONER) buffer SolverPreconditionerBuffer {
+  SolverPreconditioner solverPreconditioners[];
+};
+#endif
 
 float implicitRatio() { return solver.x; }
 float toleranceSquared() { return solver.y; }
@@ -120,10 +127,12 @@ void invertPreconditioner(float massKg, mat3 stiffnessKg, vec4 constraint, out v
   inverseOffDiagonal = vec3(inverseBlock[2][1], inverseBlock[0][2], inverseBlock[1][0]);
 }
 
+#ifndef FIRN_WITHOUT_SOLVER_PRECONDITIONER
 // P⁻¹ v at node `address` (invertPreconditioner).
 vec3 precondition(uint address, vec3 v) {
-  vec3 diagonal = solverNodes[address].inverseDiagonal.xyz;
-  vec3 offDiagonal = solverNodes[address].inverseOffDiagonal.xyz;  // yz, zx, xy
+  vec3 diagonal = solverPreconditioners[address].inverseDiagonal.xyz;
+  vec3 offDiagonal = solverPreconditioners[address].inverseOffDiagonal.xyz;  // yz, zx, xy
   return diagonal * v + vec3(offDiagonal.z * v.y + offDiagonal.y * v.z, offDiagonal.z * v.x + offDiagonal.x * v.z,
                              offDiagonal.y * v.x + offDiagonal.x * v.y);
 }
+#endif

@@ -13,6 +13,7 @@
 // block at each node, for the block preconditioner (common/solver.glsl).
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
 // vectors. Writes: the solver's product sums, the watchdog.
+#define FIRN_WITHOUT_SOLVER_PRECONDITIONER
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/blocks.glsl"

@@ -48,8 +48,7 @@ void main() {
   gridMomentumMass[i] = floatsToStored(vec4(start, velocityMass.w));  // the solution's storage from here on
   vec3 inverseDiagonal, inverseOffDiagonal;
   invertPreconditioner(velocityMass.w, stiffnessKg, constraint, inverseDiagonal, inverseOffDiagonal);
-  solverNodes[i].inverseDiagonal.xyz = inverseDiagonal;
-  solverNodes[i].inverseOffDiagonal.xyz = inverseOffDiagonal;
+  solverPreconditioners[i] = SolverPreconditioner(vec4(inverseDiagonal, 0.0), vec4(inverseOffDiagonal, 0.0));
   solverNodes[i].residual.xyz = residual;
   solverNodes[i].preconditioned.xyz = velocityMass.xyz - start;  // the first iteration's direction, v* − x₀
   vec3 momentum = velocityMass.w * velocityMass.xyz;

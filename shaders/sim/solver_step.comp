@@ -10,8 +10,8 @@
 // infinity into NaN.
 // A work group per active block, an invocation per node.
 // Reads: the registers, the grid's velocities and masses, residual, the preconditioner's inverse, preconditioned,
-// product, direction, directionProduct. Writes: the grid's velocities, residual, preconditioned, direction, directionProduct, the
-// block's partial sums.
+// product, direction, directionProduct. Writes: the grid's velocities, residual, preconditioned, direction,
+// directionProduct, the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

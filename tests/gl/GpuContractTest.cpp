@@ -62,6 +62,8 @@ std::vector<SharedStruct> sharedStructs() {
       {"surface/vertices.glsl", GL_BUFFER_VARIABLE, "vertices[0].", FIRN_MEMBER_LIST(SurfaceVertex, FIRN_SURFACE_VERTEX)},
       // The semi-implicit solve's (common/solver.glsl).
       {"common/solver.glsl", GL_BUFFER_VARIABLE, "solverNodes[0].", FIRN_MEMBER_LIST(SolverNode, FIRN_SOLVER_NODE)},
+      {"common/solver.glsl", GL_BUFFER_VARIABLE, "solverPreconditioners[0].",
+       FIRN_MEMBER_LIST(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)},
       {"common/material_hessians.glsl", GL_BUFFER_VARIABLE, "solverParticles[0].",
        FIRN_MEMBER_LIST(SolverParticle, FIRN_SOLVER_PARTICLE)},
       {"common/solver_reduction.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SolverStatus, FIRN_SOLVER_STATUS)},
@@ -200,6 +202,8 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_SURFACE_VERTICES, 0},
       {"common/solver.glsl", "solverNodes[0].residual", GL_SHADER_STORAGE_BLOCK, "SolverNodeBuffer",
        FIRN_BINDING_SOLVER_NODES, 0},
+      {"common/solver.glsl", "solverPreconditioners[0].inverseDiagonal", GL_SHADER_STORAGE_BLOCK,
+       "SolverPreconditionerBuffer", FIRN_BINDING_SOLVER_PRECONDITIONER, 0},
       {"common/material_hessians.glsl", "solverParticles[0].left[0]", GL_SHADER_STORAGE_BLOCK,
        "SolverParticleBuffer", FIRN_BINDING_SOLVER_PARTICLES, 0},
       // The status, then the blocks' partial sums from its end: the driver counts one element of that array.

@@ -55,7 +55,8 @@ TEST(Budget, BoxesAreEstimatedAnalytically) {
 
 TEST(Budget, SemiImplicitScenesCountTheSolversBuffers) {
   // The layouts as GpuState allocates them: the solve adds a SolverParticle (144 bytes) per particle, which is also
-  // the largest particle buffer, and a SolverNode (224 bytes) per node of the pool.
+  // the largest particle buffer, and a SolverNode (192 bytes) and a SolverPreconditioner (32) per node of the pool;
+  // the SolverNodes are the largest pool buffer.
   const GpuStateLayout explicitLayout = GpuStateLayout::forScene(boxScene(kExplicit), 0, 0, true);
   const GpuStateLayout semiLayout = GpuStateLayout::forScene(boxScene(kSemiImplicit), 0, 0, true);
   EXPECT_EQ(explicitLayout.largestParticleBufferBytesPerParticle(), 48u);
@@ -63,7 +64,7 @@ TEST(Budget, SemiImplicitScenesCountTheSolversBuffers) {
   EXPECT_EQ(semiLayout.particleBytesPerParticle() - explicitLayout.particleBytesPerParticle(), 144u);
   EXPECT_EQ(semiLayout.poolBytesPerBlock() - explicitLayout.poolBytesPerBlock(), 64u * 224u + 16u);
   EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, false), (64u << 20) / (64u * 16u));
-  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 224u));
+  EXPECT_EQ(GpuStateLayout::maxPoolBlocks(64LL << 20, true), (64u << 20) / (64u * 192u));
 
   // 64 MiB per buffer hold 1,398,101 particles at 48 bytes, 466,033 at 144: the explicit scene fits, the
   // semi-implicit one is refused with its estimate, the limit and what to change.
@@ -84,7 +85,7 @@ TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
   // velocities, plastic state, F, τ, sort keys) and 296 semi-implicit, after the grid's start. That start is a pool
   // of four times the 15³ blocks of 4³ nodes the box reaches with the stencil, 13,500 blocks: 2.6 KiB each explicit
   // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.01 MiB, and 14,352 bytes more
-  // semi-implicit (64 SolverNodes and a vec4), 218.8 MiB.
+  // semi-implicit (64 SolverNodes and SolverPreconditioners, and a vec4), 218.8 MiB.
   gl::ContextInfo gl = driver();
   gl.maxStorageBlockBytes = 1LL << 30;
   gl.availableMemoryBytes = 320LL << 20;
