@@ -322,13 +322,7 @@ std::vector<glm::ivec3> GpuState::activeNodes() const {
 std::vector<StoredNode> GpuState::readGrid() const {
   const std::vector<glm::ivec3> addresses = activeNodes();
   const std::vector<glm::ivec4> sums = gridMomentumMass_.read<glm::ivec4>(addresses.size());
-  std::vector<StoredNode> nodes;
-  nodes.reserve(sums.size());
-  for (std::size_t address = 0; address < addresses.size(); ++address) nodes.push_back({addresses[address], sums[address]});
-  std::sort(nodes.begin(), nodes.end(), [](const StoredNode& a, const StoredNode& b) {
-    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
-  });
-  return nodes;
+  return inGridOrder<StoredNode>(addresses, sums);
 }
 
 template <class Self>

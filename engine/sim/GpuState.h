@@ -3,8 +3,10 @@
 // block-sparse grid (a pool of blocks, the block map over the domain, the bins that sort the particles), the
 // material and collider tables, the watchdog and the step's uniform block — which of them exist depends on what
 // the scene needs — and the copies that save and restore the state.
+#include <algorithm>
 #include <cstddef>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -72,6 +74,18 @@ struct StoredNode {
   glm::ivec3 node{0};
   glm::ivec4 sums{0};
 };
+
+// Values at `nodes`, paired as {node, value} and sorted in the order of the dense grid (z, then y, then x).
+template <typename Result, typename Value>
+std::vector<Result> inGridOrder(const std::vector<glm::ivec3>& nodes, const std::vector<Value>& values) {
+  std::vector<Result> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], values[i]});
+  std::sort(result.begin(), result.end(), [](const Result& a, const Result& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
+}
 
 class GpuState {
  public:

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include <glm/geometric.hpp>
@@ -302,13 +303,18 @@ GridTotals Simulation::transferToGrid() {
   return totals;
 }
 
-std::vector<Simulation::NodeVector> Simulation::hessianProduct(
-    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
+const ImplicitSolver& Simulation::prepareSolverHook(const char* hook, HessianProduct product) {
   const ImplicitSolver* solver = pipeline_.implicitSolver();
-  if (!solver) throw std::logic_error("hessianProduct: the scene's integrator is explicit");
+  if (!solver) throw std::logic_error(std::string(hook) + ": the scene's integrator is explicit");
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);
   solver->prepare(state_, particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_, product);
+  return *solver;
+}
+
+std::vector<Simulation::NodeVector> Simulation::hessianProduct(
+    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
+  const ImplicitSolver& solver = prepareSolverHook("hessianProduct", product);
   const std::vector<glm::ivec3> nodes = state_.activeNodes();
   std::vector<glm::vec3> velocities;
   velocities.reserve(nodes.size());
@@ -316,35 +322,18 @@ std::vector<Simulation::NodeVector> Simulation::hessianProduct(
     velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
   }
   state_.writeSolverPreconditioned(velocities);
-  solver->productOfPreconditioned(state_, product, passTimer_);
-  const std::vector<glm::dvec3> products =
-      state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits));
-  std::vector<NodeVector> result;
-  result.reserve(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], products[i]});
-  std::sort(result.begin(), result.end(), [](const NodeVector& a, const NodeVector& b) {
-    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
-  });
-  return result;
+  solver.productOfPreconditioned(state_, product, passTimer_);
+  return inGridOrder<NodeVector>(nodes, state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS,
+                                                                                      -fixedPoint_.solverFractionBits)));
 }
 
 std::vector<Simulation::NodeMatrix> Simulation::stiffnessBlocks() {
-  const ImplicitSolver* solver = pipeline_.implicitSolver();
-  if (!solver) throw std::logic_error("stiffnessBlocks: the scene's integrator is explicit");
-  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
-  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
-  solver->prepare(state_, particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_);
+  const ImplicitSolver& solver = prepareSolverHook("stiffnessBlocks", HessianProduct::Differential);
   const std::vector<glm::ivec3> nodes = state_.activeNodes();
-  solver->firstProduct(state_, passTimer_);
-  const std::vector<glm::dmat3> blocks =
-      state_.takeSolverStiffnessBlocks(nodes.size(), std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
-  std::vector<NodeMatrix> result;
-  result.reserve(nodes.size());
-  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], blocks[i]});
-  std::sort(result.begin(), result.end(), [](const NodeMatrix& a, const NodeMatrix& b) {
-    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
-  });
-  return result;
+  solver.firstProduct(state_, passTimer_);
+  return inGridOrder<NodeMatrix>(nodes, state_.takeSolverStiffnessBlocks(
+                                            nodes.size(), std::ldexp(fixedPoint_.referenceMassKg,
+                                                                     -fixedPoint_.solverFractionBits)));
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {

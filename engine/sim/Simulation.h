@@ -148,6 +148,9 @@ class Simulation {
   std::vector<GridNodeSums> readGridAfterTransfer();
 
  private:
+  // The test hooks' start: the step's uniforms, P2G and the solve's preparation for a product of that kind, on the
+  // current state; throws std::logic_error naming `hook` for an explicit scene.
+  const ImplicitSolver& prepareSolverHook(const char* hook, HessianProduct product);
   // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);
