@@ -240,42 +240,30 @@ double fixed64ToDouble(std::uint32_t low, std::int32_t high) {
 
 }  // namespace
 
-std::vector<glm::dmat3> GpuState::takeSolverStiffnessBlocks(std::size_t addresses, double valuePerUnit) {
+SolverSums GpuState::takeSolverSums(std::size_t addresses, double productPerUnit, double blockPerUnit) {
   std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
-  std::vector<glm::dmat3> blocks;
-  blocks.reserve(nodes.size());
+  SolverSums sums;
+  sums.products.reserve(nodes.size());
+  sums.stiffnessBlocks.reserve(nodes.size());
   for (gpu::SolverNode& node : nodes) {
-    glm::dvec3 diagonal, offDiagonal;  // offDiagonal: yz, zx, xy
+    glm::dvec3 product, diagonal, offDiagonal;  // offDiagonal: yz, zx, xy
     for (int c = 0; c < 3; ++c) {
-      diagonal[c] = fixed64ToDouble(node.diagonalLow[c], node.diagonalHigh[c]) * valuePerUnit;
-      offDiagonal[c] = fixed64ToDouble(node.offDiagonalLow[c], node.offDiagonalHigh[c]) * valuePerUnit;
+      product[c] = fixed64ToDouble(node.productLow[c], node.productHigh[c]) * productPerUnit;
+      diagonal[c] = fixed64ToDouble(node.diagonalLow[c], node.diagonalHigh[c]) * blockPerUnit;
+      offDiagonal[c] = fixed64ToDouble(node.offDiagonalLow[c], node.offDiagonalHigh[c]) * blockPerUnit;
     }
-    blocks.emplace_back(diagonal.x, offDiagonal.z, offDiagonal.y, offDiagonal.z, diagonal.y, offDiagonal.x,
-                        offDiagonal.y, offDiagonal.x, diagonal.z);
+    sums.products.push_back(product);
+    sums.stiffnessBlocks.emplace_back(diagonal.x, offDiagonal.z, offDiagonal.y, offDiagonal.z, diagonal.y,
+                                      offDiagonal.x, offDiagonal.y, offDiagonal.x, diagonal.z);
     node.productLow = node.diagonalLow = node.offDiagonalLow = glm::uvec4(0);
     node.productHigh = node.diagonalHigh = node.offDiagonalHigh = glm::ivec4(0);
   }
   solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
-  return blocks;
+  return sums;
 }
 
-std::vector<glm::dvec3> GpuState::takeSolverProducts(std::size_t addresses, double valuePerUnit) {
-  std::vector<gpu::SolverNode> nodes = solverNodes_.read<gpu::SolverNode>(addresses);
-  std::vector<glm::dvec3> products;
-  products.reserve(nodes.size());
-  for (gpu::SolverNode& node : nodes) {
-    glm::dvec3 product;
-    for (int c = 0; c < 3; ++c) product[c] = fixed64ToDouble(node.productLow[c], node.productHigh[c]) * valuePerUnit;
-    products.push_back(product);
-    node.productLow = glm::uvec4(0);
-    node.productHigh = glm::ivec4(0);
-  }
-  solverNodes_.upload(0, nodes.size() * sizeof(gpu::SolverNode), nodes.data());
-  return products;
-}
-
-std::vector<glm::vec4> GpuState::readSolverRegisters(std::size_t count) const {
-  return solverStatus_.read<glm::vec4>(count, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4));
+glm::vec4 GpuState::readSolverRegister(std::size_t index) const {
+  return solverStatus_.read<glm::vec4>(1, offsetof(gpu::SolverStatus, registers) / sizeof(glm::vec4) + index).front();
 }
 
 std::uint32_t GpuState::readSolverEnd() const {

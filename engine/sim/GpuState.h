@@ -87,6 +87,12 @@ std::vector<Result> inGridOrder(const std::vector<glm::ivec3>& nodes, const std:
   return result;
 }
 
+// A Hessian product's sums and the first product's stiffness blocks at each storage address (GpuState::takeSolverSums).
+struct SolverSums {
+  std::vector<glm::dvec3> products;
+  std::vector<glm::dmat3> stiffnessBlocks;
+};
+
 class GpuState {
  public:
   // Throws InputError when a buffer would exceed what the driver allows per shader storage block.
@@ -116,8 +122,8 @@ class GpuState {
   const gl::Buffer& blockTableBuffer() const { return blockTable_; }
   // The semi-implicit solve's status: its header holds the iterations' indirect dispatches.
   const gl::Buffer& solverStatusBuffer() const { return solverStatus_; }
-  // The solve's registers 0 … count − 1 (gpu::SolverStatus::registers): each iteration's dot products.
-  std::vector<glm::vec4> readSolverRegisters(std::size_t count) const;
+  // The solve's register `index` (gpu::SolverStatus::registers): an iteration's dot products.
+  glm::vec4 readSolverRegister(std::size_t index) const;
   // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
   std::uint32_t readSolverEnd() const;
 
@@ -130,14 +136,12 @@ class GpuState {
   // The node index per axis of each storage address of the last step's active blocks (slot after slot).
   std::vector<glm::ivec3> activeNodes() const;
 
-  // Test hooks for the semi-implicit solve's Hessian product (Simulation::hessianProduct): the solve's vector z at
-  // each storage address of activeNodes(), and the product sums there, converted to doubles (times
-  // `valuePerUnit`) and cleared.
+  // Test hooks for the semi-implicit solve's products (Simulation::hessianProduct, Simulation::stiffnessBlocks): the
+  // solve's vector z at each storage address of activeNodes(); and the sums there, the product's (times
+  // `productPerUnit`, kg·m/s) and the first product's stiffness blocks (times `blockPerUnit`, kg), converted to
+  // doubles and cleared.
   void writeSolverPreconditioned(const std::vector<glm::vec3>& byAddress);
-  std::vector<glm::dvec3> takeSolverProducts(std::size_t addresses, double valuePerUnit);
-  // The first product's sums of the stiffness blocks β Δt² Hᵢᵢ (gpu::SolverNode::diagonalLow …) at each storage
-  // address, converted to doubles (times `valuePerUnit`, kg), and cleared with the product sums.
-  std::vector<glm::dmat3> takeSolverStiffnessBlocks(std::size_t addresses, double valuePerUnit);
+  SolverSums takeSolverSums(std::size_t addresses, double productPerUnit, double blockPerUnit);
 
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.

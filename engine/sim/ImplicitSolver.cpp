@@ -97,9 +97,9 @@ void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsig
 }
 
 SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
-  const std::vector<glm::vec4> registers = state.readSolverRegisters(std::size_t(iterations) + 1);
-  const double reference = registers[0].w;
-  const double residual = registers[std::size_t(iterations)].z;
+  // The reference is register 0's; the residual the last one's. The rest stay on the GPU.
+  const double reference = state.readSolverRegister(0).w;
+  const double residual = state.readSolverRegister(std::size_t(iterations)).z;
   SolveReport report;
   report.iterations = iterations;
   if (std::isnan(residual) || std::isnan(reference)) {

@@ -2,8 +2,8 @@
 // The semi-implicit solve of a step (Stomakhin et al. 2013 §6, eq. 9; docs/algorithm.md "Semi-implicit steps"):
 // between the grid update, which leaves the explicit velocities v* on the grid, and G2P, it replaces them with the
 // solution of (M + β Δt² H) v = M v* by the conjugate residual method with the block Jacobi preconditioner (each
-// node's 3×3 block of M + β Δt² H), matrix-free on the GPU (common/solver.glsl). The host dispatches the iterations and looks at the residual every few of them; the GPU
-// stops doing work once it is below the tolerance.
+// node's 3×3 block of M + β Δt² H), matrix-free on the GPU (common/solver.glsl). The host dispatches the iterations
+// and looks at the residual every few of them; the GPU stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -36,9 +36,9 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
 
-  // Test hooks (Simulation::hessianProduct, Simulation::stiffnessBlocks): the preparation for a product of that kind (the bins' order by index and
-  // each particle's stiffness), and the product of the solve's vector z (SolverNode::preconditioned), leaving its sums
-  // in the product buffer.
+  // Test hooks (Simulation::hessianProduct, Simulation::stiffnessBlocks): the preparation for a product of that kind
+  // (the bins' order by index and each particle's stiffness), and the product of the solve's vector z
+  // (SolverNode::preconditioned), leaving its sums in the solver's nodes.
   void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
                HessianProduct product = HessianProduct::Differential) const;
   void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;

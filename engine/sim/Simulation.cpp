@@ -323,17 +323,20 @@ std::vector<Simulation::NodeVector> Simulation::hessianProduct(
   }
   state_.writeSolverPreconditioned(velocities);
   solver.productOfPreconditioned(state_, product, passTimer_);
-  return inGridOrder<NodeVector>(nodes, state_.takeSolverProducts(nodes.size(), std::ldexp(fixedPoint_.momentumUnitKgMPerS,
-                                                                                      -fixedPoint_.solverFractionBits)));
+  return inGridOrder<NodeVector>(nodes, takeSolverSums(nodes.size()).products);
 }
 
 std::vector<Simulation::NodeMatrix> Simulation::stiffnessBlocks() {
   const ImplicitSolver& solver = prepareSolverHook("stiffnessBlocks", HessianProduct::Differential);
   const std::vector<glm::ivec3> nodes = state_.activeNodes();
   solver.firstProduct(state_, passTimer_);
-  return inGridOrder<NodeMatrix>(nodes, state_.takeSolverStiffnessBlocks(
-                                            nodes.size(), std::ldexp(fixedPoint_.referenceMassKg,
-                                                                     -fixedPoint_.solverFractionBits)));
+  return inGridOrder<NodeMatrix>(nodes, takeSolverSums(nodes.size()).stiffnessBlocks);
+}
+
+SolverSums Simulation::takeSolverSums(std::size_t nodes) {
+  // The 64-bit sums' unit: 2^−k_H of the momentum unit (products) or of the reference mass (blocks).
+  return state_.takeSolverSums(nodes, std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits),
+                               std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {

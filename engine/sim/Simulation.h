@@ -151,6 +151,8 @@ class Simulation {
   // The test hooks' start: the step's uniforms, P2G and the solve's preparation for a product of that kind, on the
   // current state; throws std::logic_error naming `hook` for an explicit scene.
   const ImplicitSolver& prepareSolverHook(const char* hook, HessianProduct product);
+  // And their end: the sums at the first `nodes` storage addresses, in kg·m/s and kg, cleared.
+  SolverSums takeSolverSums(std::size_t nodes);
   // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);
