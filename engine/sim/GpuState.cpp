@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <sstream>
-#include <tuple>
 #include <stdexcept>
 
 #include <glm/common.hpp>

@@ -131,8 +131,7 @@ void scatterParticle(uint p, ivec3 bin) {
   for (int n = 0; n < KERNEL_NODES; ++n) {
     scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), bin);
   }
-  return;
-#endif
+#else
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
     ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
     scatterToNode(stressUnits, stencil, k, bin);
@@ -142,6 +141,7 @@ void scatterParticle(uint p, ivec3 bin) {
     scatterToNode(stressUnits, stencil, k + ivec3(3, 0, 0), bin);
 #endif
   }
+#endif
 }
 
 void main() {
@@ -160,15 +160,23 @@ void main() {
   StencilBlocks blocks = stencilBlocks(firstBase);
   bool overflowed = false;
   for (int i = 0; i < REGION_NODES; ++i) {
+    bool hasProduct = regionSum[i] != vec3(0.0);
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+    // A block is positive semi-definite: a zero diagonal is a zero block.
+    bool hasBlock = regionDiagonal[i] != vec3(0.0);
+#else
+    const bool hasBlock = false;
+#endif
+    if (!hasProduct && !hasBlock) continue;
     int address = stencilNodeAddress(blocks, regionOffset(i));
     uvec4 low;
     ivec4 high;
-    if (regionSum[i] != vec3(0.0)) {
+    if (hasProduct) {
       overflowed = !productToFixed64(vec4(regionSum[i], 0.0), low, high) || overflowed;
       if (address >= 0) addProductToNode(uint(address), low, high);
     }
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
-    if (regionDiagonal[i] != vec3(0.0)) {
+    if (hasBlock) {
       uvec4 offLow;
       ivec4 offHigh;
       overflowed = !productToFixed64(vec4(regionDiagonal[i], 0.0), low, high) || overflowed;
