@@ -24,6 +24,12 @@
 #define FIRN_MEMBERS(list) list(FIRN_DECLARE_MEMBER, FIRN_DECLARE_ARRAY)
 #define FIRN_STRUCT(name, list) struct name { FIRN_MEMBERS(list) };
 
+// What Firn requires of the driver beyond OpenGL 4.3's minimums (docs/platform.md, Limits). The host reads each
+// limit before building anything and refuses a driver with less (exit 4); the binding ranges below must end
+// within FIRN_REQUIRED_STORAGE_BINDINGS, and no program may declare more storage blocks than its stage allows.
+#define FIRN_REQUIRED_STORAGE_BINDINGS 32        // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8)
+#define FIRN_REQUIRED_COMPUTE_STORAGE_BLOCKS 16  // GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8)
+
 // Shader storage binding points, one buffer each.
 #define FIRN_BINDING_POSITION_MASS 0        // vec4 per particle: x (m), mass (kg)
 #define FIRN_BINDING_VELOCITY_VOLUME 1      // vec4 per particle: v (m/s), initial volume V0 (m³)
