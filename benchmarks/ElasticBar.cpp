@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gl/GL.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 #include "sim/Simulation.h"
 
 namespace firn::bench {

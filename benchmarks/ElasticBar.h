@@ -38,7 +38,7 @@ struct BarSetup {
   std::string particleVolume = "grid_density";  // or "material_density": V0 = m / ρ, κ = 1
   int cellsAlongBar = 18;         // h = L / cellsAlongBar
   double particlesPerCell = 8;
-  double dtFraction = 0.4;        // dt as a fraction of the elastic bound h / c (sim/Materials.h)
+  double dtFraction = 0.4;        // dt as a fraction of the elastic bound h / c (gpu/Materials.h)
   int periods = 1;                // how many periods to measure
   std::string integrator = "explicit";  // or "semi_implicit" (its defaults: β = 1, tolerance 1e-4)
   double implicitRatio = 1;             // semi-implicit: β

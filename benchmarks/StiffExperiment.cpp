@@ -18,7 +18,7 @@
 #include "Error.h"
 #include "Experiments.h"
 #include "gl/GL.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 #include "sim/Simulation.h"
 
 namespace firn::bench {

@@ -38,10 +38,10 @@ struct PhaseMs {
 
 void timePhases(surface::SurfaceReconstruction& surface, const Simulation& simulation, PhaseMs& phases) {
   surface.setPassTiming(true);  // starts from zero
-  surface.reconstruct(simulation);
+  surface.reconstruct(simulation.particleView());
   const auto sum = [&](const std::vector<std::string>& passes) {
     double totalMs = 0;
-    for (const PassTimer::PassTime& time : surface.passTimes()) {
+    for (const gl::PassTimer::PassTime& time : surface.passTimes()) {
       for (const std::string& pass : passes) {
         if (time.pass == "surface/" + pass + ".comp") totalMs += time.totalWallMs;
       }
@@ -142,7 +142,7 @@ void measureSurface(BenchRun& run) {
   }
   for (SurfaceCase* c : builtCases()) {
     try {
-      c->surface->reconstruct(*c->simulation);
+      c->surface->reconstruct(c->simulation->particleView());
       glFinish();
     } catch (const InputError& error) {  // the frame's grid is larger than the driver's storage buffers
       c->row->setText("status", "skipped");
@@ -157,7 +157,7 @@ void measureSurface(BenchRun& run) {
   for (int repeat = 0; repeat < repeats; ++repeat) {
     for (SurfaceCase* c : builtCases()) {
       const auto start = Clock::now();
-      c->surface->reconstruct(*c->simulation);
+      c->surface->reconstruct(c->simulation->particleView());
       glFinish();
       c->surfaceWallMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
     }

@@ -206,7 +206,7 @@ class Viewer {
       // A minimised window has no pixels to draw into.
       if (framebufferPx.x > 0 && framebufferPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        renderer_.draw(*simulation_, orbit_.camera(), framebufferPx, colorMode_, currentSurface());
+        renderer_.draw(simulation_->particleView(), orbit_.camera(), framebufferPx, colorMode_, currentSurface());
       }
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
@@ -245,7 +245,7 @@ class Viewer {
     if (renderMode_ != render::RenderMode::Surface) return nullptr;
     const SurfaceKey key{simulation_->stepCount(), simulation_->particleCount(), colorMode_};
     if (!surfaceIsCurrent_ || !(key == surfaceKey_)) {
-      surface_->reconstruct(*simulation_, renderer_.particleColors(*simulation_, colorMode_));
+      surface_->reconstruct(simulation_->particleView(), renderer_.particleColors(simulation_->particleView(), colorMode_));
       surfaceKey_ = key;
       surfaceIsCurrent_ = true;
     }

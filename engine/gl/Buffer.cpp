@@ -27,6 +27,15 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
   return *this;
 }
 
+Buffer&& Buffer::labelled(const char* label) && {
+  this->label(label);
+  return std::move(*this);
+}
+
+void Buffer::label(const char* label) const {
+  if (id_ != 0) glObjectLabel(GL_BUFFER, id_, -1, label);
+}
+
 void Buffer::bindStorage(GLuint binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id_); }
 
 void Buffer::bindUniform(GLuint binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id_); }

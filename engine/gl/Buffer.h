@@ -27,6 +27,10 @@ class Buffer {
   std::size_t bytes() const { return bytes_; }
   explicit operator bool() const { return id_ != 0; }
 
+  // Names the buffer in GPU debuggers (glObjectLabel); returns it, for `Buffer(bytes).labelled("…")`.
+  Buffer&& labelled(const char* label) &&;
+  void label(const char* label) const;
+
   void bindStorage(GLuint binding) const;
   void bindUniform(GLuint binding) const;
   void upload(std::size_t offsetBytes, std::size_t bytes, const void* data);

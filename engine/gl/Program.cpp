@@ -23,6 +23,20 @@ std::string infoLog(GLuint object, GetParameter getParameter, GetLog getLog) {
   return log;
 }
 
+// The binding points of a linked program's blocks of `interface` (GL_SHADER_STORAGE_BLOCK or GL_UNIFORM_BLOCK).
+std::vector<GLuint> blockBindings(GLuint program, GLenum interface) {
+  GLint blocks = 0;
+  glGetProgramInterfaceiv(program, interface, GL_ACTIVE_RESOURCES, &blocks);
+  std::vector<GLuint> bindings;
+  for (GLint block = 0; block < blocks; ++block) {
+    const GLenum property = GL_BUFFER_BINDING;
+    GLint binding = 0;
+    glGetProgramResourceiv(program, interface, GLuint(block), 1, &property, 1, nullptr, &binding);
+    bindings.push_back(GLuint(binding));
+  }
+  return bindings;
+}
+
 }  // namespace
 
 // One compiled shader stage. It deletes its shader object when done: a linked program keeps what it needs.
@@ -73,6 +87,10 @@ Program Program::link(const std::string& name, const std::vector<Stage>& stages)
     throw GLError("linking " + name + " failed:\n" +
                   (stages.size() == 1 ? ShaderLibrary::translateLog(log, stages.front().source) : log));
   }
+  // Debuggers (RenderDoc, Nsight, apitrace) show the shader's path instead of a number.
+  glObjectLabel(GL_PROGRAM, program.id_, GLsizei(name.size()), name.c_str());
+  program.storageBindings_ = blockBindings(program.id_, GL_SHADER_STORAGE_BLOCK);
+  program.uniformBindings_ = blockBindings(program.id_, GL_UNIFORM_BLOCK);
   return program;
 }
 
@@ -95,18 +113,30 @@ Program::~Program() {
   if (id_ != 0) glDeleteProgram(id_);
 }
 
-Program::Program(Program&& other) noexcept : id_(std::exchange(other.id_, 0)), name_(std::move(other.name_)) {}
+Program::Program(Program&& other) noexcept
+    : id_(std::exchange(other.id_, 0)),
+      name_(std::move(other.name_)),
+      storageBindings_(std::move(other.storageBindings_)),
+      uniformBindings_(std::move(other.uniformBindings_)) {}
 
 Program& Program::operator=(Program&& other) noexcept {
   if (this != &other) {
     if (id_ != 0) glDeleteProgram(id_);
     id_ = std::exchange(other.id_, 0);
     name_ = std::move(other.name_);
+    storageBindings_ = std::move(other.storageBindings_);
+    uniformBindings_ = std::move(other.uniformBindings_);
   }
   return *this;
 }
 
 void Program::use() const { glUseProgram(id_); }
+
+glm::ivec3 Program::workGroupSize() const {
+  glm::ivec3 size(0);
+  glGetProgramiv(id_, GL_COMPUTE_WORK_GROUP_SIZE, &size.x);
+  return size;
+}
 
 void Program::set(const char* name, unsigned value) const { glUniform1ui(glGetUniformLocation(id_, name), value); }
 

@@ -31,6 +31,11 @@ class Program {
 
   GLuint id() const { return id_; }
   const std::string& name() const { return name_; }
+  // The binding points of the shader storage and uniform blocks the linked program declares (as the driver reports
+  // them: blocks it found unused may be left out), and a compute program's work-group size.
+  const std::vector<GLuint>& storageBindings() const { return storageBindings_; }
+  const std::vector<GLuint>& uniformBindings() const { return uniformBindings_; }
+  glm::ivec3 workGroupSize() const;
   void use() const;
 
   // Set a uniform; the program must be in use. A name the compiler optimised away is ignored.
@@ -51,6 +56,8 @@ class Program {
 
   GLuint id_ = 0;
   std::string name_;
+  std::vector<GLuint> storageBindings_;
+  std::vector<GLuint> uniformBindings_;
 };
 
 }  // namespace firn::gl

@@ -14,8 +14,8 @@
 #include "Error.h"
 #include "gl/Debug.h"
 #include "gl/ShaderLibrary.h"
-#include "sim/GpuLayout.h"
-#include "sim/Materials.h"
+#include "gpu/GpuLayout.h"
+#include "gpu/Materials.h"
 
 namespace firn::render {
 
@@ -126,7 +126,7 @@ void Renderer::buildPrograms() {
       gl::Program::graphics(library, "render/snow_shadow_map.vert", "render/snow_shadow_map.frag", options);
   snowGroundShadowProgram_ =
       gl::Program::graphics(library, "render/snow_ground_shadow.vert", "render/collider_shadow.frag", options);
-  particleColorPass_ = ComputePass(library, "render/particle_colors.comp", options, ComputePass::Dispatch::Particles);
+  particleColorPass_ = gl::ComputePass(library, "render/particle_colors.comp", options);
 }
 
 void Renderer::buildGeometry(const Scene& scene) {
@@ -198,15 +198,13 @@ void Renderer::setGround(const gl::Program& program, const PlaneQuad& ground) co
   program.set("groundHalfSizeM", ground.halfSizeM);
 }
 
-void Renderer::draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
+void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
                     const surface::SurfaceReconstruction* snowSurface) {
-  simulation.bindParticleBuffers();
-  draw(simulation.particleCount(), simulation.timeS(), camera, viewportPx, mode, snowSurface);
-}
-
-void Renderer::draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx,
-                    ColorMode mode, const surface::SurfaceReconstruction* snowSurface) {
   if (viewportPx.x <= 0 || viewportPx.y <= 0) return;  // a minimised window
+  const std::size_t particleCount = particles.count;
+  const double timeS = particles.timeS;
+  particleBuffers_ = gl::BufferBindings();
+  particles.publish(particleBuffers_);
   const GLuint target = gl::Framebuffer::boundForDrawing();
   // The particles were last written by compute passes; vertex shaders read them as storage buffers.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -257,6 +255,7 @@ void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const P
   glBlendFunc(GL_ONE, GL_ONE);
   if (particleCount > 0) {
     particleShadowProgram_.use();
+    particleBuffers_.bindFor(particleShadowProgram_);
     setGround(particleShadowProgram_, ground);
     particleShadowProgram_.set("shadowTexelSizeM", 2 * ground.halfSizeM / float(texels.x));
     particleShadowProgram_.set("maxPointSizePx", maxPointSizePx_);
@@ -313,6 +312,7 @@ void Renderer::drawParticles(const FrameView& view, std::size_t particleCount, C
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_PROGRAM_POINT_SIZE);
   particleProgram_.use();
+  particleBuffers_.bindFor(particleProgram_);
   setView(particleProgram_, view);
   particleProgram_.set("maxPointSizePx", maxPointSizePx_);
   setAppearance(particleProgram_, mode);
@@ -343,13 +343,13 @@ void Renderer::drawDomainEdges(const FrameView& view) {
 
 OffscreenRenderer::OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx) : renderer_(scene), target_(sizePx) {}
 
-Image OffscreenRenderer::render(const Simulation& simulation, const Camera& camera, ColorMode mode,
+Image OffscreenRenderer::render(const ParticleView& particles, const Camera& camera, ColorMode mode,
                                 const surface::SurfaceReconstruction* snowSurface) {
   const GLuint previousTarget = gl::Framebuffer::boundForDrawing();
   GLint previousViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, previousViewport);
   target_.bind();
-  renderer_.draw(simulation, camera, size(), mode, snowSurface);
+  renderer_.draw(particles, camera, size(), mode, snowSurface);
   Image image{size().x, size().y, target_.readColorRgba8()};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, previousTarget);
   glViewport(previousViewport[0], previousViewport[1], previousViewport[2], previousViewport[3]);

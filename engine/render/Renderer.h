@@ -17,8 +17,9 @@
 #include "render/Geometry.h"
 #include "render/Image.h"
 #include "scene/Scene.h"
-#include "sim/ComputePass.h"
-#include "sim/Simulation.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
+#include "gpu/ParticleView.h"
 #include "surface/SurfaceReconstruction.h"
 
 namespace firn::render {
@@ -47,17 +48,12 @@ class Renderer {
   explicit Renderer(const Scene& scene);
 
   // Draws into the currently bound draw framebuffer, which needs a depth buffer, over the viewport
-  // (0, 0)–viewportPx: sky, colliders where they are at the simulation's time, the ground with its shadow,
-  // the particles read in place from the simulation's buffers, the domain's edges. Colours are written
-  // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off.
-  // With `snowSurface` (reconstructed from the simulation's particles as they are, with particleColors' colours
-  // for `mode`) the snow is drawn as that surface instead of its particles.
-  void draw(const Simulation& simulation, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
-            const surface::SurfaceReconstruction* snowSurface = nullptr);
-  // The same for the first `particleCount` particles of whatever buffers are bound at the particle binding
-  // points (gpu::PositionMass, VelocityVolume, PlasticState, KirchhoffStress), with colliders at `timeS`.
-  // With no particles it draws the scene without them.
-  void draw(std::size_t particleCount, double timeS, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
+  // (0, 0)–viewportPx: sky, colliders where they are at the particles' time, the ground with its shadow, the
+  // particles read in place from their buffers, the domain's edges. Colours are written sRGB-encoded (leave
+  // GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With `snowSurface`
+  // (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as that surface
+  // instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at t = 0.
+  void draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
             const surface::SurfaceReconstruction* snowSurface = nullptr);
 
   // The speed at the top of the speed colour map (m/s): the fastest initial body or collider, or the speed
@@ -67,7 +63,7 @@ class Renderer {
   // Each of the simulation's particles' linear albedo in colour mode `mode` (a vec4 per particle, computed on the
   // GPU), for SurfaceReconstruction::reconstruct to carry onto the surface; null when every particle has the same
   // colour (one material's, in material mode), which the renderer then gives the whole surface without a splat.
-  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode);
+  const gl::Buffer* particleColors(const ParticleView& particles, ColorMode mode);
 
  private:
   struct SurfaceDraw {
@@ -114,8 +110,9 @@ class Renderer {
   gl::Program snowSurfaceProgram_;
   gl::Program snowShadowMapProgram_;
   gl::Program snowGroundShadowProgram_;
-  ComputePass particleColorPass_;  // render/particle_colors.comp
-  PassTimer particleColorTimer_;   // not switched on: ComputePass dispatches through one
+  gl::ComputePass particleColorPass_;  // render/particle_colors.comp
+  gl::PassTimer particleColorTimer_;   // not switched on: ComputePass dispatches through one
+  gl::BufferBindings particleBuffers_;  // draw()'s particles, at their binding points
 
   gl::VertexArray noAttributes_;  // for the draws that read no vertex attributes
   gl::Buffer surfaceVertices_;
@@ -143,10 +140,10 @@ class OffscreenRenderer {
   OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx);
   // One picture of the simulation's current state; leaves the bound framebuffer and viewport as they were.
   // With `snowSurface`, the snow as that surface (Renderer::draw).
-  Image render(const Simulation& simulation, const Camera& camera, ColorMode mode,
+  Image render(const ParticleView& particles, const Camera& camera, ColorMode mode,
                const surface::SurfaceReconstruction* snowSurface = nullptr);
-  const gl::Buffer* particleColors(const Simulation& simulation, ColorMode mode) {
-    return renderer_.particleColors(simulation, mode);
+  const gl::Buffer* particleColors(const ParticleView& particles, ColorMode mode) {
+    return renderer_.particleColors(particles, mode);
   }
   glm::ivec2 size() const { return target_.size(); }
 

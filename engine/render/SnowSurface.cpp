@@ -24,19 +24,20 @@ constexpr double kShadowFilterCells = 1.0;
 
 }  // namespace
 
-const gl::Buffer* Renderer::particleColors(const Simulation& simulation, ColorMode mode) {
+const gl::Buffer* Renderer::particleColors(const ParticleView& particleView, ColorMode mode) {
   const bool oneColor = std::all_of(materialColors_.begin(), materialColors_.end(),
                                     [&](const glm::vec4& color) { return color == materialColors_.front(); });
   if (mode == ColorMode::Material && oneColor) return nullptr;
-  const std::size_t particles = simulation.particleCount();
+  const std::size_t particles = particleView.count;
   const std::size_t bytes = std::max<std::size_t>(particles, 1) * sizeof(glm::vec4);
   if (particleColors_.bytes() < bytes) particleColors_ = gl::Buffer(bytes);
-  simulation.bindParticleBuffers();
-  particleColors_.bindStorage(FIRN_BINDING_SURFACE_PARTICLE_COLORS);
+  gl::BufferBindings buffers;
+  particleView.publish(buffers);
+  buffers.storage(FIRN_BINDING_SURFACE_PARTICLE_COLORS, particleColors_);
   particleColorPass_.program().use();
   setAppearance(particleColorPass_.program(), mode);
   particleColorPass_.program().set("coloredParticles", static_cast<unsigned>(particles));
-  if (particles > 0) particleColorPass_.runOverParticles(particles, maxWorkGroupsX_, particleColorTimer_);
+  if (particles > 0) particleColorPass_.runOver(particles, maxWorkGroupsX_, buffers, particleColorTimer_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   return &particleColors_;
 }

@@ -10,7 +10,7 @@
 
 #include "Error.h"
 #include "io/Text.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 #include "voxelizer/ChildProcess.h"
 

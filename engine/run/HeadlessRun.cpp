@@ -41,8 +41,8 @@ std::string numberedFileName(const char* prefix, int frame, const char* suffix) 
   return name;
 }
 
-void logPassTimes(const std::vector<PassTimer::PassTime>& passes, double steps, std::ostream& log) {
-  for (const PassTimer::PassTime& pass : passes) {
+void logPassTimes(const std::vector<gl::PassTimer::PassTime>& passes, double steps, std::ostream& log) {
+  for (const gl::PassTimer::PassTime& pass : passes) {
     char row[128];
     std::snprintf(row, sizeof row, "  %-30s GPU %9.3f ms   wall %9.3f ms\n", pass.pass.c_str(), pass.totalMs / steps,
                   pass.totalWallMs / steps);
@@ -167,8 +167,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
-      snowSurface->reconstruct(simulation,
-                               surfacePictures ? pictures->particleColors(simulation, options.colorMode) : nullptr);
+      snowSurface->reconstruct(simulation.particleView(),
+                               surfacePictures ? pictures->particleColors(simulation.particleView(), options.colorMode) : nullptr);
       if (options.writeMesh || options.writeVdb) {
         VdbFrame cache;
         cache.isoLevel = float(scene.surface.iso);
@@ -184,7 +184,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     }
     if (pictures) {
       render::writePng(options.outputDir / numberedFileName("frame", frame, ".png"),
-                       pictures->render(simulation, camera, options.colorMode, surfacePictures ? &*snowSurface : nullptr));
+                       pictures->render(simulation.particleView(), camera, options.colorMode, surfacePictures ? &*snowSurface : nullptr));
     }
   };
 

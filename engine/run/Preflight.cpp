@@ -15,8 +15,8 @@
 #include "io/Text.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
-#include "sim/GpuFunctions.h"
-#include "sim/Materials.h"
+#include "gpu/GpuFunctions.h"
+#include "gpu/Materials.h"
 #include "sim/SceneUpload.h"
 #include "voxelizer/Voxelizer.h"
 

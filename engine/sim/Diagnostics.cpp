@@ -7,9 +7,9 @@
 #include <utility>
 
 #include "Error.h"
-#include "sim/GpuFunctions.h"
+#include "gpu/GpuFunctions.h"
 #include "sim/GpuState.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 
@@ -60,7 +60,7 @@ std::string Diagnostics::describeNode(std::int32_t node) const {
 }
 
 std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState& state) const {
-  const glm::vec3 position = state.particlePosition(static_cast<std::size_t>(particle));
+  const glm::vec3 position = state.particles().position(static_cast<std::size_t>(particle));
   const int body = particleBody_[static_cast<std::size_t>(particle)];
   const int material = particleMaterial_[static_cast<std::size_t>(particle)];
   const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";

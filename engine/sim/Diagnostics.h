@@ -9,7 +9,7 @@
 
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "sim/SolveReport.h"
 
 namespace firn {

@@ -6,7 +6,7 @@
 
 #include "Error.h"
 #include "scene/Scene.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 
 namespace firn {
 
@@ -31,75 +31,73 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 
 ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
     : maxIterations_(scene.solver.maxIterations), options_(options) {
-  using Dispatch = ComputePass::Dispatch;
-  orderBins_ = ComputePass(library, "sim/solver_order_bins.comp", options, Dispatch::Indirect);
-  prepare_ = ComputePass(library, "sim/solver_prepare.comp", options, Dispatch::Particles);
-  begin_ = ComputePass(library, "sim/solver_begin.comp", options, Dispatch::Once);
+  orderBins_ = gl::ComputePass(library, "sim/solver_order_bins.comp", options);
+  prepare_ = gl::ComputePass(library, "sim/solver_prepare.comp", options);
+  begin_ = gl::ComputePass(library, "sim/solver_begin.comp", options);
   gl::ShaderOptions firstProductOptions = options;
   firstProductOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
-  firstProduct_ = ComputePass(library, "sim/solver_product.comp", firstProductOptions, Dispatch::Indirect);
-  product_ = ComputePass(library, "sim/solver_product.comp", options, Dispatch::Indirect);
-  residual_ = ComputePass(library, "sim/solver_residual.comp", options, Dispatch::Indirect);
-  apply_ = ComputePass(library, "sim/solver_apply.comp", options, Dispatch::Indirect);
-  step_ = ComputePass(library, "sim/solver_step.comp", options, Dispatch::Indirect);
-  reduce_ = ComputePass(library, "sim/solver_reduce.comp", options, Dispatch::Indirect);
-  finish_ = ComputePass(library, "sim/solver_finish.comp", options, Dispatch::Indirect);
+  firstProduct_ = gl::ComputePass(library, "sim/solver_product.comp", firstProductOptions,
+                                  "sim/solver_product.comp (first product)");
+  product_ = gl::ComputePass(library, "sim/solver_product.comp", options);
+  residual_ = gl::ComputePass(library, "sim/solver_residual.comp", options);
+  apply_ = gl::ComputePass(library, "sim/solver_apply.comp", options);
+  step_ = gl::ComputePass(library, "sim/solver_step.comp", options);
+  reduce_ = gl::ComputePass(library, "sim/solver_reduce.comp", options);
+  finish_ = gl::ComputePass(library, "sim/solver_finish.comp", options);
 }
 
 namespace {
 
 // A test's variant of one of the solve's programs, with `define` set, built into `built` the first time it is asked
 // for: from the embedded files, which the step's own programs were built from.
-const ComputePass& variant(std::optional<ComputePass>& built, const gl::ShaderOptions& options, const char* path,
-                           const char* define, ComputePass::Dispatch dispatch) {
+const gl::ComputePass& variant(std::optional<gl::ComputePass>& built, const gl::ShaderOptions& options, const char* path,
+                               const char* define) {
   if (!built) {
     gl::ShaderOptions variantOptions = options;
     variantOptions.defines.emplace_back(define, "1");
-    built.emplace(gl::ShaderLibrary(), path, variantOptions, dispatch);
+    built.emplace(gl::ShaderLibrary(), path, variantOptions);
   }
   return *built;
 }
 
 }  // namespace
 
-void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
+void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer,
                              HessianProduct product) const {
-  orderBins_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
-  const ComputePass& pass =
+  orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), state.bindings(), timer);
+  const gl::ComputePass& pass =
       product == HessianProduct::Unprojected
-          ? variant(unprojectedPrepare_, options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN",
-                    ComputePass::Dispatch::Particles)
+          ? variant(unprojectedPrepare_, options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN")
           : prepare_;
-  pass.runOverParticles(particles, maxWorkGroupsX, timer);
+  pass.runOver(particles, maxWorkGroupsX, state.bindings(), timer);
   glMemoryBarrier(kStorage);
 }
 
-void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const {
-  const ComputePass& pass =
+void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, gl::PassTimer& timer) const {
+  const gl::ComputePass& pass =
       product == HessianProduct::ForceDifference
-          ? variant(forceDifferenceProduct_, options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE",
-                    ComputePass::Dispatch::Indirect)
+          ? variant(forceDifferenceProduct_, options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE")
           : product_;
-  pass.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
+  pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(), timer);
   glMemoryBarrier(kStorage);
 }
 
-void ImplicitSolver::firstProduct(const GpuState& state, PassTimer& timer) const {
-  firstProduct_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, tileDispatch), timer);
+void ImplicitSolver::firstProduct(const GpuState& state, gl::PassTimer& timer) const {
+  firstProduct_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(), timer);
   glMemoryBarrier(kStorage);
 }
 
-void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsigned components, PassTimer& timer) const {
+void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const {
   reduce_.set("reduceRegister", registerIndex)
       .set("reduceComponents", components)
-      .runIndirect(state.solverStatusBuffer(), kReduceDispatch, timer);
+      .runIndirect(state.solver()->status(), kReduceDispatch, state.bindings(), timer);
   glMemoryBarrier(kStorageAndCommands);
 }
 
 SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
   // The reference is register 0's; the residual the last one's. The rest stay on the GPU.
-  const double reference = state.readSolverRegister(0).w;
-  const double residual = state.readSolverRegister(std::size_t(iterations)).z;
+  const double reference = state.solver()->readRegister(0).w;
+  const double residual = state.solver()->readRegister(std::size_t(iterations)).z;
   SolveReport report;
   report.iterations = iterations;
   if (std::isnan(residual) || std::isnan(reference)) {
@@ -112,16 +110,16 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
 }
 
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
-                                  PassTimer& timer) const {
-  const gl::Buffer& status = state.solverStatusBuffer();
-  begin_.runOnce(timer);
+                                  gl::PassTimer& timer) const {
+  const gl::Buffer& status = state.solver()->status();
+  begin_.runOnce(state.bindings(), timer);
   glMemoryBarrier(kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
-  firstProduct_.runIndirect(status, kProductDispatch, timer);
+  firstProduct_.runIndirect(status, kProductDispatch, state.bindings(), timer);
   glMemoryBarrier(kStorage);
-  residual_.runIndirect(status, kBlockDispatch, timer);
+  residual_.runIndirect(status, kBlockDispatch, state.bindings(), timer);
   glMemoryBarrier(kStorage);
   reduce(state, 0, kResidual | kReference, timer);
 
@@ -129,19 +127,19 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product_.runIndirect(status, kProductDispatch, timer);
+    product_.runIndirect(status, kProductDispatch, state.bindings(), timer);
     glMemoryBarrier(kStorage);
-    apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
+    apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, state.bindings(), timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration, kProduct | kDirectionProduct, timer);
-    step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, timer);
+    step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, state.bindings(), timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration + 1, kResidual, timer);
-    if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.readSolverEnd();
+    if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.solver()->readEnd();
   }
   // Not ended: max_iterations were taken, and the last residual is the solve's.
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
-  finish_.runIndirect(state.blockTableBuffer(), offsetof(gpu::BlockTableHeader, blockDispatch), timer);
+  finish_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), state.bindings(), timer);
   glMemoryBarrier(kStorage);
   return solved;
 }

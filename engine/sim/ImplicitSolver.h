@@ -13,7 +13,7 @@
 
 #include "gl/ShaderLibrary.h"
 #include "scene/Scene.h"
-#include "sim/ComputePass.h"
+#include "gl/ComputePass.h"
 #include "sim/GpuState.h"
 #include "sim/SolveReport.h"
 
@@ -34,37 +34,37 @@ class ImplicitSolver {
   ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options);
 
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
-  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer) const;
+  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
 
   // Test hooks (Simulation::hessianProduct, Simulation::stiffnessBlocks): the preparation for a product of that kind
   // (the bins' order by index and each particle's stiffness), and the product of the solve's vector z
   // (SolverNode::preconditioned), leaving its sums in the solver's nodes.
-  void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, PassTimer& timer,
+  void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer,
                HessianProduct product = HessianProduct::Differential) const;
-  void productOfPreconditioned(const GpuState& state, HessianProduct product, PassTimer& timer) const;
+  void productOfPreconditioned(const GpuState& state, HessianProduct product, gl::PassTimer& timer) const;
   // And the first product of a step, which also sums each node's stiffness block (SolverNode::diagonalLow …).
-  void firstProduct(const GpuState& state, PassTimer& timer) const;
+  void firstProduct(const GpuState& state, gl::PassTimer& timer) const;
 
  private:
   // The solve's end after `iterations`: the residual register it ended at, relative to the reference.
   static SolveReport report(const GpuState& state, int iterations);
-  void reduce(const GpuState& state, unsigned registerIndex, unsigned components, PassTimer& timer) const;
+  void reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const;
 
   int maxIterations_;
   gl::ShaderOptions options_;
   // Built when a test first asks for them.
-  mutable std::optional<ComputePass> unprojectedPrepare_;
-  mutable std::optional<ComputePass> forceDifferenceProduct_;
-  ComputePass orderBins_;
-  ComputePass prepare_;
-  ComputePass begin_;
-  ComputePass firstProduct_;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
-  ComputePass product_;
-  ComputePass residual_;
-  ComputePass apply_;
-  ComputePass step_;
-  ComputePass reduce_;
-  ComputePass finish_;
+  mutable std::optional<gl::ComputePass> unprojectedPrepare_;
+  mutable std::optional<gl::ComputePass> forceDifferenceProduct_;
+  gl::ComputePass orderBins_;
+  gl::ComputePass prepare_;
+  gl::ComputePass begin_;
+  gl::ComputePass firstProduct_;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
+  gl::ComputePass product_;
+  gl::ComputePass residual_;
+  gl::ComputePass apply_;
+  gl::ComputePass step_;
+  gl::ComputePass reduce_;
+  gl::ComputePass finish_;
 };
 
 }  // namespace firn

@@ -8,7 +8,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "io/Checkpoint.h"
-#include "sim/GpuFunctions.h"
+#include "gpu/GpuFunctions.h"
 
 namespace firn {
 

@@ -1,14 +1,14 @@
 #pragma once
 // The scene as the GPU stores it: the collider table, the particle records of new particles, and the fingerprint
-// that ties a checkpoint to the scene it came from. (The material table is sim/Materials.h's.)
+// that ties a checkpoint to the scene it came from. (The material table is gpu/Materials.h's.)
 #include <cstdint>
 #include <vector>
 
 #include <glm/vec4.hpp>
 
 #include "scene/Scene.h"
-#include "sim/GpuLayout.h"
-#include "sim/Materials.h"
+#include "gpu/GpuLayout.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 

@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "Error.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 
@@ -79,7 +79,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
                                       blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
                                       needsDeformationGradient(scene_, programs)),
-             materialTable_, buildColliderTable(scene_), gl),
+             materialTable_, buildColliderTable(scene_), gl, stepShaderOptions(scene_, programs)),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
@@ -106,7 +106,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 }
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity) {
-  state_.writeParticles(first, particleRecords(scene_, materialTable_, particles, volumeFromDensity));
+  state_.particles().write(first, particleRecords(scene_, materialTable_, particles, volumeFromDensity));
   diagnostics_.noteParticles(particles);
 }
 
@@ -282,12 +282,12 @@ void Simulation::checkWatchdog() const {
   diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
 }
 
-ParticleSnapshot Simulation::snapshot() const { return state_.readParticles(particleCount_); }
+ParticleSnapshot Simulation::snapshot() const { return state_.particles().read(particleCount_); }
 
-void Simulation::bindParticleBuffers() const { state_.bindParticles(); }
+ParticleView Simulation::particleView() const { return state_.particles().view(particleCount_, timeS_); }
 
 void Simulation::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
-  state_.setParticleVelocity(particle, velocityMPerS);
+  state_.particles().writeVelocity(particle, velocityMPerS);
 }
 
 GridTotals Simulation::transferToGrid() {
@@ -314,35 +314,35 @@ const ImplicitSolver& Simulation::prepareSolverHook(const char* hook, HessianPro
 std::vector<Simulation::NodeVector> Simulation::hessianProduct(
     const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
   const ImplicitSolver& solver = prepareSolverHook("hessianProduct", product);
-  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  const std::vector<glm::ivec3> nodes = state_.grid().activeNodes();
   std::vector<glm::vec3> velocities;
   velocities.reserve(nodes.size());
   for (const glm::ivec3& node : nodes) {
     velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
   }
-  state_.writeSolverPreconditioned(velocities);
+  state_.solver()->writePreconditioned(velocities);
   solver.productOfPreconditioned(state_, product, passTimer_);
   return inGridOrder<NodeVector>(nodes, takeSolverSums(nodes.size()).products);
 }
 
 std::vector<Simulation::NodeMatrix> Simulation::stiffnessBlocks() {
   const ImplicitSolver& solver = prepareSolverHook("stiffnessBlocks", HessianProduct::Differential);
-  const std::vector<glm::ivec3> nodes = state_.activeNodes();
+  const std::vector<glm::ivec3> nodes = state_.grid().activeNodes();
   solver.firstProduct(state_, passTimer_);
   return inGridOrder<NodeMatrix>(nodes, takeSolverSums(nodes.size()).stiffnessBlocks);
 }
 
 SolverSums Simulation::takeSolverSums(std::size_t nodes) {
   // The 64-bit sums' unit: 2^−k_H of the momentum unit (products) or of the reference mass (blocks).
-  return state_.takeSolverSums(nodes, std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits),
-                               std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
+  return state_.solver()->takeSums(nodes, std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits),
+                                   std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);
   std::vector<GridNodeSums> nodes;
-  for (const StoredNode& stored : state_.readGrid()) {
+  for (const StoredNode& stored : state_.grid().readNodes()) {
     // Nondimensional sums (grid.glsl): integers times 2^−k, or the floats themselves.
     const glm::dvec4 sums = scene_.solver.atomics == Atomics::FixedPoint
                                 ? glm::dvec4(stored.sums) * fixedPoint_.resolution()

@@ -1,10 +1,10 @@
 #pragma once
 // The MPM simulation on the GPU, as one object: a façade over the parts that each do one job —
-//   GpuState        the buffers, their capacity, save and restore (sim/GpuState.h)
+//   GpuState        the buffers in named parts (particles, block grid, solver), save and restore (sim/GpuState.h)
 //   StepPipeline    the compute passes of one step, in paper order (sim/StepPipeline.h)
 //   SteppingPolicy  fixed or adaptive steps, and retries (sim/SteppingPolicy.h)
 //   Diagnostics     what the watchdog saw, in words (sim/Diagnostics.h)
-// and the scene's conversion into buffers (sim/SceneUpload.h, sim/Materials.h).
+// and the scene's conversion into buffers (sim/SceneUpload.h, gpu/Materials.h).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -19,10 +19,11 @@
 #include "gl/Context.h"
 #include "io/Checkpoint.h"
 #include "scene/Scene.h"
-#include "sim/ComputePass.h"
+#include "gl/PassTimer.h"
+#include "gpu/ParticleView.h"
 #include "sim/Diagnostics.h"
 #include "sim/FixedPoint.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 #include "sim/StepPipeline.h"
 #include "sim/SteppingPolicy.h"
@@ -53,7 +54,7 @@ struct SolverSummary {
 
 class Simulation {
  public:
-  using PassTime = PassTimer::PassTime;
+  using PassTime = gl::PassTimer::PassTime;
 
   // Builds the programs and buffers the scene needs and computes the initial particle volumes. Particles with
   // a release time (emitters) join at the first step that starts at or after it. The particle buffers hold
@@ -99,10 +100,9 @@ class Simulation {
   SolverSummary takeSolverSummary();
 
   ParticleSnapshot snapshot() const;
-  // Binds the particle buffers to their storage binding points (FIRN_BINDING_POSITION_MASS, …VELOCITY_VOLUME,
-  // …PLASTIC_STATE, …KIRCHHOFF_STRESS), for passes outside the step that read particles in place: the renderer
-  // draws straight from them. The first particleCount() entries are live.
-  void bindParticleBuffers() const;
+  // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
+  // buffers, read in place, the live count and the time; valid until the next step or addParticles.
+  ParticleView particleView() const;
   // readGridAfterTransfer's nodes, summed (a diagnostic: conservation tests).
   GridTotals transferToGrid();
   // The blocks of the grid the last step used (what the grid passes cost), and the pool's capacity.
@@ -174,7 +174,7 @@ class Simulation {
   FixedPointScale fixedPoint_;
   SteppingPolicy stepping_;
   Diagnostics diagnostics_;
-  PassTimer passTimer_;
+  gl::PassTimer passTimer_;
   gl::ContextInfo gl_;
   std::uint64_t sceneFingerprint_ = 0;
 

@@ -1,6 +1,7 @@
 #pragma once
 // The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
-// of the grid this step needs and the particles sorted into them (common/blocks.glsl); particle to grid; the grid
+// of the grid this step needs and the particles sorted into them (the block grid's own passes, sim/BlockGrid.h);
+// particle to grid; the grid
 // update (forces, gravity, colliders, walls); grid to particle with the deformation update, plasticity and
 // advection. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
 // and nothing else.
@@ -10,9 +11,9 @@
 
 #include "gl/Context.h"
 #include "scene/Scene.h"
-#include "sim/ComputePass.h"
+#include "gl/ComputePass.h"
 #include "sim/FixedPoint.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
 
@@ -38,33 +39,23 @@ class StepPipeline {
   // Throws InputError when the scene asks for what the driver lacks (float atomics).
   StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl);
 
-  // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them, then particle to grid.
-  void transferToGrid(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
+  // to grid.
+  void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
   // particle. Returns how the solve ended (explicit steps: no iterations).
-  SolveReport step(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The semi-implicit solve, if the scene has one (tests reach its passes through it).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
-  void computeVolumes(GpuState& state, std::size_t particles, PassTimer& timer) const;
+  void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
 
  private:
-  void sortParticles(GpuState& state, std::size_t particles, PassTimer& timer) const;
-
   int maxWorkGroupsX_ = 65535;
-  ComputePass prepareBlocks_;
-  ComputePass releaseBlocks_;
-  ComputePass markBlocks_;
-  ComputePass countBlocks_;
-  ComputePass binCount_;
-  ComputePass binScan_;
-  ComputePass blockOffsets_;
-  ComputePass binPlace_;
-  ComputePass orderTiles_;
-  ComputePass particleToGrid_;
-  ComputePass updateGrid_;
-  ComputePass gridToParticle_;
-  ComputePass computeVolumes_;
+  gl::ComputePass particleToGrid_;
+  gl::ComputePass updateGrid_;
+  gl::ComputePass gridToParticle_;
+  gl::ComputePass computeVolumes_;
   std::optional<ImplicitSolver> implicitSolver_;
 };
 

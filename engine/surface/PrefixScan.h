@@ -8,7 +8,7 @@
 
 #include "gl/Buffer.h"
 #include "gl/ShaderLibrary.h"
-#include "sim/ComputePass.h"
+#include "gl/ComputePass.h"
 
 namespace firn::surface {
 
@@ -17,12 +17,12 @@ class PrefixScan {
   PrefixScan(const gl::ShaderLibrary& library, const gl::ShaderOptions& options, int maxWorkGroupsX);
 
   // Scans the first `count` uvec2 of `values`. Scanning count + 1 elements whose last is 0 leaves the total of
-  // the first `count` in the last.
-  void run(const gl::Buffer& values, std::size_t count, PassTimer& timer);
+  // the first `count` in the last. `buffers` holds what else the scan's programs declare (the surface's uniforms).
+  void run(const gl::Buffer& values, std::size_t count, const gl::BufferBindings& buffers, gl::PassTimer& timer);
 
  private:
-  ComputePass reduce_;
-  ComputePass distribute_;
+  gl::ComputePass reduce_;
+  gl::ComputePass distribute_;
   int maxWorkGroupsX_;
   std::vector<gl::Buffer> levels_;  // the sums of each level above the values, grown as needed
 };

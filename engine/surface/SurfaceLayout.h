@@ -1,22 +1,24 @@
 #pragma once
 // The surface reconstruction's GPU contract (shaders/surface/surface_contract.h) as C++, in namespace firn::gpu
-// beside the simulation's (sim/GpuLayout.h, sim/GpuFunctions.h). Sizes are pinned here; every member's offset is
+// beside the simulation's (gpu/GpuLayout.h, gpu/GpuFunctions.h). Sizes are pinned here; every member's offset is
 // checked against the driver's by tests/gl/SurfaceTest.cpp.
 #include <glm/vec3.hpp>
 
-#include "sim/GpuFunctions.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuFunctions.h"
+#include "gpu/GpuLayout.h"
 
 namespace firn::gpu {
 
-using ivec3 = glm::ivec3;
-
 #include "surface/surface_contract.h"
 
-// The reconstruction runs with the simulation's particle buffers still bound, so its bindings must start past
-// the simulation's last (the semi-implicit solver's status, 19).
-static_assert(FIRN_BINDING_SURFACE_HEADER > FIRN_BINDING_SOLVER_STATUS, "surface bindings overlap the simulation's");
-static_assert(sizeof(SurfaceUniforms) == 80, "std140 SurfaceUniforms");
+// The surface's bindings lie in its range of the contract (gpu/GpuLayout.h checks the ranges against each other).
+constexpr int kSurfaceBindingPoints[] = {
+    FIRN_BINDING_SURFACE_HEADER,   FIRN_BINDING_SURFACE_DENSITY,   FIRN_BINDING_SURFACE_COLOR,
+    FIRN_BINDING_SURFACE_CELLS,    FIRN_BINDING_SURFACE_COUNTS,    FIRN_BINDING_SURFACE_VERTICES,
+    FIRN_BINDING_SURFACE_INDICES,  FIRN_BINDING_SURFACE_MATERIALS, FIRN_BINDING_SURFACE_PARTICLE_COLORS,
+    FIRN_BINDING_SCAN_VALUES,      FIRN_BINDING_SCAN_SUMS};
+static_assert(bindingsWithin(kSurfaceBindingPoints, kSurfaceBindings), "a surface binding outside its range");
+static_assert(sizeof(SurfaceUniforms) == 64, "std140 SurfaceUniforms");
 static_assert(sizeof(SurfaceHeader) == 32, "std430 SurfaceHeader");
 static_assert(sizeof(SurfaceVertex) == 48, "std430 SurfaceVertex");
 

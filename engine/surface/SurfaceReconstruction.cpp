@@ -9,7 +9,7 @@
 #include "Error.h"
 #include "gl/ShaderLibrary.h"
 #include "scene/JsonChecker.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 #include "surface/MarchingCubes.h"
 #include "surface/SurfaceLayout.h"
 
@@ -18,7 +18,6 @@ namespace firn::surface {
 namespace {
 
 // The storage binding points a reconstruction pass uses at once: the particles' (0–5) and its own (20–31).
-constexpr GLint kStorageBindingsNeeded = FIRN_BINDING_SCAN_SUMS + 1;
 // Per node: the volume fraction (int), the colour sums (ivec4), the cell (uint) and the counts (uvec2).
 constexpr std::size_t kDensityBytesPerNode = sizeof(std::int32_t);
 constexpr std::size_t kColorBytesPerNode = 4 * sizeof(std::int32_t);
@@ -84,16 +83,16 @@ KernelRange checkKernelRange(const Scene& scene, const std::vector<ParticleSeed>
 
 struct SurfaceReconstruction::Passes {
   Passes(const gl::ShaderLibrary& library, const gl::ShaderOptions& options, int maxWorkGroupsX)
-      : measureBounds(library, "surface/measure_bounds.comp", options, ComputePass::Dispatch::Particles),
-        splatDensity(library, "surface/splat_density.comp", options, ComputePass::Dispatch::Particles),
-        classifyCells(library, "surface/classify_cells.comp", options, ComputePass::Dispatch::Particles),
-        emitMesh(library, "surface/emit_mesh.comp", options, ComputePass::Dispatch::Particles),
+      : measureBounds(library, "surface/measure_bounds.comp", options),
+        splatDensity(library, "surface/splat_density.comp", options),
+        classifyCells(library, "surface/classify_cells.comp", options),
+        emitMesh(library, "surface/emit_mesh.comp", options),
         scan(library, options, maxWorkGroupsX) {}
 
-  ComputePass measureBounds;
-  ComputePass splatDensity;
-  ComputePass classifyCells;
-  ComputePass emitMesh;
+  gl::ComputePass measureBounds;
+  gl::ComputePass splatDensity;
+  gl::ComputePass classifyCells;
+  gl::ComputePass emitMesh;
   PrefixScan scan;
 };
 
@@ -102,24 +101,17 @@ SurfaceReconstruction::SurfaceReconstruction(const Scene& scene, const std::vect
     : spec_(scene.surface), latticeOriginM_(scene.grid.originM),
       nodeSpacingM_(checkKernelRange(scene, seeds).cellM), sceneFile_(sceneFile(scene)),
       maxBufferBytes_(gl.maxStorageBlockBytes), maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
-  GLint bindings = 0;
-  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
-  if (bindings < kStorageBindingsNeeded) {
-    throw NoOpenGLError("the surface reconstruction binds storage buffers up to binding " +
-                        std::to_string(kStorageBindingsNeeded - 1) + ", but " + gl.renderer +
-                        " allows GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS = " + std::to_string(bindings));
-  }
   const gl::ShaderLibrary library(gl::embeddedShaderFiles());
   passes_ = std::make_unique<Passes>(library, gl::ShaderOptions{}, maxWorkGroupsX_);
-  cases_ = gl::Buffer::fromVector(packedMarchingCubesCases());
+  cases_ = gl::Buffer::fromVector(packedMarchingCubesCases()).labelled("surface: marching-cubes cases");
   std::vector<glm::vec4> inverseDensities;
   for (const std::size_t material : buildMaterialTable(scene).entryMaterial) {
     inverseDensities.emplace_back(float(1.0 / scene.materials[material].densityKgPerM3), 0.0f, 0.0f, 0.0f);
   }
   if (inverseDensities.empty()) inverseDensities.emplace_back(0.0f);
-  materials_ = gl::Buffer::fromVector(inverseDensities);
-  uniforms_ = gl::Buffer(sizeof(gpu::SurfaceUniforms));
-  header_ = gl::Buffer(sizeof(gpu::SurfaceHeader));
+  materials_ = gl::Buffer::fromVector(inverseDensities).labelled("surface: inverse densities");
+  uniforms_ = gl::Buffer(sizeof(gpu::SurfaceUniforms)).labelled("surface uniforms");
+  header_ = gl::Buffer(sizeof(gpu::SurfaceHeader)).labelled("surface: header");
   // Bound even when a frame has no colours, so that no pass declares a buffer with nothing bound.
   colors_ = gl::Buffer(kColorBytesPerNode);
 }
@@ -154,24 +146,39 @@ void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors)
                               (withColors ? kColorBytesPerNode : 0));
 }
 
-void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::Buffer* particleColors) {
-  timeS_ = simulation.timeS();
-  const std::size_t particles = simulation.particleCount();
+gl::BufferBindings SurfaceReconstruction::bindings(const ParticleView& particles,
+                                                   const gl::Buffer* particleColors) const {
+  gl::BufferBindings buffers;
+  particles.publish(buffers);
+  buffers.uniform(FIRN_BINDING_SURFACE_UNIFORMS, uniforms_);
+  buffers.uniform(FIRN_BINDING_SURFACE_CASES, cases_);
+  buffers.storage(FIRN_BINDING_SURFACE_HEADER, header_);
+  buffers.storage(FIRN_BINDING_SURFACE_MATERIALS, materials_);
+  buffers.storage(FIRN_BINDING_SURFACE_DENSITY, density_);
+  buffers.storage(FIRN_BINDING_SURFACE_COLOR, colors_);
+  buffers.storage(FIRN_BINDING_SURFACE_CELLS, cells_);
+  buffers.storage(FIRN_BINDING_SURFACE_COUNTS, counts_);
+  buffers.storage(FIRN_BINDING_SURFACE_VERTICES, vertices_);
+  buffers.storage(FIRN_BINDING_SURFACE_INDICES, indices_);
+  buffers.storage(FIRN_BINDING_SURFACE_PARTICLE_COLORS, particleColors != nullptr ? *particleColors : colors_);
+  return buffers;
+}
+
+void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const gl::Buffer* particleColors) {
+  timeS_ = particleView.timeS;
+  const std::size_t particles = particleView.count;
   const bool withColors = particleColors != nullptr;
   stats_ = SurfaceStats{};
   stats_.withColors = withColors;
-  simulation.bindParticleBuffers();
   gpu::SurfaceUniforms uniforms{};
-  uniforms.latticeOriginSpacing = glm::vec4(glm::vec3(latticeOriginM_), float(nodeSpacingM_));
-  uniforms.kernel = glm::vec4(float(spec_.smoothing), float(spec_.iso),
-                              float(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5)),
-                              gpu::SURFACE_UNITS_PER_VALUE);
-  uniforms.particles = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, 0u, 0u);
+  uniforms.latticeOriginM = glm::vec3(latticeOriginM_);
+  uniforms.nodeSpacingM = float(nodeSpacingM_);
+  uniforms.smoothing = float(spec_.smoothing);
+  uniforms.isoLevel = float(spec_.iso);
+  uniforms.isoUnits = int(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5));
+  uniforms.reconstructedParticles = std::uint32_t(particles);
+  uniforms.withColors = withColors ? 1u : 0u;
   uniforms_.upload(0, sizeof uniforms, &uniforms);
-  uniforms_.bindUniform(FIRN_BINDING_SURFACE_UNIFORMS);
-  header_.bindStorage(FIRN_BINDING_SURFACE_HEADER);
-  materials_.bindStorage(FIRN_BINDING_SURFACE_MATERIALS);
-  cases_.bindStorage(FIRN_BINDING_SURFACE_CASES);
   if (particles == 0) return;
 
   // 1. The box of nodes the kernels reach.
@@ -179,7 +186,7 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   header.kernelNodesMin = glm::ivec4(std::numeric_limits<std::int32_t>::max());
   header.kernelNodesMax = glm::ivec4(std::numeric_limits<std::int32_t>::min());
   header_.upload(0, sizeof header, &header);
-  passes_->measureBounds.runOverParticles(particles, maxWorkGroupsX_, timer_);
+  passes_->measureBounds.runOver(particles, maxWorkGroupsX_, bindings(particleView, particleColors), timer_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   header_.download(0, sizeof header, &header);
   const glm::ivec3 lowest(header.kernelNodesMin), highest(header.kernelNodesMax);
@@ -190,25 +197,22 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   const glm::ivec3 nodes = highest - lowest + 3;
   resizeGrid(nodes, withColors);
   const std::size_t nodeCount = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
-  uniforms.firstNode = glm::ivec4(firstNode_, 0);
-  uniforms.nodeCounts = glm::ivec4(nodes, int(nodeCount));
+  uniforms.firstNode = firstNode_;
+  uniforms.nodeCount = std::uint32_t(nodeCount);
+  uniforms.boxNodes = nodes;
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   zeroPrefix(density_, nodeCount * kDensityBytesPerNode);
   if (withColors) zeroPrefix(colors_, nodeCount * kColorBytesPerNode);
   zeroPrefix(counts_, (nodeCount + 1) * kCountBytesPerNode);
-  density_.bindStorage(FIRN_BINDING_SURFACE_DENSITY);
-  colors_.bindStorage(FIRN_BINDING_SURFACE_COLOR);
-  cells_.bindStorage(FIRN_BINDING_SURFACE_CELLS);
-  counts_.bindStorage(FIRN_BINDING_SURFACE_COUNTS);
-  (withColors ? *particleColors : colors_).bindStorage(FIRN_BINDING_SURFACE_PARTICLE_COLORS);
+  const gl::BufferBindings fieldBuffers = bindings(particleView, particleColors);
 
   // 2. The field; 3. the cells; 4. where each node writes.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  passes_->splatDensity.runOverParticles(particles, maxWorkGroupsX_, timer_);
+  passes_->splatDensity.runOver(particles, maxWorkGroupsX_, fieldBuffers, timer_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  passes_->classifyCells.runOverParticles(nodeCount, maxWorkGroupsX_, timer_);
+  passes_->classifyCells.runOver(nodeCount, maxWorkGroupsX_, fieldBuffers, timer_);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  passes_->scan.run(counts_, nodeCount + 1, timer_);
+  passes_->scan.run(counts_, nodeCount + 1, fieldBuffers, timer_);
   glm::uvec2 totals(0u);
   counts_.download(nodeCount * kCountBytesPerNode, sizeof totals, &totals);
   stats_.vertices = totals.x;
@@ -224,10 +228,7 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   ensureCapacity(indices_, indexBytes);
 
   // 5. The mesh.
-  counts_.bindStorage(FIRN_BINDING_SURFACE_COUNTS);
-  vertices_.bindStorage(FIRN_BINDING_SURFACE_VERTICES);
-  indices_.bindStorage(FIRN_BINDING_SURFACE_INDICES);
-  passes_->emitMesh.runOverParticles(nodeCount, maxWorkGroupsX_, timer_);
+  passes_->emitMesh.runOver(nodeCount, maxWorkGroupsX_, bindings(particleView, particleColors), timer_);
   // Drawn as vertex storage and an element array, or read back.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_ELEMENT_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }

@@ -22,8 +22,9 @@
 #include "io/SurfaceMesh.h"
 #include "io/Vdb.h"
 #include "scene/Scene.h"
-#include "sim/ComputePass.h"
-#include "sim/Simulation.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
+#include "gpu/ParticleView.h"
 #include "surface/PrefixScan.h"
 
 namespace firn::surface {
@@ -56,10 +57,10 @@ class SurfaceReconstruction {
   SurfaceReconstruction(const SurfaceReconstruction&) = delete;
   SurfaceReconstruction& operator=(const SurfaceReconstruction&) = delete;
 
-  // Rebuilds the surface from the simulation's particles as they are now. `particleColors`, when given, holds a
-  // vec4 per particle (linear albedo) to carry onto the surface. Throws InputError naming surface.resolution when
-  // the grid the particles now span would not fit the driver's largest storage buffer.
-  void reconstruct(const Simulation& simulation, const gl::Buffer* particleColors = nullptr);
+  // Rebuilds the surface from the particles as they are now. `particleColors`, when given, holds a vec4 per
+  // particle (linear albedo) to carry onto the surface. Throws InputError naming surface.resolution when the grid
+  // the particles now span would not fit the driver's largest storage buffer.
+  void reconstruct(const ParticleView& particles, const gl::Buffer* particleColors = nullptr);
 
   const SurfaceStats& stats() const { return stats_; }
   // The mesh on the GPU: SurfaceVertex (surface/SurfaceLayout.h) per vertex, three uint indices per triangle.
@@ -76,11 +77,14 @@ class SurfaceReconstruction {
 
   // Time each pass, as Simulation::setPassTiming does (for benchmarks; it waits for every pass).
   void setPassTiming(bool enabled) { timer_.setEnabled(enabled); }
-  const std::vector<PassTimer::PassTime>& passTimes() const { return timer_.times(); }
+  const std::vector<gl::PassTimer::PassTime>& passTimes() const { return timer_.times(); }
 
  private:
   struct Passes;
   void resizeGrid(const glm::ivec3& nodes, bool withColors);
+  // The surface's buffers at its binding range of the GPU contract, the particles' at theirs (the colours' stand-in
+  // without colours): what each pass binds from. Made again after the buffers grow.
+  gl::BufferBindings bindings(const ParticleView& particles, const gl::Buffer* particleColors) const;
 
   SurfaceSpec spec_;
   glm::dvec3 latticeOriginM_;
@@ -89,7 +93,9 @@ class SurfaceReconstruction {
   long long maxBufferBytes_;
   int maxWorkGroupsX_;
   std::unique_ptr<Passes> passes_;
-  PassTimer timer_;
+  gl::PassTimer timer_;
+
+  // The surface's part of the GPU state (FIRN_SURFACE_BINDINGS_FIRST to _END, and two uniform blocks).
 
   gl::Buffer uniforms_;
   gl::Buffer header_;

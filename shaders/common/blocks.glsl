@@ -33,7 +33,7 @@ layout(std430, binding = FIRN_BINDING_TILE_ORDER) buffer TileOrderBuffer { uint 
 // A block being claimed in mark_blocks.comp: its slot is not yet written.
 const uint CLAIMED = 0xffffffffu;
 
-ivec3 blocksPerAxis() { return (gridNodes.xyz + BLOCK_WIDTH - 1) / BLOCK_WIDTH; }
+ivec3 blocksPerAxis() { return (gridNodes + BLOCK_WIDTH - 1) / BLOCK_WIDTH; }
 uint blockIndex(ivec3 block) {
   ivec3 count = blocksPerAxis();
   return uint(block.x + count.x * (block.y + count.y * block.z));

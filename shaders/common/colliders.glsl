@@ -25,7 +25,7 @@ vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction
 // Applies every collider whose solid contains `probe` (a node, or a particle's predicted position).
 vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
 #ifdef FIRN_HAS_COLLIDERS
-  for (uint i = 0u; i < counts.y; ++i) {
+  for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
@@ -45,7 +45,7 @@ vec4 colliderConstraint(vec3 probe, vec3 v, float timeS) {
   int code = 0;
   vec3 heldNormal = vec3(0.0);
 #ifdef FIRN_HAS_COLLIDERS
-  for (uint i = 0u; i < counts.y; ++i) {
+  for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
@@ -88,5 +88,5 @@ vec3 collideWithDomainWalls(vec3 probe, vec3 v, vec3 interiorMin, vec3 interiorM
 
 // Walls sit FIRN_WALL_CELLS cells inside the domain (GridSpec::wallCells) so every stencil stays on the grid.
 const float WALL_CELLS = float(FIRN_WALL_CELLS);
-vec3 interiorMin() { return gridOrigin() + WALL_CELLS * cellSize(); }
-vec3 interiorMax() { return gridOrigin() + (vec3(gridNodes.xyz - 1) - WALL_CELLS) * cellSize(); }
+vec3 interiorMin() { return gridOriginM + WALL_CELLS * cellSizeM; }
+vec3 interiorMax() { return gridOriginM + (vec3(gridNodes - 1) - WALL_CELLS) * cellSizeM; }

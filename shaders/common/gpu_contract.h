@@ -2,7 +2,7 @@
 // enum codes, the watchdog's overflow channels and the layout of every struct both sides read — written once,
 // in the part of the preprocessor and of declarations that C++17 and GLSL 4.30 have in common.
 //
-// C++ reads it through engine/sim/GpuLayout.h, inside namespace firn::gpu with glm's vector types; GLSL through
+// C++ reads it through engine/gpu/GpuLayout.h, inside namespace firn::gpu with glm's vector types; GLSL through
 // common/bindings.glsl. Each struct is described once, as a member list (an "X-macro": a macro that applies its
 // argument to every member), from which FIRN_STRUCT declares the struct in either language, a shader block can
 // declare the members loose (FIRN_MEMBERS), and tests/gl/GpuContractTest.cpp checks every member's offset, as
@@ -30,31 +30,53 @@
 #define FIRN_REQUIRED_STORAGE_BINDINGS 32        // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8)
 #define FIRN_REQUIRED_COMPUTE_STORAGE_BLOCKS 16  // GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8)
 
-// Shader storage binding points, one buffer each.
+// Shader storage binding points, one buffer each. Each part of the GPU state owns a range of them, [FIRST, END),
+// and publishes its buffers there (engine/sim/ParticleBuffers.h, BlockGrid.h, SolverState.h, GpuState.h; the
+// surface's, shaders/surface/surface_contract.h); a program binds the blocks it declares before it runs
+// (engine/gl/BufferBindings.h). engine/gpu/GpuLayout.h does not compile if two ranges overlap, a binding lies
+// outside its part's range or shares a number with another, or the last range ends past
+// FIRN_REQUIRED_STORAGE_BINDINGS.
+// The particles (common/particles.glsl; the renderer reads them too).
+#define FIRN_PARTICLE_BINDINGS_FIRST 0
 #define FIRN_BINDING_POSITION_MASS 0        // vec4 per particle: x (m), mass (kg)
 #define FIRN_BINDING_VELOCITY_VOLUME 1      // vec4 per particle: v (m/s), initial volume V0 (m³)
 #define FIRN_BINDING_ELASTIC_DEFORMATION 2  // mat3 per particle: F (F_E for snow and sand)
 #define FIRN_BINDING_KIRCHHOFF_STRESS 3     // mat3 per particle: τ = (∂Ψ/∂F_E) F_Eᵀ (Pa) of the last update
 #define FIRN_BINDING_AFFINE 4               // mat3 per particle: APIC's C
 #define FIRN_BINDING_PLASTIC_STATE 5        // ParticlePlasticState per particle
+#define FIRN_PARTICLE_BINDINGS_END 6
+// The block grid (common/blocks.glsl, common/grid.glsl): the pool of blocks, the map over the domain, and the
+// particles sorted into the blocks' bins.
+#define FIRN_GRID_BINDINGS_FIRST 6
 #define FIRN_BINDING_GRID_MOMENTUM_MASS 6   // per node of the pool: momentum and mass sums, then velocity and mass
 #define FIRN_BINDING_GRID_IMPULSE 7         // per node of the pool (PIC/FLIP): impulse sums, then velocity before forces
-#define FIRN_BINDING_MATERIALS 8            // MaterialParams[]
-#define FIRN_BINDING_COLLIDERS 9            // ColliderParams[]
-#define FIRN_BINDING_BLOCK_TABLE 10         // BlockTableHeader, then a BlockSlot per block of the pool
-#define FIRN_BINDING_WATCHDOG 11            // WatchdogStatus
-#define FIRN_BINDING_BLOCK_MAP 12           // uint per block of the domain: its slot in the pool + 1, or 0
-#define FIRN_BINDING_BINS 13                // uvec2 per base node of each active block: particles, first (in block)
-#define FIRN_BINDING_SORTED_PARTICLES 14    // uint per particle: particle indices, block after block, bin after bin
-#define FIRN_BINDING_PARTICLE_RANKS 15      // uint per particle: its place in its bin
-#define FIRN_BINDING_TILE_ORDER 16          // uint per tile of the pool: the tiles holding particles, fullest first
+#define FIRN_BINDING_BLOCK_TABLE 8          // BlockTableHeader, then a BlockSlot per block of the pool
+#define FIRN_BINDING_BLOCK_MAP 9            // uint per block of the domain: its slot in the pool + 1, or 0
+#define FIRN_BINDING_BINS 10                // uvec2 per base node of each active block: particles, first (in block)
+#define FIRN_BINDING_SORTED_PARTICLES 11    // uint per particle: particle indices, block after block, bin after bin
+#define FIRN_BINDING_PARTICLE_RANKS 12      // uint per particle: its place in its bin
+#define FIRN_BINDING_TILE_ORDER 13          // uint per tile of the pool: the tiles holding particles, fullest first
+#define FIRN_GRID_BINDINGS_END 14
+// The scene's tables and the watchdog.
+#define FIRN_TABLE_BINDINGS_FIRST 14
+#define FIRN_BINDING_MATERIALS 14           // MaterialParams[]
+#define FIRN_BINDING_COLLIDERS 15           // ColliderParams[]
+#define FIRN_BINDING_WATCHDOG 16            // WatchdogStatus
+#define FIRN_TABLE_BINDINGS_END 17
 // The semi-implicit solve's (solver.integrator "semi_implicit" only; common/solver.glsl).
+#define FIRN_SOLVER_BINDINGS_FIRST 17
 #define FIRN_BINDING_SOLVER_NODES 17        // SolverNode per node of the pool: the conjugate residual method's vectors
 #define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: its stiffness in the frame of F's SVD
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 #define FIRN_BINDING_SOLVER_PRECONDITIONER 20  // SolverPreconditioner per node of the pool: P⁻¹'s 3×3 block there
-// Uniform block binding point.
+#define FIRN_SOLVER_BINDINGS_END 21
+// The snow's surface (shaders/surface/surface_contract.h declares its bindings).
+#define FIRN_SURFACE_BINDINGS_FIRST 21
+#define FIRN_SURFACE_BINDINGS_END 32
+// Uniform block binding points.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
+#define FIRN_BINDING_SURFACE_UNIFORMS 1     // SurfaceUniforms (surface_contract.h)
+#define FIRN_BINDING_SURFACE_CASES 2        // the marching-cubes cases (surface_contract.h)
 
 // Invocations per work group of the passes that run one invocation per particle, of those that run one per
 // node of a block (BLOCK_NODES), and of the transfers, which run one per tile of base nodes (tiles of alike fill
@@ -109,7 +131,7 @@ FIRN_CONSTANT(uint, TILE_BUCKET_PARTICLES, 4u)
 // ParticlePlasticState: the scalar state each material keeps besides F (common/materials.glsl); 1 for what a
 // material does not use.
 //   plasticJ          snow: J_P = det F_P; water: J = det F; sand: the hardening state q
-//   materialIndex     into the material table (engine/sim/Materials.h)
+//   materialIndex     into the material table (engine/gpu/Materials.h)
 //   volumeCorrection  sand: the log-volume correction V_c (Klár et al. 2016)
 #define FIRN_PARTICLE_PLASTIC_STATE(member, array) \
   member(float, plasticJ)                          \
@@ -288,23 +310,42 @@ FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
   member(uint, maxSpeedBits)
 FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 
-// StepUniforms: the uniform block written before every step.
-//   gridOriginCellSize  origin (m), h (m)
-//   gridNodes           nodes per axis
-//   gravityDt           g (m/s²), Δt of this step (s)
-//   fixedPoint          m_ref (kg), the momentum unit m_ref·h/Δt_ref (kg·m/s), 2^k, 2^−k (docs/numerics.md)
-//   transfer            FLIP ratio α, the simulated time at the start of the step (s), APIC's D⁻¹ (1/m²)
-//   counts              particles, colliders, step index
-//   solver              semi-implicit: β (implicit_ratio), the tolerance², 2^k_H and 2^−k_H (the units of
-//                       SolverNode.productLow/High)
-#define FIRN_STEP_UNIFORMS(member, array) \
-  member(vec4, gridOriginCellSize)        \
-  member(ivec4, gridNodes)                \
-  member(vec4, gravityDt)                 \
-  member(vec4, fixedPoint)                \
-  member(vec4, transfer)                  \
-  member(uvec4, counts)                   \
-  member(vec4, solver)
+// StepUniforms: the uniform block written before every step (std140; a vec3 and a scalar, or four scalars, to each
+// 16 bytes, so that std140 and C++ place every member alike; 100 bytes in all).
+//   gridOriginM, cellSizeM         the grid's origin and cell size h (m)
+//   gridNodes, particleCount       nodes per axis; the live particles
+//   gravityMPerS2, dtS             g (m/s²); Δt of this step (s)
+//   timeS                          the simulated time at the start of the step (s)
+//   flipRatio                      PIC/FLIP's α
+//   apicInverseInertiaPerM2        APIC's D⁻¹ (1/m²)
+//   stepIndex                      the steps taken before this one
+//   referenceMassKg                the fixed-point mass unit m_ref (docs/numerics.md)
+//   momentumUnitKgMPerS            the fixed-point momentum unit m_ref·h/Δt_ref: Δt_ref is the scene's dt, or with
+//                                  adaptive steps this step's (sim/StepPipeline.cpp)
+//   fixedPointScale, fixedPointResolution   2^k and 2^−k: units per value and back
+//   colliderCount                  the collider table's entries
+//   implicitRatio, solverToleranceSquared   semi-implicit: β and the tolerance²
+//   solverScale, solverResolution  semi-implicit: 2^k_H and 2^−k_H, the units of SolverNode.productLow/High
+#define FIRN_STEP_UNIFORMS(member, array)  \
+  member(vec3, gridOriginM)                \
+  member(float, cellSizeM)                 \
+  member(ivec3, gridNodes)                 \
+  member(uint, particleCount)              \
+  member(vec3, gravityMPerS2)              \
+  member(float, dtS)                       \
+  member(float, timeS)                     \
+  member(float, flipRatio)                 \
+  member(float, apicInverseInertiaPerM2)   \
+  member(uint, stepIndex)                  \
+  member(float, referenceMassKg)           \
+  member(float, momentumUnitKgMPerS)       \
+  member(float, fixedPointScale)           \
+  member(float, fixedPointResolution)      \
+  member(uint, colliderCount)              \
+  member(float, implicitRatio)             \
+  member(float, solverToleranceSquared)    \
+  member(float, solverScale)               \
+  member(float, solverResolution)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

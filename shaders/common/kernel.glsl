@@ -49,7 +49,7 @@ ivec3 stencilBaseNode(vec3 positionInCells) {
 #endif
 }
 
-vec3 cellCoordinates(vec3 positionM) { return (positionM - gridOrigin()) / cellSize(); }
+vec3 cellCoordinates(vec3 positionM) { return (positionM - gridOriginM) / cellSizeM; }
 
 Stencil particleStencil(vec3 positionM) {
   vec3 positionInCells = cellCoordinates(positionM);
@@ -62,7 +62,7 @@ Stencil particleStencil(vec3 positionM) {
     stencil.weightX[k] = kernelWeight(offsetInCells.x);
     stencil.weightY[k] = kernelWeight(offsetInCells.y);
     stencil.weightZ[k] = kernelWeight(offsetInCells.z);
-    vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSize();
+    vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSizeM;
     stencil.slopeX[k] = slope.x;
     stencil.slopeY[k] = slope.y;
     stencil.slopeZ[k] = slope.z;

@@ -23,12 +23,12 @@ Contribution particleContribution(uint p) {
   mat3 stress = kirchhoffStress[p];
   // G2P never stores a non-finite state, so one here came from outside (an upload): report it, scatter nothing.
   c.finite = allFinite(c.x) && allFinite(velocityVolumeP.xyz) && allFinite(stress);
-  c.massUnits = massKg / fixedPoint.x;
-  c.momentumUnits = velocityVolumeP.xyz * (massKg / fixedPoint.y);
-  c.impulseUnits = (-stepDt() * velocityVolumeP.w / fixedPoint.y) * stress;
+  c.massUnits = massKg / referenceMassKg;
+  c.momentumUnits = velocityVolumeP.xyz * (massKg / momentumUnitKgMPerS);
+  c.impulseUnits = (-dtS * velocityVolumeP.w / momentumUnitKgMPerS) * stress;
 #ifdef FIRN_TRANSFER_APIC
   // APIC (Jiang et al. 2015): momentum m w (v + C (x_i − x_p)).
-  c.affineMomentumUnits = affine[p] * (massKg / fixedPoint.y);
+  c.affineMomentumUnits = affine[p] * (massKg / momentumUnitKgMPerS);
 #endif
   c.particleU = particleDither(c.x);
   return c;

@@ -1,7 +1,7 @@
 // Functions the host and the shaders both evaluate, written once in the part of C++17 and GLSL 4.30 they have
 // in common (no swizzles, float literals with an f). The GPU uses them every step; the host before running
 // (the pre-flight check of engine/run/Preflight.cpp, the first adaptive step, the watchdog's advice).
-// C++ reads this file through engine/sim/GpuFunctions.h, inside namespace firn::gpu with glm's functions.
+// C++ reads this file through engine/gpu/GpuFunctions.h, inside namespace firn::gpu with glm's functions.
 // FIRN_FUNCTION marks a function (inline in C++); FIRN_GENERIC ones are templates in C++, so the host evaluates
 // them in double precision, and float functions in GLSL.
 #ifndef FIRN_SHARED_FUNCTIONS_H

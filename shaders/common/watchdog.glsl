@@ -7,20 +7,20 @@ layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
 void reportOverflow(uint node, uint channel) {
   atomicAdd(overflowCount, 1u);
   if (atomicCompSwap(overflowNode, -1, int(node)) == -1) {
-    overflowStep = stepIndex();
+    overflowStep = stepIndex;
     overflowChannel = channel;
   }
 }
 
 void reportNonFinite(uint particle) {
   atomicAdd(nonFiniteCount, 1u);
-  if (atomicCompSwap(nonFiniteParticle, -1, int(particle)) == -1) nonFiniteStep = stepIndex();
+  if (atomicCompSwap(nonFiniteParticle, -1, int(particle)) == -1) nonFiniteStep = stepIndex;
 }
 
 void reportCflViolation(uint particle, float cellsPerStep) {
   atomicAdd(cflCount, 1u);
   if (atomicCompSwap(cflParticle, -1, int(particle)) == -1) {
-    cflStep = stepIndex();
+    cflStep = stepIndex;
     cflCellsPerStep = cellsPerStep;
   }
 }

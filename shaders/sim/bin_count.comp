@@ -11,7 +11,7 @@ layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void main() {
   uint p = particleInvocationIndex();
-  if (p >= particleCount()) return;
+  if (p >= particleCount) return;
   vec3 x = positionMass[p].xyz;
   if (!allFinite(x)) return;  // reported by mark_blocks.comp
   ivec3 base = stencilBaseNode(cellCoordinates(x));

@@ -18,12 +18,12 @@ void computeVolume(uint p) {
     int address = nodeAddress(stencil.baseNode + k);
     densityMassUnits += stencilWeight(stencil, k) * (address < 0 ? 0.0 : nodeMassUnits(uint(address)));
   }
-  float h = cellSize();
-  float densityKgPerM3 = densityMassUnits * fixedPoint.x / (h * h * h);
+  float h = cellSizeM;
+  float densityKgPerM3 = densityMassUnits * referenceMassKg / (h * h * h);
   velocityVolume[p].w = xm.w / densityKgPerM3;
 }
 
 void main() {
   uint p = particleInvocationIndex();
-  if (p < particleCount()) computeVolume(p);
+  if (p < particleCount) computeVolume(p);
 }

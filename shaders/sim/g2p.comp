@@ -50,10 +50,10 @@ void advanceParticle(uint p) {
 
 #ifdef FIRN_TRANSFER_APIC
   vec3 velocity = picVelocity;
-  mat3 newAffine = affineMoment * transfer.z;  // C_p = B_p D_p⁻¹ (Jiang et al. 2015)
+  mat3 newAffine = affineMoment * apicInverseInertiaPerM2;  // C_p = B_p D_p⁻¹ (Jiang et al. 2015)
 #else
   // v_p = α (v_p + Σ w Δv_i) + (1 − α) Σ w v_i (Snow thesis 2015 §3.4 step 8)
-  vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, transfer.x);
+  vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, flipRatio);
 #endif
 
   ParticlePlasticState state = plasticState[p];
@@ -62,16 +62,16 @@ void advanceParticle(uint p) {
 #else
   mat3 deformation = mat3(1.0);
 #endif
-  MaterialUpdate material = updateMaterial(deformation, state, velocityGradient, stepDt(), materials[state.materialIndex]);
+  MaterialUpdate material = updateMaterial(deformation, state, velocityGradient, dtS, materials[state.materialIndex]);
 
   // Particle collisions at the predicted position, at the end of the step.
-  float endTimeS = transfer.y + stepDt();
-  vec3 predicted = x + stepDt() * velocity;
+  float endTimeS = timeS + dtS;
+  vec3 predicted = x + dtS * velocity;
   velocity = collideWithColliders(predicted, velocity, endTimeS);
   velocity = collideWithDomainWalls(predicted, velocity, interiorMin(), interiorMax());
   // Keep the stencil on the grid whatever happens: cubic needs x/h ∈ [1, nodes − 2).
-  vec3 newPosition = clamp(x + stepDt() * velocity, gridOrigin() + cellSize(),
-                           gridOrigin() + (vec3(gridNodes.xyz) - 2.001) * cellSize());
+  vec3 newPosition = clamp(x + dtS * velocity, gridOriginM + cellSizeM,
+                           gridOriginM + (vec3(gridNodes) - 2.001) * cellSizeM);
 
   bool finite = allFinite(newPosition) && allFinite(velocity) && allFinite(material.deformation) &&
                 allFinite(material.kirchhoffStress) && !isnan(material.state) && !isinf(material.state) &&
@@ -83,7 +83,7 @@ void advanceParticle(uint p) {
     reportNonFinite(p);
     return;
   }
-  float cellsPerStep = length(velocity) * stepDt() / cellSize();
+  float cellsPerStep = length(velocity) * dtS / cellSizeM;
   if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
 #if defined(FIRN_ADAPTIVE_DT) && defined(FIRN_SEMI_IMPLICIT)
   // A semi-implicit step is not bounded by the elastic wave: the next step must keep the particle within a cell.

@@ -22,7 +22,7 @@ void claimBlock(ivec3 block) {
 
 void main() {
   uint p = particleInvocationIndex();
-  if (p >= particleCount()) return;
+  if (p >= particleCount) return;
   vec3 x = positionMass[p].xyz;
   if (!allFinite(x)) {
     reportNonFinite(p);

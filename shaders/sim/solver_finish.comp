@@ -25,7 +25,7 @@ void main() {
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
-  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) velocity = collideWithColliders(x, velocity, transfer.y);
+  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) velocity = collideWithColliders(x, velocity, timeS);
   velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
   gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));
 }

@@ -17,7 +17,7 @@ void main() {
   uint p = particleInvocationIndex();
   uint l = gl_LocalInvocationIndex;
   uint bits = 0x7f800000u;  // +∞
-  if (p < particleCount()) {
+  if (p < particleCount) {
     ParticlePlasticState state = plasticState[p];
     SolverParticle s = principalStiffness(elasticDeformation[p], materials[state.materialIndex], state.plasticJ);
     solverParticles[p] = s;

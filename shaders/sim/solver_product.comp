@@ -113,20 +113,20 @@ void scatterParticle(uint p, ivec3 bin) {
   SolverParticle stiffness = solverParticles[p];
 #ifdef FIRN_SOLVER_FORCE_DIFFERENCE
   mat3 F = elasticDeformation[p];
-  mat3 dF = stepDt() * velocityGradient * F;
+  mat3 dF = dtS * velocityGradient * F;
   ParticlePlasticState state = plasticState[p];
   MaterialParams material = materials[state.materialIndex];
   mat3 dP = 0.5 * (firstPiolaStress(F + dF, material, state.plasticJ) - firstPiolaStress(F - dF, material, state.plasticJ));
   mat3 stressTimesFT = dP * transpose(F);
 #else
-  mat3 stressTimesFT = stressDifferentialTimesFT(stiffness, velocityGradient, stepDt());
+  mat3 stressTimesFT = stressDifferentialTimesFT(stiffness, velocityGradient, dtS);
 #endif
   // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and β Δt² V0 (Pa/m² of stiffnessBlock to kg) in reference
   // masses.
   float volume = velocityVolume[p].w;
-  mat3 stressUnits = (implicitRatio() * stepDt() * volume / fixedPoint.y) * stressTimesFT;
+  mat3 stressUnits = (implicitRatio * dtS * volume / momentumUnitKgMPerS) * stressTimesFT;
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
-  float blockUnits = implicitRatio() * stepDt() * stepDt() * volume / fixedPoint.x;
+  float blockUnits = implicitRatio * dtS * dtS * volume / referenceMassKg;
   StiffnessBlockForm form = stiffnessBlockForm(stiffness);
   for (int n = 0; n < KERNEL_NODES; ++n) {
     scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), bin);

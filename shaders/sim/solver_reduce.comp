@@ -71,7 +71,7 @@ void main() {
   // The reference's sum comes with the rounding floor's in x (solver_residual.comp): the tolerance is met at
   // ‖r‖ ≤ max(tolerance ‖M v*‖, ‖δb‖), so the reference is the larger of (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) and
   // ‖δb‖² / tolerance².
-  if (components.w) total.w = max(total.w, total.x / toleranceSquared());
+  if (components.w) total.w = max(total.w, total.x / solverToleranceSquared);
   // The iteration's (A p, P⁻¹ A p) of p = z + β p' (solver_step.comp) from solver_apply.comp's sums: (A z, P⁻¹ A z)
   // + 2β (A z, P⁻¹ A p') + β² (A p', P⁻¹ A p'), the last the previous iteration's y. Each term is summed exactly,
   // and the first two iterations' directions are z alone.
@@ -83,7 +83,7 @@ void main() {
   if (components.z) {
     // Another iteration while (r, P⁻¹ r) > tolerance² × the reference; a NaN residual ends the solve for the host to report.
     float reference = components.w ? total.w : registers[0].w;
-    bool another = total.z > toleranceSquared() * reference;
+    bool another = total.z > solverToleranceSquared * reference;
     solveBlockDispatch = another ? blockDispatch : uvec4(0u, 1u, 1u, 0u);
     solveProductDispatch = another ? tileDispatch : uvec4(0u, 1u, 1u, 0u);
     solveReduceDispatch = uvec4(another ? 1u : 0u, 1u, 1u, 0u);

@@ -29,7 +29,7 @@ layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 // the right-hand side does determine. 0 where β is 0 (no stiffness, no floor).
 float roundingFloorTerm(float massKg, float traceKg) {
   const float EPSILON_SQUARED = 3.5527137e-15;  // (2⁻²⁴)²
-  float scale = implicitRatio() > 0.0 ? 3.0 * EPSILON_SQUARED * uintBitsToFloat(roundingStiffness.x) / implicitRatio() : 0.0;
+  float scale = implicitRatio > 0.0 ? 3.0 * EPSILON_SQUARED * uintBitsToFloat(roundingStiffness.x) / implicitRatio : 0.0;
   float meanDiagonalKg = massKg + traceKg / 3.0;
   return massKg > 0.0 ? scale * (traceKg / 3.0) / meanDiagonalKg : 0.0;
 }

@@ -30,20 +30,20 @@ void main() {
   vec4 constraint = vec4(0.0, 0.0, 0.0, float(CONSTRAINT_FIXED));  // a node without mass stays at rest
 #endif
   if (sums.w > 0.0) {
-    massKg = sums.w * fixedPoint.x;
-    float unitsToVelocity = fixedPoint.y / massKg;
+    massKg = sums.w * referenceMassKg;
+    float unitsToVelocity = momentumUnitKgMPerS / massKg;
 #ifdef FIRN_GRID_IMPULSE
     vec3 impulse = storedToNondimensional(gridImpulse[i]).xyz;
     velocityBeforeForces = sums.xyz * unitsToVelocity;
-    velocity = (sums.xyz + impulse) * unitsToVelocity + stepDt() * gravityDt.xyz;
+    velocity = (sums.xyz + impulse) * unitsToVelocity + dtS * gravityMPerS2;
 #else
-    velocity = sums.xyz * unitsToVelocity + stepDt() * gravityDt.xyz;  // impulse already in the momentum
+    velocity = sums.xyz * unitsToVelocity + dtS * gravityMPerS2;  // impulse already in the momentum
 #endif
     vec3 x = nodePosition(node);
 #ifdef FIRN_SEMI_IMPLICIT
-    constraint = colliderConstraint(x, velocity, transfer.y);
+    constraint = colliderConstraint(x, velocity, timeS);
 #endif
-    velocity = collideWithColliders(x, velocity, transfer.y);
+    velocity = collideWithColliders(x, velocity, timeS);
 #ifdef FIRN_SEMI_IMPLICIT
     int walls = wallConstraint(x, velocity, interiorMin(), interiorMax());
     // A normal and a wall's axis together: held whole, so that the projection stays one.
@@ -61,7 +61,7 @@ void main() {
   // iteration takes the step along v* − x₀ that leaves the least residual (docs/numerics.md), so the solve starts
   // from the better of the two, or a blend. With β = 0, v* is the solution and the start.
   vec3 start = velocity;
-  if (implicitRatio() > 0.0) start += constrain(velocityBeforeForces + stepDt() * gravityDt.xyz - velocity, constraint);
+  if (implicitRatio > 0.0) start += constrain(velocityBeforeForces + dtS * gravityMPerS2 - velocity, constraint);
   solverNodes[i].direction.xyz = start;
 #endif
   gridMomentumMass[i] = floatsToStored(vec4(velocity, massKg));

@@ -3,6 +3,8 @@
 // Needs surface_common.glsl.
 
 layout(std430, binding = FIRN_BINDING_SURFACE_CELLS) buffer SurfaceCellBuffer { uint cells[]; };
+// The marching-cubes table (engine/surface/MarchingCubes.h), a case per cell's corner pattern.
+layout(std140, binding = FIRN_BINDING_SURFACE_CASES) uniform SurfaceCaseBlock { uvec4 cases[MARCHING_CUBES_CASES]; };
 
 uint cellCase(uint cell) { return cell & 0xFFu; }
 uint crossedEdges(uint cell) { return (cell >> 8) & 7u; }

@@ -10,24 +10,23 @@
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) readonly buffer SurfaceDensityBuffer { int density[]; };
-layout(std430, binding = FIRN_BINDING_SURFACE_CASES) readonly buffer SurfaceCaseBuffer { uvec4 cases[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COUNTS) writeonly buffer SurfaceCountBuffer { uvec2 counts[]; };
 
-bool insideAt(ivec3 node) { return density[nodeAddress(node)] >= isoUnits(); }
+bool insideAt(ivec3 node) { return density[nodeAddress(node)] >= isoUnits; }
 
 void main() {
   uint address = itemIndex();
-  if (address >= nodeCount()) return;
+  if (address >= nodeCount) return;
   ivec3 node = nodeOfAddress(address);
   bool inside = insideAt(node);
   uint crossed = 0u;
   for (int axis = 0; axis < 3; ++axis) {
     ivec3 neighbour = node;
     neighbour[axis] += 1;
-    if (neighbour[axis] < nodeCounts[axis] && insideAt(neighbour) != inside) crossed |= 1u << axis;
+    if (neighbour[axis] < boxNodes[axis] && insideAt(neighbour) != inside) crossed |= 1u << axis;
   }
   uint caseIndex = 0u;
-  if (all(lessThan(node + 1, nodeCounts.xyz))) {
+  if (all(lessThan(node + 1, boxNodes))) {
     for (int corner = 0; corner < 8; ++corner) {
       if (insideAt(node + cellCorner(corner))) caseIndex |= 1u << corner;
     }

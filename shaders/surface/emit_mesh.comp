@@ -13,14 +13,13 @@
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) readonly buffer SurfaceDensityBuffer { int density[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COLOR) readonly buffer SurfaceColorBuffer { ivec4 colorSums[]; };
-layout(std430, binding = FIRN_BINDING_SURFACE_CASES) readonly buffer SurfaceCaseBuffer { uvec4 cases[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COUNTS) readonly buffer SurfaceCountBuffer { uvec2 offsets[]; };
 #include "surface/vertices.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 layout(std430, binding = FIRN_BINDING_SURFACE_INDICES) writeonly buffer SurfaceIndexBuffer { uint indices[]; };
 
-float fieldAt(ivec3 node) { return fieldValue(density[nodeAddress(clamp(node, ivec3(0), nodeCounts.xyz - 1))]); }
+float fieldAt(ivec3 node) { return fieldValue(density[nodeAddress(clamp(node, ivec3(0), boxNodes - 1))]); }
 
 // ∇f by central differences (one-sided on the grid's faces), per node spacing.
 vec3 fieldGradient(ivec3 node) {
@@ -28,7 +27,7 @@ vec3 fieldGradient(ivec3 node) {
   for (int axis = 0; axis < 3; ++axis) {
     ivec3 step = ivec3(0);
     step[axis] = 1;
-    ivec3 below = max(node - step, ivec3(0)), above = min(node + step, nodeCounts.xyz - 1);
+    ivec3 below = max(node - step, ivec3(0)), above = min(node + step, boxNodes - 1);
     gradient[axis] = (fieldAt(above) - fieldAt(below)) / float(max(above[axis] - below[axis], 1));
   }
   return gradient;
@@ -38,17 +37,17 @@ SurfaceVertex edgeVertex(ivec3 start, int axis) {
   ivec3 end = start;
   end[axis] += 1;
   float startValue = fieldAt(start), endValue = fieldAt(end);
-  float t = clamp((isoLevel() - startValue) / (endValue - startValue), 0.0, 1.0);
+  float t = clamp((isoLevel - startValue) / (endValue - startValue), 0.0, 1.0);
   SurfaceVertex vertex;
   vec3 positionM = nodePositionM(start);
-  positionM[axis] += t * nodeSpacing();
+  positionM[axis] += t * nodeSpacingM;
   vertex.positionM = vec4(positionM, 1.0);
   vec3 gradient = mix(fieldGradient(start), fieldGradient(end), t);
   vec3 along = vec3(0.0);
   along[axis] = startValue > endValue ? 1.0 : -1.0;  // out of the snow along the edge, if f is flat across it
   vertex.normal = vec4(dot(gradient, gradient) > 0.0 ? -normalize(gradient) : along, 0.0);
   vertex.albedo = vec4(1.0);
-  if (withColors()) {
+  if (withColors != 0u) {
     vec3 colorSum = mix(vec3(colorSums[nodeAddress(start)].xyz), vec3(colorSums[nodeAddress(end)].xyz), t);
     float densitySum = mix(float(density[nodeAddress(start)]), float(density[nodeAddress(end)]), t);
     vertex.albedo = vec4(clamp(colorSum / max(densitySum, 1.0), 0.0, 1.0), 1.0);
@@ -61,7 +60,7 @@ int caseEdge(uvec4 entry, int i) { return int((entry[1 + i / 8] >> (4 * (i % 8))
 
 void main() {
   uint address = itemIndex();
-  if (address >= nodeCount()) return;
+  if (address >= nodeCount) return;
   uint cell = cells[address];
   uvec2 first = offsets[address];  // this node's first vertex and its cell's first triangle
   ivec3 node = nodeOfAddress(address);

@@ -9,4 +9,4 @@ float particleRestVolumeM3(uint p) {
   return positionMass[p].w * materialInverseDensity[plasticState[p].materialIndex].x;
 }
 
-float kernelRadiusM(float restVolumeM3) { return smoothing() * pow(restVolumeM3, 1.0 / 3.0); }
+float kernelRadiusM(float restVolumeM3) { return smoothing * pow(restVolumeM3, 1.0 / 3.0); }

@@ -22,19 +22,19 @@ int toUnits(float value) { return int(floor(value * SURFACE_UNITS_PER_VALUE + 0.
 
 void main() {
   uint p = itemIndex();
-  if (p >= reconstructedParticles()) return;
+  if (p >= reconstructedParticles) return;
   vec3 x = positionMass[p].xyz;
   float volumeM3 = particleRestVolumeM3(p);
   float radiusM = kernelRadiusM(volumeM3);
   if (any(isnan(x)) || any(isinf(x)) || !(radiusM > 0.0)) return;
   // The kernel's box of nodes, in this frame's grid (which holds it: measure_bounds.comp).
-  ivec3 low = ivec3(ceil((x - radiusM - latticeOrigin()) / nodeSpacing())) - firstNode.xyz;
-  ivec3 high = ivec3(floor((x + radiusM - latticeOrigin()) / nodeSpacing())) - firstNode.xyz;
+  ivec3 low = ivec3(ceil((x - radiusM - latticeOriginM) / nodeSpacingM)) - firstNode;
+  ivec3 high = ivec3(floor((x + radiusM - latticeOriginM) / nodeSpacingM)) - firstNode;
   low = max(low, ivec3(0));
-  high = min(high, nodeCounts.xyz - 1);
+  high = min(high, boxNodes - 1);
   ivec3 extent = high - low + 1;
   if (any(lessThanEqual(extent, ivec3(0)))) return;
-  vec3 albedo = withColors() ? particleColors[p].rgb : vec3(0.0);
+  vec3 albedo = (withColors != 0u) ? particleColors[p].rgb : vec3(0.0);
   float weightScale = volumeM3 / (radiusM * radiusM * radiusM);
   // Row by row along x, each row only across the kernel's ball: a third of the box's nodes.
   int rows = extent.y * extent.z;
@@ -44,8 +44,8 @@ void main() {
     float acrossM2 = radiusM * radiusM - offsetM.y * offsetM.y - offsetM.z * offsetM.z;
     if (acrossM2 <= 0.0) continue;
     float halfChordM = sqrt(acrossM2);
-    int rowLow = max(int(ceil((x.x - halfChordM - latticeOrigin().x) / nodeSpacing())) - firstNode.x, low.x);
-    int rowHigh = min(int(floor((x.x + halfChordM - latticeOrigin().x) / nodeSpacing())) - firstNode.x, high.x);
+    int rowLow = max(int(ceil((x.x - halfChordM - latticeOriginM.x) / nodeSpacingM)) - firstNode.x, low.x);
+    int rowHigh = min(int(floor((x.x + halfChordM - latticeOriginM.x) / nodeSpacingM)) - firstNode.x, high.x);
     for (int i = rowLow; i <= rowHigh; ++i) {
       ivec3 node = ivec3(i, first.y, first.z);
       float q = length(nodePositionM(node) - x) / radiusM;
@@ -53,7 +53,7 @@ void main() {
       float weight = weightScale * smoothingKernel(q);
       uint address = nodeAddress(node);
       atomicAdd(density[address], toUnits(weight));
-      if (withColors()) {
+      if (withColors != 0u) {
         atomicAdd(colorSums[address].x, toUnits(weight * albedo.r));
         atomicAdd(colorSums[address].y, toUnits(weight * albedo.g));
         atomicAdd(colorSums[address].z, toUnits(weight * albedo.b));

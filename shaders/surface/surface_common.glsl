@@ -14,22 +14,13 @@ uint itemIndex() {
   return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(FIRN_PARTICLE_GROUP_SIZE);
 }
 
-vec3 latticeOrigin() { return latticeOriginSpacing.xyz; }
-float nodeSpacing() { return latticeOriginSpacing.w; }
-uint reconstructedParticles() { return particles.x; }
-bool withColors() { return particles.y != 0u; }
-uint nodeCount() { return uint(nodeCounts.w); }
-float smoothing() { return kernel.x; }
-float isoLevel() { return kernel.y; }
-int isoUnits() { return int(kernel.z); }
-
 // A node of this frame's grid: its index in the box per axis, and its address in the per-node buffers.
-uint nodeAddress(ivec3 node) { return uint(node.x + nodeCounts.x * (node.y + nodeCounts.y * node.z)); }
+uint nodeAddress(ivec3 node) { return uint(node.x + boxNodes.x * (node.y + boxNodes.y * node.z)); }
 ivec3 nodeOfAddress(uint address) {
   int i = int(address);
-  return ivec3(i % nodeCounts.x, (i / nodeCounts.x) % nodeCounts.y, i / (nodeCounts.x * nodeCounts.y));
+  return ivec3(i % boxNodes.x, (i / boxNodes.x) % boxNodes.y, i / (boxNodes.x * boxNodes.y));
 }
-vec3 nodePositionM(ivec3 node) { return latticeOrigin() + vec3(firstNode.xyz + node) * nodeSpacing(); }
+vec3 nodePositionM(ivec3 node) { return latticeOriginM + vec3(firstNode + node) * nodeSpacingM; }
 
 // The fixed-point volume fraction as a number.
 float fieldValue(int units) { return float(units) * (1.0 / SURFACE_UNITS_PER_VALUE); }

@@ -8,22 +8,22 @@
 
 #include "common/shared_functions.h"
 
-// Shader storage binding points, past the simulation's (0–19), so that the particle buffers stay bound where the
-// simulation binds them while the reconstruction runs.
-#define FIRN_BINDING_SURFACE_HEADER 20           // SurfaceHeader: the particles' kernel bounds
-#define FIRN_BINDING_SURFACE_DENSITY 21          // int per node: the volume fraction, fixed point
-#define FIRN_BINDING_SURFACE_COLOR 22            // ivec4 per node: Σ (weight · albedo), fixed point
-#define FIRN_BINDING_SURFACE_CELLS 23            // uint per node: its cell's case, the crossings of its own edges
-#define FIRN_BINDING_SURFACE_COUNTS 24           // uvec2 per node (+1): vertices and triangles, then their offsets
-#define FIRN_BINDING_SURFACE_VERTICES 25         // SurfaceVertex per vertex of the mesh
-#define FIRN_BINDING_SURFACE_INDICES 26          // uint per triangle corner
-#define FIRN_BINDING_SURFACE_CASES 27            // uvec4 per marching-cubes case (engine/surface/MarchingCubes.h)
+// Shader storage binding points, in the surface's range of the GPU contract (common/gpu_contract.h:
+// FIRN_SURFACE_BINDINGS_FIRST to _END); engine/surface/SurfaceLayout.h holds them to it.
+#define FIRN_BINDING_SURFACE_HEADER 21           // SurfaceHeader: the particles' kernel bounds
+#define FIRN_BINDING_SURFACE_DENSITY 22          // int per node: the volume fraction, fixed point
+#define FIRN_BINDING_SURFACE_COLOR 23            // ivec4 per node: Σ (weight · albedo), fixed point
+#define FIRN_BINDING_SURFACE_CELLS 24            // uint per node: its cell's case, the crossings of its own edges
+#define FIRN_BINDING_SURFACE_COUNTS 25           // uvec2 per node (+1): vertices and triangles, then their offsets
+#define FIRN_BINDING_SURFACE_VERTICES 26         // SurfaceVertex per vertex of the mesh
+#define FIRN_BINDING_SURFACE_INDICES 27          // uint per triangle corner
 #define FIRN_BINDING_SURFACE_MATERIALS 28        // vec4 per entry of the material table: x 1 / rest density (m³/kg)
 #define FIRN_BINDING_SURFACE_PARTICLE_COLORS 29  // vec4 per particle: the linear albedo to carry onto the surface
 #define FIRN_BINDING_SCAN_VALUES 30              // uvec2 per element: an exclusive prefix sum, in place
 #define FIRN_BINDING_SCAN_SUMS 31                // uvec2 per chunk of SCAN_CHUNK elements
-// Uniform block binding point (the simulation's StepUniforms is 0).
-#define FIRN_BINDING_SURFACE_UNIFORMS 1
+// The marching-cubes cases (uvec4 per case, engine/surface/MarchingCubes.h) are a uniform block, at
+// FIRN_BINDING_SURFACE_CASES: 4 KiB, read by every cell, and one storage binding fewer.
+FIRN_CONSTANT(int, MARCHING_CUBES_CASES, 256)
 
 // The volume fraction is summed in fixed point with 2^20 units per unit, as the simulation's P2G sums are
 // (docs/numerics.md, Fixed-point atomics): integer sums do not depend on the order of the additions, so the
@@ -39,20 +39,25 @@ FIRN_CONSTANT(float, MAX_KERNEL_RADIUS_CELLS, 12.0f)
 // edges, 3 per triangle, are packed as 4-bit nibbles, 8 per uint, into the y and z of its uvec4.
 FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
 
-// SurfaceUniforms: one reconstruction, written before its passes (std140).
-//   latticeOriginSpacing  the point of node (0, 0, 0) of the lattice all frames share (the domain's origin, m), and
-//                         the node spacing h_r = h / surface.resolution (m)
-//   firstNode             the lattice index of the grid's first node this frame (its box follows the particles)
-//   nodeCounts            nodes per axis of this frame's grid, and w: all of them
-//   kernel                surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units, the
-//                         fixed-point scale
-//   particles             x: the particles, y: with colours (1) or not (0)
+// SurfaceUniforms: one reconstruction, written before its passes (std140, 64 bytes).
+//   latticeOriginM, nodeSpacingM   the point of node (0, 0, 0) of the lattice all frames share (the domain's origin,
+//                                  m), and the node spacing h_r = h / surface.resolution (m)
+//   firstNode, nodeCount           the lattice index of this frame's first node (its box follows the particles); all
+//                                  of its nodes
+//   boxNodes, reconstructedParticles   its nodes per axis; the particles it is built from
+//   smoothing, isoLevel, isoUnits  surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units
+//   withColors                     1 if the particles carry colours onto the surface, else 0
 #define FIRN_SURFACE_UNIFORMS(member, array) \
-  member(vec4, latticeOriginSpacing)         \
-  member(ivec4, firstNode)                   \
-  member(ivec4, nodeCounts)                  \
-  member(vec4, kernel)                       \
-  member(uvec4, particles)
+  member(vec3, latticeOriginM)               \
+  member(float, nodeSpacingM)                \
+  member(ivec3, firstNode)                   \
+  member(uint, nodeCount)                    \
+  member(ivec3, boxNodes)                    \
+  member(uint, reconstructedParticles)       \
+  member(float, smoothing)                   \
+  member(float, isoLevel)                    \
+  member(int, isoUnits)                      \
+  member(uint, withColors)
 FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
 
 // SurfaceHeader: what the bounds pass finds (std430): the lowest and highest lattice node any particle's kernel

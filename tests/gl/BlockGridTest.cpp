@@ -15,7 +15,7 @@
 #include "Error.h"
 #include "GlTest.h"
 #include "scene/Scene.h"
-#include "sim/GpuFunctions.h"
+#include "gpu/GpuFunctions.h"
 #include "sim/Simulation.h"
 
 namespace {

@@ -10,7 +10,7 @@
 
 #include "GlTest.h"
 #include "gl/Program.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "surface/SurfaceLayout.h"
 
 namespace {

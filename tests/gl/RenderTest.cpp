@@ -91,9 +91,9 @@ Image renderFrame(Renderer& renderer, const Simulation* simulation, const Camera
   firn::gl::Framebuffer target(kImageSize);
   target.bind();
   if (simulation != nullptr) {
-    renderer.draw(*simulation, camera, kImageSize, mode, snowSurface);
+    renderer.draw(simulation->particleView(), camera, kImageSize, mode, snowSurface);
   } else {
-    renderer.draw(0, 0.0, camera, kImageSize, mode);
+    renderer.draw(firn::ParticleView{}, camera, kImageSize, mode);
   }
   Image image{kImageSize.x, kImageSize.y, target.readColorRgba8()};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
@@ -288,7 +288,7 @@ TEST_F(RenderTest, SnowSurfaceOfABoxCoversItsProjectedSilhouette) {
   Simulation simulation(scene, seeds, gl());
   Renderer renderer(scene);
   firn::surface::SurfaceReconstruction surface(scene, seeds, gl());
-  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Material));
+  surface.reconstruct(simulation.particleView(), renderer.particleColors(simulation.particleView(), ColorMode::Material));
   const Camera camera = cameraBelowBox();
   const Image background = renderFrame(renderer, nullptr, camera, ColorMode::Material);
   const Image snow = renderFrame(renderer, &simulation, camera, ColorMode::Material, &surface);
@@ -391,7 +391,7 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
 
   // Drawn as their surface, the boxes carry the same colours: the particles' albedo interpolated onto it.
   firn::surface::SurfaceReconstruction surface(scene, firn::sampleBodies(scene), gl());
-  surface.reconstruct(simulation, renderer.particleColors(simulation, ColorMode::Speed));
+  surface.reconstruct(simulation.particleView(), renderer.particleColors(simulation.particleView(), ColorMode::Speed));
   const Image speedSurface = renderFrame(renderer, &simulation, camera, ColorMode::Speed, &surface);
   const glm::dvec3 stillSurface = innerMean(speedSurface, stillMinM, stillMaxM);
   const glm::dvec3 movingSurface = innerMean(speedSurface, movingMinM, movingMaxM);
@@ -405,7 +405,7 @@ TEST_F(RenderTest, WritePngRoundTripsPixels) {
   const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   firn::render::OffscreenRenderer offscreen(scene, {96, 64});
-  const Image image = offscreen.render(simulation, cameraBelowBox(), ColorMode::Material);
+  const Image image = offscreen.render(simulation.particleView(), cameraBelowBox(), ColorMode::Material);
   ASSERT_EQ(image.rgba.size(), std::size_t(96 * 64 * 4));
 
   const std::filesystem::path directory =

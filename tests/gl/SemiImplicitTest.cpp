@@ -19,7 +19,7 @@
 #include "gl/Program.h"
 #include "gl/ShaderLibrary.h"
 #include "scene/Scene.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 #include "sim/Simulation.h"
 
 namespace {

@@ -8,7 +8,7 @@
 #include "Error.h"
 #include "GlTest.h"
 #include "gl/Program.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 
 namespace {
 

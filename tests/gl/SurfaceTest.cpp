@@ -50,7 +50,7 @@ Reconstructed reconstruct(const Scene& scene) {
   const auto seeds = firn::sampleBodies(scene);
   Simulation simulation(scene, seeds, firn::test::glContext().info());
   SurfaceReconstruction surface(scene, seeds, firn::test::glContext().info());
-  surface.reconstruct(simulation);
+  surface.reconstruct(simulation.particleView());
   return {surface.readMesh(), surface.stats()};
 }
 

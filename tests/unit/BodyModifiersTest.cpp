@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/Scene.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 namespace {

@@ -9,7 +9,7 @@
 #include "run/Budget.h"
 #include "scene/Sampling.h"
 #include "scene/Scene.h"
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 
 namespace firn {

@@ -8,7 +8,7 @@
 #include "Error.h"
 #include "run/Preflight.h"
 #include "scene/Scene.h"
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 namespace firn {
 namespace {

@@ -1,9 +1,9 @@
-#include "sim/Materials.h"
+#include "gpu/Materials.h"
 
 #include <cmath>
 
 #include "scene/Scene.h"
-#include "sim/GpuFunctions.h"
+#include "gpu/GpuFunctions.h"
 
 namespace firn {
 

@@ -9,7 +9,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 
 namespace firn::gpu {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/GpuLayout.h"
+#include "gpu/GpuLayout.h"
 
 namespace firn {
 

@@ -1,0 +1,52 @@
+#include "gl/ComputePass.h"
+
+#include <utility>
+
+namespace firn::gl {
+
+ComputePass::ComputePass(const ShaderLibrary& library, const std::string& shader, const ShaderOptions& options,
+                         std::string phase)
+    : program_(Program::compute(library, shader, options)),
+      phase_(phase.empty() ? shader : std::move(phase)),
+      groupSize_(GLuint(program_.workGroupSize().x)) {}
+
+const ComputePass& ComputePass::set(const char* uniform, unsigned value) const {
+  program_.use();
+  program_.set(uniform, value);
+  return *this;
+}
+
+void ComputePass::prepare(const BufferBindings& buffers, PassTimer& timer) const {
+  program_.use();
+  buffers.bindFor(program_);
+  timer.begin();
+}
+
+void ComputePass::runOnce(const BufferBindings& buffers, PassTimer& timer) const {
+  prepare(buffers, timer);
+  glDispatchCompute(1, 1, 1);
+  timer.end(phase_);
+}
+
+void ComputePass::runOver(std::size_t items, int maxWorkGroupsX, const BufferBindings& buffers,
+                          PassTimer& timer) const {
+  const GLuint groups = static_cast<GLuint>((items + groupSize_ - 1) / groupSize_);
+  const GLuint maxX = static_cast<GLuint>(maxWorkGroupsX);
+  prepare(buffers, timer);
+  if (groups <= maxX) {
+    glDispatchCompute(groups, 1, 1);
+  } else {
+    glDispatchCompute(maxX, (groups + maxX - 1) / maxX, 1);
+  }
+  timer.end(phase_);
+}
+
+void ComputePass::runIndirect(const Buffer& commands, std::size_t offsetBytes, const BufferBindings& buffers,
+                              PassTimer& timer) const {
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, commands.id());
+  prepare(buffers, timer);
+  glDispatchComputeIndirect(static_cast<GLintptr>(offsetBytes));
+  timer.end(phase_);
+}
+
+}  // namespace firn::gl

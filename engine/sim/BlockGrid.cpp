@@ -1,0 +1,120 @@
+#include "sim/BlockGrid.h"
+
+#include <cstdint>
+
+#include "gpu/GpuLayout.h"
+
+namespace firn {
+
+namespace {
+
+constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
+// A pass whose output sizes the next dispatch (glDispatchComputeIndirect) also needs the command barrier.
+constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
+
+std::size_t nodeStorageBytes(std::size_t blocks) { return blocks * gpu::BLOCK_NODES * sizeof(glm::ivec4); }
+
+}  // namespace
+
+BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
+                     const gl::ContextInfo& gl)
+    : blocksPerAxis_(layout.blocksPerAxis()),
+      withImpulse_(layout.impulse),
+      maxWorkGroupsX_(gl.maxComputeWorkGroupCountX),
+      prepareBlocks_(library, "sim/prepare_blocks.comp", options),
+      releaseBlocks_(library, "sim/release_blocks.comp", options),
+      markBlocks_(library, "sim/mark_blocks.comp", options),
+      countBlocks_(library, "sim/count_blocks.comp", options),
+      binCount_(library, "sim/bin_count.comp", options),
+      binScan_(library, "sim/bin_scan.comp", options),
+      blockOffsets_(library, "sim/block_offsets.comp", options),
+      binPlace_(library, "sim/bin_place.comp", options),
+      orderTiles_(library, "sim/order_tiles.comp", options) {
+  blockMap_ = gl::Buffer(layout.blockMapBytes()).labelled("block grid: block map");
+  sortedParticles_ = gl::Buffer(layout.particleCapacity * sizeof(std::uint32_t)).labelled("block grid: sorted particles");
+  particleRanks_ = gl::Buffer(layout.particleCapacity * sizeof(std::uint32_t)).labelled("block grid: particle ranks");
+}
+
+void BlockGrid::allocatePool(std::size_t capacity) {
+  capacity_ = capacity;
+  // A zero-filled pool: every block free, every slot clean (release_blocks.comp keeps them so).
+  momentumMass_ = gl::Buffer(nodeStorageBytes(capacity)).labelled("block grid: momentum, mass");
+  impulseSums_ = withImpulse_ ? gl::Buffer(nodeStorageBytes(capacity)).labelled("block grid: impulse") : gl::Buffer();
+  bins_ = gl::Buffer(capacity * gpu::BLOCK_NODES * sizeof(glm::uvec2)).labelled("block grid: bins");
+  tileOrder_ = gl::Buffer(capacity * gpu::BLOCK_TILES * sizeof(std::uint32_t)).labelled("block grid: tile order");
+  blockMap_.zero();
+  gpu::BlockTableHeader header{};
+  header.blockCounts.y = static_cast<std::uint32_t>(capacity);
+  blockTable_ = gl::Buffer(sizeof header + capacity * sizeof(gpu::BlockSlot)).labelled("block grid: block table");
+  blockTable_.upload(0, sizeof header, &header);
+}
+
+BlockUsage BlockGrid::usage() const {
+  const gpu::BlockTableHeader header = blockTable_.read<gpu::BlockTableHeader>(1)[0];
+  BlockUsage usage;
+  usage.lastStep = std::min<std::size_t>(header.blockCounts.x, capacity_);
+  usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
+  usage.capacity = capacity_;
+  usage.poolBytes = momentumMass_.bytes() + impulseSums_.bytes() + bins_.bytes() + tileOrder_.bytes() + blockTable_.bytes();
+  usage.mapBytes = blockMap_.bytes();
+  return usage;
+}
+
+void BlockGrid::sortParticles(std::size_t particles, const gl::BufferBindings& buffers, gl::PassTimer& timer) const {
+  const gl::Buffer& table = blockTable_;
+  prepareBlocks_.runOnce(buffers, timer);
+  glMemoryBarrier(kStorageAndCommands);
+  releaseBlocks_.runIndirect(table, offsetof(gpu::BlockTableHeader, releaseDispatch), buffers, timer);
+  glMemoryBarrier(kStorage);
+  markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+  glMemoryBarrier(kStorage);
+  countBlocks_.runOnce(buffers, timer);
+  glMemoryBarrier(kStorageAndCommands);
+  binCount_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+  glMemoryBarrier(kStorage);
+  binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
+  glMemoryBarrier(kStorage);
+  blockOffsets_.runOnce(buffers, timer);
+  glMemoryBarrier(kStorage);
+  binPlace_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+  orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  glMemoryBarrier(kStorageAndCommands);
+}
+
+void BlockGrid::publish(gl::BufferBindings& bindings) const {
+  bindings.storage(FIRN_BINDING_GRID_MOMENTUM_MASS, momentumMass_);
+  if (impulseSums_) bindings.storage(FIRN_BINDING_GRID_IMPULSE, impulseSums_);
+  bindings.storage(FIRN_BINDING_BLOCK_TABLE, blockTable_);
+  bindings.storage(FIRN_BINDING_BLOCK_MAP, blockMap_);
+  bindings.storage(FIRN_BINDING_BINS, bins_);
+  bindings.storage(FIRN_BINDING_SORTED_PARTICLES, sortedParticles_);
+  bindings.storage(FIRN_BINDING_PARTICLE_RANKS, particleRanks_);
+  bindings.storage(FIRN_BINDING_TILE_ORDER, tileOrder_);
+}
+
+std::vector<glm::ivec3> BlockGrid::activeNodes() const {
+  const std::size_t active = usage().lastStep;
+  const std::vector<gpu::BlockSlot> slots =
+      blockTable_.read<gpu::BlockSlot>(active, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
+  const glm::ivec3 blocks = blocksPerAxis_;
+  std::vector<glm::ivec3> nodes;
+  nodes.reserve(slots.size() * gpu::BLOCK_NODES);
+  for (const gpu::BlockSlot& slot : slots) {
+    const int index = static_cast<int>(slot.block);
+    const glm::ivec3 block(index % blocks.x, (index / blocks.x) % blocks.y, index / (blocks.x * blocks.y));
+    for (int local = 0; local < gpu::BLOCK_NODES; ++local) {
+      const glm::ivec3 offset(local % gpu::BLOCK_WIDTH, (local / gpu::BLOCK_WIDTH) % gpu::BLOCK_WIDTH,
+                              local / (gpu::BLOCK_WIDTH * gpu::BLOCK_WIDTH));
+      nodes.push_back(block * gpu::BLOCK_WIDTH + offset);
+    }
+  }
+  return nodes;
+}
+
+std::vector<StoredNode> BlockGrid::readNodes() const {
+  const std::vector<glm::ivec3> addresses = activeNodes();
+  const std::vector<glm::ivec4> sums = momentumMass_.read<glm::ivec4>(addresses.size());
+  return inGridOrder<StoredNode>(addresses, sums);
+}
+
+}  // namespace firn

@@ -1,0 +1,101 @@
+#pragma once
+// The block-sparse grid (common/blocks.glsl, docs/numerics.md "The block-sparse grid"): the one structure every
+// grid pass shares. Nodes are stored by blocks of BLOCK_WIDTH³, claimed each step where the particles' stencils
+// reach from a pool of slots (the block table) through a map over the domain; the particles are sorted by block and
+// base node into bins, and the bins' rows into tiles in order of fill. It owns those buffers, published at the grid
+// bindings of the GPU contract (FIRN_GRID_BINDINGS_FIRST to _END), and the passes that rebuild them each step.
+#include <algorithm>
+#include <cstddef>
+#include <tuple>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gl/Buffer.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
+#include "gl/Context.h"
+#include "gl/ShaderLibrary.h"
+#include "sim/GpuStateLayout.h"
+
+namespace firn {
+
+// The blocks of the grid's pool that particles' stencils reached.
+struct BlockUsage {
+  std::size_t lastStep = 0;    // claimed in the last step
+  std::size_t mostInAStep = 0; // the most claimed in any step since the pool was made (may exceed the capacity)
+  std::size_t capacity = 0;
+  std::size_t poolBytes = 0;   // the grid's pool: nodes, bins and the block table (the solver's vectors apart)
+  std::size_t mapBytes = 0;    // the block map's: 4 bytes per block of the domain
+};
+
+// One node of the grid as stored after P2G: its index per axis and its sums (fixed point or float bits).
+struct StoredNode {
+  glm::ivec3 node{0};
+  glm::ivec4 sums{0};
+};
+
+// Values at `nodes`, paired as {node, value} and sorted in the order of the dense grid (z, then y, then x).
+template <typename Result, typename Value>
+std::vector<Result> inGridOrder(const std::vector<glm::ivec3>& nodes, const std::vector<Value>& values) {
+  std::vector<Result> result;
+  result.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) result.push_back({nodes[i], values[i]});
+  std::sort(result.begin(), result.end(), [](const Result& a, const Result& b) {
+    return std::tie(a.node.z, a.node.y, a.node.x) < std::tie(b.node.z, b.node.y, b.node.x);
+  });
+  return result;
+}
+
+class BlockGrid {
+ public:
+  // The pool holds layout.blockCapacity blocks; the passes are built with the step's shader options.
+  BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
+            const gl::ContextInfo& gl);
+
+  // A new, zero-filled pool of `capacity` blocks (the grid is rebuilt every step, so nothing is copied). The caller
+  // checks the sizes against the driver (GpuState).
+  void allocatePool(std::size_t capacity);
+  BlockUsage usage() const;
+
+  // The blocks the particles' stencils reach claim slots of the pool (last step's are released first), and the
+  // particles are sorted by block and base node; `buffers` must hold the grid's, the particles' and the step's.
+  void sortParticles(std::size_t particles, const gl::BufferBindings& buffers, gl::PassTimer& timer) const;
+
+  // The block table: its header holds the per-block passes' indirect dispatches (gpu::BlockTableHeader).
+  const gl::Buffer& blockTable() const { return blockTable_; }
+  void publish(gl::BufferBindings& bindings) const;
+
+  // The node index per axis of each storage address of the last step's active blocks (slot after slot).
+  std::vector<glm::ivec3> activeNodes() const;
+  // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
+  std::vector<StoredNode> readNodes() const;
+
+ private:
+  glm::ivec3 blocksPerAxis_;
+  std::size_t capacity_ = 0;
+  bool withImpulse_;
+  int maxWorkGroupsX_;
+
+  gl::Buffer momentumMass_;     // per node of the pool
+  gl::Buffer impulseSums_;      // per node of the pool, PIC/FLIP or semi-implicit only
+  gl::Buffer blockTable_;       // BlockTableHeader, then a BlockSlot per slot of the pool
+  gl::Buffer blockMap_;         // per block of the domain
+  gl::Buffer bins_;             // per base node of the pool
+  gl::Buffer tileOrder_;        // per row of the pool
+  gl::Buffer sortedParticles_;  // particle indices in block, then bin, order
+  gl::Buffer particleRanks_;    // each particle's place in its bin
+
+  gl::ComputePass prepareBlocks_;
+  gl::ComputePass releaseBlocks_;
+  gl::ComputePass markBlocks_;
+  gl::ComputePass countBlocks_;
+  gl::ComputePass binCount_;
+  gl::ComputePass binScan_;
+  gl::ComputePass blockOffsets_;
+  gl::ComputePass binPlace_;
+  gl::ComputePass orderTiles_;
+};
+
+}  // namespace firn

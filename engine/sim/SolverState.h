@@ -1,0 +1,55 @@
+#pragma once
+// The semi-implicit solve's state on the GPU (common/solver.glsl): the conjugate residual method's vectors per node
+// of the grid's pool, the block preconditioner per node, each particle's stiffness, and the solve's status (the
+// iterations' dispatches, the dot products' registers). It owns those buffers, published at the solver bindings of
+// the GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END); ImplicitSolver runs the passes over them.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gl/Buffer.h"
+#include "gl/BufferBindings.h"
+
+namespace firn {
+
+// A Hessian product's sums and the first product's stiffness blocks at each storage address (SolverState::takeSums).
+struct SolverSums {
+  std::vector<glm::dvec3> products;
+  std::vector<glm::dmat3> stiffnessBlocks;
+};
+
+class SolverState {
+ public:
+  explicit SolverState(std::size_t particleCapacity);
+
+  // Vectors for a pool of `blocks` blocks (the grid's), zero: no product summed.
+  void allocatePool(std::size_t blocks);
+  std::size_t poolBytes() const;
+
+  // The status: its header holds the iterations' indirect dispatches (gpu::SolverStatus).
+  const gl::Buffer& status() const { return status_; }
+  // Register `index` (gpu::SolverStatus::registers): an iteration's dot products.
+  glm::vec4 readRegister(std::size_t index) const;
+  // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
+  std::uint32_t readEnd() const;
+
+  // The vector z at the first storage addresses, and the sums there: a product's (times `productPerUnit`, kg·m/s)
+  // and the first product's stiffness blocks (times `blockPerUnit`, kg), converted to doubles and cleared. What the
+  // solver's tests compare against the product's definition (tests/gl/SemiImplicitTest.cpp).
+  void writePreconditioned(const std::vector<glm::vec3>& byAddress);
+  SolverSums takeSums(std::size_t addresses, double productPerUnit, double blockPerUnit);
+
+  void publish(gl::BufferBindings& bindings) const;
+
+ private:
+  gl::Buffer nodes_;            // SolverNode per node of the pool
+  gl::Buffer status_;           // SolverStatus, then a vec4 per slot of the pool
+  gl::Buffer particles_;        // SolverParticle per particle
+  gl::Buffer preconditioners_;  // SolverPreconditioner per node of the pool
+};
+
+}  // namespace firn
