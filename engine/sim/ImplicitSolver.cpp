@@ -30,7 +30,7 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 }  // namespace
 
 ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
-    : maxIterations_(scene.solver.maxIterations), options_(options) {
+    : maxIterations_(scene.solver.maxIterations) {
   orderBins_ = gl::ComputePass(library, "sim/solver_order_bins.comp", options);
   prepare_ = gl::ComputePass(library, "sim/solver_prepare.comp", options);
   begin_ = gl::ComputePass(library, "sim/solver_begin.comp", options);
@@ -46,44 +46,11 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   finish_ = gl::ComputePass(library, "sim/solver_finish.comp", options);
 }
 
-namespace {
-
-// A test's variant of one of the solve's programs, with `define` set, built into `built` the first time it is asked
-// for: from the embedded files, which the step's own programs were built from.
-const gl::ComputePass& variant(std::optional<gl::ComputePass>& built, const gl::ShaderOptions& options, const char* path,
-                               const char* define) {
-  if (!built) {
-    gl::ShaderOptions variantOptions = options;
-    variantOptions.defines.emplace_back(define, "1");
-    built.emplace(gl::ShaderLibrary(), path, variantOptions);
-  }
-  return *built;
-}
-
-}  // namespace
-
-void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer,
-                             HessianProduct product) const {
-  orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), state.bindings(), timer);
-  const gl::ComputePass& pass =
-      product == HessianProduct::Unprojected
-          ? variant(unprojectedPrepare_, options_, "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN")
-          : prepare_;
-  pass.runOver(particles, maxWorkGroupsX, state.bindings(), timer);
-  glMemoryBarrier(kStorage);
-}
-
-void ImplicitSolver::productOfPreconditioned(const GpuState& state, HessianProduct product, gl::PassTimer& timer) const {
-  const gl::ComputePass& pass =
-      product == HessianProduct::ForceDifference
-          ? variant(forceDifferenceProduct_, options_, "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE")
-          : product_;
-  pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(), timer);
-  glMemoryBarrier(kStorage);
-}
-
-void ImplicitSolver::firstProduct(const GpuState& state, gl::PassTimer& timer) const {
-  firstProduct_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(), timer);
+void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
+                             gl::PassTimer& timer) const {
+  const gl::BufferBindings& buffers = state.bindings();
+  orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  prepare_.runOver(particles, maxWorkGroupsX, buffers, timer);
   glMemoryBarrier(kStorage);
 }
 

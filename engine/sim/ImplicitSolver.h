@@ -6,7 +6,6 @@
 // and looks at the residual every few of them; the GPU stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -18,11 +17,6 @@
 #include "sim/SolveReport.h"
 
 namespace firn {
-
-// How a Hessian product takes the stress's change: its differential ∂²Ψ/∂F² : δF with the stiffness projected onto
-// the positive semi-definite (the solve's), or, for tests, the differential as it is, or the central difference
-// (P(F + δF) − P(F − δF)) / 2 of the stress the explicit force comes from.
-enum class HessianProduct { Differential, Unprojected, ForceDifference };
 
 class ImplicitSolver {
  public:
@@ -36,25 +30,17 @@ class ImplicitSolver {
   // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
 
-  // Test hooks (Simulation::hessianProduct, Simulation::stiffnessBlocks): the preparation for a product of that kind
-  // (the bins' order by index and each particle's stiffness), and the product of the solve's vector z
-  // (SolverNode::preconditioned), leaving its sums in the solver's nodes.
-  void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer,
-               HessianProduct product = HessianProduct::Differential) const;
-  void productOfPreconditioned(const GpuState& state, HessianProduct product, gl::PassTimer& timer) const;
-  // And the first product of a step, which also sums each node's stiffness block (SolverNode::diagonalLow …).
-  void firstProduct(const GpuState& state, gl::PassTimer& timer) const;
 
  private:
+  friend class SolverProbe;  // the solver's tests (tests/support/SolverProbe.h) run its passes one by one
+
+  // The bins' order by particle index and each particle's stiffness (solver_prepare.comp).
+  void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
   // The solve's end after `iterations`: the residual register it ended at, relative to the reference.
   static SolveReport report(const GpuState& state, int iterations);
   void reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const;
 
   int maxIterations_;
-  gl::ShaderOptions options_;
-  // Built when a test first asks for them.
-  mutable std::optional<gl::ComputePass> unprojectedPrepare_;
-  mutable std::optional<gl::ComputePass> forceDifferenceProduct_;
   gl::ComputePass orderBins_;
   gl::ComputePass prepare_;
   gl::ComputePass begin_;

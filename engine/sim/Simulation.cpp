@@ -302,42 +302,6 @@ GridTotals Simulation::transferToGrid() {
   return totals;
 }
 
-const ImplicitSolver& Simulation::prepareSolverHook(const char* hook, HessianProduct product) {
-  const ImplicitSolver* solver = pipeline_.implicitSolver();
-  if (!solver) throw std::logic_error(std::string(hook) + ": the scene's integrator is explicit");
-  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
-  pipeline_.transferToGrid(state_, particleCount_, passTimer_);
-  solver->prepare(state_, particleCount_, gl_.maxComputeWorkGroupCountX, passTimer_, product);
-  return *solver;
-}
-
-std::vector<Simulation::NodeVector> Simulation::hessianProduct(
-    const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
-  const ImplicitSolver& solver = prepareSolverHook("hessianProduct", product);
-  const std::vector<glm::ivec3> nodes = state_.grid().activeNodes();
-  std::vector<glm::vec3> velocities;
-  velocities.reserve(nodes.size());
-  for (const glm::ivec3& node : nodes) {
-    velocities.emplace_back(velocityAtNode(scene_.grid.originM + glm::dvec3(node) * scene_.grid.cellSizeM));
-  }
-  state_.solver()->writePreconditioned(velocities);
-  solver.productOfPreconditioned(state_, product, passTimer_);
-  return inGridOrder<NodeVector>(nodes, takeSolverSums(nodes.size()).products);
-}
-
-std::vector<Simulation::NodeMatrix> Simulation::stiffnessBlocks() {
-  const ImplicitSolver& solver = prepareSolverHook("stiffnessBlocks", HessianProduct::Differential);
-  const std::vector<glm::ivec3> nodes = state_.grid().activeNodes();
-  solver.firstProduct(state_, passTimer_);
-  return inGridOrder<NodeMatrix>(nodes, takeSolverSums(nodes.size()).stiffnessBlocks);
-}
-
-SolverSums Simulation::takeSolverSums(std::size_t nodes) {
-  // The 64-bit sums' unit: 2^−k_H of the momentum unit (products) or of the reference mass (blocks).
-  return state_.solver()->takeSums(nodes, std::ldexp(fixedPoint_.momentumUnitKgMPerS, -fixedPoint_.solverFractionBits),
-                                   std::ldexp(fixedPoint_.referenceMassKg, -fixedPoint_.solverFractionBits));
-}
-
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);

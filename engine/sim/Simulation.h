@@ -7,7 +7,6 @@
 // and the scene's conversion into buffers (sim/SceneUpload.h, gpu/Materials.h).
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -125,34 +124,14 @@ class Simulation {
   // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
 
-  // Test hook (semi-implicit scenes): the Hessian product β Δt² H u (kg·m/s; Δt the scene's dt) at every node of the
-  // grid the current particles reach, for the grid velocities `velocityAtNode(node position)` (m/s), in the order of
-  // the dense grid, as the solve computes it or (ForceDifference) by the central difference of the stress.
-  struct NodeVector {
-    glm::ivec3 node{0};
-    glm::dvec3 value{0.0};
-  };
-  std::vector<NodeVector> hessianProduct(const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode,
-                                         HessianProduct product);
-  // Test hook (semi-implicit scenes): the stiffness blocks β Δt² Hᵢᵢ (kg) the solve's first product sums for its
-  // block preconditioner, at the same nodes in the same order.
-  struct NodeMatrix {
-    glm::ivec3 node{0};
-    glm::dmat3 value{0.0};
-  };
-  std::vector<NodeMatrix> stiffnessBlocks();
-
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
   std::vector<GridNodeSums> readGridAfterTransfer();
 
  private:
-  // The test hooks' start: the step's uniforms, P2G and the solve's preparation for a product of that kind, on the
-  // current state; throws std::logic_error naming `hook` for an explicit scene.
-  const ImplicitSolver& prepareSolverHook(const char* hook, HessianProduct product);
-  // And their end: the sums at the first `nodes` storage addresses, in kg·m/s and kg, cleared.
-  SolverSums takeSolverSums(std::size_t nodes);
+  friend class SolverProbe;  // the semi-implicit solve's tests (tests/support/SolverProbe.h)
+
   // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
   // notes a step that needed more than the pool held (blocksBeyondPool_).
   void growBlockPool(double fullness);

@@ -7,20 +7,12 @@
 #include <cstdint>
 #include <vector>
 
-#include <glm/mat3x3.hpp>
-#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "gl/Buffer.h"
 #include "gl/BufferBindings.h"
 
 namespace firn {
-
-// A Hessian product's sums and the first product's stiffness blocks at each storage address (SolverState::takeSums).
-struct SolverSums {
-  std::vector<glm::dvec3> products;
-  std::vector<glm::dmat3> stiffnessBlocks;
-};
 
 class SolverState {
  public:
@@ -37,15 +29,11 @@ class SolverState {
   // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
   std::uint32_t readEnd() const;
 
-  // The vector z at the first storage addresses, and the sums there: a product's (times `productPerUnit`, kg·m/s)
-  // and the first product's stiffness blocks (times `blockPerUnit`, kg), converted to doubles and cleared. What the
-  // solver's tests compare against the product's definition (tests/gl/SemiImplicitTest.cpp).
-  void writePreconditioned(const std::vector<glm::vec3>& byAddress);
-  SolverSums takeSums(std::size_t addresses, double productPerUnit, double blockPerUnit);
-
   void publish(gl::BufferBindings& bindings) const;
 
  private:
+  friend class SolverProbe;  // the solver's tests (tests/support/SolverProbe.h) read and write its nodes
+
   gl::Buffer nodes_;            // SolverNode per node of the pool
   gl::Buffer status_;           // SolverStatus, then a vec4 per slot of the pool
   gl::Buffer particles_;        // SolverParticle per particle

@@ -21,6 +21,7 @@
 #include "scene/Scene.h"
 #include "gpu/Materials.h"
 #include "sim/Simulation.h"
+#include "../support/SolverProbe.h"
 
 namespace {
 
@@ -131,6 +132,7 @@ void expectProductMatchesForceDifference(const std::string& material) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 12; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
+  firn::SolverProbe probe(simulation);
 
   const double dtS = scene.time.dtS;
   const double wavenumber = 2 * 3.14159265358979 / 0.4;  // per metre: a wavelength across the body
@@ -139,8 +141,8 @@ void expectProductMatchesForceDifference(const std::string& material) {
     return amplitude * glm::dvec3(std::sin(wavenumber * x.y), std::cos(wavenumber * x.z) * 0.7,
                                   std::sin(wavenumber * (x.x + x.y)) * 0.5);
   };
-  const auto analytic = simulation.hessianProduct(velocity, HessianProduct::Unprojected);
-  const auto difference = simulation.hessianProduct(velocity, HessianProduct::ForceDifference);
+  const auto analytic = probe.hessianProduct(velocity, HessianProduct::Unprojected);
+  const auto difference = probe.hessianProduct(velocity, HessianProduct::ForceDifference);
   ASSERT_EQ(analytic.size(), difference.size());
   double differenceNorm = 0, productNorm = 0;
   for (std::size_t i = 0; i < analytic.size(); ++i) {
@@ -170,8 +172,9 @@ TEST_F(SemiImplicit, PreconditionerBlocksAreTheHessiansNodeBlocks) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 12; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
+  firn::SolverProbe probe(simulation);
 
-  const std::vector<Simulation::NodeMatrix> blocks = simulation.stiffnessBlocks();
+  const std::vector<firn::SolverProbe::NodeMatrix> blocks = probe.stiffnessBlocks();
   const auto nodeOf = [&](const glm::dvec3& x) {
     return glm::ivec3(glm::round((x - scene.grid.originM) / scene.grid.cellSizeM));
   };
@@ -180,7 +183,7 @@ TEST_F(SemiImplicit, PreconditionerBlocksAreTheHessiansNodeBlocks) {
   for (int c = 0; c < 3; ++c) {
     glm::dvec3 unit(0.0);
     unit[c] = 1.0;
-    const auto columns = simulation.hessianProduct(
+    const auto columns = probe.hessianProduct(
         [&](const glm::dvec3& x) { return sampled(nodeOf(x)) ? unit : glm::dvec3(0.0); }, HessianProduct::Differential);
     ASSERT_EQ(columns.size(), blocks.size());
     for (std::size_t i = 0; i < blocks.size(); ++i) {
@@ -211,6 +214,7 @@ TEST_F(SemiImplicit, ProjectedHessianProductIsPositiveSemiDefinite) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 10; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
+  firn::SolverProbe probe(simulation);
 
   const glm::dvec3 centre(0.6, 0.35, 0.6);
   const double angularSpeed = 1e-2 / scene.time.dtS;  // Δt |∇u| = 1e-2
@@ -218,7 +222,7 @@ TEST_F(SemiImplicit, ProjectedHessianProductIsPositiveSemiDefinite) {
     const auto rotation = [&](const glm::dvec3& x) { return angularSpeed * glm::cross(axis, x - centre); };
     const auto form = [&](HessianProduct product) {
       double quadratic = 0, magnitude = 0;
-      for (const Simulation::NodeVector& n : simulation.hessianProduct(rotation, product)) {
+      for (const firn::SolverProbe::NodeVector& n : probe.hessianProduct(rotation, product)) {
         const glm::dvec3 u = rotation(scene.grid.originM + glm::dvec3(n.node) * scene.grid.cellSizeM);
         quadratic += glm::dot(u, n.value);
         magnitude += glm::length(u) * glm::length(n.value);
