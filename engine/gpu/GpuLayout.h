@@ -48,15 +48,17 @@ constexpr BindingRange kSolverBindings{FIRN_SOLVER_BINDINGS_FIRST, FIRN_SOLVER_B
 constexpr BindingRange kSurfaceBindings{FIRN_SURFACE_BINDINGS_FIRST, FIRN_SURFACE_BINDINGS_END};
 constexpr BindingRange kBindingRanges[] = {kParticleBindings, kGridBindings, kTableBindings, kSolverBindings,
                                            kSurfaceBindings};
-constexpr bool rangesInOrder() {
+template <std::size_t N>
+constexpr bool rangesInOrder(const BindingRange (&ranges)[N], int bindingLimit) {
   int end = 0;
-  for (const BindingRange& range : kBindingRanges) {
-    if (range.first < end || range.end < range.first) return false;
-    end = range.end;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (ranges[i].first < end || ranges[i].end < ranges[i].first) return false;
+    end = ranges[i].end;
   }
-  return end <= FIRN_REQUIRED_STORAGE_BINDINGS;
+  return end <= bindingLimit;
 }
-static_assert(rangesInOrder(), "binding ranges overlap, or end past FIRN_REQUIRED_STORAGE_BINDINGS");
+static_assert(rangesInOrder(kBindingRanges, FIRN_REQUIRED_STORAGE_BINDINGS),
+              "binding ranges overlap, or end past FIRN_REQUIRED_STORAGE_BINDINGS");
 constexpr int kParticleBindingPoints[] = {FIRN_BINDING_POSITION_MASS, FIRN_BINDING_VELOCITY_VOLUME,
                                           FIRN_BINDING_ELASTIC_DEFORMATION, FIRN_BINDING_KIRCHHOFF_STRESS,
                                           FIRN_BINDING_AFFINE, FIRN_BINDING_PLASTIC_STATE};
@@ -84,7 +86,7 @@ static_assert(sizeof(ColliderParams) == 64, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 96 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 16, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
-static_assert(sizeof(StepUniforms) == 100, "std140 StepUniforms");
+static_assert(sizeof(StepUniforms) == 96, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
 static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");

@@ -79,14 +79,15 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
                                   gl::PassTimer& timer) const {
   const gl::Buffer& status = state.solver()->status();
-  begin_.runOnce(state.bindings(), timer);
+  const gl::BufferBindings& buffers = state.bindings();
+  begin_.runOnce(buffers, timer);
   glMemoryBarrier(kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
-  firstProduct_.runIndirect(status, kProductDispatch, state.bindings(), timer);
+  firstProduct_.runIndirect(status, kProductDispatch, buffers, timer);
   glMemoryBarrier(kStorage);
-  residual_.runIndirect(status, kBlockDispatch, state.bindings(), timer);
+  residual_.runIndirect(status, kBlockDispatch, buffers, timer);
   glMemoryBarrier(kStorage);
   reduce(state, 0, kResidual | kReference, timer);
 
@@ -94,19 +95,19 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product_.runIndirect(status, kProductDispatch, state.bindings(), timer);
+    product_.runIndirect(status, kProductDispatch, buffers, timer);
     glMemoryBarrier(kStorage);
-    apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, state.bindings(), timer);
+    apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration, kProduct | kDirectionProduct, timer);
-    step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, state.bindings(), timer);
+    step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
     glMemoryBarrier(kStorage);
     reduce(state, iteration + 1, kResidual, timer);
     if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.solver()->readEnd();
   }
   // Not ended: max_iterations were taken, and the last residual is the solve's.
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
-  finish_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), state.bindings(), timer);
+  finish_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   glMemoryBarrier(kStorage);
   return solved;
 }

@@ -32,7 +32,7 @@ class ImplicitSolver {
 
 
  private:
-  friend class SolverProbe;  // the solver's tests (tests/support/SolverProbe.h) run its passes one by one
+  friend class SimulationProbe;  // the solver's tests (tests/support/SimulationProbe.h) run its passes one by one
 
   // The bins' order by particle index and each particle's stiffness (solver_prepare.comp).
   void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;

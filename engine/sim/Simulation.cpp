@@ -286,10 +286,6 @@ ParticleSnapshot Simulation::snapshot() const { return state_.particles().read(p
 
 ParticleView Simulation::particleView() const { return state_.particles().view(particleCount_, timeS_); }
 
-void Simulation::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
-  state_.particles().writeVelocity(particle, velocityMPerS);
-}
-
 GridTotals Simulation::transferToGrid() {
   // Added in node order: the same node sums (fixed point's do not depend on the particles' order) give the same
   // totals to the last bit.

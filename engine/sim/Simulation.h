@@ -121,16 +121,13 @@ class Simulation {
   void setPassTiming(bool enabled) { passTimer_.setEnabled(enabled); }
   const std::vector<PassTime>& passTimes() const { return passTimer_.times(); }
 
-  // Test hook: overwrite one particle's velocity, e.g. with a NaN, to exercise the watchdog.
-  void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
-
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
   std::vector<GridNodeSums> readGridAfterTransfer();
 
  private:
-  friend class SolverProbe;  // the semi-implicit solve's tests (tests/support/SolverProbe.h)
+  friend class SimulationProbe;  // the tests' access to the parts (tests/support/SimulationProbe.h)
 
   // Grows the block pool to twice the most blocks a step claimed when that passed `fullness` of its capacity, and
   // notes a step that needed more than the pool held (blocksBeyondPool_).

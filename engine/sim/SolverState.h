@@ -32,7 +32,7 @@ class SolverState {
   void publish(gl::BufferBindings& bindings) const;
 
  private:
-  friend class SolverProbe;  // the solver's tests (tests/support/SolverProbe.h) read and write its nodes
+  friend class SimulationProbe;  // the solver's tests (tests/support/SimulationProbe.h) read and write its nodes
 
   gl::Buffer nodes_;            // SolverNode per node of the pool
   gl::Buffer status_;           // SolverStatus, then a vec4 per slot of the pool

@@ -70,15 +70,12 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   uniforms.referenceMassKg = float(fixedPoint.referenceMassKg);
   uniforms.momentumUnitKgMPerS =
       float(scene.time.adaptive ? fixedPoint.referenceMassKg * h / dtS : fixedPoint.momentumUnitKgMPerS);
-  uniforms.fixedPointScale = float(fixedPoint.unitsPerValue());
-  uniforms.fixedPointResolution = float(fixedPoint.resolution());
+  uniforms.fixedPointFractionBits = fixedPoint.fractionBits;
   uniforms.colliderCount = static_cast<std::uint32_t>(scene.colliders.size());
   if (scene.solver.semiImplicit()) {
-    const double unitsPerValue = std::ldexp(1.0, fixedPoint.solverFractionBits);
     uniforms.implicitRatio = float(scene.solver.implicitRatio);
     uniforms.solverToleranceSquared = float(scene.solver.tolerance * scene.solver.tolerance);
-    uniforms.solverScale = float(unitsPerValue);
-    uniforms.solverResolution = float(1.0 / unitsPerValue);
+    uniforms.solverFractionBits = fixedPoint.solverFractionBits;
   }
   return uniforms;
 }

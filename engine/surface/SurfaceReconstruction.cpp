@@ -41,9 +41,11 @@ void zeroPrefix(const gl::Buffer& buffer, std::size_t bytes) {
                        GL_UNSIGNED_INT, nullptr);
 }
 
-// A buffer of at least `bytes`, reallocated (without its contents) when it is smaller.
-void ensureCapacity(gl::Buffer& buffer, std::size_t bytes) {
-  if (buffer.bytes() < bytes || !buffer) buffer = gl::Buffer(std::max<std::size_t>(std::size_t(double(bytes) * kGrowth), 16));
+// A buffer of at least `bytes`, reallocated (without its contents) when it is smaller; `label` names it in debuggers.
+void ensureCapacity(gl::Buffer& buffer, std::size_t bytes, const char* label) {
+  if (buffer.bytes() < bytes || !buffer) {
+    buffer = gl::Buffer(std::max<std::size_t>(std::size_t(double(bytes) * kGrowth), 16)).labelled(label);
+  }
 }
 
 }  // namespace
@@ -137,10 +139,10 @@ void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors)
                      mebibytes(double(largestBytes)) + ", more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + "); lower surface.resolution");
   }
-  ensureCapacity(density_, count * kDensityBytesPerNode);
-  if (withColors) ensureCapacity(colors_, count * kColorBytesPerNode);
-  ensureCapacity(cells_, count * kCellBytesPerNode);
-  ensureCapacity(counts_, (count + 1) * kCountBytesPerNode);  // + 1: the scan's total
+  ensureCapacity(density_, count * kDensityBytesPerNode, "surface: density");
+  if (withColors) ensureCapacity(colors_, count * kColorBytesPerNode, "surface: colour sums");
+  ensureCapacity(cells_, count * kCellBytesPerNode, "surface: cells");
+  ensureCapacity(counts_, (count + 1) * kCountBytesPerNode, "surface: counts");  // + 1: the scan's total
   stats_.gridNodes = nodes;
   stats_.gridBytes = count * (kDensityBytesPerNode + kCellBytesPerNode + kCountBytesPerNode +
                               (withColors ? kColorBytesPerNode : 0));
@@ -224,8 +226,8 @@ void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const 
                      std::to_string(stats_.triangles) + " triangles, more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + ") holds; lower surface.resolution");
   }
-  ensureCapacity(vertices_, vertexBytes);
-  ensureCapacity(indices_, indexBytes);
+  ensureCapacity(vertices_, vertexBytes, "surface: vertices");
+  ensureCapacity(indices_, indexBytes, "surface: indices");
 
   // 5. The mesh.
   passes_->emitMesh.runOver(nodeCount, maxWorkGroupsX_, bindings(particleView, particleColors), timer_);

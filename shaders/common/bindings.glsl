@@ -9,10 +9,7 @@ layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniformsBlock {
 
 layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
 
-// Particle passes may be dispatched as a 2-D grid of work groups when there are more than 65,535 groups.
-uint particleInvocationIndex() {
-  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(FIRN_PARTICLE_GROUP_SIZE);
-}
+#include "common/invocation.glsl"
 
 // A node's linear index in the dense domain: how the watchdog names it (grid nodes are stored by block).
 uint nodeIndex(ivec3 node) { return uint(node.x + gridNodes.x * (node.y + gridNodes.y * node.z)); }

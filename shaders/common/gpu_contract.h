@@ -310,8 +310,8 @@ FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
   member(uint, maxSpeedBits)
 FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 
-// StepUniforms: the uniform block written before every step (std140; a vec3 and a scalar, or four scalars, to each
-// 16 bytes, so that std140 and C++ place every member alike; 100 bytes in all).
+// StepUniforms: the uniform block written before every step (std140, 96 bytes: each 16 bytes a vec3 and a scalar, or
+// four scalars, so that std140 and C++ place every member alike).
 //   gridOriginM, cellSizeM         the grid's origin and cell size h (m)
 //   gridNodes, particleCount       nodes per axis; the live particles
 //   gravityMPerS2, dtS             g (m/s²); Δt of this step (s)
@@ -322,10 +322,10 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //   referenceMassKg                the fixed-point mass unit m_ref (docs/numerics.md)
 //   momentumUnitKgMPerS            the fixed-point momentum unit m_ref·h/Δt_ref: Δt_ref is the scene's dt, or with
 //                                  adaptive steps this step's (sim/StepPipeline.cpp)
-//   fixedPointScale, fixedPointResolution   2^k and 2^−k: units per value and back
+//   fixedPointFractionBits         k: a nondimensional 1 is stored as 2^k (common/grid.glsl takes 2^±k by ldexp)
 //   colliderCount                  the collider table's entries
 //   implicitRatio, solverToleranceSquared   semi-implicit: β and the tolerance²
-//   solverScale, solverResolution  semi-implicit: 2^k_H and 2^−k_H, the units of SolverNode.productLow/High
+//   solverFractionBits             semi-implicit: k_H, the units 2^−k_H of SolverNode.productLow/High
 #define FIRN_STEP_UNIFORMS(member, array)  \
   member(vec3, gridOriginM)                \
   member(float, cellSizeM)                 \
@@ -339,13 +339,12 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
   member(uint, stepIndex)                  \
   member(float, referenceMassKg)           \
   member(float, momentumUnitKgMPerS)       \
-  member(float, fixedPointScale)           \
-  member(float, fixedPointResolution)      \
+  member(int, fixedPointFractionBits)      \
   member(uint, colliderCount)              \
   member(float, implicitRatio)             \
   member(float, solverToleranceSquared)    \
-  member(float, solverScale)               \
-  member(float, solverResolution)
+  member(int, solverFractionBits)          \
+  member(uint, unused)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

@@ -107,7 +107,7 @@ void reportOverflows(bvec4 over, ivec3 node, uvec4 channels) {
 // incommensurate with the nodes' φ). One too large for an int32 is dropped, and marked in `overflow` (its sign
 // bit, per channel) for the accumulator's node to report: no branch per contribution.
 ivec4 quantize(vec4 values, uvec4 channels, float dither, inout ivec4 overflow) {
-  vec4 scaled = floor(values * fixedPointScale + fract(dither + vec4(channels) * 0.75487767));
+  vec4 scaled = floor(values * ldexp(1.0, fixedPointFractionBits) + fract(dither + vec4(channels) * 0.75487767));
   bvec4 tooLarge = not(lessThanEqual(abs(scaled), vec4(FIXED_POINT_LIMIT)));  // also catches NaN
   overflow |= ivec4(uvec4(tooLarge) << 31);
   return ivec4(mix(scaled, vec4(0.0), tooLarge));
@@ -149,7 +149,7 @@ void addImpulseToNode(uint address, ivec3 impulse, ivec3 node) {
 }
 #endif
 
-vec4 storedToNondimensional(ivec4 stored) { return vec4(stored) * fixedPointResolution; }
+vec4 storedToNondimensional(ivec4 stored) { return vec4(stored) * ldexp(1.0, -fixedPointFractionBits); }
 vec4 storedFloats(ivec4 stored) { return intBitsToFloat(stored); }
 ivec4 floatsToStored(vec4 values) { return floatBitsToInt(values); }
 

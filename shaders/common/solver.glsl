@@ -42,7 +42,7 @@ layout(std430, binding = FIRN_BINDING_SOLVER_PRECONDITIONER) buffer SolverPrecon
 // integers of units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the
 // stiffest wave the scene states (sim/FixedPoint.h).
 bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
-  vec4 scaled = floor(units * solverScale + 0.5);
+  vec4 scaled = floor(units * ldexp(1.0, solverFractionBits) + 0.5);
   bool fits = all(lessThan(abs(scaled), vec4(FIXED64_LIMIT)));  // also false for NaN
   splitFixed64(fits ? scaled : vec4(0.0), low, high);
   return fits;
@@ -77,7 +77,7 @@ vec3 takeProduct(uint address) {
   vec3 sums = fixed64ToFloat(solverNodes[address].productLow, solverNodes[address].productHigh).xyz;
   solverNodes[address].productLow = uvec4(0u);
   solverNodes[address].productHigh = ivec4(0);
-  return sums * (solverResolution * momentumUnitKgMPerS);
+  return sums * (ldexp(1.0, -solverFractionBits) * momentumUnitKgMPerS);
 }
 
 // After the first product of a step: β Δt² Hᵢᵢ, the Hessian's 3×3 block at the node (kg); the sums are cleared for
@@ -87,7 +87,7 @@ mat3 takeStiffnessBlock(uint address) {
   vec3 offDiagonal = fixed64ToFloat(solverNodes[address].offDiagonalLow, solverNodes[address].offDiagonalHigh).xyz;
   solverNodes[address].diagonalLow = solverNodes[address].offDiagonalLow = uvec4(0u);
   solverNodes[address].diagonalHigh = solverNodes[address].offDiagonalHigh = ivec4(0);
-  float unitKg = solverResolution * referenceMassKg;
+  float unitKg = ldexp(1.0, -solverFractionBits) * referenceMassKg;
   return unitKg * mat3(diagonal.x, offDiagonal.z, offDiagonal.y,
                        offDiagonal.z, diagonal.y, offDiagonal.x,
                        offDiagonal.y, offDiagonal.x, diagonal.z);

@@ -5,7 +5,8 @@
 #include "common/particles.glsl"
 #include "render/lighting.glsl"
 #include "render/particle_appearance.glsl"
-#include "surface/surface_common.glsl"
+#include "common/invocation.glsl"
+#include "surface/surface_contract.h"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -16,7 +17,7 @@ layout(std430, binding = FIRN_BINDING_SURFACE_PARTICLE_COLORS) writeonly buffer 
 uniform uint coloredParticles;
 
 void main() {
-  uint p = itemIndex();
+  uint p = invocationIndex();
   if (p >= coloredParticles) return;
   particleColors[p] = vec4(particleAlbedo(p), 1.0);
 }

@@ -24,6 +24,6 @@ void computeVolume(uint p) {
 }
 
 void main() {
-  uint p = particleInvocationIndex();
+  uint p = invocationIndex();
   if (p < particleCount) computeVolume(p);
 }

@@ -109,6 +109,6 @@ void advanceParticle(uint p) {
 }
 
 void main() {
-  uint i = particleInvocationIndex();
+  uint i = invocationIndex();
   if (i < sortedParticleCount()) advanceParticle(sortedParticles[i]);
 }

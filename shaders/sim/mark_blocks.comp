@@ -21,7 +21,7 @@ void claimBlock(ivec3 block) {
 }
 
 void main() {
-  uint p = particleInvocationIndex();
+  uint p = invocationIndex();
   if (p >= particleCount) return;
   vec3 x = positionMass[p].xyz;
   if (!allFinite(x)) {

@@ -14,7 +14,7 @@ layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 shared uint leastBits[FIRN_PARTICLE_GROUP_SIZE];
 
 void main() {
-  uint p = particleInvocationIndex();
+  uint p = invocationIndex();
   uint l = gl_LocalInvocationIndex;
   uint bits = 0x7f800000u;  // +∞
   if (p < particleCount) {

@@ -15,7 +15,7 @@ layout(std430, binding = FIRN_BINDING_SURFACE_COUNTS) writeonly buffer SurfaceCo
 bool insideAt(ivec3 node) { return density[nodeAddress(node)] >= isoUnits; }
 
 void main() {
-  uint address = itemIndex();
+  uint address = invocationIndex();
   if (address >= nodeCount) return;
   ivec3 node = nodeOfAddress(address);
   bool inside = insideAt(node);

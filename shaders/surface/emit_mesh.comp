@@ -59,7 +59,7 @@ SurfaceVertex edgeVertex(ivec3 start, int axis) {
 int caseEdge(uvec4 entry, int i) { return int((entry[1 + i / 8] >> (4 * (i % 8))) & 0xFu); }
 
 void main() {
-  uint address = itemIndex();
+  uint address = invocationIndex();
   if (address >= nodeCount) return;
   uint cell = cells[address];
   uvec2 first = offsets[address];  // this node's first vertex and its cell's first triangle

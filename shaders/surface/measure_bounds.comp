@@ -10,7 +10,7 @@
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void main() {
-  uint p = itemIndex();
+  uint p = invocationIndex();
   if (p >= reconstructedParticles) return;
   vec3 x = positionMass[p].xyz;
   float radiusM = kernelRadiusM(particleRestVolumeM3(p));

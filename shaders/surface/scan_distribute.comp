@@ -14,7 +14,7 @@ uniform uint elementCount;
 uniform int hasLevelAbove;
 
 void main() {
-  uint chunk = itemIndex();
+  uint chunk = invocationIndex();
   uint first = chunk * SCAN_CHUNK;
   if (first >= elementCount) return;
   uint end = min(first + SCAN_CHUNK, elementCount);

@@ -13,7 +13,7 @@ layout(std430, binding = FIRN_BINDING_SCAN_SUMS) writeonly buffer ScanSumBuffer 
 uniform uint elementCount;
 
 void main() {
-  uint chunk = itemIndex();
+  uint chunk = invocationIndex();
   uint first = chunk * SCAN_CHUNK;
   if (first >= elementCount) return;
   uint end = min(first + SCAN_CHUNK, elementCount);

@@ -21,7 +21,7 @@ layout(std430, binding = FIRN_BINDING_SURFACE_PARTICLE_COLORS) readonly buffer P
 int toUnits(float value) { return int(floor(value * SURFACE_UNITS_PER_VALUE + 0.5)); }
 
 void main() {
-  uint p = itemIndex();
+  uint p = invocationIndex();
   if (p >= reconstructedParticles) return;
   vec3 x = positionMass[p].xyz;
   float volumeM3 = particleRestVolumeM3(p);

@@ -8,11 +8,7 @@ layout(std140, binding = FIRN_BINDING_SURFACE_UNIFORMS) uniform SurfaceUniformsB
   FIRN_MEMBERS(FIRN_SURFACE_UNIFORMS)
 };
 
-// Passes over particles or nodes run in groups of FIRN_PARTICLE_GROUP_SIZE, folded into a second dimension of
-// work groups beyond 65,535 groups (as the simulation's particle passes are: common/bindings.glsl).
-uint itemIndex() {
-  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(FIRN_PARTICLE_GROUP_SIZE);
-}
+#include "common/invocation.glsl"
 
 // A node of this frame's grid: its index in the box per axis, and its address in the per-node buffers.
 uint nodeAddress(ivec3 node) { return uint(node.x + boxNodes.x * (node.y + boxNodes.y * node.z)); }

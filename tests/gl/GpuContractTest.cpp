@@ -194,7 +194,7 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       {"common/blocks.glsl", "particleRanks[0]", GL_SHADER_STORAGE_BLOCK, "ParticleRankBuffer",
        FIRN_BINDING_PARTICLE_RANKS, 0},
       {"common/blocks.glsl", "tileOrder[0]", GL_SHADER_STORAGE_BLOCK, "TileOrderBuffer", FIRN_BINDING_TILE_ORDER, 0},
-      {"surface/surface_common.glsl", "nodeCounts", GL_UNIFORM_BLOCK, "SurfaceUniformsBlock",
+      {"surface/surface_common.glsl", "boxNodes", GL_UNIFORM_BLOCK, "SurfaceUniformsBlock",
        FIRN_BINDING_SURFACE_UNIFORMS, sizeof(SurfaceUniforms)},
       {"surface/header.glsl", "kernelNodesMin", GL_SHADER_STORAGE_BLOCK, "SurfaceHeaderBuffer",
        FIRN_BINDING_SURFACE_HEADER, sizeof(SurfaceHeader)},

@@ -21,7 +21,7 @@
 #include "scene/Scene.h"
 #include "gpu/Materials.h"
 #include "sim/Simulation.h"
-#include "../support/SolverProbe.h"
+#include "support/SimulationProbe.h"
 
 namespace {
 
@@ -132,7 +132,7 @@ void expectProductMatchesForceDifference(const std::string& material) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 12; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
-  firn::SolverProbe probe(simulation);
+  firn::SimulationProbe probe(simulation);
 
   const double dtS = scene.time.dtS;
   const double wavenumber = 2 * 3.14159265358979 / 0.4;  // per metre: a wavelength across the body
@@ -172,9 +172,9 @@ TEST_F(SemiImplicit, PreconditionerBlocksAreTheHessiansNodeBlocks) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 12; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
-  firn::SolverProbe probe(simulation);
+  firn::SimulationProbe probe(simulation);
 
-  const std::vector<firn::SolverProbe::NodeMatrix> blocks = probe.stiffnessBlocks();
+  const std::vector<firn::SimulationProbe::NodeMatrix> blocks = probe.stiffnessBlocks();
   const auto nodeOf = [&](const glm::dvec3& x) {
     return glm::ivec3(glm::round((x - scene.grid.originM) / scene.grid.cellSizeM));
   };
@@ -214,7 +214,7 @@ TEST_F(SemiImplicit, ProjectedHessianProductIsPositiveSemiDefinite) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   for (int i = 0; i < 10; ++i) simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
-  firn::SolverProbe probe(simulation);
+  firn::SimulationProbe probe(simulation);
 
   const glm::dvec3 centre(0.6, 0.35, 0.6);
   const double angularSpeed = 1e-2 / scene.time.dtS;  // Δt |∇u| = 1e-2
@@ -222,7 +222,7 @@ TEST_F(SemiImplicit, ProjectedHessianProductIsPositiveSemiDefinite) {
     const auto rotation = [&](const glm::dvec3& x) { return angularSpeed * glm::cross(axis, x - centre); };
     const auto form = [&](HessianProduct product) {
       double quadratic = 0, magnitude = 0;
-      for (const firn::SolverProbe::NodeVector& n : probe.hessianProduct(rotation, product)) {
+      for (const firn::SimulationProbe::NodeVector& n : probe.hessianProduct(rotation, product)) {
         const glm::dvec3 u = rotation(scene.grid.originM + glm::dvec3(n.node) * scene.grid.cellSizeM);
         quadratic += glm::dot(u, n.value);
         magnitude += glm::length(u) * glm::length(n.value);

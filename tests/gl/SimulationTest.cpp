@@ -11,6 +11,7 @@
 #include "GlTest.h"
 #include "scene/Scene.h"
 #include "sim/Simulation.h"
+#include "support/SimulationProbe.h"
 
 namespace {
 
@@ -261,7 +262,7 @@ TEST_F(SimulationTest, NonFiniteParticleIsReportedAndNeverStored) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   simulation.step(scene.time.dtS);
   simulation.checkWatchdog();
-  simulation.setParticleVelocity(17, glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0, 0));
+  firn::SimulationProbe(simulation).setParticleVelocity(17, glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0, 0));
   simulation.step(scene.time.dtS);
   const std::string message = watchdogMessage(simulation);
   EXPECT_NE(message.find("step 1"), std::string::npos) << message;
@@ -429,7 +430,7 @@ TEST_F(SimulationTest, RestoredStateRedoesAStretchBitForBit) {
 
   simulation.restoreState();
   EXPECT_EQ(simulation.timeS(), 0.01);
-  simulation.setParticleVelocity(3, glm::vec3(std::numeric_limits<float>::quiet_NaN()));
+  firn::SimulationProbe(simulation).setParticleVelocity(3, glm::vec3(std::numeric_limits<float>::quiet_NaN()));
   simulation.advanceTo(0.03);
   EXPECT_THROW(simulation.checkWatchdog(), firn::SimulationError);
 

@@ -1,6 +1,7 @@
 #pragma once
-// What the semi-implicit solve's tests look at, reached from outside the production classes (SolverProbe is a friend
-// of Simulation, ImplicitSolver and SolverState, and builds the test-only programs itself): the Hessian product
+// What the tests reach inside a Simulation from outside the production classes (SimulationProbe is a friend of
+// Simulation, ImplicitSolver and SolverState, and builds the test-only programs itself): a particle's velocity
+// overwritten (with a NaN, to exercise the watchdog); and for the semi-implicit solve's tests the Hessian product
 // β Δt² H u (kg·m/s; Δt the scene's dt) at every node of the grid the current particles reach, as the solve computes
 // it, as its differential before the projection onto the positive semi-definite, or as the central difference of the
 // stress the explicit force comes from; and the stiffness blocks β Δt² Hᵢᵢ (kg) the solve's first product sums for
@@ -21,7 +22,7 @@ namespace firn {
 // or (P(F + δF) − P(F − δF)) / 2 (solver_product.comp with FIRN_SOLVER_FORCE_DIFFERENCE).
 enum class HessianProduct { Differential, Unprojected, ForceDifference };
 
-class SolverProbe {
+class SimulationProbe {
  public:
   // A product's sums and the first product's stiffness blocks at each storage address.
   struct SolverSums {
@@ -29,8 +30,11 @@ class SolverProbe {
     std::vector<glm::dmat3> stiffnessBlocks;
   };
 
-  // Throws std::logic_error for a scene whose integrator is explicit.
-  explicit SolverProbe(Simulation& simulation);
+  explicit SimulationProbe(Simulation& simulation);
+
+  void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
+
+  // The solver's; they throw std::logic_error for a scene whose integrator is explicit.
 
   struct NodeVector {
     glm::ivec3 node{0};
@@ -53,8 +57,10 @@ class SolverProbe {
   // The sums at the first `addresses` storage addresses, in kg·m/s (products) and kg (blocks), cleared.
   SolverSums takeSums(std::size_t addresses);
 
+  // The solve and its test-only programs, built when first asked for.
+  const ImplicitSolver& solver();
+
   Simulation& simulation_;
-  const ImplicitSolver& solver_;
   gl::ComputePass unprojectedPrepare_;
   gl::ComputePass forceDifferenceProduct_;
 };

@@ -1,4 +1,4 @@
-#include "SolverProbe.h"
+#include "SimulationProbe.h"
 
 #include <cmath>
 #include <cstdint>
@@ -12,13 +12,6 @@ namespace {
 
 constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
 
-const ImplicitSolver& solverOf(const Simulation& simulation, const StepPipeline& pipeline) {
-  if (pipeline.implicitSolver() == nullptr) {
-    throw std::logic_error(sceneFileName(simulation.scene()) + ": the solver probe needs a semi-implicit scene");
-  }
-  return *pipeline.implicitSolver();
-}
-
 gl::ComputePass variant(const Scene& scene, const char* shader, const char* define) {
   gl::ShaderOptions options = stepShaderOptions(scene, MaterialPrograms::SceneModels);
   options.defines.emplace_back(define, "1");
@@ -31,26 +24,39 @@ double fixed64ToDouble(std::uint32_t low, std::int32_t high) {
 
 }  // namespace
 
-SolverProbe::SolverProbe(Simulation& simulation)
-    : simulation_(simulation),
-      solver_(solverOf(simulation, simulation.pipeline_)),
-      unprojectedPrepare_(variant(simulation.scene(), "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN")),
-      forceDifferenceProduct_(variant(simulation.scene(), "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE")) {}
+SimulationProbe::SimulationProbe(Simulation& simulation) : simulation_(simulation) {}
 
-void SolverProbe::prepare(HessianProduct product) {
+void SimulationProbe::setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS) {
+  simulation_.state_.particles().writeVelocity(particle, velocityMPerS);
+}
+
+const ImplicitSolver& SimulationProbe::solver() {
+  const ImplicitSolver* solver = simulation_.pipeline_.implicitSolver();
+  if (solver == nullptr) {
+    throw std::logic_error(sceneFileName(simulation_.scene()) + ": the solver's probes need a semi-implicit scene");
+  }
+  if (!unprojectedPrepare_) {
+    unprojectedPrepare_ = variant(simulation_.scene(), "sim/solver_prepare.comp", "FIRN_SOLVER_UNPROJECTED_HESSIAN");
+    forceDifferenceProduct_ = variant(simulation_.scene(), "sim/solver_product.comp", "FIRN_SOLVER_FORCE_DIFFERENCE");
+  }
+  return *solver;
+}
+
+void SimulationProbe::prepare(HessianProduct product) {
   Simulation& s = simulation_;
   GpuState& state = s.state_;
   state.writeStepUniforms(stepUniforms(s.scene_, s.fixedPoint_, s.scene_.time.dtS, s.timeS_, s.particleCount_, s.steps_));
   s.pipeline_.transferToGrid(state, s.particleCount_, s.passTimer_);
   const gl::BufferBindings& buffers = state.bindings();
-  solver_.orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers,
-                                 s.passTimer_);
-  const gl::ComputePass& pass = product == HessianProduct::Unprojected ? unprojectedPrepare_ : solver_.prepare_;
+  const ImplicitSolver& implicitSolver = solver();
+  implicitSolver.orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers,
+                                        s.passTimer_);
+  const gl::ComputePass& pass = product == HessianProduct::Unprojected ? unprojectedPrepare_ : implicitSolver.prepare_;
   pass.runOver(s.particleCount_, s.gl_.maxComputeWorkGroupCountX, buffers, s.passTimer_);
   glMemoryBarrier(kStorage);
 }
 
-std::vector<SolverProbe::NodeVector> SolverProbe::hessianProduct(
+std::vector<SimulationProbe::NodeVector> SimulationProbe::hessianProduct(
     const std::function<glm::dvec3(const glm::dvec3&)>& velocityAtNode, HessianProduct product) {
   prepare(product);
   GpuState& state = simulation_.state_;
@@ -63,24 +69,24 @@ std::vector<SolverProbe::NodeVector> SolverProbe::hessianProduct(
     stored[i].preconditioned = glm::vec4(glm::vec3(velocityAtNode(grid.originM + glm::dvec3(nodes[i]) * grid.cellSizeM)), 0);
   }
   solverNodes.upload(0, stored.size() * sizeof(gpu::SolverNode), stored.data());
-  const gl::ComputePass& pass = product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver_.product_;
+  const gl::ComputePass& pass = product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().product_;
   pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
                    simulation_.passTimer_);
   glMemoryBarrier(kStorage);
   return inGridOrder<NodeVector>(nodes, takeSums(nodes.size()).products);
 }
 
-std::vector<SolverProbe::NodeMatrix> SolverProbe::stiffnessBlocks() {
+std::vector<SimulationProbe::NodeMatrix> SimulationProbe::stiffnessBlocks() {
   prepare(HessianProduct::Differential);
   GpuState& state = simulation_.state_;
   const std::vector<glm::ivec3> nodes = state.grid().activeNodes();
-  solver_.firstProduct_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch),
+  solver().firstProduct_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch),
                                     state.bindings(), simulation_.passTimer_);
   glMemoryBarrier(kStorage);
   return inGridOrder<NodeMatrix>(nodes, takeSums(nodes.size()).stiffnessBlocks);
 }
 
-SolverProbe::SolverSums SolverProbe::takeSums(std::size_t addresses) {
+SimulationProbe::SolverSums SimulationProbe::takeSums(std::size_t addresses) {
   // The 64-bit sums' unit: 2^−k_H of the momentum unit (products) or of the reference mass (blocks).
   const FixedPointScale& fixedPoint = simulation_.fixedPoint_;
   const double productPerUnit = std::ldexp(fixedPoint.momentumUnitKgMPerS, -fixedPoint.solverFractionBits);
