@@ -26,6 +26,7 @@
 #include "run/Budget.h"
 #include "run/HeadlessRun.h"
 #include "scene/Scene.h"
+#include "voxelizer/ProcessMemory.h"
 #include "voxelizer/Voxelizer.h"
 
 namespace {

@@ -12,7 +12,7 @@
 #include "io/Text.h"
 #include "sim/GpuLayout.h"
 #include "sim/GpuState.h"
-#include "voxelizer/ChildProcess.h"
+#include "voxelizer/ProcessMemory.h"
 
 namespace firn {
 namespace {
