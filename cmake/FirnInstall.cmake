@@ -5,7 +5,7 @@
 #
 #   P/bin/firn
 #   P/lib/libfirn_engine.a, libfirn_voxelizer.a           (static; Firn::engine links Firn::voxelizer)
-#   P/include/firn/{Error.h, gl/, io/, render/, run/, scene/, sim/, surface/}   engine/**/*.h
+#   P/include/firn/{Error.h, gl/, gpu/, io/, render/, run/, scene/, sim/, surface/}   engine/**/*.h
 #   P/include/firn/<dir>/*.h                               shaders/**/*.h (headers shared by C++ and GLSL)
 #   P/include/firn/voxelizer/*.h                           voxelizer/*.h
 #   P/lib/cmake/Firn/FirnConfig.cmake, FirnConfigVersion.cmake, FirnFindOpenVDB.cmake, FirnTargets*.cmake

@@ -29,9 +29,4 @@ struct ChildOutcome {
 // other. Throws std::system_error if the pipes or the fork cannot be made.
 ChildOutcome runInChildProcess(const std::function<std::string()>& work, const ChildLimits& limits);
 
-// What this process may still allocate, in bytes: the smaller of the memory the system has available
-// (/proc/meminfo's MemAvailable) and what the address-space limit (RLIMIT_AS, `ulimit -v`) leaves beyond what is
-// mapped and what threads' stacks and malloc arenas will reserve.
-std::uint64_t allocatableBytes();
-
 }  // namespace firn::voxelizer

@@ -17,6 +17,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "voxelizer/ProcessMemory.h"
+
 namespace firn::voxelizer {
 namespace {
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -21,9 +22,9 @@
 #include "Error.h"
 #include "gl/Context.h"
 #include "io/Text.h"
-#include "run/Budget.h"
-#include "run/Preflight.h"
+#include "run/SimulationSession.h"
 #include "run/StepAccumulator.h"
+#include "scene/Sampling.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
 
@@ -162,17 +163,12 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
 class Viewer {
  public:
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
-      : scene_(scene), options_(options), window_(window), gl_(gl),
-        seeds_(sampleWithinBudget(scene, gl, kSnowballCapacity * estimateBody(snowballBody(scene), scene.grid).particles,
-                                  nullptr)),
-        snowballTemplate_(sampleSnowball()), renderer_(scene),
+      : scene_(scene), options_(options), window_(window), snowballTemplate_(sampleSnowball()),
+        session_(scene, gl, sessionOptions(scene, options, snowballTemplate_.size()), std::cerr), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode), renderMode_(options.renderMode) {
-    const PreflightReport report = preflight(scene, seeds_);
-    for (const std::string& warning : report.warnings) std::printf("firn view: warning: %s\n", warning.c_str());
-    // Asked for on the command line, bad surface settings are bad input (exit 2) before the window shows anything.
-    if (renderMode_ == render::RenderMode::Surface) makeSurface();
-    resetSimulation();
+    // Asked for on the command line, the surface is made (and reported) with the rest of the start.
+    if (renderMode_ == render::RenderMode::Surface) session_.surface();
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
       if (action != GLFW_RELEASE) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onKey(key, mods);
@@ -185,7 +181,7 @@ class Viewer {
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, V particles/surface, T throw a snowball, F reframe, Q quit\n",
-                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(seeds_.size())).c_str());
+                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str());
   }
 
   void run() {
@@ -206,7 +202,7 @@ class Viewer {
       // A minimised window has no pixels to draw into.
       if (framebufferPx.x > 0 && framebufferPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        renderer_.draw(simulation_->particleView(), orbit_.camera(), framebufferPx, colorMode_, currentSurface());
+        renderer_.draw(simulation().particleView(), orbit_.camera(), framebufferPx, colorMode_, currentSurface());
       }
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
@@ -216,8 +212,8 @@ class Viewer {
           std::printf("firn view: wrote %s\n", options_.screenshotPath.string().c_str());
         }
         std::printf("firn view: %d frames, %llu steps, t = %.4f s, %zu particles\n", frame,
-                    static_cast<unsigned long long>(simulation_->stepCount()), simulation_->timeS(),
-                    simulation_->particleCount());
+                    static_cast<unsigned long long>(simulation().stepCount()), simulation().timeS(),
+                    simulation().particleCount());
         break;
       }
       glfwSwapBuffers(window_);
@@ -229,27 +225,38 @@ class Viewer {
   }
 
  private:
+  // The session the command line asks for: room for the snowballs, in the budget and in the particle buffers;
+  // a surface asked for on the command line checked before the simulation is built (bad settings are exit 2).
+  static SessionOptions sessionOptions(const Scene& scene, const ViewOptions& options, std::size_t snowballParticles) {
+    SessionOptions session;
+    session.messagePrefix = "firn view";
+    session.showProgress = options.showProgress;
+    session.withSurface = options.renderMode == render::RenderMode::Surface;
+    session.reservedParticles = kSnowballCapacity * estimateBody(snowballBody(scene), scene.grid).particles;
+    session.addedParticleCapacity = kSnowballCapacity * snowballParticles;
+    return session;
+  }
+
+  Simulation& simulation() { return session_.simulation(); }
+
   void resetSimulation() {
-    simulation_.reset();  // frees the old buffers before the new ones are made
-    simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_,
-                                               seeds_.size() + kSnowballCapacity * snowballTemplate_.size());
+    session_.restart();
     accumulator_.reset();
     unstable_ = false;
     surfaceIsCurrent_ = false;
   }
 
-  void makeSurface() { surface_ = std::make_unique<surface::SurfaceReconstruction>(scene_, seeds_, gl_); }
-
   // In surface mode, the surface of the particles as they are, rebuilt when they or the colours changed.
   const surface::SurfaceReconstruction* currentSurface() {
     if (renderMode_ != render::RenderMode::Surface) return nullptr;
-    const SurfaceKey key{simulation_->stepCount(), simulation_->particleCount(), colorMode_};
+    surface::SurfaceReconstruction& surface = session_.surface();
+    const SurfaceKey key{simulation().stepCount(), simulation().particleCount(), colorMode_};
     if (!surfaceIsCurrent_ || !(key == surfaceKey_)) {
-      surface_->reconstruct(simulation_->particleView(), renderer_.particleColors(simulation_->particleView(), colorMode_));
+      surface.reconstruct(simulation().particleView(), renderer_.particleColors(simulation().particleView(), colorMode_));
       surfaceKey_ = key;
       surfaceIsCurrent_ = true;
     }
-    return surface_.get();
+    return &surface;
   }
 
   void switchRenderMode() {
@@ -258,7 +265,7 @@ class Viewer {
       return;
     }
     try {
-      if (!surface_) makeSurface();
+      session_.surface();
       renderMode_ = render::RenderMode::Surface;
       surfaceIsCurrent_ = false;
     } catch (const InputError& error) {
@@ -272,9 +279,9 @@ class Viewer {
     if (steps <= 0 || unstable_) return;
     const auto start = Clock::now();
     // The accumulator counts steps of dt; an adaptive scene covers that time in steps of its own choosing.
-    steps = simulation_->advanceTo(simulation_->timeS() + steps * scene_.time.dtS);
+    steps = simulation().advanceTo(simulation().timeS() + steps * scene_.time.dtS);
     try {
-      simulation_->checkWatchdog();  // reads a small buffer, which waits for the steps to finish
+      simulation().checkWatchdog();  // reads a small buffer, which waits for the steps to finish
     } catch (const SimulationError& error) {
       if (options_.frames) throw;
       std::fprintf(stderr, "firn view: %s\nfirn view: paused; press R to reset\n", error.what());
@@ -294,7 +301,7 @@ class Viewer {
     std::snprintf(text, sizeof text,
                   "Firn — %s | %.0f steps/s, %.2f ms/step | %s particles | t = %.3f s | speed %g× | %s, colour: %s%s",
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
-                  withThousands(double(simulation_->particleCount())).c_str(), simulation_->timeS(), speed_,
+                  withThousands(double(simulation().particleCount())).c_str(), simulation().timeS(), speed_,
                   render::renderModeName(renderMode_), render::colorModeName(colorMode_),
                   unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
     glfwSetWindowTitle(window_, text);
@@ -369,7 +376,7 @@ class Viewer {
   // Throws a snowball along the view direction from where the view ray enters the domain (or from the
   // camera, if it is inside), kept clear of the walls.
   void throwSnowball() {
-    if (simulation_->particleCount() + snowballTemplate_.size() > simulation_->particleCapacity()) {
+    if (simulation().particleCount() + snowballTemplate_.size() > simulation().particleCapacity()) {
       std::fprintf(stderr, "firn view: no room for another snowball (%d thrown; press R to reset)\n", kSnowballCapacity);
       return;
     }
@@ -385,29 +392,27 @@ class Viewer {
     const float speedMPerS = float(std::min(kSnowballSpeedMPerS, scene_.grid.cellSizeM / scene_.time.dtS / 3));
     // The fixed-point scale allows no particle heavier than the scene's heaviest (a points body may bring
     // lighter particles than ρ s³): such a snowball is made lighter instead.
-    const float maxMassKg = float(simulation_->fixedPoint().referenceMassKg);
+    const float maxMassKg = float(simulation().fixedPoint().referenceMassKg);
     std::vector<ParticleSeed> particles = snowballTemplate_;
     for (ParticleSeed& particle : particles) {
       particle.positionM += centerM;
       particle.velocityMPerS = speedMPerS * forward;
       particle.massKg = std::min(particle.massKg, maxMassKg);
     }
-    simulation_->addParticles(particles);
+    simulation().addParticles(particles);
   }
 
   const Scene& scene_;
   const ViewOptions& options_;
   GLFWwindow* window_;
-  gl::ContextInfo gl_;
-  std::vector<ParticleSeed> seeds_;
   std::vector<ParticleSeed> snowballTemplate_;
-  std::unique_ptr<Simulation> simulation_;
+  SimulationSession session_;
   render::Renderer renderer_;
   OrbitCamera orbit_;
   StepAccumulator accumulator_;
   render::ColorMode colorMode_;
   render::RenderMode renderMode_;
-  // The surface (made when first drawn) and what it was last rebuilt from.
+  // What the surface was last rebuilt from.
   struct SurfaceKey {
     std::uint64_t step;
     std::size_t particles;
@@ -416,7 +421,6 @@ class Viewer {
       return step == other.step && particles == other.particles && colorMode == other.colorMode;
     }
   };
-  std::unique_ptr<surface::SurfaceReconstruction> surface_;
   SurfaceKey surfaceKey_{0, 0, render::ColorMode::Material};
   bool surfaceIsCurrent_ = false;
   bool paused_ = false;

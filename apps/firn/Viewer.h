@@ -18,6 +18,7 @@ struct ViewOptions {
   render::ColorMode colorMode = render::ColorMode::Material;
   render::RenderMode renderMode = render::RenderMode::Particles;  // V switches
   std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
+  bool showProgress = false;           // a progress line on stderr while sampling (when it is a terminal)
 };
 
 // Runs until the window closes (or `frames` frames). Throws NoOpenGLError (exit 4) without a display or a

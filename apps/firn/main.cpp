@@ -26,6 +26,7 @@
 #include "run/Budget.h"
 #include "run/HeadlessRun.h"
 #include "scene/Scene.h"
+#include "voxelizer/ProcessMemory.h"
 #include "voxelizer/Voxelizer.h"
 
 namespace {
@@ -51,7 +52,8 @@ int runCommand(const std::string& scenePath, firn::RunOptions options) {
   return 0;
 }
 
-int viewCommand(const std::string& scenePath, const firn::ViewOptions& options) {
+int viewCommand(const std::string& scenePath, firn::ViewOptions options) {
+  options.showProgress = isatty(STDERR_FILENO) != 0;
   firn::runViewer(sceneOrDefault(scenePath), options);
   return 0;
 }

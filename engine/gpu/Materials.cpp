@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "scene/Scene.h"
 #include "gpu/GpuFunctions.h"
+#include "scene/Scene.h"
 
 namespace firn {
 

@@ -11,15 +11,15 @@
 #include <glm/vec4.hpp>
 
 #include "gl/Buffer.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
 #include "gl/Framebuffer.h"
 #include "gl/Program.h"
+#include "gpu/ParticleView.h"
 #include "render/Camera.h"
 #include "render/Geometry.h"
 #include "render/Image.h"
 #include "scene/Scene.h"
-#include "gl/BufferBindings.h"
-#include "gl/ComputePass.h"
-#include "gpu/ParticleView.h"
 #include "surface/SurfaceReconstruction.h"
 
 namespace firn::render {

@@ -9,10 +9,10 @@
 #include <glm/common.hpp>
 
 #include "Error.h"
-#include "io/Text.h"
 #include "gpu/GpuLayout.h"
+#include "io/Text.h"
 #include "sim/GpuState.h"
-#include "voxelizer/ChildProcess.h"
+#include "voxelizer/ProcessMemory.h"
 
 namespace firn {
 namespace {

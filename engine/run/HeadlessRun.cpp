@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -20,8 +19,7 @@
 #include "io/SurfaceMesh.h"
 #include "io/Vdb.h"
 #include "io/Video.h"
-#include "run/Budget.h"
-#include "run/Preflight.h"
+#include "run/SimulationSession.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
 
@@ -113,30 +111,14 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context;
-  std::optional<ProgressLine> progressLine;
-  std::function<void(std::size_t, double)> progress;
-  if (options.showProgress) {
-    progressLine.emplace(stderr);
-    progress = [&](std::size_t body, double fraction) {
-      progressLine->show("firn: sampling bodies[" + std::to_string(body) + "]:", fraction);
-    };
-  }
-  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, context.info(), 0, progress);
-  progressLine.reset();
-  // Before any simulation: a scene that cannot run says so at once (exit 2).
-  const PreflightReport preflightReport = preflight(scene, seeds, frames);
   const bool surfacePictures =
       (options.writePng || !options.videoPath.empty()) && options.renderMode == render::RenderMode::Surface;
-  const bool withSurface = surfacePictures || options.writeMesh || options.writeVdb;
-  std::optional<surface::KernelRange> kernels;
-  if (withSurface) kernels = surface::checkKernelRange(scene, seeds);
-  Simulation simulation(scene, seeds, context.info());
-  log << "firn: " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds.size()
-      << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z
-      << " cells, dt " << scene.time.dtS << " s, " << frames << " frames on " << context.info().renderer << "\n";
-
-  for (const std::string& note : preflightReport.notes) log << "firn: " << note << "\n";
-  for (const std::string& warning : preflightReport.warnings) log << "firn: warning: " << warning << "\n";
+  SessionOptions sessionOptions;
+  sessionOptions.showProgress = options.showProgress;
+  sessionOptions.lastFrame = frames;
+  sessionOptions.withSurface = surfacePictures || options.writeMesh || options.writeVdb;
+  SimulationSession session(scene, context.info(), sessionOptions, log);
+  Simulation& simulation = session.simulation();
   simulation.setPassTiming(options.passTimes);
   std::optional<render::OffscreenRenderer> pictures;
   render::Camera camera;
@@ -144,14 +126,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     pictures.emplace(scene, options.imageSizePx);
     camera = render::defaultCamera(scene, float(options.imageSizePx.x) / float(options.imageSizePx.y));
   }
-  std::optional<surface::SurfaceReconstruction> snowSurface;
-  if (withSurface) {
-    snowSurface.emplace(scene, seeds, context.info());
-    snowSurface->setPassTiming(options.passTimes);
-    log << "firn: surface: nodes " << kernels->cellM << " m apart (grid.cell_size / " << scene.surface.resolution
-        << "), kernel radius " << kernels->smallestM << "–" << kernels->largestM << " m (" << scene.surface.smoothing
-        << " particle spacings), iso " << scene.surface.iso << "\n";
-  }
+  surface::SurfaceReconstruction* snowSurface = sessionOptions.withSurface ? &session.surface() : nullptr;
+  if (snowSurface) snowSurface->setPassTiming(options.passTimes);
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
@@ -184,12 +160,13 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     }
     if (pictures) {
       render::writePng(options.outputDir / numberedFileName("frame", frame, ".png"),
-                       pictures->render(simulation.particleView(), camera, options.colorMode, surfacePictures ? &*snowSurface : nullptr));
+                       pictures->render(simulation.particleView(), camera, options.colorMode,
+                                        surfacePictures ? snowSurface : nullptr));
     }
   };
 
   RunSummary summary;
-  summary.particles = seeds.size();
+  summary.particles = session.seeds().size();
   summary.renderer = context.info().renderer;
   // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
   int firstFrame = 0;

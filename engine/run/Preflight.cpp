@@ -12,11 +12,11 @@
 #include <glm/vector_relational.hpp>
 
 #include "Error.h"
+#include "gpu/GpuFunctions.h"
+#include "gpu/Materials.h"
 #include "io/Text.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
-#include "gpu/GpuFunctions.h"
-#include "gpu/Materials.h"
 #include "sim/SceneUpload.h"
 #include "voxelizer/Voxelizer.h"
 

@@ -1,9 +1,7 @@
 #include "scene/JsonChecker.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <set>
 #include <string_view>
 
@@ -139,18 +137,6 @@ Json parse(const std::string& text, const std::string& file) {
   } catch (const Json::out_of_range& error) {
     throwNumberOverflow(file, text, error);
   }
-}
-
-std::string formatNumber(double value) {
-  char text[32];
-  const auto result = std::to_chars(std::begin(text), std::end(text), value);
-  return std::string(text, result.ptr);
-}
-
-std::string formatApproximately(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
 }
 
 std::string describePoint(const glm::dvec3& point) {

@@ -12,6 +12,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include "io/Text.h"
+
 namespace firn::json {
 
 // Ordered so that objects keep the order in which the file lists their keys (a scene's materials).
@@ -21,11 +23,6 @@ using Json = nlohmann::ordered_json;
 // twice in one object is an InputError that gives the position or key path.
 Json parse(const std::string& text, const std::string& file);
 
-// Shortest text that reads back as the same double ("0.1", not "0.10000000000000001").
-std::string formatNumber(double value);
-// Six significant digits, for values the loader derives (bounds, one frame's duration), where the last bits
-// of a sum like 0.8 - 0.2 = 0.6000000000000001 are noise to the reader.
-std::string formatApproximately(double value);
 // "[x, y, z]", each to six significant digits.
 std::string describePoint(const glm::dvec3& point);
 std::string joinNames(const std::vector<std::string>& names);

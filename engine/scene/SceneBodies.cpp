@@ -13,6 +13,7 @@
 
 #include "Error.h"
 #include "io/PointCloud.h"
+#include "io/Text.h"
 #include "scene/Sampling.h"
 #include "scene/SceneSections.h"
 #include "voxelizer/Mesh.h"
@@ -24,7 +25,6 @@ using json::Object;
 using json::Value;
 using json::describePoint;
 using json::describeValue;
-using json::formatApproximately;
 using json::joinNames;
 
 namespace {

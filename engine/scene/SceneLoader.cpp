@@ -8,6 +8,7 @@
 #include <string>
 
 #include "Error.h"
+#include "io/Text.h"
 #include "scene/Scene.h"
 #include "scene/SceneSections.h"
 
@@ -18,8 +19,6 @@ using json::Interval;
 using json::Object;
 using json::Value;
 using json::describeValue;
-using json::formatApproximately;
-using json::formatNumber;
 
 namespace {
 

@@ -3,24 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <sstream>
 #include <utility>
 
 #include "Error.h"
 #include "gpu/GpuFunctions.h"
-#include "sim/GpuState.h"
 #include "gpu/Materials.h"
+#include "io/Text.h"
+#include "sim/GpuState.h"
 
 namespace firn {
 
 namespace {
-
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(4);
-  out << value;
-  return out.str();
-}
 
 const char* channelName(std::uint32_t channel) {
   static constexpr const char* names[] = {"mass",      "momentum x", "momentum y", "momentum z",           "impulse x",
@@ -56,7 +49,7 @@ std::string Diagnostics::describeNode(std::int32_t node) const {
   const glm::ivec3 index(node % nodes.x, (node / nodes.x) % nodes.y, node / (nodes.x * nodes.y));
   const glm::dvec3 position = grid_.originM + glm::dvec3(index) * grid_.cellSizeM;
   return "grid node (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ", " + std::to_string(index.z) +
-         ") at (" + formatNumber(position.x) + ", " + formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+         ") at (" + format("%.4g", position.x) + ", " + format("%.4g", position.y) + ", " + format("%.4g", position.z) + ") m";
 }
 
 std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState& state) const {
@@ -65,8 +58,8 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
   const int material = particleMaterial_[static_cast<std::size_t>(particle)];
   const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";
   return "particle " + std::to_string(particle) + " " + origin + " (material \"" +
-         materialNames_[static_cast<std::size_t>(material)] + "\") near (" + formatNumber(position.x) + ", " +
-         formatNumber(position.y) + ", " + formatNumber(position.z) + ") m";
+         materialNames_[static_cast<std::size_t>(material)] + "\") near (" + format("%.4g", position.x) + ", " +
+         format("%.4g", position.y) + ", " + format("%.4g", position.z) + ") m";
 }
 
 void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
@@ -79,10 +72,10 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
   // A semi-implicit step is not bounded by the elastic wave, an explicit one is.
   const std::string stiffness = solver_.semiImplicit()
                                     ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
-                                    : "the elastic wave bound is dt < h / c = " + formatNumber(stableDtS_) +
-                                          " s for the stiffest material (scene dt " + formatNumber(dtS_) + " s)";
+                                    : "the elastic wave bound is dt < h / c = " + format("%.4g", stableDtS_) +
+                                          " s for the stiffest material (scene dt " + format("%.4g", dtS_) + " s)";
   auto when = [&](std::uint32_t step) {
-    return "step " + std::to_string(step) + " (t ≈ " + formatNumber(double(step) * dtS_) + " s)";
+    return "step " + std::to_string(step) + " (t ≈ " + format("%.4g", double(step) * dtS_) + " s)";
   };
 
   // Listed in the order they happened: the first is the cause, the others often its consequences.
@@ -118,7 +111,7 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                         when(status.overflowStep) + ": fixed-point overflow of the P2G " +
                             channelName(status.overflowChannel) + " sum at " + describeNode(status.overflowNode) + " (" +
                             std::to_string(status.overflowCount) + " overflowing additions). A node sum may reach ±" +
-                            formatNumber(maxNodeValue_) +
+                            format("%.4g", maxNodeValue_) +
                             " reference masses (or that many times a node moving one cell per step); the particles "
                             "moved or compressed far beyond that. Reduce time.dt, lower the body velocities or "
                             "particles_per_cell, or set solver.atomics to \"float\"; " + stiffness + ".");
@@ -132,7 +125,7 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
   if (status.cflCount > 0) {
     events.emplace_back(status.cflStep,
                         when(status.cflStep) + ": " + describeParticle(status.cflParticle, state) + " moved " +
-                            formatNumber(status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
+                            format("%.4g", status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
                             std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower "
                             "the body velocities; " + stiffness + ".");
   }
@@ -141,11 +134,11 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
     const std::string ended = std::isnan(solve.residual)
                                   ? "became non-finite after " + std::to_string(solve.iterations) + " iterations"
                                   : "stopped after " + std::to_string(solve.iterations) +
-                                        " iterations at relative residual " + formatNumber(solve.residual);
+                                        " iterations at relative residual " + format("%.4g", solve.residual);
     events.emplace_back(std::uint32_t(solverFailure->step),
                         when(std::uint32_t(solverFailure->step)) + ": the semi-implicit solve " + ended +
-                            ", more than " + formatNumber(kSolverFailureFactor) + " times solver.tolerance (" +
-                            formatNumber(solver_.tolerance) + "): its velocities are not the step's. Raise "
+                            ", more than " + format("%.4g", kSolverFailureFactor) + " times solver.tolerance (" +
+                            format("%.4g", solver_.tolerance) + "): its velocities are not the step's. Raise "
                             "solver.max_iterations (now " + std::to_string(solver_.maxIterations) +
                             "), raise solver.tolerance, reduce time.dt, or lower solver.implicit_ratio towards "
                             "0.5.");

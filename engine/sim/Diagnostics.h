@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "gpu/GpuLayout.h"
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
-#include "gpu/GpuLayout.h"
 #include "sim/SolveReport.h"
 
 namespace firn {

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "Error.h"
-#include "scene/Scene.h"
 #include "gpu/Materials.h"
+#include "scene/Scene.h"
 
 namespace firn {
 

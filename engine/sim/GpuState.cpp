@@ -1,24 +1,19 @@
 #include "sim/GpuState.h"
 
 #include <algorithm>
-#include <sstream>
 #include <stdexcept>
 
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
 
 #include "Error.h"
+#include "io/Text.h"
 
 namespace firn {
 
 namespace {
 
-std::string mebibytes(double bytes) {
-  std::ostringstream out;
-  out.precision(4);
-  out << bytes / (1024.0 * 1024.0) << " MiB";
-  return out.str();
-}
+std::string mebibytes(double bytes) { return format("%.4g MiB", bytes / (1024.0 * 1024.0)); }
 
 std::size_t nodeStorageBytes(std::size_t blocks) { return blocks * gpu::BLOCK_NODES * sizeof(glm::ivec4); }
 

@@ -10,9 +10,9 @@
 
 #include <glm/vec4.hpp>
 
+#include "gl/ComputePass.h"
 #include "gl/ShaderLibrary.h"
 #include "scene/Scene.h"
-#include "gl/ComputePass.h"
 #include "sim/GpuState.h"
 #include "sim/SolveReport.h"
 

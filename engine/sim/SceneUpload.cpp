@@ -7,8 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "io/Checkpoint.h"
 #include "gpu/GpuFunctions.h"
+#include "io/Checkpoint.h"
 
 namespace firn {
 

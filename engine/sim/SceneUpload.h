@@ -6,9 +6,9 @@
 
 #include <glm/vec4.hpp>
 
-#include "scene/Scene.h"
 #include "gpu/GpuLayout.h"
 #include "gpu/Materials.h"
+#include "scene/Scene.h"
 
 namespace firn {
 

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <ostream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +11,7 @@
 
 #include "Error.h"
 #include "gpu/Materials.h"
+#include "io/Text.h"
 
 namespace firn {
 
@@ -61,13 +61,6 @@ std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleS
 constexpr double kBlockPoolGrowthFullness = 0.75;
 // A frame that needed more blocks than the pool held is redone with a pool grown to fit, up to this many times.
 constexpr int kBlockPoolRetries = 3;
-
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(4);
-  out << value;
-  return out.str();
-}
 
 }  // namespace
 
@@ -129,9 +122,9 @@ void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
   for (const ParticleSeed& seed : particles) {
     // The fixed-point bounds were derived for masses up to m_ref (docs/numerics.md, "Fixed-point atomics").
     if (double(seed.massKg) > fixedPoint_.referenceMassKg) {
-      throw std::invalid_argument("addParticles: a particle of " + formatNumber(seed.massKg) +
+      throw std::invalid_argument("addParticles: a particle of " + format("%.4g", seed.massKg) +
                                   " kg exceeds the fixed-point reference mass " +
-                                  formatNumber(fixedPoint_.referenceMassKg) + " kg");
+                                  format("%.4g", fixedPoint_.referenceMassKg) + " kg");
     }
   }
   writeParticles(particleCount_, particles, true);

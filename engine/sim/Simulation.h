@@ -16,13 +16,13 @@
 #include <glm/vec3.hpp>
 
 #include "gl/Context.h"
+#include "gl/PassTimer.h"
+#include "gpu/GpuLayout.h"
+#include "gpu/ParticleView.h"
 #include "io/Checkpoint.h"
 #include "scene/Scene.h"
-#include "gl/PassTimer.h"
-#include "gpu/ParticleView.h"
 #include "sim/Diagnostics.h"
 #include "sim/FixedPoint.h"
-#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 #include "sim/StepPipeline.h"
 #include "sim/SteppingPolicy.h"

@@ -1,19 +1,18 @@
 #pragma once
 // The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
 // of the grid this step needs and the particles sorted into them (the block grid's own passes, sim/BlockGrid.h);
-// particle to grid; the grid
-// update (forces, gravity, colliders, walls); grid to particle with the deformation update, plasticity and
-// advection. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
+// particle to grid; the grid update (forces, gravity, colliders, walls); grid to particle with the deformation
+// update, plasticity and advection. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
 // and nothing else.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 
-#include "gl/Context.h"
-#include "scene/Scene.h"
 #include "gl/ComputePass.h"
-#include "sim/FixedPoint.h"
+#include "gl/Context.h"
 #include "gpu/GpuLayout.h"
+#include "scene/Scene.h"
+#include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
 

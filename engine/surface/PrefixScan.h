@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "gl/Buffer.h"
-#include "gl/ShaderLibrary.h"
 #include "gl/ComputePass.h"
+#include "gl/ShaderLibrary.h"
 
 namespace firn::surface {
 

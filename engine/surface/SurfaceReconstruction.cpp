@@ -8,8 +8,8 @@
 
 #include "Error.h"
 #include "gl/ShaderLibrary.h"
-#include "scene/JsonChecker.h"
 #include "gpu/Materials.h"
+#include "io/Text.h"
 #include "surface/MarchingCubes.h"
 #include "surface/SurfaceLayout.h"
 
@@ -31,7 +31,7 @@ std::string sceneFile(const Scene& scene) {
   return scene.sourcePath.empty() ? std::string(kBuiltInSceneName) : scene.sourcePath.string();
 }
 
-std::string mebibytes(double bytes) { return json::formatApproximately(std::round(bytes / (1 << 20) * 10) / 10) + " MiB"; }
+std::string mebibytes(double bytes) { return formatApproximately(std::round(bytes / (1 << 20) * 10) / 10) + " MiB"; }
 
 // Zeroes the first `bytes` of a buffer (glClearBufferSubData, GL 4.3), not its whole capacity.
 void zeroPrefix(const gl::Buffer& buffer, std::size_t bytes) {
@@ -62,7 +62,7 @@ KernelRange checkKernelRange(const Scene& scene, const std::vector<ParticleSeed>
   }
   if (seeds.empty()) range.smallestM = range.largestM = range.cellM;
   const std::string file = sceneFile(scene);
-  const auto number = [](double value) { return json::formatApproximately(value); };
+  const auto number = [](double value) { return formatApproximately(value); };
   // A kernel narrower than a cell leaves particles between the nodes: the surface breaks into beads.
   if (range.smallestM < range.cellM) {
     throw InputError(file + ": surface.resolution: the smallest particles' kernel (radius " + number(range.smallestM) +
@@ -132,9 +132,9 @@ void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors)
   const std::size_t count = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
   const std::size_t largestBytes = count * (withColors ? kColorBytesPerNode : kCountBytesPerNode);
   if (count > std::size_t(std::numeric_limits<std::int32_t>::max()) || double(largestBytes) > double(maxBufferBytes_)) {
-    throw InputError(sceneFile_ + ": surface.resolution: at t = " + json::formatApproximately(timeS_) +
+    throw InputError(sceneFile_ + ": surface.resolution: at t = " + formatApproximately(timeS_) +
                      " s the particles' kernels span " + std::to_string(nodes.x) + " × " + std::to_string(nodes.y) +
-                     " × " + std::to_string(nodes.z) + " reconstruction nodes " + json::formatApproximately(nodeSpacingM_) +
+                     " × " + std::to_string(nodes.z) + " reconstruction nodes " + formatApproximately(nodeSpacingM_) +
                      " m apart, whose " + (withColors ? "colour sums" : "counts") + " need " +
                      mebibytes(double(largestBytes)) + ", more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + "); lower surface.resolution");
@@ -222,7 +222,7 @@ void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const 
   const std::size_t vertexBytes = stats_.vertices * sizeof(gpu::SurfaceVertex);
   const std::size_t indexBytes = stats_.triangles * kIndexBytesPerTriangle;
   if (double(std::max(vertexBytes, indexBytes)) > double(maxBufferBytes_)) {
-    throw InputError(sceneFile_ + ": surface.resolution: at t = " + json::formatApproximately(timeS_) + " s the mesh has " +
+    throw InputError(sceneFile_ + ": surface.resolution: at t = " + formatApproximately(timeS_) + " s the mesh has " +
                      std::to_string(stats_.triangles) + " triangles, more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + ") holds; lower surface.resolution");
   }

@@ -18,13 +18,13 @@
 #include <glm/vec3.hpp>
 
 #include "gl/Buffer.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
 #include "gl/Context.h"
+#include "gpu/ParticleView.h"
 #include "io/SurfaceMesh.h"
 #include "io/Vdb.h"
 #include "scene/Scene.h"
-#include "gl/BufferBindings.h"
-#include "gl/ComputePass.h"
-#include "gpu/ParticleView.h"
 #include "surface/PrefixScan.h"
 
 namespace firn::surface {

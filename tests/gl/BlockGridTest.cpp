@@ -14,8 +14,8 @@
 
 #include "Error.h"
 #include "GlTest.h"
-#include "scene/Scene.h"
 #include "gpu/GpuFunctions.h"
+#include "scene/Scene.h"
 #include "sim/Simulation.h"
 
 namespace {

@@ -18,8 +18,8 @@
 #include "gl/Buffer.h"
 #include "gl/Program.h"
 #include "gl/ShaderLibrary.h"
-#include "scene/Scene.h"
 #include "gpu/Materials.h"
+#include "scene/Scene.h"
 #include "sim/Simulation.h"
 #include "support/SimulationProbe.h"
 

@@ -8,8 +8,8 @@
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
-#include "scene/Scene.h"
 #include "gpu/Materials.h"
+#include "scene/Scene.h"
 
 namespace firn {
 namespace {

@@ -6,10 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "Error.h"
+#include "gpu/GpuLayout.h"
 #include "run/Budget.h"
 #include "scene/Sampling.h"
 #include "scene/Scene.h"
-#include "gpu/GpuLayout.h"
 #include "sim/GpuState.h"
 
 namespace firn {

@@ -104,13 +104,5 @@ TEST(ChildProcess, LoopingForeverIsStoppedAtTheCpuLimit) {
   EXPECT_EQ(outcome.failure, "used more than its 1 s of CPU time");
 }
 
-TEST(ChildProcess, AllocatableBytesHonoursTheAddressSpaceLimit) {
-  // In the child the address space is limited to what it inherited plus 256 MiB: what it may allocate is less.
-  const ChildOutcome outcome =
-      runInChildProcess([] { return std::to_string(allocatableBytes()); }, smallLimits());
-  ASSERT_TRUE(outcome.succeeded) << outcome.failure;
-  EXPECT_LT(std::stoull(outcome.result), std::uint64_t{256} << 20);
-}
-
 }  // namespace
 }  // namespace firn::voxelizer

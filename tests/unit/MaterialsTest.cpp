@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "Error.h"
+#include "gpu/Materials.h"
 #include "scene/Scene.h"
 #include "sim/FixedPoint.h"
-#include "gpu/Materials.h"
 
 namespace {
 

@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "Error.h"
+#include "gpu/Materials.h"
 #include "run/Preflight.h"
 #include "scene/Scene.h"
-#include "gpu/Materials.h"
 
 namespace firn {
 namespace {

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "Error.h"
-#include "scene/Scene.h"
 #include "gpu/Materials.h"
+#include "scene/Scene.h"
 
 namespace firn {
 namespace {

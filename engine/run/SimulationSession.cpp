@@ -1,0 +1,68 @@
+#include "run/SimulationSession.h"
+
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "run/Budget.h"
+#include "run/Preflight.h"
+#include "sim/Simulation.h"
+#include "surface/SurfaceReconstruction.h"
+
+namespace firn {
+namespace {
+
+// sampleWithinBudget, with a progress line on stderr when asked.
+std::vector<ParticleSeed> sampleShowingProgress(const Scene& scene, const gl::ContextInfo& gl,
+                                                const SessionOptions& options) {
+  std::optional<ProgressLine> progressLine;
+  std::function<void(std::size_t, double)> progress;
+  if (options.showProgress) {
+    progressLine.emplace(stderr);
+    progress = [&](std::size_t body, double fraction) {
+      progressLine->show(options.messagePrefix + ": sampling bodies[" + std::to_string(body) + "]:", fraction);
+    };
+  }
+  return sampleWithinBudget(scene, gl, options.reservedParticles, progress);
+}
+
+}  // namespace
+
+SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options,
+                                     std::ostream& log)
+    : scene_(scene), gl_(gl), messagePrefix_(options.messagePrefix), log_(log),
+      seeds_(sampleShowingProgress(scene, gl, options)), particleCapacity_(seeds_.size() + options.addedParticleCapacity) {
+  // Before any simulation: a scene that cannot run says so at once (exit 2).
+  const PreflightReport report = preflight(scene, seeds_, options.lastFrame);
+  // Surface settings that do not suit the particles are bad input before the GPU's buffers are made.
+  if (options.withSurface) surface::checkKernelRange(scene, seeds_);
+  restart();
+  log << messagePrefix_ << ": " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds_.size()
+      << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z << " cells, dt "
+      << scene.time.dtS << " s"
+      << (options.lastFrame ? ", " + std::to_string(*options.lastFrame) + " frames" : std::string()) << " on "
+      << gl.renderer << "\n";
+  for (const std::string& note : report.notes) log << messagePrefix_ << ": " << note << "\n";
+  for (const std::string& warning : report.warnings) log << messagePrefix_ << ": warning: " << warning << "\n";
+}
+
+SimulationSession::~SimulationSession() = default;
+
+void SimulationSession::restart() {
+  simulation_.reset();
+  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, particleCapacity_);
+}
+
+surface::SurfaceReconstruction& SimulationSession::surface() {
+  if (surface_) return *surface_;
+  const surface::KernelRange kernels = surface::checkKernelRange(scene_, seeds_);
+  surface_ = std::make_unique<surface::SurfaceReconstruction>(scene_, seeds_, gl_);
+  log_ << messagePrefix_ << ": surface: nodes " << kernels.cellM << " m apart (grid.cell_size / "
+       << scene_.surface.resolution << "), kernel radius " << kernels.smallestM << "–" << kernels.largestM << " m ("
+       << scene_.surface.smoothing << " particle spacings), iso " << scene_.surface.iso << "\n";
+  return *surface_;
+}
+
+}  // namespace firn

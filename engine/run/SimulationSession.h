@@ -1,0 +1,63 @@
+#pragma once
+// A scene made ready to simulate, the same way for `firn run` and `firn view`: the particles its bodies will make
+// set against the budget (run/Budget.h), the bodies sampled within it (with a progress line on a terminal), the
+// pre-flight checks (run/Preflight.h), the Simulation built, and its start reported: the scene, the pre-flight's
+// notes and warnings. On request, the surface reconstruction of its particles. The two commands then differ only
+// in what they do with each frame: write files (run/HeadlessRun.h) or draw a window (apps/firn/Viewer.h).
+#include <cstddef>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gl/Context.h"
+#include "scene/Scene.h"
+
+namespace firn {
+
+class Simulation;
+namespace surface {
+class SurfaceReconstruction;
+}
+
+struct SessionOptions {
+  std::string messagePrefix = "firn";    // what each message starts with: "firn", "firn view"
+  bool showProgress = false;             // a progress line on stderr while sampling
+  std::optional<int> lastFrame;          // the run's last frame: the opening line and the emitters' notes say it
+  bool withSurface = false;              // the surface's settings checked against the particles before simulating
+  double reservedParticles = 0;          // the budget's room for particles added while running (an estimate)
+  std::size_t addedParticleCapacity = 0; // the particle buffers' room for them, beyond the bodies' particles
+};
+
+class SimulationSession {
+ public:
+  // Throws InputError (exit 2) for a scene over the budget, one the pre-flight refuses or, with withSurface, one
+  // whose surface settings do not suit its particles; NoOpenGLError when the driver lacks what the simulation needs.
+  SimulationSession(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options, std::ostream& log);
+  ~SimulationSession();
+  SimulationSession(const SimulationSession&) = delete;
+  SimulationSession& operator=(const SimulationSession&) = delete;
+
+  const std::vector<ParticleSeed>& seeds() const { return seeds_; }
+  Simulation& simulation() { return *simulation_; }
+
+  // Back to the initial state: a new Simulation of the same particles, the old one's buffers freed first.
+  void restart();
+
+  // The surface reconstruction, made and reported on first use. Throws InputError naming surface.resolution or
+  // surface.smoothing when the scene's settings do not suit its particles.
+  surface::SurfaceReconstruction& surface();
+
+ private:
+  const Scene& scene_;
+  gl::ContextInfo gl_;
+  std::string messagePrefix_;
+  std::ostream& log_;
+  std::vector<ParticleSeed> seeds_;
+  std::size_t particleCapacity_;
+  std::unique_ptr<Simulation> simulation_;
+  std::unique_ptr<surface::SurfaceReconstruction> surface_;
+};
+
+}  // namespace firn
