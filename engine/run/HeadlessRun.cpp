@@ -167,9 +167,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
+      const bool caches = options.writeMesh || options.writeVdb;
       snowSurface->reconstruct(simulation,
-                               surfacePictures ? pictures->particleColors(simulation, options.colorMode) : nullptr);
-      if (options.writeMesh || options.writeVdb) {
+                               surfacePictures ? pictures->particleColors(simulation, options.colorMode) : nullptr,
+                               caches ? surface::Velocities::Sum : surface::Velocities::Skip);
+      if (caches) {
         VdbFrame cache;
         cache.isoLevel = float(scene.surface.iso);
         cache.surface = snowSurface->readMesh();
@@ -178,6 +180,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
         if (options.writeMesh) writeMeshPly(options.outputDir / numberedFileName("frame", frame, "_surface.ply"), cache.surface);
         if (options.writeVdb) {
           cache.density = snowSurface->readDensity();
+          cache.velocityMPerS = snowSurface->readVelocities();
           writeVdb(options.outputDir / numberedFileName("frame", frame, ".vdb"), cache);
         }
       }

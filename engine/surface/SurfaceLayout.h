@@ -18,6 +18,7 @@ using ivec3 = glm::ivec3;
 static_assert(FIRN_BINDING_SURFACE_HEADER > FIRN_BINDING_SOLVER_STATUS, "surface bindings overlap the simulation's");
 static_assert(sizeof(SurfaceUniforms) == 80, "std140 SurfaceUniforms");
 static_assert(sizeof(SurfaceHeader) == 32, "std430 SurfaceHeader");
-static_assert(sizeof(SurfaceVertex) == 48, "std430 SurfaceVertex");
+static_assert(sizeof(SurfaceNodeSums) == 32, "std430 SurfaceNodeSums");
+static_assert(sizeof(SurfaceVertex) == 64, "std430 SurfaceVertex");
 
 }  // namespace firn::gpu

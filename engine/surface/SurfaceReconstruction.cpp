@@ -19,9 +19,10 @@ namespace {
 
 // The storage binding points a reconstruction pass uses at once: the particles' (0–5) and its own (20–31).
 constexpr GLint kStorageBindingsNeeded = FIRN_BINDING_SCAN_SUMS + 1;
-// Per node: the volume fraction (int), the colour sums (ivec4), the cell (uint) and the counts (uvec2).
+// Per node: the volume fraction (int), the colour and velocity sums (SurfaceNodeSums), the cell (uint) and the
+// counts (uvec2).
 constexpr std::size_t kDensityBytesPerNode = sizeof(std::int32_t);
-constexpr std::size_t kColorBytesPerNode = 4 * sizeof(std::int32_t);
+constexpr std::size_t kNodeSumBytesPerNode = sizeof(gpu::SurfaceNodeSums);
 constexpr std::size_t kCellBytesPerNode = sizeof(std::uint32_t);
 constexpr std::size_t kCountBytesPerNode = 2 * sizeof(std::uint32_t);
 constexpr std::size_t kIndexBytesPerTriangle = 3 * sizeof(std::uint32_t);
@@ -120,8 +121,9 @@ SurfaceReconstruction::SurfaceReconstruction(const Scene& scene, const std::vect
   materials_ = gl::Buffer::fromVector(inverseDensities);
   uniforms_ = gl::Buffer(sizeof(gpu::SurfaceUniforms));
   header_ = gl::Buffer(sizeof(gpu::SurfaceHeader));
-  // Bound even when a frame has no colours, so that no pass declares a buffer with nothing bound.
-  colors_ = gl::Buffer(kColorBytesPerNode);
+  // Bound even when a frame sums neither colours nor velocities, so that no pass declares a buffer with nothing
+  // bound.
+  nodeSums_ = gl::Buffer(kNodeSumBytesPerNode);
 }
 
 SurfaceReconstruction::~SurfaceReconstruction() = default;
@@ -134,39 +136,47 @@ glm::dvec3 SurfaceReconstruction::boundsMaxM() const {
   return latticeOriginM_ + glm::dvec3(firstNode_ + glm::max(stats_.gridNodes - 1, glm::ivec3(0))) * nodeSpacingM_;
 }
 
-void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors) {
+std::size_t SurfaceReconstruction::nodeCount() const {
+  return std::size_t(stats_.gridNodes.x) * std::size_t(stats_.gridNodes.y) * std::size_t(stats_.gridNodes.z);
+}
+
+void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withNodeSums) {
   const std::size_t count = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
-  const std::size_t largestBytes = count * (withColors ? kColorBytesPerNode : kCountBytesPerNode);
+  const std::size_t largestBytes = count * (withNodeSums ? kNodeSumBytesPerNode : kCountBytesPerNode);
   if (count > std::size_t(std::numeric_limits<std::int32_t>::max()) || double(largestBytes) > double(maxBufferBytes_)) {
     throw InputError(sceneFile_ + ": surface.resolution: at t = " + json::formatApproximately(timeS_) +
                      " s the particles' kernels span " + std::to_string(nodes.x) + " × " + std::to_string(nodes.y) +
                      " × " + std::to_string(nodes.z) + " reconstruction nodes " + json::formatApproximately(nodeSpacingM_) +
-                     " m apart, whose " + (withColors ? "colour sums" : "counts") + " need " +
+                     " m apart, whose " + (withNodeSums ? "colour and velocity sums" : "counts") + " need " +
                      mebibytes(double(largestBytes)) + ", more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + "); lower surface.resolution");
   }
   ensureCapacity(density_, count * kDensityBytesPerNode);
-  if (withColors) ensureCapacity(colors_, count * kColorBytesPerNode);
+  if (withNodeSums) ensureCapacity(nodeSums_, count * kNodeSumBytesPerNode);
   ensureCapacity(cells_, count * kCellBytesPerNode);
   ensureCapacity(counts_, (count + 1) * kCountBytesPerNode);  // + 1: the scan's total
   stats_.gridNodes = nodes;
   stats_.gridBytes = count * (kDensityBytesPerNode + kCellBytesPerNode + kCountBytesPerNode +
-                              (withColors ? kColorBytesPerNode : 0));
+                              (withNodeSums ? kNodeSumBytesPerNode : 0));
 }
 
-void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::Buffer* particleColors) {
+void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::Buffer* particleColors,
+                                        Velocities velocities) {
   timeS_ = simulation.timeS();
   const std::size_t particles = simulation.particleCount();
   const bool withColors = particleColors != nullptr;
+  const bool withVelocities = velocities == Velocities::Sum;
+  const bool withNodeSums = withColors || withVelocities;
   stats_ = SurfaceStats{};
   stats_.withColors = withColors;
+  stats_.withVelocities = withVelocities;
   simulation.bindParticleBuffers();
   gpu::SurfaceUniforms uniforms{};
   uniforms.latticeOriginSpacing = glm::vec4(glm::vec3(latticeOriginM_), float(nodeSpacingM_));
   uniforms.kernel = glm::vec4(float(spec_.smoothing), float(spec_.iso),
                               float(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5)),
                               gpu::SURFACE_UNITS_PER_VALUE);
-  uniforms.particles = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, 0u, 0u);
+  uniforms.particles = glm::uvec4(std::uint32_t(particles), withColors ? 1u : 0u, withVelocities ? 1u : 0u, 0u);
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   uniforms_.bindUniform(FIRN_BINDING_SURFACE_UNIFORMS);
   header_.bindStorage(FIRN_BINDING_SURFACE_HEADER);
@@ -188,19 +198,19 @@ void SurfaceReconstruction::reconstruct(const Simulation& simulation, const gl::
   // The grid: one node to spare on every side, so that its outer nodes are outside and the surface closes.
   firstNode_ = lowest - 1;
   const glm::ivec3 nodes = highest - lowest + 3;
-  resizeGrid(nodes, withColors);
+  resizeGrid(nodes, withNodeSums);
   const std::size_t nodeCount = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
   uniforms.firstNode = glm::ivec4(firstNode_, 0);
   uniforms.nodeCounts = glm::ivec4(nodes, int(nodeCount));
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   zeroPrefix(density_, nodeCount * kDensityBytesPerNode);
-  if (withColors) zeroPrefix(colors_, nodeCount * kColorBytesPerNode);
+  if (withNodeSums) zeroPrefix(nodeSums_, nodeCount * kNodeSumBytesPerNode);
   zeroPrefix(counts_, (nodeCount + 1) * kCountBytesPerNode);
   density_.bindStorage(FIRN_BINDING_SURFACE_DENSITY);
-  colors_.bindStorage(FIRN_BINDING_SURFACE_COLOR);
+  nodeSums_.bindStorage(FIRN_BINDING_SURFACE_SUMS);
   cells_.bindStorage(FIRN_BINDING_SURFACE_CELLS);
   counts_.bindStorage(FIRN_BINDING_SURFACE_COUNTS);
-  (withColors ? *particleColors : colors_).bindStorage(FIRN_BINDING_SURFACE_PARTICLE_COLORS);
+  (withColors ? *particleColors : nodeSums_).bindStorage(FIRN_BINDING_SURFACE_PARTICLE_COLORS);
 
   // 2. The field; 3. the cells; 4. where each node writes.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -241,6 +251,7 @@ SurfaceMesh SurfaceReconstruction::readMesh() const {
   for (const gpu::SurfaceVertex& vertex : vertices) {
     mesh.positionsM.emplace_back(vertex.positionM);
     mesh.normals.emplace_back(vertex.normal);
+    if (stats_.withVelocities) mesh.velocitiesMPerS.emplace_back(vertex.velocity);
   }
   mesh.indices = indices_.read<std::uint32_t>(3 * stats_.triangles);
   return mesh;
@@ -252,12 +263,24 @@ LatticeSamples SurfaceReconstruction::readDensity() const {
   samples.spacingM = nodeSpacingM_;
   samples.firstNode = firstNode_;
   samples.nodeCounts = stats_.gridNodes;
-  const std::size_t count =
-      std::size_t(stats_.gridNodes.x) * std::size_t(stats_.gridNodes.y) * std::size_t(stats_.gridNodes.z);
+  const std::size_t count = nodeCount();
   const std::vector<std::int32_t> units = density_.read<std::int32_t>(count);
   samples.values.reserve(count);
   for (const std::int32_t value : units) samples.values.push_back(float(value) / gpu::SURFACE_UNITS_PER_VALUE);
   return samples;
+}
+
+std::vector<glm::vec3> SurfaceReconstruction::readVelocities() const {
+  if (!stats_.withVelocities) return {};
+  const std::size_t count = nodeCount();
+  const std::vector<std::int32_t> densities = density_.read<std::int32_t>(count);
+  const std::vector<gpu::SurfaceNodeSums> sums = nodeSums_.read<gpu::SurfaceNodeSums>(count);
+  std::vector<glm::vec3> velocities(count, glm::vec3(0.0f));
+  // Both sums are in the same fixed-point units, so their ratio is the weighted mean velocity (m/s).
+  for (std::size_t i = 0; i < count; ++i) {
+    if (densities[i] > 0) velocities[i] = glm::vec3(glm::ivec3(sums[i].velocity)) / float(densities[i]);
+  }
+  return velocities;
 }
 
 }  // namespace firn::surface

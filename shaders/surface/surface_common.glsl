@@ -18,6 +18,7 @@ vec3 latticeOrigin() { return latticeOriginSpacing.xyz; }
 float nodeSpacing() { return latticeOriginSpacing.w; }
 uint reconstructedParticles() { return particles.x; }
 bool withColors() { return particles.y != 0u; }
+bool withVelocities() { return particles.z != 0u; }
 uint nodeCount() { return uint(nodeCounts.w); }
 float smoothing() { return kernel.x; }
 float isoLevel() { return kernel.y; }

@@ -12,7 +12,7 @@
 // simulation binds them while the reconstruction runs.
 #define FIRN_BINDING_SURFACE_HEADER 20           // SurfaceHeader: the particles' kernel bounds
 #define FIRN_BINDING_SURFACE_DENSITY 21          // int per node: the volume fraction, fixed point
-#define FIRN_BINDING_SURFACE_COLOR 22            // ivec4 per node: Σ (weight · albedo), fixed point
+#define FIRN_BINDING_SURFACE_SUMS 22             // SurfaceNodeSums per node: Σ weight · albedo, Σ weight · v
 #define FIRN_BINDING_SURFACE_CELLS 23            // uint per node: its cell's case, the crossings of its own edges
 #define FIRN_BINDING_SURFACE_COUNTS 24           // uvec2 per node (+1): vertices and triangles, then their offsets
 #define FIRN_BINDING_SURFACE_VERTICES 25         // SurfaceVertex per vertex of the mesh
@@ -46,7 +46,7 @@ FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
 //   nodeCounts            nodes per axis of this frame's grid, and w: all of them
 //   kernel                surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units, the
 //                         fixed-point scale
-//   particles             x: the particles, y: with colours (1) or not (0)
+//   particles             x: the particles, y: with colours (1) or not (0), z: with velocities (1) or not (0)
 #define FIRN_SURFACE_UNIFORMS(member, array) \
   member(vec4, latticeOriginSpacing)         \
   member(ivec4, firstNode)                   \
@@ -62,14 +62,27 @@ FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
   member(ivec4, kernelNodesMax)
 FIRN_STRUCT(SurfaceHeader, FIRN_SURFACE_HEADER)
 
+// SurfaceNodeSums: what a node sums besides the volume fraction (std430), fixed point as it is, each only when the
+// reconstruction asks for it (SurfaceUniforms.particles y, z).
+//   color     xyz Σ_p V_p W · albedo_p (the particles' linear albedo), w unused
+//   velocity  xyz Σ_p V_p W · v_p (m/s): divided by f, the snow's velocity there; w unused. A node's sum
+//             overflows at |Σ V W v| = 2048 m/s, f times the speed: beyond any snow the simulation's CFL bound
+//             lets run (a particle crossing more than a cell per step stops the run)
+#define FIRN_SURFACE_NODE_SUMS(member, array) \
+  member(ivec4, color)                        \
+  member(ivec4, velocity)
+FIRN_STRUCT(SurfaceNodeSums, FIRN_SURFACE_NODE_SUMS)
+
 // SurfaceVertex: one vertex of the mesh (std430), on an edge of the grid where the field crosses the iso level.
 //   positionM  xyz (m), w 1
 //   normal     xyz unit, out of the snow (down the field's gradient), w 0
 //   albedo     xyz the linear albedo interpolated from the particles' colours (1 without them), w 1
+//   velocity   xyz the snow's velocity (m/s) interpolated from the particles' (0 without them), w 0
 #define FIRN_SURFACE_VERTEX(member, array) \
   member(vec4, positionM)                  \
   member(vec4, normal)                     \
-  member(vec4, albedo)
+  member(vec4, albedo)                     \
+  member(vec4, velocity)
 FIRN_STRUCT(SurfaceVertex, FIRN_SURFACE_VERTEX)
 
 // The smoothing kernel: Monaghan's cubic spline (M4) with support radius 1, normalised over the unit ball,
