@@ -431,10 +431,13 @@ def import_run(context, folder, scene_path=""):
         surface = _sequence_object(context, "Firn surface", run.folder, run.surfaces, KIND_SURFACE, parent)
         surface.material_slots[0].link = "OBJECT"
         surface.material_slots[0].material = snow_surface_material()
+    # The surface renders; the volume (the same snow) and the particles are there to switch on instead.
     if run.volumes:
-        _volume_object(context, "Firn volume", run, parent)
+        volume = _volume_object(context, "Firn volume", run, parent)
+        volume.hide_render = bool(run.surfaces)
     if run.points:
         points = _sequence_object(context, "Firn particles", run.folder, run.points, KIND_POINTS, parent)
+        points.hide_render = bool(run.surfaces or run.volumes)
         modifier = points.modifiers.new("Firn particles", "NODES")
         group = particles_node_group()
         modifier.node_group = group

@@ -55,6 +55,8 @@ class ImportedRun(unittest.TestCase):
     def test_surface_follows_the_frame_smooth_with_the_files_normals_and_velocities(self):
         surface = self.child("Firn surface")
         self.assertEqual(surface.material_slots[0].material.name, "Firn snow")
+        self.assertEqual([obj.hide_render for obj in (surface, self.child("Firn volume"), self.child("Firn particles"))],
+                         [False, True, True], "the surface renders; the volume and the particles are switched off")
         for frame in FRAMES:
             self.scene.frame_set(frame)
             vertices, triangles = self.ply.read_ply(self.file(frame, "_surface.ply"))
