@@ -1,7 +1,7 @@
 """Renders one frame of a Firn run in Blender with the add-on (docs/blender.md's picture):
 
     blender -b --factory-startup --python scripts/blender-picture.py -- \
-        --run firn-out --scene assets/scenes/snowball_wall.json --frame 9 --out docs/images/blender.png
+        --run firn-out --scene assets/scenes/snowman.json --frame 9 --out docs/images/blender.png --samples 64
 
 The add-on is loaded from blender/ in this repository. The run's surface is rendered by Cycles on the CPU, with
 motion blur (the meshes' velocities), lit by a sun and the sky, seen from the scene's camera (its `camera`
