@@ -126,7 +126,7 @@ class IMPORT_OT_run_firn(bpy.types.Operator, ImportHelper):
             self.report({"ERROR"}, f"Firn exited {state.exit_code}: {state.message}")
             return {"CANCELLED"}
         try:
-            importer.import_run(context, self._job.output_folder, self.filepath)
+            importer.import_run(context, self._job.output_folder, self.filepath, last_frame=self._job.frames)
         except (importer.FirnRunError, OSError, ValueError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}

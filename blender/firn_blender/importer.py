@@ -38,7 +38,7 @@ class FirnRunError(ValueError):
 class RunFolder:
     """What a Firn output folder holds: the frames of each cache, and the frame rate (from stats.csv)."""
 
-    def __init__(self, folder):
+    def __init__(self, folder, last_frame=None):
         self.folder = os.path.abspath(bpy.path.abspath(folder))
         if not os.path.isdir(self.folder):
             raise FirnRunError(f"{self.folder}: not a folder")
@@ -48,6 +48,8 @@ class RunFolder:
             if not match:
                 continue
             frame = int(match.group(1))
+            if last_frame is not None and frame > last_frame:
+                continue  # an earlier, longer run's, in the same folder
             if match.group(3) == "vdb":
                 self.volumes[frame] = name
             elif match.group(2):
@@ -411,9 +413,10 @@ def _collider_objects(context, scene_path, run, parent):
     return objects
 
 
-def import_run(context, folder, scene_path=""):
-    """Builds the run in `folder` into the context's scene; returns the parent object."""
-    run = RunFolder(folder)
+def import_run(context, folder, scene_path="", last_frame=None):
+    """Builds the run in `folder` into the context's scene (its frames up to last_frame, when given); returns the
+    parent object."""
+    run = RunFolder(folder, last_frame)
     scene = context.scene
     set_frame_rate(scene, run.frame_rate)
     first, last = run.frames()
