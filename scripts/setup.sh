@@ -11,6 +11,7 @@ packages=(
   xvfb xauth      # a display for the viewer's tests (xvfb-run)
   ffmpeg          # optional at run time: `firn run --mp4`
   gnuplot-nox     # optional at run time: `firn bench`'s plots
+  blender python3-numpy  # the add-on and its tests (docs/blender.md); Debian's Blender 3.4 leaves out numpy
 )
 
 missing=()

@@ -116,6 +116,35 @@ void writeVdb(const std::filesystem::path& path, const VdbFrame& frame) {
   density->insertMeta("iso_level", openvdb::FloatMetadata(frame.isoLevel));
   density->insertMeta("quantity", openvdb::StringMetadata("volume fraction: 1 is snow at its rest density"));
 
+  openvdb::Vec3SGrid::Ptr velocity;
+  if (!frame.velocityMPerS.empty()) {
+    if (frame.velocityMPerS.size() != lattice.values.size()) {
+      throw std::invalid_argument("writeVdb: the velocities do not fill the density's box");
+    }
+    velocity = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    velocity->setName("v");
+    velocity->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);  // a velocity: transformed as a displacement
+    velocity->setTransform(transform);
+    openvdb::Vec3SGrid::Accessor voxels = velocity->getAccessor();
+    std::size_t i = 0;
+    for (int z = 0; z < counts.z; ++z) {
+      for (int y = 0; y < counts.y; ++y) {
+        for (int x = 0; x < counts.x; ++x, ++i) {
+          if (lattice.values[i] < kVdbVelocityMinimumDensity) continue;
+          const glm::vec3& v = frame.velocityMPerS[i];
+          if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+            throw std::invalid_argument("writeVdb: a velocity sample is not finite");
+          }
+          const glm::ivec3 node = lattice.firstNode + glm::ivec3(x, y, z);
+          voxels.setValue(openvdb::Coord(node.x, node.y, node.z), openvdb::Vec3s(v.x, v.y, v.z));
+        }
+      }
+    }
+    describe(*velocity, lattice, frame);
+    velocity->insertMeta("quantity", openvdb::StringMetadata("the snow's velocity (m/s): the particles' velocities "
+                                                             "weighted as density weighs them"));
+  }
+
   std::vector<openvdb::Vec3s> points;
   points.reserve(frame.surface.positionsM.size());
   for (const glm::vec3& p : frame.surface.positionsM) points.emplace_back(p.x, p.y, p.z);
@@ -129,8 +158,10 @@ void writeVdb(const std::filesystem::path& path, const VdbFrame& frame) {
   surface->setName("surface");
   surface->setGridClass(openvdb::GRID_LEVEL_SET);
   describe(*surface, lattice, frame);
+  openvdb::GridCPtrVec grids{density, surface};
+  if (velocity) grids.push_back(velocity);
 
-  std::string bytes = InMemoryArchive().bytes({density, surface});
+  std::string bytes = InMemoryArchive().bytes(grids);
   replaceArchiveId(bytes);
   writeFileAtomically(path, bytes, "VDB cache");
 }

@@ -143,9 +143,12 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
-      snowSurface->reconstruct(simulation.particleView(),
-                               surfacePictures ? pictures->particleColors(simulation.particleView(), options.colorMode) : nullptr);
-      if (options.writeMesh || options.writeVdb) {
+      const bool caches = options.writeMesh || options.writeVdb;
+      snowSurface->reconstruct(
+          simulation.particleView(),
+          surfacePictures ? pictures->particleColors(simulation.particleView(), options.colorMode) : nullptr,
+          caches ? surface::Velocities::Sum : surface::Velocities::Skip);
+      if (caches) {
         VdbFrame cache;
         cache.isoLevel = float(scene.surface.iso);
         cache.surface = snowSurface->readMesh();
@@ -154,6 +157,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
         if (options.writeMesh) writeMeshPly(options.outputDir / numberedFileName("frame", frame, "_surface.ply"), cache.surface);
         if (options.writeVdb) {
           cache.density = snowSurface->readDensity();
+          cache.velocityMPerS = snowSurface->readVelocities();
           writeVdb(options.outputDir / numberedFileName("frame", frame, ".vdb"), cache);
         }
       }

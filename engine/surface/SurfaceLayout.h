@@ -20,6 +20,7 @@ constexpr int kSurfaceBindingPoints[] = {
 static_assert(bindingsWithin(kSurfaceBindingPoints, kSurfaceBindings), "a surface binding outside its range");
 static_assert(sizeof(SurfaceUniforms) == 64, "std140 SurfaceUniforms");
 static_assert(sizeof(SurfaceHeader) == 32, "std430 SurfaceHeader");
-static_assert(sizeof(SurfaceVertex) == 48, "std430 SurfaceVertex");
+static_assert(sizeof(SurfaceNodeSums) == 32, "std430 SurfaceNodeSums");
+static_assert(sizeof(SurfaceVertex) == 64, "std430 SurfaceVertex");
 
 }  // namespace firn::gpu

@@ -18,9 +18,10 @@ namespace firn::surface {
 namespace {
 
 // The storage binding points a reconstruction pass uses at once: the particles' (0–5) and its own (20–31).
-// Per node: the volume fraction (int), the colour sums (ivec4), the cell (uint) and the counts (uvec2).
+// Per node: the volume fraction (int), the colour and velocity sums (SurfaceNodeSums), the cell (uint) and the
+// counts (uvec2).
 constexpr std::size_t kDensityBytesPerNode = sizeof(std::int32_t);
-constexpr std::size_t kColorBytesPerNode = 4 * sizeof(std::int32_t);
+constexpr std::size_t kNodeSumBytesPerNode = sizeof(gpu::SurfaceNodeSums);
 constexpr std::size_t kCellBytesPerNode = sizeof(std::uint32_t);
 constexpr std::size_t kCountBytesPerNode = 2 * sizeof(std::uint32_t);
 constexpr std::size_t kIndexBytesPerTriangle = 3 * sizeof(std::uint32_t);
@@ -114,8 +115,9 @@ SurfaceReconstruction::SurfaceReconstruction(const Scene& scene, const std::vect
   materials_ = gl::Buffer::fromVector(inverseDensities).labelled("surface: inverse densities");
   uniforms_ = gl::Buffer(sizeof(gpu::SurfaceUniforms)).labelled("surface uniforms");
   header_ = gl::Buffer(sizeof(gpu::SurfaceHeader)).labelled("surface: header");
-  // Bound even when a frame has no colours, so that no pass declares a buffer with nothing bound.
-  colors_ = gl::Buffer(kColorBytesPerNode);
+  // Published even when a frame sums neither colours nor velocities, so that no pass declares a buffer with nothing
+  // bound.
+  nodeSums_ = gl::Buffer(kNodeSumBytesPerNode).labelled("surface: node sums");
 }
 
 SurfaceReconstruction::~SurfaceReconstruction() = default;
@@ -128,24 +130,28 @@ glm::dvec3 SurfaceReconstruction::boundsMaxM() const {
   return latticeOriginM_ + glm::dvec3(firstNode_ + glm::max(stats_.gridNodes - 1, glm::ivec3(0))) * nodeSpacingM_;
 }
 
-void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withColors) {
+std::size_t SurfaceReconstruction::nodeCount() const {
+  return std::size_t(stats_.gridNodes.x) * std::size_t(stats_.gridNodes.y) * std::size_t(stats_.gridNodes.z);
+}
+
+void SurfaceReconstruction::resizeGrid(const glm::ivec3& nodes, bool withNodeSums) {
   const std::size_t count = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
-  const std::size_t largestBytes = count * (withColors ? kColorBytesPerNode : kCountBytesPerNode);
+  const std::size_t largestBytes = count * (withNodeSums ? kNodeSumBytesPerNode : kCountBytesPerNode);
   if (count > std::size_t(std::numeric_limits<std::int32_t>::max()) || double(largestBytes) > double(maxBufferBytes_)) {
     throw InputError(sceneFile_ + ": surface.resolution: at t = " + formatApproximately(timeS_) +
                      " s the particles' kernels span " + std::to_string(nodes.x) + " × " + std::to_string(nodes.y) +
                      " × " + std::to_string(nodes.z) + " reconstruction nodes " + formatApproximately(nodeSpacingM_) +
-                     " m apart, whose " + (withColors ? "colour sums" : "counts") + " need " +
+                     " m apart, whose " + (withNodeSums ? "colour and velocity sums" : "counts") + " need " +
                      mebibytes(double(largestBytes)) + ", more than the driver's largest storage buffer (" +
                      mebibytes(double(maxBufferBytes_)) + "); lower surface.resolution");
   }
   ensureCapacity(density_, count * kDensityBytesPerNode, "surface: density");
-  if (withColors) ensureCapacity(colors_, count * kColorBytesPerNode, "surface: colour sums");
+  if (withNodeSums) ensureCapacity(nodeSums_, count * kNodeSumBytesPerNode, "surface: node sums");
   ensureCapacity(cells_, count * kCellBytesPerNode, "surface: cells");
   ensureCapacity(counts_, (count + 1) * kCountBytesPerNode, "surface: counts");  // + 1: the scan's total
   stats_.gridNodes = nodes;
   stats_.gridBytes = count * (kDensityBytesPerNode + kCellBytesPerNode + kCountBytesPerNode +
-                              (withColors ? kColorBytesPerNode : 0));
+                              (withNodeSums ? kNodeSumBytesPerNode : 0));
 }
 
 gl::BufferBindings SurfaceReconstruction::bindings(const ParticleView& particles,
@@ -157,21 +163,25 @@ gl::BufferBindings SurfaceReconstruction::bindings(const ParticleView& particles
   buffers.storage(FIRN_BINDING_SURFACE_HEADER, header_);
   buffers.storage(FIRN_BINDING_SURFACE_MATERIALS, materials_);
   buffers.storage(FIRN_BINDING_SURFACE_DENSITY, density_);
-  buffers.storage(FIRN_BINDING_SURFACE_COLOR, colors_);
+  buffers.storage(FIRN_BINDING_SURFACE_SUMS, nodeSums_);
   buffers.storage(FIRN_BINDING_SURFACE_CELLS, cells_);
   buffers.storage(FIRN_BINDING_SURFACE_COUNTS, counts_);
   buffers.storage(FIRN_BINDING_SURFACE_VERTICES, vertices_);
   buffers.storage(FIRN_BINDING_SURFACE_INDICES, indices_);
-  buffers.storage(FIRN_BINDING_SURFACE_PARTICLE_COLORS, particleColors != nullptr ? *particleColors : colors_);
+  buffers.storage(FIRN_BINDING_SURFACE_PARTICLE_COLORS, particleColors != nullptr ? *particleColors : nodeSums_);
   return buffers;
 }
 
-void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const gl::Buffer* particleColors) {
+void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const gl::Buffer* particleColors,
+                                        Velocities velocities) {
   timeS_ = particleView.timeS;
   const std::size_t particles = particleView.count;
   const bool withColors = particleColors != nullptr;
+  const bool withVelocities = velocities == Velocities::Sum;
+  const bool withNodeSums = withColors || withVelocities;
   stats_ = SurfaceStats{};
   stats_.withColors = withColors;
+  stats_.withVelocities = withVelocities;
   gpu::SurfaceUniforms uniforms{};
   uniforms.latticeOriginM = glm::vec3(latticeOriginM_);
   uniforms.nodeSpacingM = float(nodeSpacingM_);
@@ -179,7 +189,8 @@ void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const 
   uniforms.isoLevel = float(spec_.iso);
   uniforms.isoUnits = int(std::floor(spec_.iso * gpu::SURFACE_UNITS_PER_VALUE + 0.5));
   uniforms.reconstructedParticles = std::uint32_t(particles);
-  uniforms.withColors = withColors ? 1u : 0u;
+  uniforms.sumsCarried =
+      (withColors ? gpu::SURFACE_SUMS_COLOR : 0u) | (withVelocities ? gpu::SURFACE_SUMS_VELOCITY : 0u);
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   if (particles == 0) return;
 
@@ -197,14 +208,14 @@ void SurfaceReconstruction::reconstruct(const ParticleView& particleView, const 
   // The grid: one node to spare on every side, so that its outer nodes are outside and the surface closes.
   firstNode_ = lowest - 1;
   const glm::ivec3 nodes = highest - lowest + 3;
-  resizeGrid(nodes, withColors);
+  resizeGrid(nodes, withNodeSums);
   const std::size_t nodeCount = std::size_t(nodes.x) * std::size_t(nodes.y) * std::size_t(nodes.z);
   uniforms.firstNode = firstNode_;
   uniforms.nodeCount = std::uint32_t(nodeCount);
   uniforms.boxNodes = nodes;
   uniforms_.upload(0, sizeof uniforms, &uniforms);
   zeroPrefix(density_, nodeCount * kDensityBytesPerNode);
-  if (withColors) zeroPrefix(colors_, nodeCount * kColorBytesPerNode);
+  if (withNodeSums) zeroPrefix(nodeSums_, nodeCount * kNodeSumBytesPerNode);
   zeroPrefix(counts_, (nodeCount + 1) * kCountBytesPerNode);
   const gl::BufferBindings fieldBuffers = bindings(particleView, particleColors);
 
@@ -244,6 +255,7 @@ SurfaceMesh SurfaceReconstruction::readMesh() const {
   for (const gpu::SurfaceVertex& vertex : vertices) {
     mesh.positionsM.emplace_back(vertex.positionM);
     mesh.normals.emplace_back(vertex.normal);
+    if (stats_.withVelocities) mesh.velocitiesMPerS.emplace_back(vertex.velocity);
   }
   mesh.indices = indices_.read<std::uint32_t>(3 * stats_.triangles);
   return mesh;
@@ -255,12 +267,24 @@ LatticeSamples SurfaceReconstruction::readDensity() const {
   samples.spacingM = nodeSpacingM_;
   samples.firstNode = firstNode_;
   samples.nodeCounts = stats_.gridNodes;
-  const std::size_t count =
-      std::size_t(stats_.gridNodes.x) * std::size_t(stats_.gridNodes.y) * std::size_t(stats_.gridNodes.z);
+  const std::size_t count = nodeCount();
   const std::vector<std::int32_t> units = density_.read<std::int32_t>(count);
   samples.values.reserve(count);
   for (const std::int32_t value : units) samples.values.push_back(float(value) / gpu::SURFACE_UNITS_PER_VALUE);
   return samples;
+}
+
+std::vector<glm::vec3> SurfaceReconstruction::readVelocities() const {
+  if (!stats_.withVelocities) return {};
+  const std::size_t count = nodeCount();
+  const std::vector<std::int32_t> densities = density_.read<std::int32_t>(count);
+  const std::vector<gpu::SurfaceNodeSums> sums = nodeSums_.read<gpu::SurfaceNodeSums>(count);
+  std::vector<glm::vec3> velocities(count, glm::vec3(0.0f));
+  // Both sums are in the same fixed-point units, so their ratio is the weighted mean velocity (m/s).
+  for (std::size_t i = 0; i < count; ++i) {
+    if (densities[i] > 0) velocities[i] = glm::vec3(glm::ivec3(sums[i].velocity)) / float(densities[i]);
+  }
+  return velocities;
 }
 
 }  // namespace firn::surface

@@ -6,13 +6,14 @@
 // indexed, and triangles of neighbouring cells share the vertices of their common edges.
 // A vertex lies where the linear interpolation of f along its edge equals the iso level; its normal is down the
 // gradient of f (central differences at the edge's ends, interpolated alike); its albedo is Σ V W albedo / f,
-// both sums interpolated, which is defined wherever f is (at the vertex, f = iso > 0).
-// Reads: density, color, cells, counts (offsets), the case table. Writes: vertices, indices.
+// both sums interpolated, which is defined wherever f is (at the vertex, f = iso > 0); its velocity likewise
+// Σ V W v / f, the particles' velocities weighted as the field weighs them.
+// Reads: density, node sums, cells, counts (offsets), the case table. Writes: vertices, indices.
 #include "surface/surface_common.glsl"
 #include "surface/cells.glsl"
+#include "surface/node_sums.glsl"
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) readonly buffer SurfaceDensityBuffer { int density[]; };
-layout(std430, binding = FIRN_BINDING_SURFACE_COLOR) readonly buffer SurfaceColorBuffer { ivec4 colorSums[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_COUNTS) readonly buffer SurfaceCountBuffer { uvec2 offsets[]; };
 #include "surface/vertices.glsl"
 
@@ -47,10 +48,16 @@ SurfaceVertex edgeVertex(ivec3 start, int axis) {
   along[axis] = startValue > endValue ? 1.0 : -1.0;  // out of the snow along the edge, if f is flat across it
   vertex.normal = vec4(dot(gradient, gradient) > 0.0 ? -normalize(gradient) : along, 0.0);
   vertex.albedo = vec4(1.0);
-  if (withColors != 0u) {
-    vec3 colorSum = mix(vec3(colorSums[nodeAddress(start)].xyz), vec3(colorSums[nodeAddress(end)].xyz), t);
-    float densitySum = mix(float(density[nodeAddress(start)]), float(density[nodeAddress(end)]), t);
+  vertex.velocity = vec4(0.0);
+  float densitySum = mix(float(density[nodeAddress(start)]), float(density[nodeAddress(end)]), t);
+  if (withColors()) {
+    vec3 colorSum = mix(vec3(nodeSums[nodeAddress(start)].color.xyz), vec3(nodeSums[nodeAddress(end)].color.xyz), t);
     vertex.albedo = vec4(clamp(colorSum / max(densitySum, 1.0), 0.0, 1.0), 1.0);
+  }
+  if (withVelocities()) {
+    vec3 velocitySum =
+        mix(vec3(nodeSums[nodeAddress(start)].velocity.xyz), vec3(nodeSums[nodeAddress(end)].velocity.xyz), t);
+    vertex.velocity = vec4(velocitySum / max(densitySum, 1.0), 0.0);
   }
   return vertex;
 }

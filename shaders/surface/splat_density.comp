@@ -1,19 +1,20 @@
 #version 430 core
 // The smoothed volume fraction f(x) = Σ_p V_p W(x − x_p; R_p) at the grid's nodes (docs/surfaces.md eq. 1): 1
 // inside snow at its rest density, ½ on a flat edge of it, 0 outside. With colours, also Σ_p V_p W · albedo_p,
-// which the mesh divides by f to carry the particles' colours onto the surface. One invocation per particle over
+// which the mesh divides by f to carry the particles' colours onto the surface; with velocities, Σ_p V_p W · v_p,
+// which divided by f is the snow's velocity there (the caches' motion blur). One invocation per particle over
 // the nodes of its kernel's ball, row by row (at most (2 · MAX_KERNEL_RADIUS_CELLS + 1)³ nodes). Each contribution
 // is rounded to fixed point on its own and added with an integer atomic, so the sums are exact and the same
 // whatever order the particles add in.
-// Reads: positionMass, plasticState, the particle colours. Writes: density, color (atomic adds).
+// Reads: positionMass, velocityVolume, plasticState, the particle colours. Writes: density, node sums (atomic adds).
 #include "common/particles.glsl"
 #include "surface/surface_common.glsl"
 #include "surface/kernel_radius.glsl"
+#include "surface/node_sums.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 layout(std430, binding = FIRN_BINDING_SURFACE_DENSITY) buffer SurfaceDensityBuffer { int density[]; };
-layout(std430, binding = FIRN_BINDING_SURFACE_COLOR) buffer SurfaceColorBuffer { ivec4 colorSums[]; };
 layout(std430, binding = FIRN_BINDING_SURFACE_PARTICLE_COLORS) readonly buffer ParticleColorBuffer {
   vec4 particleColors[];
 };
@@ -34,7 +35,8 @@ void main() {
   high = min(high, boxNodes - 1);
   ivec3 extent = high - low + 1;
   if (any(lessThanEqual(extent, ivec3(0)))) return;
-  vec3 albedo = (withColors != 0u) ? particleColors[p].rgb : vec3(0.0);
+  vec3 albedo = withColors() ? particleColors[p].rgb : vec3(0.0);
+  vec3 velocity = withVelocities() ? velocityVolume[p].xyz : vec3(0.0);
   float weightScale = volumeM3 / (radiusM * radiusM * radiusM);
   // Row by row along x, each row only across the kernel's ball: a third of the box's nodes.
   int rows = extent.y * extent.z;
@@ -53,10 +55,15 @@ void main() {
       float weight = weightScale * smoothingKernel(q);
       uint address = nodeAddress(node);
       atomicAdd(density[address], toUnits(weight));
-      if (withColors != 0u) {
-        atomicAdd(colorSums[address].x, toUnits(weight * albedo.r));
-        atomicAdd(colorSums[address].y, toUnits(weight * albedo.g));
-        atomicAdd(colorSums[address].z, toUnits(weight * albedo.b));
+      if (withColors()) {
+        atomicAdd(nodeSums[address].color.x, toUnits(weight * albedo.r));
+        atomicAdd(nodeSums[address].color.y, toUnits(weight * albedo.g));
+        atomicAdd(nodeSums[address].color.z, toUnits(weight * albedo.b));
+      }
+      if (withVelocities()) {
+        atomicAdd(nodeSums[address].velocity.x, toUnits(weight * velocity.x));
+        atomicAdd(nodeSums[address].velocity.y, toUnits(weight * velocity.y));
+        atomicAdd(nodeSums[address].velocity.z, toUnits(weight * velocity.z));
       }
     }
   }

@@ -10,6 +10,9 @@ layout(std140, binding = FIRN_BINDING_SURFACE_UNIFORMS) uniform SurfaceUniformsB
 
 #include "common/invocation.glsl"
 
+bool withColors() { return (sumsCarried & SURFACE_SUMS_COLOR) != 0u; }
+bool withVelocities() { return (sumsCarried & SURFACE_SUMS_VELOCITY) != 0u; }
+
 // A node of this frame's grid: its index in the box per axis, and its address in the per-node buffers.
 uint nodeAddress(ivec3 node) { return uint(node.x + boxNodes.x * (node.y + boxNodes.y * node.z)); }
 ivec3 nodeOfAddress(uint address) {

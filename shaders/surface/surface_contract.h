@@ -12,7 +12,7 @@
 // FIRN_SURFACE_BINDINGS_FIRST to _END); engine/surface/SurfaceLayout.h holds them to it.
 #define FIRN_BINDING_SURFACE_HEADER 21           // SurfaceHeader: the particles' kernel bounds
 #define FIRN_BINDING_SURFACE_DENSITY 22          // int per node: the volume fraction, fixed point
-#define FIRN_BINDING_SURFACE_COLOR 23            // ivec4 per node: Σ (weight · albedo), fixed point
+#define FIRN_BINDING_SURFACE_SUMS 23             // SurfaceNodeSums per node: Σ weight · albedo, Σ weight · v
 #define FIRN_BINDING_SURFACE_CELLS 24            // uint per node: its cell's case, the crossings of its own edges
 #define FIRN_BINDING_SURFACE_COUNTS 25           // uvec2 per node (+1): vertices and triangles, then their offsets
 #define FIRN_BINDING_SURFACE_VERTICES 26         // SurfaceVertex per vertex of the mesh
@@ -46,7 +46,7 @@ FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
 //                                  of its nodes
 //   boxNodes, reconstructedParticles   its nodes per axis; the particles it is built from
 //   smoothing, isoLevel, isoUnits  surface.smoothing (in particle spacings), surface.iso, iso in fixed-point units
-//   withColors                     1 if the particles carry colours onto the surface, else 0
+//   sumsCarried                    what the nodes sum besides the field: SURFACE_SUMS_COLOR, SURFACE_SUMS_VELOCITY
 #define FIRN_SURFACE_UNIFORMS(member, array) \
   member(vec3, latticeOriginM)               \
   member(float, nodeSpacingM)                \
@@ -57,7 +57,7 @@ FIRN_CONSTANT(int, MAX_CELL_TRIANGLES, 5)
   member(float, smoothing)                   \
   member(float, isoLevel)                    \
   member(int, isoUnits)                      \
-  member(uint, withColors)
+  member(uint, sumsCarried)
 FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
 
 // SurfaceHeader: what the bounds pass finds (std430): the lowest and highest lattice node any particle's kernel
@@ -67,14 +67,31 @@ FIRN_STRUCT(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)
   member(ivec4, kernelNodesMax)
 FIRN_STRUCT(SurfaceHeader, FIRN_SURFACE_HEADER)
 
+// What a node sums besides the volume fraction, as bits of SurfaceUniforms.sumsCarried.
+FIRN_CONSTANT(uint, SURFACE_SUMS_COLOR, 1u)
+FIRN_CONSTANT(uint, SURFACE_SUMS_VELOCITY, 2u)
+
+// SurfaceNodeSums: what a node sums besides the volume fraction (std430), fixed point as it is, each only when the
+// reconstruction asks for it (SurfaceUniforms.sumsCarried).
+//   color     xyz Σ_p V_p W · albedo_p (the particles' linear albedo), w unused
+//   velocity  xyz Σ_p V_p W · v_p (m/s): divided by f, the snow's velocity there; w unused. A node's sum
+//             overflows at |Σ V W v| = 2048 m/s, f times the speed: beyond any snow the simulation's CFL bound
+//             lets run (a particle crossing more than a cell per step stops the run)
+#define FIRN_SURFACE_NODE_SUMS(member, array) \
+  member(ivec4, color)                        \
+  member(ivec4, velocity)
+FIRN_STRUCT(SurfaceNodeSums, FIRN_SURFACE_NODE_SUMS)
+
 // SurfaceVertex: one vertex of the mesh (std430), on an edge of the grid where the field crosses the iso level.
 //   positionM  xyz (m), w 1
 //   normal     xyz unit, out of the snow (down the field's gradient), w 0
 //   albedo     xyz the linear albedo interpolated from the particles' colours (1 without them), w 1
+//   velocity   xyz the snow's velocity (m/s) interpolated from the particles' (0 without them), w 0
 #define FIRN_SURFACE_VERTEX(member, array) \
   member(vec4, positionM)                  \
   member(vec4, normal)                     \
-  member(vec4, albedo)
+  member(vec4, albedo)                     \
+  member(vec4, velocity)
 FIRN_STRUCT(SurfaceVertex, FIRN_SURFACE_VERTEX)
 
 // The smoothing kernel: Monaghan's cubic spline (M4) with support radius 1, normalised over the unit ball,

@@ -60,6 +60,8 @@ std::vector<SharedStruct> sharedStructs() {
       {"surface/surface_common.glsl", GL_UNIFORM, "", FIRN_MEMBER_LIST(SurfaceUniforms, FIRN_SURFACE_UNIFORMS)},
       {"surface/header.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SurfaceHeader, FIRN_SURFACE_HEADER)},
       {"surface/vertices.glsl", GL_BUFFER_VARIABLE, "vertices[0].", FIRN_MEMBER_LIST(SurfaceVertex, FIRN_SURFACE_VERTEX)},
+      {"surface/node_sums.glsl", GL_BUFFER_VARIABLE, "nodeSums[0].",
+       FIRN_MEMBER_LIST(SurfaceNodeSums, FIRN_SURFACE_NODE_SUMS)},
       // The semi-implicit solve's (common/solver.glsl).
       {"common/solver.glsl", GL_BUFFER_VARIABLE, "solverNodes[0].", FIRN_MEMBER_LIST(SolverNode, FIRN_SOLVER_NODE)},
       {"common/solver.glsl", GL_BUFFER_VARIABLE, "solverPreconditioners[0].",
@@ -134,7 +136,8 @@ TEST(GpuContract, ArraysStrideAsTheHostWritesThem) {
                 {"common/particles.glsl", "plasticState[0].plasticJ", sizeof(ParticlePlasticState)},
                 {"common/colliders.glsl", "colliders[0].geometryA", sizeof(ColliderParams)},
                 {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)},
-                {"surface/vertices.glsl", "vertices[0].positionM", sizeof(SurfaceVertex)}};
+                {"surface/vertices.glsl", "vertices[0].positionM", sizeof(SurfaceVertex)},
+                {"surface/node_sums.glsl", "nodeSums[0].color", sizeof(SurfaceNodeSums)}};
   for (const auto& array : arrays) {
     const std::vector<GLint> values = properties(probe(array.include, {array.name}), GL_BUFFER_VARIABLE, array.name);
     ASSERT_FALSE(values.empty()) << array.name;
@@ -200,6 +203,8 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
        FIRN_BINDING_SURFACE_HEADER, sizeof(SurfaceHeader)},
       {"surface/vertices.glsl", "vertices[0].normal", GL_SHADER_STORAGE_BLOCK, "SurfaceVertexBuffer",
        FIRN_BINDING_SURFACE_VERTICES, 0},
+      {"surface/node_sums.glsl", "nodeSums[0].velocity", GL_SHADER_STORAGE_BLOCK, "SurfaceNodeSumsBuffer",
+       FIRN_BINDING_SURFACE_SUMS, 0},
       {"common/solver.glsl", "solverNodes[0].residual", GL_SHADER_STORAGE_BLOCK, "SolverNodeBuffer",
        FIRN_BINDING_SOLVER_NODES, 0},
       {"common/solver.glsl", "solverPreconditioners[0].inverseDiagonal", GL_SHADER_STORAGE_BLOCK,

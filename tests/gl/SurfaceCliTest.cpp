@@ -57,22 +57,24 @@ firn::SurfaceMesh readSurfacePly(const fs::path& path) {
   const std::vector<std::string> expected = {
       "ply", "format binary_little_endian 1.0", "comment written by Firn: the snow's surface", "element vertex *",
       "property float x", "property float y", "property float z", "property float nx", "property float ny",
-      "property float nz", "element face *", "property list uchar uint vertex_indices"};
+      "property float nz", "property float vx", "property float vy", "property float vz", "element face *",
+      "property list uchar uint vertex_indices"};
   EXPECT_EQ(header.size(), expected.size());
   for (std::size_t i = 0; i < std::min(header.size(), expected.size()); ++i) {
     if (expected[i].back() == '*') {
       EXPECT_EQ(header[i].rfind(expected[i].substr(0, expected[i].size() - 1), 0), 0u) << header[i];
-      (i == 3 ? vertices : faces) = std::stoul(header[i].substr(expected[i].size() - 1));
+      (expected[i].rfind("element vertex", 0) == 0 ? vertices : faces) = std::stoul(header[i].substr(expected[i].size() - 1));
     } else {
       EXPECT_EQ(header[i], expected[i]);
     }
   }
   firn::SurfaceMesh mesh;
   for (std::size_t v = 0; v < vertices; ++v) {
-    float values[6];
+    float values[9];
     in.read(reinterpret_cast<char*>(values), sizeof values);
     mesh.positionsM.emplace_back(values[0], values[1], values[2]);
     mesh.normals.emplace_back(values[3], values[4], values[5]);
+    mesh.velocitiesMPerS.emplace_back(values[6], values[7], values[8]);
   }
   for (std::size_t f = 0; f < faces; ++f) {
     unsigned char count = 0;
@@ -165,6 +167,81 @@ TEST_F(SurfaceCli, VdbFileHoldsDensityAndALevelSetOfTheBall) {
     }
   }
   EXPECT_EQ(rays, 26);
+}
+
+// The caches' velocities, for motion blur (docs/surfaces.md, Velocity): the ball of the tests above moving
+// uniformly at v in free space. The velocity at a vertex, or a voxel of the VDB's `v` grid, is Σ V W v_p / Σ V W
+// over the particles whose kernels reach it, a weighted mean, so it lies within the particles' own velocities
+// (read from the frame's point cache) but for the fixed-point rounding of the two sums: each of the N
+// contributions is rounded by at most ½ unit (2⁻²⁰) in Σ V W v_p and in Σ V W, so the mean is off by at most
+// N (1 + |v|) / (2 f 2²⁰) where the field is f. N is at most the particles of a jittered lattice within the kernel
+// radius R = 3 spacings: lattice points within R + √3/4 spacings, 4/3 π 3.433³ = 170. At a vertex f is the iso
+// level ½; the `v` grid holds voxels down to f = 1%.
+TEST_F(SurfaceCli, CachesCarryTheVelocityOfABallMovingUniformly) {
+  const fs::path folder = freshDirectory("surface_velocity");
+  const glm::dvec3 velocity(0.7, -0.3, 0.2);
+  std::string scene = kBallScene;
+  const std::string sphere = R"("radius": 0.25, "material": "snow")";
+  scene.replace(scene.find(sphere), sphere.size(), sphere + R"(, "velocity": [0.7, -0.3, 0.2])");
+  const fs::path scenePath = writeScene(folder, "ball.json", scene);
+  const Result result = runFirn("run " + scenePath.string() + " --mesh --vdb --out " + (folder / "out").string());
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+
+  // The particles' velocities in frame 1: their range per axis.
+  std::ifstream points(folder / "out" / "frame_0001.ply", std::ios::binary);
+  std::string line;
+  std::size_t particles = 0;
+  while (std::getline(points, line) && line != "end_header") {
+    if (line.rfind("element vertex ", 0) == 0) particles = std::stoul(line.substr(15));
+  }
+  ASSERT_GT(particles, 4000u);
+  glm::dvec3 lowest(1e9), highest(-1e9);
+  for (std::size_t p = 0; p < particles; ++p) {
+    float values[8];  // x y z vx vy vz mass plastic_j
+    points.read(reinterpret_cast<char*>(values), sizeof values);
+    const glm::dvec3 v(values[3], values[4], values[5]);
+    lowest = glm::min(lowest, v);
+    highest = glm::max(highest, v);
+  }
+  ASSERT_TRUE(points.good());
+  EXPECT_LT(glm::length(highest - lowest), 1e-3) << "the ball moves as one";
+  EXPECT_LT(glm::length(0.5 * (highest + lowest) - velocity), 1e-3) << "at the velocity it started with";
+  const double contributions = 4.0 / 3.0 * M_PI * std::pow(3.0 + std::sqrt(3.0) / 4.0, 3);
+  const auto roundingBound = [&](double field) {
+    return contributions * (1.0 + glm::length(velocity)) / (2.0 * field * 1048576.0);
+  };
+  const auto expectWithin = [&](const glm::dvec3& v, double field, const std::string& where) {
+    const double slack = roundingBound(field) + 1e-6;  // and the float division's last bits
+    for (int axis = 0; axis < 3; ++axis) {
+      ASSERT_GE(v[axis], lowest[axis] - slack) << where << " axis " << axis;
+      ASSERT_LE(v[axis], highest[axis] + slack) << where << " axis " << axis;
+    }
+  };
+
+  const firn::SurfaceMesh mesh = readSurfacePly(folder / "out" / "frame_0001_surface.ply");
+  ASSERT_GT(mesh.triangleCount(), 500u);
+  ASSERT_EQ(mesh.velocitiesMPerS.size(), mesh.positionsM.size());
+  for (std::size_t i = 0; i < mesh.velocitiesMPerS.size(); ++i) {
+    expectWithin(glm::dvec3(mesh.velocitiesMPerS[i]), 0.5, "vertex " + std::to_string(i));
+  }
+
+  openvdb::io::File file((folder / "out" / "frame_0001.vdb").string());
+  file.open();
+  const openvdb::Vec3SGrid::Ptr v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("v"));
+  const openvdb::FloatGrid::Ptr density = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
+  file.close();
+  ASSERT_TRUE(v && density);
+  EXPECT_EQ(v->getVectorType(), openvdb::VEC_CONTRAVARIANT_RELATIVE);
+  EXPECT_NEAR(v->transform().voxelSize()[0], kVoxelM, 1e-9);
+  // Every voxel of the density (f ≥ ½) has a velocity, and the velocity reaches past it (f ≥ 1%).
+  for (auto voxel = density->cbeginValueOn(); voxel; ++voxel) {
+    ASSERT_TRUE(v->tree().isValueOn(voxel.getCoord())) << voxel.getCoord();
+  }
+  EXPECT_GT(v->activeVoxelCount(), density->activeVoxelCount());
+  for (auto voxel = v->cbeginValueOn(); voxel; ++voxel) {
+    const openvdb::Vec3s value = *voxel;
+    expectWithin(glm::dvec3(value[0], value[1], value[2]), 0.01, "voxel");
+  }
 }
 
 // Deterministic output: every file two runs write (stats.csv aside, which records wall-clock times) is the same

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -112,6 +113,7 @@ TEST(Vdb, SameFrameSameBytesAndReadBack) {
   file.open();
   const openvdb::FloatGrid::Ptr density = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
   const openvdb::FloatGrid::Ptr surface = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("surface"));
+  EXPECT_FALSE(file.hasGrid("v")) << "no velocities given, no v grid";
   file.close();
   ASSERT_TRUE(density && surface);
   EXPECT_EQ(density->activeVoxelCount(), 1u);
@@ -125,6 +127,53 @@ TEST(Vdb, SameFrameSameBytesAndReadBack) {
   const openvdb::Coord outside = surface->transform().worldToIndexCellCentered(openvdb::Vec3d(0.9, 0.9, 0.9));
   EXPECT_LT(surface->tree().getValue(inside), 0.0f);
   EXPECT_GT(surface->tree().getValue(outside), 0.0f);
+}
+
+// With velocities the mesh's vertices carry vx vy vz after the normals, and the header says so.
+TEST(MeshPly, VelocitiesFollowTheNormals) {
+  firn::SurfaceMesh mesh = tetrahedron();
+  mesh.velocitiesMPerS = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {-1, -2, -3}};
+  const fs::path folder = freshFolder("ply_velocity");
+  firn::writeMeshPly(folder / "moving.ply", mesh);
+  const std::string bytes = fileBytes(folder / "moving.ply");
+  const std::size_t body = bytes.find("end_header\n") + std::string("end_header\n").size();
+  EXPECT_NE(bytes.find("property float nz\nproperty float vx\nproperty float vy\nproperty float vz\nelement face 4\n"),
+            std::string::npos);
+  ASSERT_EQ(bytes.size(), body + 4 * 9 * sizeof(float) + 4 * 13);
+  float last[3];
+  std::memcpy(last, bytes.data() + body + (3 * 9 + 6) * sizeof(float), sizeof last);
+  EXPECT_EQ(last[0], -1.0f);
+  EXPECT_EQ(last[2], -3.0f);
+  mesh.velocitiesMPerS.pop_back();
+  EXPECT_THROW(firn::writeMeshPly(folder / "ragged.ply", mesh), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(folder / "ragged.ply"));
+}
+
+// The v grid: a vector grid of the velocities at the voxels where the density reaches kVdbVelocityMinimumDensity,
+// beyond the density's own voxels (those at the iso level), on the same transform.
+TEST(Vdb, VelocityGridWhereTheDensityReachesOnePercent) {
+  firn::VdbFrame frame;
+  frame.density.spacingM = 0.1;
+  frame.density.nodeCounts = {3, 1, 1};
+  frame.density.values = {0.005f, 0.02f, 0.9f};  // below 1%, above it, above the iso level
+  frame.velocityMPerS = {{9, 9, 9}, {0.5f, -1, 2}, {0.25f, 0, -4}};
+  frame.surface = tetrahedron();
+  const fs::path folder = freshFolder("vdb_velocity");
+  firn::writeVdb(folder / "v.vdb", frame);
+  openvdb::initialize();
+  openvdb::io::File file((folder / "v.vdb").string());
+  file.open();
+  const openvdb::Vec3SGrid::Ptr v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(file.readGrid("v"));
+  file.close();
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->getVectorType(), openvdb::VEC_CONTRAVARIANT_RELATIVE);
+  EXPECT_EQ(v->activeVoxelCount(), 2u);
+  EXPECT_FALSE(v->tree().isValueOn(openvdb::Coord(0, 0, 0)));
+  EXPECT_EQ(v->tree().getValue(openvdb::Coord(1, 0, 0)), openvdb::Vec3s(0.5f, -1, 2));
+  EXPECT_EQ(v->tree().getValue(openvdb::Coord(2, 0, 0)), openvdb::Vec3s(0.25f, 0, -4));
+  EXPECT_EQ(v->metaValue<std::string>("units"), "meters");
+  frame.velocityMPerS.pop_back();
+  EXPECT_THROW(firn::writeVdb(folder / "ragged.vdb", frame), std::invalid_argument);
 }
 
 }  // namespace

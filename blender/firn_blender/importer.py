@@ -1,0 +1,451 @@
+"""Builds a Firn run's caches into a Blender scene (docs/blender.md): one object per cache whose geometry follows
+the frame, under one parent that turns Firn's Y-up into Blender's Z-up, with the run's frame rate on the scene.
+
+Blender frame N shows Firn's frame N (the state at N / frame_rate); frame 0 is the initial state.
+
+- The surface meshes (frame_NNNN_surface.ply): one mesh object. Its vertex count changes every frame, so no shape
+  key or modifier can animate it: a frame-change handler gives the object the frame's mesh (read on first use,
+  then kept), smooth-shaded with the file's normals and a `velocity` attribute (m/s), which Cycles' motion blur
+  reads from a mesh whose topology changes.
+- The VDB caches (frame_NNNN.vdb): one volume object on the file sequence, its velocity grid `v` set for motion
+  blur, with a snow volume material.
+- The point caches (frame_NNNN.ply): one object of points (a mesh of vertices drawn as points by a geometry
+  nodes modifier) carrying the caches' `velocity`, `mass` and `plastic_j` as point attributes.
+- The scene file's colliders, when the scene is given: planes, spheres and boxes, moving at their velocities.
+"""
+
+import csv
+import json
+import math
+import os
+import re
+
+import bpy
+import numpy as np
+from bpy.app.handlers import persistent
+
+from . import firn_ply
+
+FRAME_FILE = re.compile(r"^frame_(\d{4,})(_surface)?\.(ply|vdb)$")
+KIND_SURFACE = "surface"
+KIND_POINTS = "points"
+
+
+class FirnRunError(ValueError):
+    pass
+
+
+class RunFolder:
+    """What a Firn output folder holds: the frames of each cache, and the frame rate (from stats.csv)."""
+
+    def __init__(self, folder, last_frame=None):
+        self.folder = os.path.abspath(bpy.path.abspath(folder))
+        if not os.path.isdir(self.folder):
+            raise FirnRunError(f"{self.folder}: not a folder")
+        self.surfaces, self.points, self.volumes = {}, {}, {}
+        for name in os.listdir(self.folder):
+            match = FRAME_FILE.match(name)
+            if not match:
+                continue
+            frame = int(match.group(1))
+            if last_frame is not None and frame > last_frame:
+                continue  # an earlier, longer run's, in the same folder
+            if match.group(3) == "vdb":
+                self.volumes[frame] = name
+            elif match.group(2):
+                self.surfaces[frame] = name
+            else:
+                self.points[frame] = name
+        if not (self.surfaces or self.points or self.volumes):
+            raise FirnRunError(f"{self.folder}: no frame_NNNN.ply, frame_NNNN_surface.ply or frame_NNNN.vdb")
+        self.frame_rate = read_frame_rate(os.path.join(self.folder, "stats.csv"))
+
+    def frames(self):
+        every = set(self.surfaces) | set(self.points) | set(self.volumes)
+        return min(every), max(every)
+
+
+def read_frame_rate(stats_path):
+    """Frame N is the state at N / frame_rate (docs/scene-format.md), so any later frame's row gives the rate."""
+    if not os.path.exists(stats_path):
+        raise FirnRunError(f"{stats_path}: missing (Firn writes it with every run; it holds the frames' times)")
+    with open(stats_path, newline="") as f:
+        for row in csv.DictReader(f):
+            frame, time_s = int(row["frame"]), float(row["time_s"])
+            if frame > 0 and time_s > 0:
+                return frame / time_s
+    raise FirnRunError(f"{stats_path}: fewer than two frames, so no frame rate")
+
+
+def set_frame_rate(scene, frame_rate):
+    """Blender's rate is fps / fps_base with an integer fps."""
+    fps = max(1, math.ceil(frame_rate - 1e-6))
+    scene.render.fps = fps
+    scene.render.fps_base = fps / frame_rate
+
+
+# --- Meshes from the caches ----------------------------------------------------------------------------------------
+
+def _set_point_attribute(mesh, name, values):
+    kind = "FLOAT_VECTOR" if values.ndim == 2 else "FLOAT"
+    attribute = mesh.attributes.get(name) or mesh.attributes.new(name, kind, "POINT")
+    attribute.data.foreach_set("vector" if kind == "FLOAT_VECTOR" else "value", values.astype(np.float32).ravel())
+
+
+def surface_mesh(name, path):
+    """The surface mesh of one frame: its triangles smooth-shaded with the file's normals, its `velocity`."""
+    vertices, triangles = firn_ply.read_ply(path)
+    positions = firn_ply.vectors(vertices, ("x", "y", "z"))
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(positions))
+    mesh.vertices.foreach_set("co", positions.ravel())
+    count = len(triangles)
+    mesh.loops.add(3 * count)
+    mesh.loops.foreach_set("vertex_index", triangles.astype(np.int32).ravel())
+    mesh.polygons.add(count)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * count, 3, dtype=np.int32))
+    if not bpy.types.MeshPolygon.bl_rna.properties["loop_total"].is_readonly:  # Blender before 4.0 sets it too
+        mesh.polygons.foreach_set("loop_total", np.full(count, 3, dtype=np.int32))
+    mesh.polygons.foreach_set("use_smooth", np.ones(count, dtype=bool))
+    mesh.update(calc_edges=True)
+    if "nx" in vertices:
+        if hasattr(mesh, "use_auto_smooth"):  # Blender before 4.1 uses custom normals only with it
+            mesh.use_auto_smooth = True
+        mesh.normals_split_custom_set_from_vertices(firn_ply.vectors(vertices, ("nx", "ny", "nz")))
+    if "vx" in vertices:
+        _set_point_attribute(mesh, "velocity", firn_ply.vectors(vertices, ("vx", "vy", "vz")))
+    mesh.materials.append(None)  # one slot, which the object fills (it outlives the frame's mesh)
+    return mesh
+
+
+def points_mesh(name, path):
+    """The point cache of one frame as vertices with the cache's attributes: velocity, mass, plastic_j."""
+    vertices, _ = firn_ply.read_ply(path)
+    positions = firn_ply.vectors(vertices, ("x", "y", "z"))
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(positions))
+    mesh.vertices.foreach_set("co", positions.ravel())
+    mesh.update()
+    if "vx" in vertices:
+        _set_point_attribute(mesh, "velocity", firn_ply.vectors(vertices, ("vx", "vy", "vz")))
+    for attribute in ("mass", "plastic_j"):
+        if attribute in vertices:
+            _set_point_attribute(mesh, attribute, vertices[attribute])
+    mesh.materials.append(None)
+    return mesh
+
+
+# --- Following the frame -------------------------------------------------------------------------------------------
+
+def _frame_files(obj):
+    return {int(frame): name for frame, name in obj["firn_files"].items()}
+
+
+def shown_frame(frames, scene_frame):
+    """The cache frame shown at a (possibly fractional) scene frame: the nearest frame, so that the motion blur's
+    sub-frames around frame N all see frame N's mesh and its velocities carry the motion; before the first and
+    after the last cache frame, those."""
+    nearest = math.floor(scene_frame + 0.5)
+    if nearest in frames:
+        return nearest
+    earlier = [f for f in frames if f <= nearest]
+    return max(earlier) if earlier else min(frames)
+
+
+def update_object(obj, scene_frame):
+    files = _frame_files(obj)
+    if not files:
+        return
+    frame = shown_frame(files, scene_frame)
+    path = os.path.join(obj["firn_folder"], files[frame])
+    name = f"{obj.name} {frame:04d}"
+    mesh = bpy.data.meshes.get(name)
+    if mesh is None or mesh.get("firn_file") != path:
+        mesh = (surface_mesh if obj["firn_kind"] == KIND_SURFACE else points_mesh)(name, path)
+        mesh["firn_file"] = path
+    if obj.data != mesh:
+        obj.data = mesh
+
+
+def update_scene(scene):
+    for obj in scene.objects:
+        if obj.get("firn_kind") in (KIND_SURFACE, KIND_POINTS):
+            update_object(obj, scene.frame_current + scene.frame_subframe)
+
+
+@persistent
+def on_frame_change(scene, depsgraph=None):
+    update_scene(scene)
+
+
+@persistent
+def on_load(_):
+    for scene in bpy.data.scenes:
+        update_scene(scene)
+
+
+HANDLERS = ((bpy.app.handlers.frame_change_pre, on_frame_change), (bpy.app.handlers.load_post, on_load))
+
+
+def register():
+    for handlers, handler in HANDLERS:
+        if handler not in handlers:
+            handlers.append(handler)
+
+
+def unregister():
+    for handlers, handler in HANDLERS:
+        if handler in handlers:
+            handlers.remove(handler)
+
+
+# --- Materials -----------------------------------------------------------------------------------------------------
+
+SNOW_COLOR = (0.90, 0.93, 0.97, 1.0)  # fresh snow's albedo is about 0.9, a little bluer than white
+
+
+def _set_inputs(node, values):
+    """Sets the inputs a node has by name (Principled nodes renamed some between Blender 3.4 and 4)."""
+    for names, value in values:
+        for name in names:
+            if name in node.inputs:
+                node.inputs[name].default_value = value
+                break
+
+
+def snow_surface_material():
+    material = bpy.data.materials.get("Firn snow") or bpy.data.materials.new("Firn snow")
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes.get("Principled BSDF")
+    _set_inputs(bsdf, [
+        (("Base Color",), SNOW_COLOR),
+        (("Roughness",), 0.6),
+        (("Specular", "Specular IOR Level"), 0.3),
+        (("Subsurface", "Subsurface Weight"), 0.25),
+        (("Subsurface Color",), SNOW_COLOR),
+        (("Subsurface Radius",), (0.02, 0.03, 0.05)),  # light spreads a few cm in snow, blue farthest
+    ])
+    material.diffuse_color = SNOW_COLOR
+    return material
+
+
+def snow_volume_material():
+    """A scattering volume driven by the `density` grid (the volume fraction, 1 inside snow at rest): snow
+    extinguishes light within a few centimetres, so each unit of volume fraction is 200 per metre, nearly white
+    scattering, a little absorption that tints it blue."""
+    material = bpy.data.materials.get("Firn snow volume") or bpy.data.materials.new("Firn snow volume")
+    material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    nodes.clear()
+    volume = nodes.new("ShaderNodeVolumePrincipled")
+    _set_inputs(volume, [
+        (("Color",), SNOW_COLOR),
+        (("Density",), 200.0),
+        (("Anisotropy",), 0.3),
+        (("Absorption Color",), (0.02, 0.01, 0.0, 1.0)),
+    ])
+    volume.inputs["Density Attribute"].default_value = "density"
+    output = nodes.new("ShaderNodeOutputMaterial")
+    links.new(volume.outputs["Volume"], output.inputs["Volume"])
+    return material
+
+
+def particles_material():
+    material = bpy.data.materials.get("Firn particles") or bpy.data.materials.new("Firn particles")
+    material.diffuse_color = SNOW_COLOR
+    material.use_nodes = True
+    _set_inputs(material.node_tree.nodes.get("Principled BSDF"), [(("Base Color",), SNOW_COLOR)])
+    return material
+
+
+def _add_socket(group, in_out, name, socket_type):
+    if hasattr(group, "interface"):  # Blender 4
+        return group.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
+    return (group.inputs if in_out == "INPUT" else group.outputs).new(socket_type, name)
+
+
+def particles_node_group():
+    """Mesh vertices to points of a radius, with the particles' material; every attribute rides along."""
+    group = bpy.data.node_groups.get("Firn particles")
+    if group:
+        return group
+    group = bpy.data.node_groups.new("Firn particles", "GeometryNodeTree")
+    _add_socket(group, "INPUT", "Geometry", "NodeSocketGeometry")
+    _add_socket(group, "INPUT", "Radius", "NodeSocketFloat")
+    _add_socket(group, "OUTPUT", "Geometry", "NodeSocketGeometry")
+    nodes, links = group.nodes, group.links
+    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    to_points = nodes.new("GeometryNodeMeshToPoints")
+    set_material = nodes.new("GeometryNodeSetMaterial")
+    set_material.inputs["Material"].default_value = particles_material()
+    links.new(group_in.outputs["Geometry"], to_points.inputs["Mesh"])
+    links.new(group_in.outputs["Radius"], to_points.inputs["Radius"])
+    links.new(to_points.outputs["Points"], set_material.inputs["Geometry"])
+    links.new(set_material.outputs["Geometry"], group_out.inputs["Geometry"])
+    return group
+
+
+def _radius_socket(group):
+    if hasattr(group, "interface"):
+        return next(item.identifier for item in group.interface.items_tree if item.name == "Radius")
+    return group.inputs["Radius"].identifier
+
+
+# --- Building the scene --------------------------------------------------------------------------------------------
+
+def _sequence_object(context, name, folder, files, kind, parent):
+    obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+    obj["firn_folder"] = folder
+    obj["firn_files"] = {str(frame): file for frame, file in files.items()}
+    obj["firn_kind"] = kind
+    obj.parent = parent
+    context.collection.objects.link(obj)
+    update_object(obj, context.scene.frame_current)
+    return obj
+
+
+def _particle_radius(obj):
+    """Half the particles' spacing, from the first frame: the cube root of the volume per particle of their box
+    (a body fills its box; this is a starting value for the modifier's Radius)."""
+    positions = np.empty(3 * len(obj.data.vertices), dtype=np.float32)
+    obj.data.vertices.foreach_get("co", positions)
+    positions = positions.reshape(-1, 3)
+    if len(positions) < 2:
+        return 0.005
+    extent = np.maximum(positions.max(axis=0) - positions.min(axis=0), 1e-6)
+    return 0.5 * float(np.prod(extent) / len(positions)) ** (1.0 / 3.0)
+
+
+def _volume_object(context, name, run, parent):
+    first = min(run.volumes)
+    volume = bpy.data.volumes.new(name)
+    volume.filepath = os.path.join(run.folder, run.volumes[first])
+    volume.is_sequence = len(run.volumes) > 1
+    if volume.is_sequence:
+        # Blender shows, at scene frame F, the file numbered (F − frame_start + 1) + frame_offset, the first
+        # term held to [1, frame_duration] in EXTEND mode: file F at frame F, the first before it, the last after.
+        volume.frame_start = first
+        volume.frame_duration = max(run.volumes) - first + 1
+        volume.frame_offset = first - 1
+        volume.sequence_mode = "EXTEND"
+    volume.grids.load()  # Blender takes the name of a grid the file holds only
+    volume.velocity_grid = "v"
+    volume.velocity_unit = "SECOND"
+    volume.velocity_scale = 1.0
+    volume.materials.append(snow_volume_material())
+    obj = bpy.data.objects.new(name, volume)
+    obj.parent = parent
+    context.collection.objects.link(obj)
+    return obj
+
+
+def _collider_mesh(name, collider, extent_m):
+    """A collider's solid in Firn's coordinates, about its position at t = 0 (the object's origin)."""
+    import bmesh
+    shape = bmesh.new()
+    kind = collider["type"]
+    if kind == "sphere":
+        bmesh.ops.create_uvsphere(shape, u_segments=48, v_segments=24, radius=float(collider["radius"]))
+    elif kind == "box":
+        size = np.array(collider["max"], dtype=float) - np.array(collider["min"], dtype=float)
+        bmesh.ops.create_cube(shape, size=1.0)
+        for vertex in shape.verts:
+            vertex.co.x *= size[0]
+            vertex.co.y *= size[1]
+            vertex.co.z *= size[2]
+    elif kind == "plane":
+        normal = np.array(collider["normal"], dtype=float)
+        normal /= np.linalg.norm(normal)
+        helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        u = np.cross(normal, helper)
+        u /= np.linalg.norm(u)
+        w = np.cross(normal, u)
+        corners = [(su * u + sw * w) * extent_m for su, sw in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+        face = [shape.verts.new(tuple(c)) for c in corners]
+        quad = shape.faces.new(face)
+        quad.normal_update()
+        if np.dot(np.array(quad.normal), normal) < 0:
+            bmesh.ops.reverse_faces(shape, faces=[quad])
+    else:
+        raise FirnRunError(f"collider type {kind!r} is not one Firn knows")
+    mesh = bpy.data.meshes.new(name)
+    shape.to_mesh(mesh)
+    shape.free()
+    return mesh
+
+
+def _collider_origin(collider):
+    kind = collider["type"]
+    if kind == "sphere":
+        return np.array(collider["center"], dtype=float)
+    if kind == "box":
+        return 0.5 * (np.array(collider["min"], dtype=float) + np.array(collider["max"], dtype=float))
+    return np.array(collider["point"], dtype=float)
+
+
+def _collider_objects(context, scene_path, run, parent):
+    """The scene's colliders, each translating at its velocity from its position at t = 0
+    (docs/scene-format.md, colliders), keyed linearly at the first and last frames."""
+    with open(scene_path) as f:
+        scene = json.load(f)
+    grid = scene.get("grid", {})
+    cells = np.array(grid.get("cells", [64, 64, 64]), dtype=float)
+    extent_m = float(np.linalg.norm(cells * float(grid.get("cell_size", 0.02))))
+    first, last = run.frames()
+    objects = []
+    for index, collider in enumerate(scene.get("colliders", [])):
+        name = f"Firn collider {index} ({collider['type']})"
+        obj = bpy.data.objects.new(name, _collider_mesh(name, collider, extent_m))
+        obj.parent = parent
+        origin = _collider_origin(collider)
+        velocity = np.array(collider.get("velocity", [0, 0, 0]), dtype=float)
+        for frame in sorted({first, last}):
+            obj.location = tuple(origin + velocity * frame / run.frame_rate)
+            obj.keyframe_insert("location", frame=frame)
+        if obj.animation_data and obj.animation_data.action:
+            for curve in obj.animation_data.action.fcurves:
+                curve.extrapolation = "LINEAR"
+                for key in curve.keyframe_points:
+                    key.interpolation = "LINEAR"
+        obj["firn_collider"] = collider["type"]
+        context.collection.objects.link(obj)
+        objects.append(obj)
+    return objects
+
+
+def import_run(context, folder, scene_path="", last_frame=None):
+    """Builds the run in `folder` into the context's scene (its frames up to last_frame, when given); returns the
+    parent object."""
+    run = RunFolder(folder, last_frame)
+    scene = context.scene
+    set_frame_rate(scene, run.frame_rate)
+    first, last = run.frames()
+    scene.frame_start, scene.frame_end = first, last
+    scene.frame_set(first)
+
+    parent = bpy.data.objects.new(f"Firn run ({os.path.basename(run.folder)})", None)
+    parent.empty_display_type = "ARROWS"
+    parent.rotation_euler = (math.pi / 2, 0.0, 0.0)  # Firn's (x, y, z) to Blender's (x, −z, y): Y-up to Z-up
+    parent["firn_folder"] = run.folder
+    parent["firn_frame_rate"] = run.frame_rate
+    context.collection.objects.link(parent)
+
+    if run.surfaces:
+        surface = _sequence_object(context, "Firn surface", run.folder, run.surfaces, KIND_SURFACE, parent)
+        surface.material_slots[0].link = "OBJECT"
+        surface.material_slots[0].material = snow_surface_material()
+    # The surface renders; the volume (the same snow) and the particles are there to switch on instead.
+    if run.volumes:
+        volume = _volume_object(context, "Firn volume", run, parent)
+        volume.hide_render = bool(run.surfaces)
+    if run.points:
+        points = _sequence_object(context, "Firn particles", run.folder, run.points, KIND_POINTS, parent)
+        points.hide_render = bool(run.surfaces or run.volumes)
+        modifier = points.modifiers.new("Firn particles", "NODES")
+        group = particles_node_group()
+        modifier.node_group = group
+        modifier[_radius_socket(group)] = _particle_radius(points)
+    if scene_path:
+        _collider_objects(context, bpy.path.abspath(scene_path), run, parent)
+    register()
+    return parent
