@@ -15,7 +15,8 @@ namespace firn::gl {
 
 // While one is alive, every shader stage Program compiles is also kept here, as glShaderSource received it: for
 // holding each program Firn builds to another compiler and to the stated limits (tests/gl/PortabilityTest.cpp).
-// One log at a time, on the thread that owns the context.
+// A drawing program's vertex stage comes just before its fragment stage. One log at a time, on the thread that owns
+// the context.
 class ShaderSourceLog {
  public:
   struct Stage {

@@ -41,12 +41,7 @@ using firn::gl::ShaderOptions;
 using firn::gl::ShaderSourceLog;
 
 // One stage to compile: what the driver received, from where.
-struct Stage {
-  GLenum type;
-  std::string path;
-  ShaderOptions options;
-  firn::gl::PreprocessedShader source;
-};
+using Stage = ShaderSourceLog::Stage;
 
 std::string describe(const ShaderOptions& options) {
   std::string text;
@@ -163,7 +158,7 @@ std::vector<Stage> recordStages() {
       firn::render::Renderer renderer(scene);
       firn::surface::SurfaceReconstruction surface(scene, {}, info);
     }
-    for (const auto& stage : log.stages()) stages.push_back({stage.type, stage.path, stage.options, stage.source});
+    stages = log.stages();
   }
   // Switches no production build sets and no shader defines: each is a variant some test builds.
   std::set<std::string> setOrDefined;
@@ -176,14 +171,17 @@ std::vector<Stage> recordStages() {
   }
   const firn::gl::ShaderLibrary library;
   std::vector<Stage> variants;
+  std::set<std::string> variantNames;
   for (const Stage& stage : stages) {
     for (const std::string& macro : testedMacros(stage.source.text)) {
       if (setOrDefined.count(macro) != 0) continue;
       ShaderOptions options = stage.options;
       options.defines.emplace_back(macro, "1");
       variants.push_back({stage.type, stage.path, options, library.preprocess(stage.path, options)});
+      variantNames.insert(stage.path + " with " + macro);
     }
   }
+  for (const std::string& name : variantNames) std::printf("test variant: %s\n", name.c_str());
   stages.insert(stages.end(), variants.begin(), variants.end());
   std::vector<Stage> unique;
   std::set<std::string> seen;
@@ -423,6 +421,58 @@ TEST(Portability, EveryProgramCompilesWithGlslangAndFitsTheStatedLimits) {
     std::printf("%-34s %7d %8d %7lld %s\n", path.c_str(), row.storageBlocks, row.highestStorageBinding, row.sharedBytes,
                 row.localSize.c_str());
   }
+  if (!HasFailure()) fs::remove_all(folder);
+}
+
+// Each drawing program's vertex and fragment stages, as the driver received them, linked by glslang (-l): what
+// one stage passes the other must match in name, type and qualifiers. Program::graphics compiles a program's vertex
+// stage, then its fragment stage, so the log holds them one after the other.
+TEST(Portability, EveryDrawingProgramLinksWithGlslang) {
+  const std::string glslang = FIRN_GLSLANG_VALIDATOR;
+  ASSERT_FALSE(glslang.empty() || glslang.find("NOTFOUND") != std::string::npos)
+      << "glslangValidator was not found when configuring: install glslang-tools (scripts/setup.sh)";
+  const firn::gl::ContextInfo& info = firn::test::glContext().info();
+  std::vector<std::pair<Stage, Stage>> programs;
+  {
+    ShaderSourceLog log;
+    Scene severalMaterials = firn::defaultScene();
+    severalMaterials.materials.push_back(severalMaterials.materials.front());
+    for (const Scene& scene : {firn::defaultScene(), severalMaterials}) {
+      firn::render::Renderer renderer(scene);
+      firn::surface::SurfaceReconstruction surface(scene, {}, info);
+    }
+    const auto& stages = log.stages();
+    for (std::size_t i = 0; i < stages.size(); ++i) {
+      if (stages[i].type != GL_VERTEX_SHADER) continue;
+      ASSERT_LT(i + 1, stages.size()) << stages[i].path << " is not followed by a fragment stage";
+      ASSERT_EQ(stages[i + 1].type, static_cast<GLenum>(GL_FRAGMENT_SHADER)) << stages[i].path;
+      programs.emplace_back(stages[i], stages[i + 1]);
+    }
+  }
+  ASSERT_FALSE(programs.empty()) << "the renderer built no drawing program";
+  char folderTemplate[] = "/tmp/firn-glslang-link-XXXXXX";
+  ASSERT_NE(mkdtemp(folderTemplate), nullptr);
+  const fs::path folder = folderTemplate;
+  std::set<std::string> seen;
+  std::size_t linked = 0;
+  for (const auto& [vertex, fragment] : programs) {
+    if (!seen.insert(vertex.source.text + fragment.source.text).second) continue;
+    const fs::path vertexFile = folder / (std::to_string(linked) + ".vert");
+    const fs::path fragmentFile = folder / (std::to_string(linked) + ".frag");
+    std::ofstream(vertexFile) << vertex.source.text;
+    std::ofstream(fragmentFile) << fragment.source.text;
+    const fs::path logFile = folder / (std::to_string(linked) + ".log");
+    const std::string command = "\"" + glslang + "\" -l '" + vertexFile.string() + "' '" + fragmentFile.string() +
+                                "' > '" + logFile.string() + "' 2>&1";
+    const int status = std::system(command.c_str());
+    const std::string log = readFile(logFile);
+    const std::string what = vertex.path + " + " + fragment.path + " with" + describe(vertex.options);
+    EXPECT_EQ(status, 0) << what << ":\n" << log;
+    EXPECT_EQ(log.find("ERROR"), std::string::npos) << what << ":\n" << log;
+    EXPECT_EQ(log.find("WARNING"), std::string::npos) << what << ":\n" << log;
+    ++linked;
+  }
+  std::printf("%zu distinct drawing programs linked by %s\n", linked, glslang.c_str());
   if (!HasFailure()) fs::remove_all(folder);
 }
 
