@@ -7,7 +7,15 @@ namespace firn::gl {
 Buffer::Buffer(std::size_t bytes, const void* data) : bytes_(bytes) {
   glGenBuffers(1, &id_);
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
-  glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+  // The storage is whole 32-bit words, so that zero()'s clear of words covers every byte: GL refuses to clear R32UI
+  // over a size that is not a multiple of 4 (GL_INVALID_VALUE) and leaves the buffer as it was.
+  const std::size_t storageBytes = (bytes + 3) / 4 * 4;
+  if (data == nullptr || storageBytes == bytes) {
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(storageBytes), data, GL_DYNAMIC_DRAW);
+  } else {
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(storageBytes), nullptr, GL_DYNAMIC_DRAW);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, static_cast<GLsizeiptr>(bytes), data);
+  }
   if (data == nullptr) zero();
 }
 

@@ -11,6 +11,7 @@
 #include "Error.h"
 #include "gl/Debug.h"
 #include "gl/GL.h"
+#include "gl/Limits.h"
 
 namespace firn::gl {
 
@@ -214,6 +215,9 @@ void loadGLFunctions(ContextInfo& info) {
     throw NoOpenGLError("OpenGL " + info.version + " from " + info.renderer +
                         " is older than 4.3; Firn needs 4.3 compute shaders");
   }
+  // Before any program is built: a driver short of a limit Firn relies on is refused here, by name, instead of
+  // failing later in a compile or link log.
+  checkLimits(requiredLimits(), queryLimits(requiredLimits()), info.renderer + " (" + info.version + ")");
   info.hasFloatAtomics = hasExtension("GL_NV_shader_atomic_float");
   GLint64 maxBlockBytes = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlockBytes);

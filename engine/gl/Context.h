@@ -40,8 +40,9 @@ class HeadlessContext {
 };
 
 // After a context is current: loads entry points with GLEW (accepting Debian GLEW's GLEW_ERROR_NO_GLX_DISPLAY
-// on EGL only when every entry point Firn uses is present), then fills ContextInfo's GL fields.
-// Throws NoOpenGLError if the context is older than 4.3 or an entry point is missing.
+// on EGL only when every entry point Firn uses is present), checks the driver's limits against what Firn requires
+// (gl/Limits.h), then fills ContextInfo's GL fields.
+// Throws NoOpenGLError if the context is older than 4.3, an entry point is missing or a limit falls short.
 void loadGLFunctions(ContextInfo& info);
 
 bool hasExtension(const char* name);

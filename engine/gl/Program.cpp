@@ -37,12 +37,22 @@ std::vector<GLuint> blockBindings(GLuint program, GLenum interface) {
   return bindings;
 }
 
+ShaderSourceLog* activeLog = nullptr;
+
 }  // namespace
+
+ShaderSourceLog::ShaderSourceLog() {
+  if (activeLog != nullptr) throw GLError("a ShaderSourceLog is already recording");
+  activeLog = this;
+}
+
+ShaderSourceLog::~ShaderSourceLog() { activeLog = nullptr; }
 
 // One compiled shader stage. It deletes its shader object when done: a linked program keeps what it needs.
 struct Program::Stage {
   Stage(const ShaderLibrary& library, GLenum type, std::string stagePath, const ShaderOptions& options)
       : path(std::move(stagePath)), source(library.preprocess(path, options)) {
+    if (activeLog != nullptr) activeLog->stages_.push_back({type, path, options, source});
     shader = glCreateShader(type);
     const char* text = source.text.c_str();
     glShaderSource(shader, 1, &text, nullptr);

@@ -13,6 +13,31 @@
 
 namespace firn::gl {
 
+// While one is alive, every shader stage Program compiles is also kept here, as glShaderSource received it: for
+// holding each program Firn builds to another compiler and to the stated limits (tests/gl/PortabilityTest.cpp).
+// A drawing program's vertex stage comes just before its fragment stage. One log at a time, on the thread that owns
+// the context.
+class ShaderSourceLog {
+ public:
+  struct Stage {
+    GLenum type;  // GL_COMPUTE_SHADER, GL_VERTEX_SHADER, GL_FRAGMENT_SHADER
+    std::string path;
+    ShaderOptions options;
+    PreprocessedShader source;  // source.text is the driver's input
+  };
+
+  ShaderSourceLog();  // throws GLError while another log is alive
+  ~ShaderSourceLog();
+  ShaderSourceLog(const ShaderSourceLog&) = delete;
+  ShaderSourceLog& operator=(const ShaderSourceLog&) = delete;
+
+  const std::vector<Stage>& stages() const { return stages_; }
+
+ private:
+  friend class Program;
+  std::vector<Stage> stages_;
+};
+
 class Program {
  public:
   Program() = default;

@@ -11,7 +11,6 @@
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
-#include "Error.h"
 #include "gl/Debug.h"
 #include "gl/ShaderLibrary.h"
 #include "gpu/GpuLayout.h"
@@ -36,8 +35,6 @@ constexpr int kMaxShadowTexels = 2048;
 // The speed scale when nothing in the scene moves or falls.
 constexpr float kFallbackSpeedScaleMPerS = 5;
 constexpr GLuint kGroundShadowTextureUnit = 0;
-// positionMass, velocityVolume, plasticState, kirchhoffStress (shaders/render/particles.vert).
-constexpr GLint kParticleBuffersPerVertex = 4;
 
 int shadowTextureSize(const Scene& scene, float groundHalfSizeM) {
   double finestSpacingM = scene.grid.cellSizeM;
@@ -84,15 +81,6 @@ Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleM
         material.model == MaterialModel::Water ? material.bulkModulusPa * material.gamma : material.youngsModulusPa;
     materialColors_.emplace_back(kMaterialPaletteSrgb[i % std::size(kMaterialPaletteSrgb)], 1.0f);
     materialProperties_.emplace_back(1.0 / stiffnessPa, 1.0 / material.densityKgPerM3, 0.0f, 0.0f);
-  }
-  // GL 4.3 requires storage buffers in compute shaders only; the minimum for vertex shaders is 0.
-  GLint vertexStorageBlocks = 0;
-  glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertexStorageBlocks);
-  if (vertexStorageBlocks < kParticleBuffersPerVertex) {
-    throw NoOpenGLError("the renderer reads " + std::to_string(kParticleBuffersPerVertex) +
-                        " particle storage buffers in its vertex shader, but " +
-                        reinterpret_cast<const char*>(glGetString(GL_RENDERER)) +
-                        " allows GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS = " + std::to_string(vertexStorageBlocks));
   }
   GLfloat pointSizeRangePx[2] = {1, 1};
   glGetFloatv(GL_POINT_SIZE_RANGE, pointSizeRangePx);

@@ -24,11 +24,18 @@
 #define FIRN_MEMBERS(list) list(FIRN_DECLARE_MEMBER, FIRN_DECLARE_ARRAY)
 #define FIRN_STRUCT(name, list) struct name { FIRN_MEMBERS(list) };
 
-// What Firn requires of the driver beyond OpenGL 4.3's minimums (docs/platform.md, Limits). The host reads each
-// limit before building anything and refuses a driver with less (exit 4); the binding ranges below must end
-// within FIRN_REQUIRED_STORAGE_BINDINGS, and no program may declare more storage blocks than its stage allows.
-#define FIRN_REQUIRED_STORAGE_BINDINGS 32        // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8)
-#define FIRN_REQUIRED_COMPUTE_STORAGE_BLOCKS 16  // GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8)
+// What Firn requires of the driver (docs/platform.md, Limits). Each comment begins with the GL limit the number is
+// held to: engine/gl/Limits.cpp reads these lines as plain numbers and refuses a driver with less (exit 4) when the
+// context is made, before any program is built. Those beyond OpenGL 4.3's minimums can fall short on a conforming
+// driver; those at the minimum are what every program must stay within. The binding ranges below must end within
+// FIRN_REQUIRED_STORAGE_BINDINGS, and tests/gl/PortabilityTest.cpp holds every program Firn builds (as compiled by
+// glslang) to the storage blocks, bindings, shared memory and work-group size stated here.
+#define FIRN_REQUIRED_STORAGE_BINDINGS 32         // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS (GL 4.3 guarantees 8)
+#define FIRN_REQUIRED_COMPUTE_STORAGE_BLOCKS 16   // GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8)
+#define FIRN_REQUIRED_VERTEX_STORAGE_BLOCKS 4     // GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 0)
+#define FIRN_REQUIRED_FRAGMENT_STORAGE_BLOCKS 0   // GL_MAX_FRAGMENT_SHADER_STORAGE_BLOCKS (GL 4.3 guarantees 8)
+#define FIRN_REQUIRED_COMPUTE_SHARED_MEMORY_BYTES 32768  // GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (GL 4.3's minimum)
+#define FIRN_REQUIRED_COMPUTE_INVOCATIONS 1024    // GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS (GL 4.3's minimum)
 
 // Shader storage binding points, one buffer each. Each part of the GPU state owns a range of them, [FIRST, END),
 // and publishes its buffers there (engine/sim/ParticleBuffers.h, BlockGrid.h, SolverState.h, GpuState.h; the
