@@ -401,7 +401,8 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
 }
 
 // The domain's box is outlined only on request: a renderer draws none by default, and with setDomainEdges(true)
-// the picture changes along the box's projected edges and nowhere else (within 1.5 px of a segment: a one-pixel
+// the picture changes along the projected edges of the domain's interior (where the walls stop the snow) and nowhere
+// else (within 1.5 px of a segment: a one-pixel
 // line rasterised about its exact projection). The camera sees the whole 1 m domain from outside it.
 TEST_F(RenderTest, DomainBoxIsDrawnOnlyOnRequest) {
   const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
@@ -420,7 +421,10 @@ TEST_F(RenderTest, DomainBoxIsDrawnOnlyOnRequest) {
   for (int from = 0; from < 8; ++from) {
     for (int bit : {1, 2, 4}) {
       if (from & bit) continue;
-      const auto cornerM = [](int index) { return glm::dvec3(index & 1, (index >> 1) & 1, (index >> 2) & 1); };
+      const auto cornerM = [&](int index) {
+        return glm::mix(scene.grid.interiorMinM(), scene.grid.interiorMaxM(),
+                        glm::dvec3(index & 1, (index >> 1) & 1, (index >> 2) & 1));
+      };
       edgesPx.emplace_back(projectToPixels(camera, cornerM(from)), projectToPixels(camera, cornerM(from | bit)));
     }
   }
