@@ -166,7 +166,8 @@ class Viewer {
       : scene_(scene), options_(options), window_(window), snowballTemplate_(sampleSnowball()),
         session_(scene, gl, sessionOptions(scene, options, snowballTemplate_.size()), std::cerr), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
-        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode), renderMode_(session_.pictureRenderMode(options.renderMode)) {
+        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode),
+        renderMode_(session_.pictureRenderMode(options.renderMode)) {
     // The surface is made (and reported) with the rest of the start.
     if (renderMode_ == render::RenderMode::Surface) session_.surface();
     renderer_.setDomainEdges(options.domainBox);

@@ -1,7 +1,8 @@
 #pragma once
 // The renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's buffers as
 // lit sphere impostors, or the snow's reconstructed surface drawn from the GPU's mesh (SnowSurface.cpp); the
-// colliders, the ground with the snow's soft shadow, the domain's edges; and offscreen capture into an Image.
+// colliders, the ground with the snow's soft shadow, the domain's edges on request; and offscreen capture into an
+// Image.
 #include <cstddef>
 #include <iterator>
 #include <vector>
@@ -49,10 +50,11 @@ class Renderer {
 
   // Draws into the currently bound draw framebuffer, which needs a depth buffer, over the viewport
   // (0, 0)–viewportPx: sky, colliders where they are at the particles' time, the ground with its shadow, the
-  // particles read in place from their buffers, and the domain's edges if setDomainEdges(true). Colours are written sRGB-encoded (leave
-  // GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With `snowSurface`
-  // (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as that surface
-  // instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at t = 0.
+  // particles read in place from their buffers, and the domain's edges if setDomainEdges(true). Colours are written
+  // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With
+  // `snowSurface` (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as
+  // that surface instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at
+  // t = 0.
   void draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
             const surface::SurfaceReconstruction* snowSurface = nullptr);
 

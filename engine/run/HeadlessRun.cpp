@@ -116,8 +116,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   SessionOptions sessionOptions;
   sessionOptions.showProgress = options.showProgress;
   sessionOptions.lastFrame = frames;
-  sessionOptions.withSurface =
-      (writePictures && options.renderMode == render::RenderMode::Surface) || caches;
+  sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) || caches;
   SimulationSession session(scene, context.info(), sessionOptions, log);
   const bool surfacePictures =
       writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface;

@@ -102,8 +102,8 @@ TEST(Pictures, RunPngRendersEachFrameWhereTheSnowIs) {
     const Picture picture = readPicture(folder / "out" / ("frame_000" + std::to_string(frame) + ".png"));
     ASSERT_EQ(picture.width, 160);
     ASSERT_EQ(picture.height, 120);
-    // The disc's area is 12.5% (kBallRadiusPx). Shading darkens the rim below the near-white threshold, so at least half of that must read as snow, and
-    // no more than the disc plus a pixel of sprite overhang all round.
+    // The disc's area is 12.5% (kBallRadiusPx). Shading darkens the rim below the near-white threshold, so at least
+    // half of that must read as snow, and no more than the disc plus a pixel of sprite overhang all round.
     EXPECT_GT(picture.snowFraction, 0.06) << "frame " << frame;
     EXPECT_LT(picture.snowFraction, 0.14) << "frame " << frame;
     // Centred: the snow's box straddles the image centre within 3 pixels (jitter, one sprite radius).
@@ -162,8 +162,8 @@ TEST(Pictures, DomainBoxOnlyOnRequest) {
 TEST(Pictures, UnsuitedSurfaceSettingsFallBackToParticlesByDefault) {
   const fs::path folder = freshDirectory("png_fallback");
   const std::string ball = kBallScene;
-  const fs::path scene = writeScene(folder, "wide_kernel.json",
-                                    ball.substr(0, ball.rfind('}')) + R"(, "surface": { "resolution": 8, "smoothing": 6 } })");
+  const std::string wideKernel = R"(, "surface": { "resolution": 8, "smoothing": 6 } })";
+  const fs::path scene = writeScene(folder, "wide_kernel.json", ball.substr(0, ball.rfind('}')) + wideKernel);
   const Result result = runFirn("run " + scene.string() + " --frames 0 --no-ply --png --width 160 --height 120 --out " +
                                 (folder / "out").string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
