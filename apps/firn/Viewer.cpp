@@ -166,9 +166,11 @@ class Viewer {
       : scene_(scene), options_(options), window_(window), snowballTemplate_(sampleSnowball()),
         session_(scene, gl, sessionOptions(scene, options, snowballTemplate_.size()), std::cerr), renderer_(scene),
         orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
-        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode), renderMode_(options.renderMode) {
-    // Asked for on the command line, the surface is made (and reported) with the rest of the start.
+        accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode),
+        renderMode_(session_.pictureRenderMode(options.renderMode)) {
+    // The surface is made (and reported) with the rest of the start.
     if (renderMode_ == render::RenderMode::Surface) session_.surface();
+    renderer_.setDomainEdges(options.domainBox);
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
       if (action != GLFW_RELEASE) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onKey(key, mods);
@@ -180,7 +182,7 @@ class Viewer {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
-                "S step, R reset, +/- speed, C colour, V particles/surface, T throw a snowball, F reframe, Q quit\n",
+                "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, F reframe, Q quit\n",
                 scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str());
   }
 
@@ -330,6 +332,7 @@ class Viewer {
         break;
       }
       case GLFW_KEY_V: switchRenderMode(); break;
+      case GLFW_KEY_B: renderer_.setDomainEdges(!renderer_.domainEdges()); break;
       case GLFW_KEY_T: throwSnowball(); break;
       case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect()), scene_); break;
       default: break;

@@ -16,7 +16,10 @@ struct ViewOptions {
   int widthPx = 1280;
   int heightPx = 720;
   render::ColorMode colorMode = render::ColorMode::Material;
-  render::RenderMode renderMode = render::RenderMode::Particles;  // V switches
+  // Particles or the surface (V switches); unset, the surface where the scene's settings allow it
+  // (SimulationSession::pictureRenderMode).
+  std::optional<render::RenderMode> renderMode;
+  bool domainBox = false;              // outline the domain's box (B switches)
   std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
   bool showProgress = false;           // a progress line on stderr while sampling (when it is a terminal)
 };

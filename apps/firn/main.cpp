@@ -231,7 +231,12 @@ int main(int argc, char** argv) {
   const char* colorHelp = "Particle colour: material, speed, plastic (compression J_P) or stress";
   const std::map<std::string, firn::render::RenderMode> renderModes = {
       {"particles", firn::render::RenderMode::Particles}, {"surface", firn::render::RenderMode::Surface}};
-  const char* renderHelp = "Draw the snow as its particles or as its surface (rebuilt each frame on the GPU)";
+  const char* renderHelp =
+      "Draw the snow as its surface (rebuilt each frame on the GPU) or as its particles; by default the surface, or "
+      "the particles with a note when the scene's surface settings do not suit them";
+  const char* domainBoxHelp = "Outline the simulation domain's box";
+  firn::render::RenderMode runRenderMode = firn::render::RenderMode::Surface;
+  firn::render::RenderMode viewRenderMode = firn::render::RenderMode::Surface;
   const char* sceneHelp = "Scene file (JSON); without it, the built-in snowball-at-a-wall scene";
 
   std::string scenePath;
@@ -257,9 +262,10 @@ int main(int argc, char** argv) {
   run->add_option("--color", runOptions.colorMode, colorHelp)
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
       ->default_str("material");
-  run->add_option("--render", runOptions.renderMode, renderHelp)
+  CLI::Option* runRender = run->add_option("--render", runRenderMode, renderHelp)
       ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
-      ->default_str("particles");
+      ->default_str("surface");
+  run->add_flag("--domain-box", runOptions.domainBox, domainBoxHelp);
   run->add_flag("--mesh", runOptions.writeMesh,
                 "Also write the snow's surface as frame_NNNN_surface.ply (binary PLY: vertices with normals, triangles)");
   run->add_flag("--vdb", runOptions.writeVdb,
@@ -289,9 +295,10 @@ int main(int argc, char** argv) {
   view->add_option("--color", viewOptions.colorMode, colorHelp)
       ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
       ->default_str("material");
-  view->add_option("--render", viewOptions.renderMode, renderHelp)
+  CLI::Option* viewRender = view->add_option("--render", viewRenderMode, renderHelp)
       ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
-      ->default_str("particles");
+      ->default_str("surface");
+  view->add_flag("--domain-box", viewOptions.domainBox, domainBoxHelp);
 
   VoxelizeOptions voxelizeOptions;
   std::vector<double> rotateDeg, translateM;
@@ -371,10 +378,12 @@ int main(int argc, char** argv) {
       runOptions.writePly = !noPly;
       runOptions.videoPath = videoPath;
       runOptions.resumePath = resumePath;
+      if (runRender->count() > 0) runOptions.renderMode = runRenderMode;
       return runCommand(scenePath, runOptions);
     }
     if (view->parsed()) {
       viewOptions.screenshotPath = screenshotPath;
+      if (viewRender->count() > 0) viewOptions.renderMode = viewRenderMode;
       return viewCommand(scenePath, viewOptions);
     }
     if (voxelize->parsed()) {

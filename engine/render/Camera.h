@@ -27,8 +27,8 @@ struct Camera {
 // to well under a particle's size).
 void fitDepthRange(Camera& camera, const Scene& scene);
 
-// The scene's "camera" if it has one; else one that frames what the scene uses of the domain (bodies,
-// colliders, where planes cross it): aimed at the centre of that region from the front (+z) and 20° above,
+// The scene's "camera" if it has one; else one that frames the snow and what it touches (usedRegion: the bodies
+// along their free flight, the colliders and ground it reaches), not the empty domain: aimed at the centre of that region from the front (+z) and 20° above,
 // just far enough that the region with a 10 % margin fits the vertical field of view and, at `aspect`,
 // the horizontal one. Depth range from fitDepthRange().
 Camera defaultCamera(const Scene& scene, float aspect);

@@ -146,39 +146,77 @@ float checkerCellM(const Scene& scene) {
   return static_cast<float>(std::pow(10.0, std::floor(std::log10(largestExtentM(scene) / 4))));
 }
 
+namespace {
+
+// The box a body's free flight x(t) = x₀ + v t + ½ g t² sweeps over t in [0, T]: per axis, the flight's extremes
+// lie at t = 0, at t = T and where the velocity v + g t changes sign. The walls stop the snow at the interior's
+// bounds, so the sweep is clamped to them (clamping each axis commutes with taking its extremes).
+Bounds freeFlightSweep(const Scene& scene, const Body& body, double durationS) {
+  const glm::dvec3 gravity = scene.gravityMPerS2;
+  const glm::dvec3 velocity = body.velocityMPerS;
+  glm::dvec3 lowShiftM(0.0), highShiftM(0.0);
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto shiftM = [&](double t) { return velocity[axis] * t + 0.5 * gravity[axis] * t * t; };
+    double low = std::min(0.0, shiftM(durationS)), high = std::max(0.0, shiftM(durationS));
+    if (gravity[axis] != 0) {
+      const double turnS = -velocity[axis] / gravity[axis];
+      if (turnS > 0 && turnS < durationS) {
+        low = std::min(low, shiftM(turnS));
+        high = std::max(high, shiftM(turnS));
+      }
+    }
+    lowShiftM[axis] = low;
+    highShiftM[axis] = high;
+  }
+  const glm::dvec3 interiorMinM = scene.grid.interiorMinM(), interiorMaxM = scene.grid.interiorMaxM();
+  return {glm::clamp(body.boundsMinM() + lowShiftM, interiorMinM, interiorMaxM),
+          glm::clamp(body.boundsMaxM() + highShiftM, interiorMinM, interiorMaxM)};
+}
+
+bool overlaps(const Bounds& a, const glm::dvec3& minM, const glm::dvec3& maxM) {
+  return a.minM.x <= maxM.x && minM.x <= a.maxM.x && a.minM.y <= maxM.y && minM.y <= a.maxM.y &&
+         a.minM.z <= maxM.z && minM.z <= a.maxM.z;
+}
+
+}  // namespace
+
 Bounds usedRegion(const Scene& scene) {
-  Bounds region{};
+  const double durationS = scene.time.frames / scene.time.frameRateHz;
+  Bounds snow{};
   bool empty = true;
   for (const Body& body : scene.bodies) {
-    glm::dvec3 minM = body.boundsMinM(), maxM = body.boundsMaxM();
-    if (clipToDomain(scene, minM, maxM)) include(region, empty, minM, maxM);
+    const Bounds sweep = freeFlightSweep(scene, body, durationS);
+    include(snow, empty, sweep.minM, sweep.maxM);
   }
-  const Bounds domain = domainBounds(scene);
+  // Without bodies there is no snow to follow: the whole domain.
+  if (empty) return domainBounds(scene);
+  Bounds region = snow;
   for (const Collider& collider : scene.colliders) {
     if (collider.shape == ColliderShape::Plane) {
-      // Where the plane crosses the domain's edges.
+      // A plane the sweep reaches (its corners on both sides): the part under the snow, the sweep's corners
+      // dropped onto the plane, within the domain.
       const glm::dvec3 normal = glm::normalize(collider.normal);
-      for (int from = 0; from < 8; ++from) {
-        for (int bit : {1, 2, 4}) {
-          if (from & bit) continue;
-          const glm::dvec3 a = corner(domain, from), b = corner(domain, from | bit);
-          const double da = glm::dot(a - collider.pointM, normal), db = glm::dot(b - collider.pointM, normal);
-          if (da * db > 0) continue;  // both ends on one side
-          if (da == db) {               // the edge lies in the plane
-            include(region, empty, glm::min(a, b), glm::max(a, b));
-            continue;
-          }
-          const glm::dvec3 crossingM = a + (b - a) * (da / (da - db));
-          include(region, empty, crossingM, crossingM);
-        }
+      bool below = false, above = false;
+      for (int index = 0; index < 8; ++index) {
+        const double heightM = glm::dot(corner(snow, index) - collider.pointM, normal);
+        below = below || heightM <= 0;
+        above = above || heightM >= 0;
+      }
+      if (!below || !above) continue;
+      for (int index = 0; index < 8; ++index) {
+        const glm::dvec3 cornerM = corner(snow, index);
+        glm::dvec3 footM = cornerM - glm::dot(cornerM - collider.pointM, normal) * normal;
+        glm::dvec3 footMaxM = footM;
+        if (clipToDomain(scene, footM, footMaxM)) include(region, empty, footM, footMaxM);
       }
       continue;
     }
     glm::dvec3 minM = collider.shape == ColliderShape::Sphere ? collider.centerM - collider.radiusM : collider.minM;
     glm::dvec3 maxM = collider.shape == ColliderShape::Sphere ? collider.centerM + collider.radiusM : collider.maxM;
-    if (clipToDomain(scene, minM, maxM)) include(region, empty, minM, maxM);
+    // A collider the snow's flight reaches, as far as it lies in the domain.
+    if (overlaps(snow, minM, maxM) && clipToDomain(scene, minM, maxM)) include(region, empty, minM, maxM);
   }
-  return empty ? domain : region;
+  return region;
 }
 
 double drawnRadiusM(const Scene& scene) {

@@ -60,8 +60,12 @@ std::vector<glm::vec3> boxEdges(const glm::vec3& minM, const glm::vec3& maxM);
 // or less, so that a metre-sized domain gets 10 cm cells.
 float checkerCellM(const Scene& scene);
 
-// Bodies, sphere and box colliders clipped to the domain, and the parts of planes inside it: the region a
-// default camera frames.
+// The region a default camera frames: the snow and what it touches, not the empty domain. That is each body's
+// bounds swept along its free flight x₀ + v t + ½ g t² over the scene's frames, clamped to the domain's interior
+// where the walls stop it (a first guess at where the snow goes, computed without simulating); the sphere and box
+// colliders that sweep reaches; and the ground under it, the sweep's corners dropped onto each plane collider it
+// reaches.
+// Without bodies, the whole domain.
 Bounds usedRegion(const Scene& scene);
 // Radius around the domain centre that holds everything drawn during the scene's frames: the domain, the
 // plane quads, and colliders as far as they travel.

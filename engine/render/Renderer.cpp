@@ -217,7 +217,7 @@ void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::iv
   } else {
     drawParticles(view, particleCount, mode);
   }
-  drawDomainEdges(view);
+  if (domainEdges_) drawDomainEdges(view);
 
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);

@@ -1,7 +1,8 @@
 #pragma once
 // The renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's buffers as
 // lit sphere impostors, or the snow's reconstructed surface drawn from the GPU's mesh (SnowSurface.cpp); the
-// colliders, the ground with the snow's soft shadow, the domain's edges; and offscreen capture into an Image.
+// colliders, the ground with the snow's soft shadow, the domain's edges on request; and offscreen capture into an
+// Image.
 #include <cstddef>
 #include <iterator>
 #include <vector>
@@ -49,12 +50,17 @@ class Renderer {
 
   // Draws into the currently bound draw framebuffer, which needs a depth buffer, over the viewport
   // (0, 0)–viewportPx: sky, colliders where they are at the particles' time, the ground with its shadow, the
-  // particles read in place from their buffers, the domain's edges. Colours are written sRGB-encoded (leave
-  // GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With `snowSurface`
-  // (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as that surface
-  // instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at t = 0.
+  // particles read in place from their buffers, and the domain's edges if setDomainEdges(true). Colours are written
+  // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With
+  // `snowSurface` (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as
+  // that surface instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at
+  // t = 0.
   void draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
             const surface::SurfaceReconstruction* snowSurface = nullptr);
+
+  // Whether draw() outlines the domain's box (off by default: the pictures show the snow, not the box).
+  void setDomainEdges(bool shown) { domainEdges_ = shown; }
+  bool domainEdges() const { return domainEdges_; }
 
   // The speed at the top of the speed colour map (m/s): the fastest initial body or collider, or the speed
   // of a fall through the domain's height, whichever is larger.
@@ -121,6 +127,7 @@ class Renderer {
   gl::Buffer edgeVertices_;
   gl::VertexArray edgeArray_;
   GLsizei edgeVertexCount_ = 0;
+  bool domainEdges_ = false;
 
   Ground ground_;
   gl::Framebuffer groundShadow_;  // optical depth of the key light's shadow over the ground quad
@@ -145,6 +152,7 @@ class OffscreenRenderer {
   const gl::Buffer* particleColors(const ParticleView& particles, ColorMode mode) {
     return renderer_.particleColors(particles, mode);
   }
+  void setDomainEdges(bool shown) { renderer_.setDomainEdges(shown); }
   glm::ivec2 size() const { return target_.size(); }
 
  private:

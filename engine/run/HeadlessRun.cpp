@@ -111,22 +111,25 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context;
-  const bool surfacePictures =
-      (options.writePng || !options.videoPath.empty()) && options.renderMode == render::RenderMode::Surface;
+  const bool writePictures = options.writePng || !options.videoPath.empty();
+  const bool caches = options.writeMesh || options.writeVdb;
   SessionOptions sessionOptions;
   sessionOptions.showProgress = options.showProgress;
   sessionOptions.lastFrame = frames;
-  sessionOptions.withSurface = surfacePictures || options.writeMesh || options.writeVdb;
+  sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) || caches;
   SimulationSession session(scene, context.info(), sessionOptions, log);
+  const bool surfacePictures =
+      writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface;
   Simulation& simulation = session.simulation();
   simulation.setPassTiming(options.passTimes);
   std::optional<render::OffscreenRenderer> pictures;
   render::Camera camera;
-  if (options.writePng || !options.videoPath.empty()) {
+  if (writePictures) {
     pictures.emplace(scene, options.imageSizePx);
+    pictures->setDomainEdges(options.domainBox);
     camera = render::defaultCamera(scene, float(options.imageSizePx.x) / float(options.imageSizePx.y));
   }
-  surface::SurfaceReconstruction* snowSurface = sessionOptions.withSurface ? &session.surface() : nullptr;
+  surface::SurfaceReconstruction* snowSurface = surfacePictures || caches ? &session.surface() : nullptr;
   if (snowSurface) snowSurface->setPassTiming(options.passTimes);
   StatsCsvWriter stats(options.outputDir / "stats.csv");
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
@@ -143,7 +146,6 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     stats.write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
-      const bool caches = options.writeMesh || options.writeVdb;
       snowSurface->reconstruct(
           simulation.particleView(),
           surfacePictures ? pictures->particleColors(simulation.particleView(), options.colorMode) : nullptr,

@@ -23,7 +23,10 @@ struct RunOptions {
   bool writePng = false;           // render each frame offscreen to frame_NNNN.png
   glm::ivec2 imageSizePx{1280, 720};
   render::ColorMode colorMode = render::ColorMode::Material;
-  render::RenderMode renderMode = render::RenderMode::Particles;  // the pictures' snow: particles or its surface
+  // The pictures' snow: particles or its surface; unset, the surface where the scene's settings allow it
+  // (SimulationSession::pictureRenderMode).
+  std::optional<render::RenderMode> renderMode;
+  bool domainBox = false;          // outline the domain's box in the pictures
   bool writeMesh = false;          // the snow's surface as frame_NNNN_surface.ply
   bool writeVdb = false;           // the snow as frame_NNNN.vdb: density and a level set of its surface
   std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg

@@ -6,6 +6,8 @@
 #include <ostream>
 #include <string>
 
+#include "Error.h"
+#include "render/Renderer.h"
 #include "run/Budget.h"
 #include "run/Preflight.h"
 #include "sim/Simulation.h"
@@ -63,6 +65,18 @@ surface::SurfaceReconstruction& SimulationSession::surface() {
        << scene_.surface.resolution << "), kernel radius " << kernels.smallestM << "–" << kernels.largestM << " m ("
        << scene_.surface.smoothing << " particle spacings), iso " << scene_.surface.iso << "\n";
   return *surface_;
+}
+
+render::RenderMode SimulationSession::pictureRenderMode(std::optional<render::RenderMode> asked) {
+  if (asked) return *asked;
+  try {
+    surface::checkKernelRange(scene_, seeds_);
+  } catch (const InputError& unsuited) {
+    log_ << messagePrefix_ << ": note: drawing the snow as particles, as its surface settings do not suit it: "
+         << unsuited.what() << "\n";
+    return render::RenderMode::Particles;
+  }
+  return render::RenderMode::Surface;
 }
 
 }  // namespace firn

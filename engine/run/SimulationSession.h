@@ -20,6 +20,9 @@ class Simulation;
 namespace surface {
 class SurfaceReconstruction;
 }
+namespace render {
+enum class RenderMode;
+}
 
 struct SessionOptions {
   std::string messagePrefix = "firn";    // what each message starts with: "firn", "firn view"
@@ -48,6 +51,11 @@ class SimulationSession {
   // The surface reconstruction, made and reported on first use. Throws InputError naming surface.resolution or
   // surface.smoothing when the scene's settings do not suit its particles.
   surface::SurfaceReconstruction& surface();
+
+  // How the pictures draw the snow: `asked`, or when nothing was asked its surface, the look of snow, unless the
+  // scene's surface settings do not suit its particles (checkKernelRange): then its particles, with a one-line note
+  // in the log saying why. Asked for, a surface that does not suit stays an error, raised by surface().
+  render::RenderMode pictureRenderMode(std::optional<render::RenderMode> asked);
 
  private:
   const Scene& scene_;

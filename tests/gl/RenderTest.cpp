@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -397,6 +398,54 @@ TEST_F(RenderTest, SpeedModeColoursMovingBodyDifferently) {
   const glm::dvec3 movingSurface = innerMean(speedSurface, movingMinM, movingMaxM);
   EXPECT_GT(movingSurface.g, stillSurface.g + 60) << "viridis turns green with speed";
   EXPECT_GT(stillSurface.b, stillSurface.g) << "viridis starts purple";
+}
+
+// The domain's box is outlined only on request: a renderer draws none by default, and with setDomainEdges(true)
+// the picture changes along the projected edges of the domain's interior (where the walls stop the snow) and nowhere
+// else (within 1.5 px of a segment: a one-pixel
+// line rasterised about its exact projection). The camera sees the whole 1 m domain from outside it.
+TEST_F(RenderTest, DomainBoxIsDrawnOnlyOnRequest) {
+  const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
+  Camera camera;
+  camera.positionM = {0.5f, 1.2f, 3.0f};
+  camera.targetM = {0.5f, 0.45f, 0.5f};
+  camera.fovDeg = 40;
+  firn::render::fitDepthRange(camera, scene);
+  Renderer renderer(scene);
+  EXPECT_FALSE(renderer.domainEdges());
+  const Image plain = renderFrame(renderer, nullptr, camera, ColorMode::Material);
+  renderer.setDomainEdges(true);
+  const Image outlined = renderFrame(renderer, nullptr, camera, ColorMode::Material);
+
+  std::vector<std::pair<glm::dvec2, glm::dvec2>> edgesPx;
+  for (int from = 0; from < 8; ++from) {
+    for (int bit : {1, 2, 4}) {
+      if (from & bit) continue;
+      const auto cornerM = [&](int index) {
+        return glm::mix(scene.grid.interiorMinM(), scene.grid.interiorMaxM(),
+                        glm::dvec3(index & 1, (index >> 1) & 1, (index >> 2) & 1));
+      };
+      edgesPx.emplace_back(projectToPixels(camera, cornerM(from)), projectToPixels(camera, cornerM(from | bit)));
+    }
+  }
+  int changed = 0, changedAwayFromEdges = 0;
+  for (int y = 0; y < kImageSize.y; ++y) {
+    for (int x = 0; x < kImageSize.x; ++x) {
+      if (largestChannelDifference(pixelAt(plain, x, y), pixelAt(outlined, x, y)) == 0) continue;
+      ++changed;
+      const glm::dvec2 point(x + 0.5, y + 0.5);
+      double nearestPx = 1e9;
+      for (const auto& [a, b] : edgesPx) {
+        const glm::dvec2 edge = b - a;
+        const double along = glm::clamp(glm::dot(point - a, edge) / glm::dot(edge, edge), 0.0, 1.0);
+        nearestPx = std::min(nearestPx, glm::length(point - (a + along * edge)));
+      }
+      changedAwayFromEdges += nearestPx > 1.5;
+    }
+  }
+  // The box's visible edges run several hundred pixels at this size; the ones hidden by the ground change nothing.
+  EXPECT_GT(changed, 300);
+  EXPECT_EQ(changedAwayFromEdges, 0);
 }
 
 // writePng writes a PNG that a reader decodes to the same pixels, and a path it cannot write is an

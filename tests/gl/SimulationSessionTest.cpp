@@ -3,11 +3,13 @@
 // checked before anything is simulated.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "Error.h"
 #include "GlTest.h"
+#include "render/Renderer.h"
 #include "run/SimulationSession.h"
 #include "scene/Sampling.h"
 #include "scene/Scene.h"
@@ -48,6 +50,30 @@ TEST(SimulationSession, SamplesTheBodiesAndReportsTheStartUnderItsPrefix) {
   const SimulationSession run(scene, test::glContext().info(), options, runLog);
   EXPECT_TRUE(contains(runLog.str(), "dt 0.001 s, 2 frames on ")) << runLog.str();
   EXPECT_TRUE(contains(runLog.str(), "firn: bodies[0]: 8 particles per cell")) << runLog.str();
+}
+
+// The pictures draw the surface unless asked otherwise; surface settings that do not suit the particles (a kernel
+// 24 reconstruction cells wide, twice the most) turn an unasked surface into particles with a note, and leave an
+// asked mode as asked.
+TEST(SimulationSession, PicturesDrawTheSurfaceUnlessItsSettingsDoNotSuit) {
+  using render::RenderMode;
+  const Scene scene = parseScene(kBallScene, "ball.json");
+  std::ostringstream log;
+  SimulationSession session(scene, test::glContext().info(), SessionOptions{}, log);
+  EXPECT_EQ(session.pictureRenderMode(std::nullopt), RenderMode::Surface);
+  EXPECT_EQ(session.pictureRenderMode(RenderMode::Particles), RenderMode::Particles);
+  EXPECT_FALSE(contains(log.str(), "note: drawing the snow as particles")) << log.str();
+
+  const std::string ball = kBallScene;
+  const Scene wideKernel = parseScene(
+      ball.substr(0, ball.rfind('}')) + R"(, "surface": { "resolution": 8, "smoothing": 6 } })", "wide.json");
+  std::ostringstream wideLog;
+  SimulationSession unsuited(wideKernel, test::glContext().info(), SessionOptions{}, wideLog);
+  EXPECT_EQ(unsuited.pictureRenderMode(std::nullopt), RenderMode::Particles);
+  EXPECT_TRUE(contains(wideLog.str(), "firn: note: drawing the snow as particles")) << wideLog.str();
+  EXPECT_TRUE(contains(wideLog.str(), "surface.resolution")) << wideLog.str();
+  EXPECT_EQ(unsuited.pictureRenderMode(RenderMode::Surface), RenderMode::Surface);
+  EXPECT_THROW(unsuited.surface(), InputError) << "asked for, the surface stays an error";
 }
 
 TEST(SimulationSession, KeepsRoomForAddedParticlesAndRestartsFromTheBodies) {
