@@ -166,17 +166,16 @@ double GpuState::fastestSignalMPerS() const {
 }
 
 // The particles' buffers, then the watchdog: the order of a checkpoint's sections.
-std::vector<const gl::Buffer*> GpuState::stateBuffers() const {
-  std::vector<const gl::Buffer*> buffers = particles_.stateBuffers();
-  buffers.push_back(&watchdog_);
+template <class Self>
+auto GpuState::stateBuffersOf(Self& self) {
+  auto buffers = self.particles_.stateBuffers();
+  buffers.push_back(&self.watchdog_);
   return buffers;
 }
 
-std::vector<gl::Buffer*> GpuState::stateBuffers() {
-  std::vector<gl::Buffer*> buffers = particles_.stateBuffers();
-  buffers.push_back(&watchdog_);
-  return buffers;
-}
+std::vector<const gl::Buffer*> GpuState::stateBuffers() const { return stateBuffersOf(*this); }
+
+std::vector<gl::Buffer*> GpuState::stateBuffers() { return stateBuffersOf(*this); }
 
 std::vector<std::string> GpuState::stateBytes() const {
   std::vector<std::string> bytes;

@@ -65,6 +65,8 @@ class GpuState {
   void restore();  // throws std::logic_error if nothing was saved
 
  private:
+  template <class Self>
+  static auto stateBuffersOf(Self& self);
   std::vector<const gl::Buffer*> stateBuffers() const;
   std::vector<gl::Buffer*> stateBuffers();
   // Checks the pool's sizes against the driver, then has the grid and the solver allocate it.
