@@ -76,8 +76,7 @@ ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::Coll
   return escape;
 }
 
-ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
-                                bool volumeFromDensity) {
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds) {
   const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene);
   const bool hasColliders = !scene.colliders.empty();
   ParticleRecords records;
@@ -89,8 +88,7 @@ ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, 
     const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders, seed).positionM
                                                                     : seed.positionM;
     records.positionMass.emplace_back(positionM, seed.massKg);
-    const double volumeM3 = volumeFromDensity ? seed.massKg / material.densityKgPerM3 : 0.0;
-    records.velocityVolume.emplace_back(seed.velocityMPerS, float(volumeM3));
+    records.velocityVolume.emplace_back(seed.velocityMPerS, float(seed.massKg / material.densityKgPerM3));
     // Particles added while running (bodyIndex −1) use their material's own entry.
     const std::uint32_t entry = seed.bodyIndex >= 0 ? table.bodyEntry.at(std::size_t(seed.bodyIndex))
                                                     : static_cast<std::uint32_t>(seed.materialIndex);

@@ -37,10 +37,9 @@ struct ParticleRecords {
   std::vector<gpu::ParticlePlasticState> plastic;
   std::size_t size() const { return positionMass.size(); }
 };
-// V0 = m / ρ of the particle's material when `volumeFromDensity`; otherwise 0, for compute_volumes.comp to fill
-// from the grid density (Stomakhin et al. 2013 §6 step 2).
-ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds,
-                                bool volumeFromDensity);
+// V0 = m / ρ of the particle's material: the volume with "particle_volume": "material_density", and the most a
+// particle may take from the grid density otherwise (compute_volumes.comp; docs/algorithm.md, Initial volumes).
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds);
 
 // The blocks of the grid (BLOCK_WIDTH³ nodes) the particles' stencils reach where they are: how large the block
 // pool starts (sim/GpuState.h).

@@ -79,13 +79,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       gl_(gl),
       sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, seeds)) {
   const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
-  const bool volumeFromDensity = scene_.solver.particleVolume == ParticleVolume::MaterialDensity;
-  writeParticles(0, particles, volumeFromDensity);
+  writeParticles(0, particles);
   particleCount_ = particles.size();
 
-  // Initial volumes (Stomakhin et al. 2013 §6 step 2): one P2G of mass, then V0 = m / ρ from the grid density,
-  // unless the scene takes them from the materials' densities (written above).
-  if (!volumeFromDensity) {
+  // Initial volumes (Stomakhin et al. 2013 §6 step 2): one P2G of mass, then V0 = m / max(ρ_grid, ρ), unless the
+  // scene takes them from the materials' densities ρ alone (written above; docs/algorithm.md, Initial volumes).
+  if (scene_.solver.particleVolume == ParticleVolume::GridDensity) {
     state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
     pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     // A pool given too small for the first particles grows, and their grid is summed again.
@@ -98,8 +97,8 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   }
 }
 
-void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity) {
-  state_.particles().write(first, particleRecords(scene_, materialTable_, particles, volumeFromDensity));
+void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
+  state_.particles().write(first, particleRecords(scene_, materialTable_, particles));
   diagnostics_.noteParticles(particles);
 }
 
@@ -127,7 +126,7 @@ void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
                                   format("%.4g", fixedPoint_.referenceMassKg) + " kg");
     }
   }
-  writeParticles(particleCount_, particles, true);
+  writeParticles(particleCount_, particles);
   particleCount_ += particles.size();
 }
 

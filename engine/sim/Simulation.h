@@ -140,7 +140,7 @@ class Simulation {
   void noteSolve(const SolveReport& solve);
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
   void appendParticles(const std::vector<ParticleSeed>& particles);
-  void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles, bool volumeFromDensity);
+  void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles);
 
   // In the order of their checks: the float atomics the pipeline needs, the buffer sizes, the fixed-point range.
   Scene scene_;

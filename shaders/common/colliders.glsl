@@ -37,30 +37,60 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
 }
 
 #ifdef FIRN_SEMI_IMPLICIT
-// The constraint the colliders put on a node whose velocity before their response is v, for the semi-implicit
-// solve (common/solver.glsl): a sticky collider holds all of it, a slip one the component along its normal, a
-// separating one that component only while approaching. Two colliders holding different normals hold it all.
-// Returns SolverNode.constraint: the normal held, and the CONSTRAINT_* bits.
-vec4 colliderConstraint(vec3 probe, vec3 v, float timeS) {
+// The colliders' response to a node's v*, for the semi-implicit solve (common/solver.glsl), without friction: a
+// sticky collider holds all of v, a slip one the component along its normal, a separating one that component only
+// while approaching; two colliders holding different normals hold it all. Friction waits for the solve
+// (collidersFrictionAfterSolve): the normal impulse it is bounded by is the approach removed here and the push the
+// held component takes in the solve, which v* alone cannot tell — v* carries the explicit elastic force, up to
+// (c Δt / h)² times too large beyond the explicit bound, and Coulomb friction on it stopped or even reversed a
+// landing body's slide. Returns SolverNode.constraint (the normal held, and the CONSTRAINT_* bits); `approachMPerS`
+// is the normal speed into the colliders that the response removed.
+vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMPerS) {
   int code = 0;
   vec3 heldNormal = vec3(0.0);
+  approachMPerS = 0.0;
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
     int boundary = c.shapeBoundary.y;
+    float normalSpeed = dot(v - c.velocityFriction.xyz, normal);
     if (boundary == BOUNDARY_STICKY) {
       code |= CONSTRAINT_FIXED;
-    } else if (boundary == BOUNDARY_SLIP || dot(v - c.velocityFriction.xyz, normal) < 0.0) {
+    } else if (boundary == BOUNDARY_SLIP || normalSpeed < 0.0) {
       if ((code & CONSTRAINT_NORMAL) != 0 && heldNormal != normal) code |= CONSTRAINT_FIXED;
       code |= CONSTRAINT_NORMAL;
       heldNormal = normal;
+      approachMPerS = max(-normalSpeed, 0.0);
     }
-    v = boundaryResponse(v, normal, c.velocityFriction.xyz, c.velocityFriction.w, boundary);
+    v = boundaryResponse(v, normal, c.velocityFriction.xyz, 0.0, boundary);
   }
 #endif
   return vec4(heldNormal, float(code));
+}
+
+// Coulomb friction after the solve at a node that a collider held along `constraint`'s normal: the tangential
+// velocity relative to that collider shortens by μ times the collider's normal impulse over the node's mass,
+// `normalImpulseMPerS` (SolverNode.residual.w), and stops at 0, so it never reverses; a pull (an impulse below 0)
+// brings no friction. The held normal component is already the collider's, so the relative velocity is all
+// tangential. With β = 0 this is boundaryResponse's friction to the bit, for colliders at rest.
+vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constraint, float normalImpulseMPerS) {
+#ifdef FIRN_HAS_COLLIDERS
+  int code = int(constraint.w);
+  if ((code & CONSTRAINT_NORMAL) == 0 || (code & CONSTRAINT_FIXED) != 0) return v;  // no collider's normal, or all held
+  for (uint i = 0u; i < colliderCount; ++i) {
+    ColliderParams c = colliders[i];
+    vec3 normal;
+    if (colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
+    vec3 tangential = v - c.velocityFriction.xyz;
+    float tangentialSpeed = length(tangential);
+    float frictionLoss = c.velocityFriction.w * max(normalImpulseMPerS, 0.0);
+    tangential = tangentialSpeed <= frictionLoss ? vec3(0.0) : tangential * (1.0 - frictionLoss / tangentialSpeed);
+    return tangential + c.velocityFriction.xyz;
+  }
+#endif
+  return v;
 }
 
 // The axes on which the domain walls hold a node whose velocity before their response is v: CONSTRAINT_WALL_X

@@ -215,12 +215,15 @@ FIRN_CONSTANT(int, SOLVER_REGISTERS, SOLVER_MAX_ITERATIONS + 1)
 
 // SolverNode: one node's vectors of the conjugate residual method (solver_*.comp), in its storage of the pool.
 // The solution x, the node's velocity, stays in the grid's own storage (common/grid.glsl).
-//   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w unused
+//   residual             xyz: r = S (M v* − A x) (kg·m/s), S the constraints' projection; w, at a node a collider
+//                        holds along its normal n: the collider's normal impulse over the node's mass (m/s), the
+//                        approach of v* it removed plus n·(A x − M v*) / m, the push the held component takes in the
+//                        solve (solver_finish.comp's Coulomb friction)
 //   preconditioned       z = P⁻¹ r (m/s), P the block Jacobi preconditioner (common/solver.glsl); before the first
 //                        iteration v* − x₀, the first iteration's direction
-//   product              A z (kg·m/s)
+//   product              xyz: A z (kg·m/s); w: n·(A z) before the projection, at a node held along n
 //   direction            p (m/s); before the first iteration the start x₀, which the initial residual's product takes
-//   directionProduct     A p (kg·m/s)
+//   directionProduct     xyz: A p (kg·m/s); w: n·(A p) before the projection, at a node held along n
 //   constraint           xyz: the collider's unit normal (CONSTRAINT_NORMAL), w: CONSTRAINT_* bits
 //   productLow/High      a Hessian product's sums, x y z as 64-bit integers (low and high words) in units of 2^−k_H
 //                        of the momentum unit (StepUniforms.solver): exact, so the same whatever the order of the

@@ -104,6 +104,13 @@ vec3 constrain(vec3 v, vec4 constraint) {
   return mix(v, vec3(0.0), notEqual(walls, ivec3(0)));
 }
 
+// n·u at a node a collider holds along its normal n, else 0: the held component of a product or a residual, which
+// the projection drops and the collider's normal impulse takes (SolverNode.residual.w; solver_finish.comp).
+float heldNormalComponent(vec3 u, vec4 constraint) {
+  int code = int(constraint.w);
+  return (code & CONSTRAINT_NORMAL) != 0 && (code & CONSTRAINT_FIXED) == 0 ? dot(u, constraint.xyz) : 0.0;
+}
+
 // --- The preconditioner ------------------------------------------------------------------------------------------
 
 // The block Jacobi preconditioner's inverse at a node of mass `massKg` and stiffness block `stiffnessKg` (β Δt² Hᵢᵢ):

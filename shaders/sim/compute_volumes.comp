@@ -1,7 +1,10 @@
 #version 430 core
-// Initial particle volumes, once, after a P2G of mass: ρ_p = Σ_i m_i w_ip / h³, V0_p = m_p / ρ_p
-// (Stomakhin 2013 §6 step 2; Snow thesis 2015 §3.4 step 2).
-// Reads: positionMass, grid mass, the block map. Writes: velocityVolume.w.
+// Initial particle volumes, once, after a P2G of mass: ρ_p = Σ_i m_i w_ip / h³ (Stomakhin 2013 §6 step 2; Snow
+// thesis 2015 §3.4 step 2), V0_p = m_p / max(ρ_p, ρ) with ρ the material's rest density (docs/algorithm.md eq. 6).
+// ρ_p counts the empty part of a kernel that reaches past the material as the particle's: alone, a particle reads
+// ρ_p = m_p Σ_i w_ip² / h³, independent of its material and 1/38 to 1/64 of ρ at 8 particles per cell, and its wave
+// speed sqrt(stiffness / (m_p / V0_p)) would outrun the step's stability bound, which is derived for ρ.
+// Reads: positionMass, velocityVolume.w (m_p / ρ, from the host), grid mass, the block map. Writes: velocityVolume.w.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
@@ -20,7 +23,9 @@ void computeVolume(uint p) {
   }
   float h = cellSizeM;
   float densityKgPerM3 = densityMassUnits * referenceMassKg / (h * h * h);
-  velocityVolume[p].w = xm.w / densityKgPerM3;
+  // An estimate above ρ (a cloud packed denser than its material) is kept; one below it gives way to ρ. A mass
+  // too small for the fixed point (densityKgPerM3 = 0, V = ∞) also keeps m_p / ρ.
+  velocityVolume[p].w = min(velocityVolume[p].w, xm.w / densityKgPerM3);
 }
 
 void main() {

@@ -7,7 +7,7 @@
 // its own. A work group per active block, an invocation per node.
 // Reads: the grid's masses, the product sums, residual, the preconditioner's inverse, preconditioned,
 // directionProduct, constraints.
-// Writes: product, the product sums (cleared), the block's partial sums.
+// Writes: product (and its held normal component), the product sums (cleared), the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -26,8 +26,10 @@ void main() {
 
   float massKg = storedFloats(gridMomentumMass[i]).w;
   vec3 z = solverNodes[i].preconditioned.xyz;
-  vec3 product = constrain(massKg * z + takeProduct(i), solverNodes[i].constraint);
-  solverNodes[i].product.xyz = product;
+  vec4 constraint = solverNodes[i].constraint;
+  vec3 unprojected = massKg * z + takeProduct(i);
+  vec3 product = constrain(unprojected, constraint);
+  solverNodes[i].product = vec4(product, heldNormalComponent(unprojected, constraint));
   vec3 residual = solverNodes[i].residual.xyz;
   vec3 scaledProduct = precondition(i, product);
   // The first two iterations' directions are z alone (solver_step.comp): the last direction's product is not read,

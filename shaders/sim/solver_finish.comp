@@ -1,10 +1,13 @@
 #version 430 core
-// The semi-implicit solve's end (common/solver.glsl): the solution keeps the components its constraints held at their
-// collided values, but a node the constraints left free — outside the colliders, or separating from one, when v* was
+// The semi-implicit solve's end (common/solver.glsl): a node a collider held along its normal takes the collider's
+// Coulomb friction now, bounded by the whole normal impulse of the step, the approach update_grid.comp removed and the
+// push the held component took in the solve (SolverNode.residual.w; common/colliders.glsl). The solution keeps the
+// components its constraints held at their collided values, but a node the constraints left free — outside the colliders, or separating from one, when v* was
 // computed — may now move into a collider or out of the domain: it meets them as update_grid.comp's nodes do. A node
 // the solve did not change meets them unchanged, so with β = 0 the step is the explicit one to the bit.
 // A work group per active block, an invocation per node.
-// Reads: the grid's velocities and masses, constraints, colliders. Writes: the grid's velocities.
+// Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders. Writes: the grid's
+// velocities.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -25,7 +28,11 @@ void main() {
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
-  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) velocity = collideWithColliders(x, velocity, timeS);
+  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) {
+    velocity = collideWithColliders(x, velocity, timeS);
+  } else {
+    velocity = collidersFrictionAfterSolve(x, velocity, timeS, solverNodes[i].constraint, solverNodes[i].residual.w);
+  }
   velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
   gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));
 }

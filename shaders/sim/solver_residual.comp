@@ -8,7 +8,7 @@
 // velocities become x₀, the solution's start.
 // Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product and stiffness block sums,
 // constraints. Writes: the grid's velocities, residual, the preconditioner's inverse, preconditioned (v* − x₀), the
-// sums (cleared), the block's partial sums.
+// sums (cleared), the block's partial sums, the collider's normal impulse (residual.w).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -50,6 +50,11 @@ void main() {
   invertPreconditioner(velocityMass.w, stiffnessKg, constraint, inverseDiagonal, inverseOffDiagonal);
   solverPreconditioners[i] = SolverPreconditioner(vec4(inverseDiagonal, 0.0), vec4(inverseOffDiagonal, 0.0));
   solverNodes[i].residual.xyz = residual;
+  // The held component's push at the start, n·(A x₀ − M v*), joins the approach update_grid.comp removed.
+  if (velocityMass.w > 0.0) {
+    solverNodes[i].residual.w += heldNormalComponent(velocityMass.w * (start - velocityMass.xyz) + product, constraint) /
+                                 velocityMass.w;
+  }
   solverNodes[i].preconditioned.xyz = velocityMass.xyz - start;  // the first iteration's direction, v* − x₀
   vec3 momentum = velocityMass.w * velocityMass.xyz;
   vec3 scaledMomentum = velocityMass.w > 0.0 ? inverse(velocityMass.w * mat3(1.0) + stiffnessKg) * momentum : vec3(0.0);

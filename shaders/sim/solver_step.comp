@@ -10,8 +10,8 @@
 // infinity into NaN.
 // A work group per active block, an invocation per node.
 // Reads: the registers, the grid's velocities and masses, residual, the preconditioner's inverse, preconditioned,
-// product, direction, directionProduct. Writes: the grid's velocities, residual, preconditioned, direction,
-// directionProduct, the block's partial sums.
+// product, direction, directionProduct. Writes: the grid's velocities, residual (and the collider's normal impulse),
+// preconditioned, direction, directionProduct, the block's partial sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -30,20 +30,22 @@ void main() {
 
   vec4 dots = registers[iteration];  // x: (z, A z), y: (A p, P⁻¹ A p)
   vec3 direction = solverNodes[i].preconditioned.xyz;
-  vec3 directionProduct = solverNodes[i].product.xyz;
+  vec4 directionProduct = solverNodes[i].product;  // w: its held normal component
   if (iteration > 1u) {
     float beta = conjugateResidualBeta(dots.x, iteration);
     direction += beta * solverNodes[i].direction.xyz;
-    directionProduct += beta * solverNodes[i].directionProduct.xyz;
+    directionProduct += beta * solverNodes[i].directionProduct;
   }
   float alpha = dots.y > 0.0 ? dots.x / dots.y : 0.0;
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   gridMomentumMass[i] = floatsToStored(vec4(velocityMass.xyz + alpha * direction, velocityMass.w));
-  vec3 residual = solverNodes[i].residual.xyz - alpha * directionProduct;
+  vec3 residual = solverNodes[i].residual.xyz - alpha * directionProduct.xyz;
   vec3 preconditioned = precondition(i, residual);
   solverNodes[i].direction.xyz = direction;
-  solverNodes[i].directionProduct.xyz = directionProduct;
+  solverNodes[i].directionProduct = directionProduct;
   solverNodes[i].residual.xyz = residual;
+  // x moves by α p, so the held component's push n·(A x − M v*) by α n·(A p): the collider's normal impulse.
+  if (velocityMass.w > 0.0) solverNodes[i].residual.w += alpha * directionProduct.w / velocityMass.w;
   solverNodes[i].preconditioned.xyz = preconditioned;
   writeBlockPartial(slot, vec4(0.0, 0.0, dot(residual, preconditioned), 0.0));
 }

@@ -1,7 +1,8 @@
 #version 430 core
 // Grid update: a work group per active block, an invocation per node of it (common/blocks.glsl).
 // v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
-// walls. Nodes without mass stay zero.
+// walls. Nodes without mass stay zero. A semi-implicit step meets the colliders without friction here and takes it
+// after the solve (common/colliders.glsl, collideForSolve).
 // Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
 // PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
 // (solver.glsl).
@@ -28,6 +29,7 @@ void main() {
   float massKg = 0.0;
 #ifdef FIRN_SEMI_IMPLICIT
   vec4 constraint = vec4(0.0, 0.0, 0.0, float(CONSTRAINT_FIXED));  // a node without mass stays at rest
+  float approachMPerS = 0.0;
 #endif
   if (sums.w > 0.0) {
     massKg = sums.w * referenceMassKg;
@@ -41,9 +43,10 @@ void main() {
 #endif
     vec3 x = nodePosition(node);
 #ifdef FIRN_SEMI_IMPLICIT
-    constraint = colliderConstraint(x, velocity, timeS);
-#endif
+    constraint = collideForSolve(x, velocity, timeS, approachMPerS);
+#else
     velocity = collideWithColliders(x, velocity, timeS);
+#endif
 #ifdef FIRN_SEMI_IMPLICIT
     int walls = wallConstraint(x, velocity, interiorMin(), interiorMax());
     // A normal and a wall's axis together: held whole, so that the projection stays one.
@@ -54,6 +57,7 @@ void main() {
   }
 #ifdef FIRN_SEMI_IMPLICIT
   solverNodes[i].constraint = constraint;
+  solverNodes[i].residual.w = approachMPerS;  // the collider's normal impulse / m so far (solver_finish.comp)
   // The solve's start x₀, for the initial residual's product (solver_residual.comp): the velocity before the elastic
   // force, with gravity, and with the held components' values of v*. A start at v* = x₀ + Δt M⁻¹ f has the residual
   // β Δt² H Δt M⁻¹ f more, and H multiplies the force's roughest modes by up to (c Δt / h)², the square of the step
