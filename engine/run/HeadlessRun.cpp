@@ -14,6 +14,7 @@
 #include "Error.h"
 #include "gl/Context.h"
 #include "io/Checkpoint.h"
+#include "io/OutputFolder.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/SurfaceMesh.h"
@@ -105,9 +106,11 @@ void printProgress(int frame, int frames, double simulatedS, double stepsPerS, d
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log) {
   const auto runStart = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
-  std::error_code error;
-  std::filesystem::create_directories(options.outputDir, error);
-  if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
+  // Held to the end of the run: no other run writes here meanwhile.
+  const OutputFolderClaim outputFolder(options.outputDir);
+  // Read before the context is made: a damaged checkpoint is refused at once.
+  std::optional<Checkpoint> checkpoint;
+  if (!options.resumePath.empty()) checkpoint = readCheckpoint(options.resumePath);
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context;
@@ -176,10 +179,10 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   summary.renderer = context.info().renderer;
   // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
   int firstFrame = 0;
-  if (!options.resumePath.empty()) {
-    const Checkpoint checkpoint = readCheckpoint(options.resumePath);
-    simulation.resume(checkpoint, options.resumePath);
-    firstFrame = checkpoint.frame;
+  if (checkpoint) {
+    simulation.resume(*checkpoint, options.resumePath);
+    firstFrame = checkpoint->frame;
+    checkpoint.reset();  // its buffers are on the GPU now
     summary.firstFrame = firstFrame;
     summary.frames = firstFrame;
     log << "firn: resumed at frame " << firstFrame << " (t = " << simulation.timeS() << " s) from "
