@@ -134,7 +134,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   }
   surface::SurfaceReconstruction* snowSurface = surfacePictures || caches ? &session.surface() : nullptr;
   if (snowSurface) snowSurface->setPassTiming(options.passTimes);
-  StatsCsvWriter stats(options.outputDir / "stats.csv");
+  std::optional<StatsCsvWriter> stats;  // started once a checkpoint has been accepted
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
     FrameStats row = measureFrame(particles, scene.grid);
@@ -146,7 +146,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const SolverSummary solves = simulation.takeSolverSummary();
     row.solverIterations = solves.mostIterations;
     row.solverResidual = solves.largestResidual;
-    stats.write(row);
+    stats->write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
       snowSurface->reconstruct(
@@ -179,6 +179,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   summary.renderer = context.info().renderer;
   // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
   int firstFrame = 0;
+  const std::filesystem::path statsPath = options.outputDir / "stats.csv";
   if (checkpoint) {
     simulation.resume(*checkpoint, options.resumePath);
     firstFrame = checkpoint->frame;
@@ -187,7 +188,14 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     summary.frames = firstFrame;
     log << "firn: resumed at frame " << firstFrame << " (t = " << simulation.timeS() << " s) from "
         << options.resumePath.string() << "\n";
+    // Resumed in its own folder, the run keeps the rows before its checkpoint; elsewhere stats.csv starts at the
+    // checkpoint's frame.
+    std::error_code error;
+    const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
+                                                       options.outputDir, error);
+    if (ownFolder) stats.emplace(statsPath, firstFrame);
   }
+  if (!stats) stats.emplace(statsPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   for (int frame = firstFrame + 1; frame <= frames; ++frame) {
     const auto frameStart = Clock::now();
