@@ -58,7 +58,8 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // ----- The claim on an output folder -----
 
 // flock(2) locks belong to an open file description, so a second claim conflicts with the first even within one
-// process: the refusal names the folder and the holder's process id, and the folder is free once the first ends.
+// process: the refusal names the folder and the holder's process id. Once the first ends, its lock file is gone
+// (the folder holds only outputs) and the folder is free.
 TEST(OutputFolderClaim, SecondClaimIsRefusedUntilTheFirstEnds) {
   const fs::path folder = freshFolder("claim") / "out";
   {
@@ -68,6 +69,7 @@ TEST(OutputFolderClaim, SecondClaimIsRefusedUntilTheFirstEnds) {
     EXPECT_EQ(message, folder.string() + ": output folder in use by another firn (process " +
                            std::to_string(getpid()) + "); wait for it to end or give another --out");
   }
+  EXPECT_FALSE(fs::exists(folder / firn::OutputFolderClaim::kLockFileName));
   EXPECT_EQ(inputErrorOf([&] { firn::OutputFolderClaim again(folder); }), "");
 }
 
@@ -102,6 +104,7 @@ TEST(OutputFolderClaim, ClaimOfAKilledProcessIsTakenOver) {
     const firn::OutputFolderClaim takenOver(folder);
     EXPECT_EQ(fileBytes(lockFile), std::to_string(getpid()) + "\n");
   }
+  EXPECT_FALSE(fs::exists(lockFile));
 }
 
 // ----- Input files -----
