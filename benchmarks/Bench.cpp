@@ -12,6 +12,7 @@
 #include "Error.h"
 #include "Experiments.h"
 #include "io/AtomicFile.h"
+#include "io/OutputFolder.h"
 
 namespace firn::bench {
 
@@ -125,9 +126,8 @@ std::string runBench(const BenchOptions& options, std::ostream& log) {
     throw InputError("--out: " + options.outputDir.string() + ": its parent folder " + parent.string() +
                      " does not exist");
   }
-  std::error_code error;
-  std::filesystem::create_directories(options.outputDir, error);
-  if (error) throw InputError("--out: " + options.outputDir.string() + ": cannot create the folder (" + error.message() + ")");
+  // Held to the end of the measurements: no other run writes here meanwhile.
+  const OutputFolderClaim outputFolder(options.outputDir);
   if (!options.thesisCloud.empty() && !std::filesystem::is_regular_file(options.thesisCloud)) {
     throw InputError("--thesis-cloud: " + options.thesisCloud.string() + ": no such file");
   }

@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # EGL + OpenGL; Mesa's llvmpipe where there is no GPU
   libglew-dev libglfw3-dev libglm-dev libassimp-dev nlohmann-json3-dev libcli11-dev libstb-dev
+  zlib1g-dev            # the checkpoints' CRC-32
   libgtest-dev libbenchmark-dev
   glslang-tools         # the tests compile every shader with Khronos' reference front end, glslangValidator
   mesa-vulkan-drivers   # lavapipe, under Mesa's Zink: the GL tests' second GL implementation

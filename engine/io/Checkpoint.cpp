@@ -1,21 +1,29 @@
 #include "io/Checkpoint.h"
 
-#include <cerrno>
+#include <zlib.h>
+
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <limits>
 
 #include "Error.h"
 #include "io/AtomicFile.h"
+#include "io/InputFile.h"
 
 namespace firn {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'I', 'R', 'N', 'C', 'K', 'P', 'T'};
+// A simulation's state is a handful of buffers (sim/GpuState.cpp); a count beyond this is a damaged header.
+constexpr std::uint64_t kMostBuffers = 64;
 
 template <class T>
 void append(std::string& out, const T& value) {
   out.append(reinterpret_cast<const char*>(&value), sizeof value);  // little-endian hosts only (x86-64, ARM64)
+}
+
+// zlib's CRC-32 (ISO 3309, the checksum of gzip and PNG).
+std::uint32_t crc32Of(const char* bytes, std::size_t size) {
+  return static_cast<std::uint32_t>(crc32_z(crc32_z(0, nullptr, 0), reinterpret_cast<const Bytef*>(bytes), size));
 }
 
 class Reader {
@@ -27,21 +35,27 @@ class Reader {
     std::memcpy(&value, take(sizeof value), sizeof value);
     return value;
   }
-  std::string nextBytes(std::size_t size) { return std::string(take(size), size); }
-
- private:
   const char* take(std::size_t size) {
-    if (size > bytes_.size() - offset_) {
+    if (size > remaining()) {
       throw InputError(path_.string() + ": truncated checkpoint (" + std::to_string(bytes_.size()) + " bytes)");
     }
     const char* start = bytes_.data() + offset_;
     offset_ += size;
     return start;
   }
+  std::size_t offset() const { return offset_; }
+  std::size_t remaining() const { return bytes_.size() - offset_; }
+
+ private:
   const std::string& bytes_;
   const std::filesystem::path& path_;
   std::size_t offset_ = 0;
 };
+
+[[noreturn]] void failCorrupt(const std::filesystem::path& path, const std::string& problem) {
+  throw InputError(path.string() + ": corrupt checkpoint: " + problem +
+                   " (the file was damaged or changed after it was written)");
+}
 
 }  // namespace
 
@@ -66,26 +80,28 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
   append(out, checkpoint.releasedEmitterParticles);
   append(out, checkpoint.fastestSpeedMPerS);
   append(out, static_cast<std::uint64_t>(checkpoint.buffers.size()));
+  for (const std::string& buffer : checkpoint.buffers) append(out, static_cast<std::uint64_t>(buffer.size()));
+  append(out, crc32Of(out.data(), out.size()));
   for (const std::string& buffer : checkpoint.buffers) {
-    append(out, static_cast<std::uint64_t>(buffer.size()));
     out += buffer;
+    append(out, crc32Of(buffer.data(), buffer.size()));
   }
   writeFileAtomically(path, out, "checkpoint");
 }
 
 Checkpoint readCheckpoint(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open checkpoint (" + std::strerror(errno) + ")");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  Reader reader(bytes, path);
+  const std::string bytes = readRegularFile(path, "checkpoint", std::numeric_limits<std::uintmax_t>::max());
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
     throw InputError(path.string() + ": not a Firn checkpoint");
   }
-  reader.nextBytes(sizeof kMagic);
+  Reader reader(bytes, path);
+  reader.take(sizeof kMagic);
   const auto version = reader.next<std::uint32_t>();
   if (version != Checkpoint::kVersion) {
-    throw InputError(path.string() + ": checkpoint format version " + std::to_string(version) + ", this build reads " +
-                     std::to_string(Checkpoint::kVersion));
+    const std::string which = version < Checkpoint::kVersion ? "an earlier" : "a later";
+    throw InputError(path.string() + ": checkpoint format version " + std::to_string(version) + ", written by " +
+                     which + " Firn; this build reads version " + std::to_string(Checkpoint::kVersion) +
+                     " only, so run the scene again from frame 0 to make new checkpoints");
   }
   Checkpoint checkpoint;
   checkpoint.sceneFingerprint = reader.next<std::uint64_t>();
@@ -96,9 +112,37 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
   checkpoint.releasedEmitterParticles = reader.next<std::uint64_t>();
   checkpoint.fastestSpeedMPerS = reader.next<double>();
   const auto bufferCount = reader.next<std::uint64_t>();
+  // The count precedes the header's checksum, which covers it: a count that could not be right is a damaged header.
+  if (bufferCount > kMostBuffers || bufferCount * sizeof(std::uint64_t) + sizeof(std::uint32_t) > reader.remaining()) {
+    failCorrupt(path, "the header lists " + std::to_string(bufferCount) + " buffers, more than a checkpoint of " +
+                          std::to_string(bytes.size()) + " bytes can hold");
+  }
+  std::vector<std::uint64_t> sizes;
+  for (std::uint64_t i = 0; i < bufferCount; ++i) sizes.push_back(reader.next<std::uint64_t>());
+  const std::size_t headerBytes = reader.offset();
+  if (reader.next<std::uint32_t>() != crc32Of(bytes.data(), headerBytes)) {
+    failCorrupt(path, "the header's CRC-32 does not match its bytes");
+  }
+  // The header is sound: a file shorter or longer than it says was cut short or has bytes appended.
+  std::uint64_t expectedBytes = 0;
+  for (std::uint64_t size : sizes) {
+    const std::uint64_t left = reader.remaining() - expectedBytes;
+    if (left < sizeof(std::uint32_t) || size > left - sizeof(std::uint32_t)) {
+      throw InputError(path.string() + ": truncated checkpoint (" + std::to_string(bytes.size()) +
+                       " bytes, fewer than its header lists)");
+    }
+    expectedBytes += size + sizeof(std::uint32_t);
+  }
+  if (expectedBytes < reader.remaining()) {
+    failCorrupt(path, std::to_string(reader.remaining() - expectedBytes) + " bytes follow the last buffer");
+  }
   for (std::uint64_t i = 0; i < bufferCount; ++i) {
-    const auto size = reader.next<std::uint64_t>();
-    checkpoint.buffers.push_back(reader.nextBytes(size));
+    const char* buffer = reader.take(sizes[i]);
+    if (reader.next<std::uint32_t>() != crc32Of(buffer, sizes[i])) {
+      failCorrupt(path, "the CRC-32 of buffer " + std::to_string(i + 1) + " of " + std::to_string(bufferCount) +
+                            " does not match its bytes");
+    }
+    checkpoint.buffers.emplace_back(buffer, sizes[i]);
   }
   return checkpoint;
 }

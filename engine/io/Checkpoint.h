@@ -12,7 +12,8 @@ namespace firn {
 
 struct Checkpoint {
   // 2: the block-sparse grid keeps no active region between steps, so a checkpoint holds one buffer fewer.
-  static constexpr std::uint32_t kVersion = 2;
+  // 3: the header lists every buffer's size, and the header and each buffer end in their CRC-32.
+  static constexpr std::uint32_t kVersion = 3;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;
@@ -25,7 +26,9 @@ struct Checkpoint {
 
 // Written through a temporary file and a rename. Throws InputError naming the file if it cannot be written.
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
-// Throws InputError naming the file for a missing, foreign, wrong-version or truncated file.
+// Throws InputError naming the file for a missing, foreign, wrong-version or truncated file, one that is not a
+// regular file, and one whose header or buffer (named by its number) fails its CRC-32. Whether the buffers'
+// numbers make sense is the simulation's to check (Simulation::resume).
 Checkpoint readCheckpoint(const std::filesystem::path& path);
 
 // FNV-1a over bytes: the fingerprint of a scene's state layout and its initial particles.

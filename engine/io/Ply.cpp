@@ -13,6 +13,7 @@
 
 #include "Error.h"
 #include "io/AtomicFile.h"
+#include "io/InputFile.h"
 
 namespace firn {
 
@@ -101,6 +102,7 @@ const PlyType* findPlyType(const std::string& name) {
 }  // namespace
 
 PointCache readPly(const std::filesystem::path& path) {
+  requireRegularFile(path, "point cache");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, std::string("cannot open point cache (") + std::strerror(errno) + ")");
   std::string line;

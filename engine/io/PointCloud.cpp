@@ -16,6 +16,7 @@
 #include <glm/geometric.hpp>
 
 #include "Error.h"
+#include "io/InputFile.h"
 #include "io/Ply.h"
 
 namespace firn {
@@ -101,14 +102,8 @@ PointCloud readPlyCloud(const std::filesystem::path& path) {
 
 PointCloud readPointCloud(const std::filesystem::path& path) {
   // Only regular files are read: a folder fails on the first read, and a device or pipe can be endless
-  // (/dev/zero holds no line break, so reading its first line would never finish). A missing file is left to
-  // the open, which says why it failed.
-  std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::status(path, error);
-  if (std::filesystem::is_directory(status)) fail(path, "is a folder, not a point cloud file");
-  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
-    fail(path, "is not a regular file (a device, pipe or socket), not a point cloud file");
-  }
+  // (/dev/zero holds no line break, so reading its first line would never finish).
+  requireRegularFile(path, "point cloud");
   PointCloud cloud = hasPlyExtension(path) ? readPlyCloud(path) : readText(path);
   if (cloud.positionsM.empty()) fail(path, "the point cloud holds no points");
   return cloud;

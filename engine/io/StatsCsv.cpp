@@ -1,12 +1,16 @@
 #include "io/StatsCsv.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "Error.h"
+#include "io/AtomicFile.h"
+#include "io/InputFile.h"
 
 namespace firn {
 
@@ -16,10 +20,47 @@ const char* StatsCsvWriter::header() {
          "solver_iterations,solver_residual";
 }
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path), out_(path, std::ios::trunc) {
-  if (!out_) throw InputError(path.string() + ": cannot create stats file (" + std::strerror(errno) + ")");
-  out_ << header() << '\n';
-  out_.flush();
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path) {
+  start(std::string(header()) + '\n');
+}
+
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame) : path_(path) {
+  std::string rows = std::string(header()) + '\n';
+  std::error_code error;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) {
+    start(rows);
+    return;
+  }
+  requireRegularFile(path, "stats file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot read stats file (" + std::strerror(errno) + ")");
+  std::string line;
+  std::getline(in, line);
+  if (line != header()) {
+    throw InputError(path.string() + ": its header is not the one this version of Firn writes, so its rows before "
+                     "frame " + std::to_string(firstFrame) + " cannot be kept; move it away to resume without them");
+  }
+  for (int lineNumber = 2; std::getline(in, line); ++lineNumber) {
+    // A last line without its line break is a row cut short by a run that was killed while writing it.
+    if (in.eof()) break;
+    int frame = 0;
+    const auto [end, parseError] = std::from_chars(line.data(), line.data() + line.size(), frame);
+    if (parseError != std::errc() || end == line.data() + line.size() || *end != ',') {
+      throw InputError(path.string() + ": line " + std::to_string(lineNumber) +
+                       ": no frame number, so the rows before frame " + std::to_string(firstFrame) +
+                       " cannot be kept; move it away to resume without them");
+    }
+    if (frame < firstFrame) rows += line + '\n';
+  }
+  if (in.bad()) throw InputError(path.string() + ": cannot read stats file (" + std::strerror(errno) + ")");
+  in.close();
+  start(rows);
+}
+
+void StatsCsvWriter::start(const std::string& rows) {
+  writeFileAtomically(path_, rows, "stats file");
+  out_.open(path_, std::ios::app);
+  if (!out_) throw InputError(path_.string() + ": cannot write stats file (" + std::strerror(errno) + ")");
 }
 
 void StatsCsvWriter::write(const FrameStats& s) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include <glm/vec3.hpp>
 
@@ -33,13 +34,21 @@ struct FrameStats {
 
 class StatsCsvWriter {
  public:
-  // Throws InputError naming the file if it cannot be created.
+  // Starts the file afresh: the header alone. Throws InputError naming the file if it cannot be written.
   explicit StatsCsvWriter(const std::filesystem::path& path);
+  // Continues the file of a run resumed at `firstFrame`: keeps its rows of the frames before it and drops the rest,
+  // which the resumed run writes again. The kept rows replace the file atomically (io/AtomicFile.h), so a run
+  // stopped here leaves the old file or the new one. A missing file starts afresh. Throws InputError naming the file
+  // if it cannot be read or written, has another header than this build's or holds a row without a frame number.
+  StatsCsvWriter(const std::filesystem::path& path, int firstFrame);
   void write(const FrameStats& stats);
 
   static const char* header();
 
  private:
+  // Writes `rows` (the header and any kept rows) to the file atomically, then opens it to append.
+  void start(const std::string& rows);
+
   std::filesystem::path path_;
   std::ofstream out_;
 };

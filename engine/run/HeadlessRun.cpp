@@ -14,6 +14,7 @@
 #include "Error.h"
 #include "gl/Context.h"
 #include "io/Checkpoint.h"
+#include "io/OutputFolder.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/SurfaceMesh.h"
@@ -105,9 +106,11 @@ void printProgress(int frame, int frames, double simulatedS, double stepsPerS, d
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log) {
   const auto runStart = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
-  std::error_code error;
-  std::filesystem::create_directories(options.outputDir, error);
-  if (error) throw InputError(options.outputDir.string() + ": cannot create output folder (" + error.message() + ")");
+  // Held to the end of the run: no other run writes here meanwhile.
+  const OutputFolderClaim outputFolder(options.outputDir);
+  // Read before the context is made: a damaged checkpoint is refused at once.
+  std::optional<Checkpoint> checkpoint;
+  if (!options.resumePath.empty()) checkpoint = readCheckpoint(options.resumePath);
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context;
@@ -131,7 +134,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   }
   surface::SurfaceReconstruction* snowSurface = surfacePictures || caches ? &session.surface() : nullptr;
   if (snowSurface) snowSurface->setPassTiming(options.passTimes);
-  StatsCsvWriter stats(options.outputDir / "stats.csv");
+  std::optional<StatsCsvWriter> stats;  // started once a checkpoint has been accepted
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
     const ParticleSnapshot particles = simulation.snapshot();
     FrameStats row = measureFrame(particles, scene.grid);
@@ -143,7 +146,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const SolverSummary solves = simulation.takeSolverSummary();
     row.solverIterations = solves.mostIterations;
     row.solverResidual = solves.largestResidual;
-    stats.write(row);
+    stats->write(row);
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
       snowSurface->reconstruct(
@@ -176,15 +179,23 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   summary.renderer = context.info().renderer;
   // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
   int firstFrame = 0;
-  if (!options.resumePath.empty()) {
-    const Checkpoint checkpoint = readCheckpoint(options.resumePath);
-    simulation.resume(checkpoint, options.resumePath);
-    firstFrame = checkpoint.frame;
+  const std::filesystem::path statsPath = options.outputDir / "stats.csv";
+  if (checkpoint) {
+    simulation.resume(*checkpoint, options.resumePath);
+    firstFrame = checkpoint->frame;
+    checkpoint.reset();  // its buffers are on the GPU now
     summary.firstFrame = firstFrame;
     summary.frames = firstFrame;
     log << "firn: resumed at frame " << firstFrame << " (t = " << simulation.timeS() << " s) from "
         << options.resumePath.string() << "\n";
+    // Resumed in its own folder, the run keeps the rows before its checkpoint; elsewhere stats.csv starts at the
+    // checkpoint's frame.
+    std::error_code error;
+    const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
+                                                       options.outputDir, error);
+    if (ownFolder) stats.emplace(statsPath, firstFrame);
   }
+  if (!stats) stats.emplace(statsPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   for (int frame = firstFrame + 1; frame <= frames; ++frame) {
     const auto frameStart = Clock::now();

@@ -127,9 +127,38 @@ std::string nlohmannText(const std::string& what) {
   throw InputError(file + ": " + position + detail + " (numbers must fit a double)");
 }
 
+// Refuses arrays and objects nested deeper than kMaxNestingDepth before nlohmann sees the text: its parse through a
+// callback recurses with the nesting (150 KB of balanced brackets overflowed the stack), as do its copies and
+// dump(). One pass, no recursion; brackets inside strings do not count. Whatever else is wrong with the text is the
+// parser's to say.
+void checkNestingDepth(const std::string& text, const std::string& file) {
+  int depth = 0;
+  bool inString = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (c == '\\') {
+        ++i;  // the escaped character, a quote included
+      } else if (c == '"') {
+        inString = false;
+      }
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNestingDepth) {
+        throw InputError(file + ": " + describePosition(text, i) + ": arrays and objects nested more than " +
+                         std::to_string(kMaxNestingDepth) + " levels deep (a scene's own keys go 4 levels deep)");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 }  // namespace
 
 Json parse(const std::string& text, const std::string& file) {
+  checkNestingDepth(text, file);
   try {
     return Json::parse(text, DuplicateKeyCheck(file));
   } catch (const Json::parse_error& error) {

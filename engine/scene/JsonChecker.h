@@ -19,8 +19,11 @@ namespace firn::json {
 // Ordered so that objects keep the order in which the file lists their keys (a scene's materials).
 using Json = nlohmann::ordered_json;
 
-// Parses `text`, with `file` naming it in messages; a syntax error, a number beyond a double or a key set
-// twice in one object is an InputError that gives the position or key path.
+// Arrays and objects within each other, at most (docs/scene-format.md, Sizes and limits): a scene nests 4 deep.
+constexpr int kMaxNestingDepth = 64;
+
+// Parses `text`, with `file` naming it in messages; a syntax error, a number beyond a double, a key set twice in
+// one object or a nest deeper than kMaxNestingDepth is an InputError that gives the position or key path.
 Json parse(const std::string& text, const std::string& file);
 
 // "[x, y, z]", each to six significant digits.

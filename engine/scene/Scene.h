@@ -1,5 +1,6 @@
 #pragma once
 // The scene description: what the JSON scene file (docs/scene-format.md) says, parsed and validated, in SI units.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -226,7 +227,12 @@ constexpr const char* kBuiltInSceneName = "<built-in default scene>";
 // The scene's file as messages name it (kBuiltInSceneName for the built-in scene).
 std::string sceneFileName(const Scene& scene);
 
-// Reads and validates a scene file; throws InputError naming the file, the key and the problem.
+// The largest scene file read (docs/scene-format.md, Sizes and limits): the shipped scenes are a few kilobytes,
+// and particles too many to list in a scene come from point files.
+constexpr std::uintmax_t kMaxSceneFileBytes = 16u << 20;
+
+// Reads and validates a scene file; throws InputError naming the file, the key and the problem. Only a regular
+// file of at most kMaxSceneFileBytes is read (io/InputFile.h): a pipe or device is refused without blocking.
 Scene loadScene(const std::filesystem::path& path);
 // Same, from text; `source` names the file in messages.
 Scene parseScene(const std::string& jsonText, const std::filesystem::path& source);

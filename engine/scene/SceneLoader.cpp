@@ -1,13 +1,10 @@
 // Reads a scene file (docs/scene-format.md) into a Scene: the top level and its small sections (grid, time,
 // solver, camera) here, materials, bodies and colliders in the files SceneSections.h names. Every problem is an
 // InputError naming the file, the key path and the problem (scene/JsonChecker.h).
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <memory>
 #include <string>
 
 #include "Error.h"
+#include "io/InputFile.h"
 #include "io/Text.h"
 #include "scene/Scene.h"
 #include "scene/SceneSections.h"
@@ -154,19 +151,7 @@ Scene parseScene(const std::string& jsonText, const std::filesystem::path& sourc
 }
 
 Scene loadScene(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  const auto cannotOpen = [&](int errorNumber) {
-    return InputError(file + ": cannot open scene file (" + std::strerror(errorNumber) + ")");
-  };
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> stream(std::fopen(file.c_str(), "rb"), &std::fclose);
-  if (!stream) throw cannotOpen(errno);
-  std::string text;
-  char buffer[1 << 16];
-  std::size_t bytesRead;
-  while ((bytesRead = std::fread(buffer, 1, sizeof buffer, stream.get())) > 0) text.append(buffer, bytesRead);
-  // A directory opens on Linux and fails on the first read with EISDIR.
-  if (std::ferror(stream.get())) throw cannotOpen(errno);
-  return parseScene(text, path);
+  return parseScene(readRegularFile(path, "scene file", kMaxSceneFileBytes), path);
 }
 
 }  // namespace firn

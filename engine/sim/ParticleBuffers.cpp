@@ -1,5 +1,10 @@
 #include "sim/ParticleBuffers.h"
 
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+
+#include "Error.h"
 #include "gpu/GpuLayout.h"
 
 namespace firn {
@@ -8,16 +13,24 @@ namespace {
 
 gpu::Mat3x4 identityMat3() { return {{glm::vec4(1, 0, 0, 0), glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0)}}; }
 
+// The buffers' labels, for debuggers (glObjectLabel) and for messages about a checkpoint's buffers.
+constexpr const char* kPositionMassLabel = "particles: position, mass";
+constexpr const char* kVelocityVolumeLabel = "particles: velocity, volume";
+constexpr const char* kPlasticStateLabel = "particles: plastic state";
+constexpr const char* kElasticDeformationLabel = "particles: F";
+constexpr const char* kKirchhoffStressLabel = "particles: Kirchhoff stress";
+constexpr const char* kAffineLabel = "particles: APIC C";
+
 }  // namespace
 
 ParticleBuffers::ParticleBuffers(std::size_t capacity, bool deformationGradient, bool affine) : capacity_(capacity) {
   const std::size_t n = capacity;
-  positionMass_ = gl::Buffer(n * sizeof(glm::vec4)).labelled("particles: position, mass");
-  velocityVolume_ = gl::Buffer(n * sizeof(glm::vec4)).labelled("particles: velocity, volume");
-  plasticState_ = gl::Buffer(n * sizeof(gpu::ParticlePlasticState)).labelled("particles: plastic state");
-  if (deformationGradient) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled("particles: F");
-  kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled("particles: Kirchhoff stress");
-  if (affine) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled("particles: APIC C");
+  positionMass_ = gl::Buffer(n * sizeof(glm::vec4)).labelled(kPositionMassLabel);
+  velocityVolume_ = gl::Buffer(n * sizeof(glm::vec4)).labelled(kVelocityVolumeLabel);
+  plasticState_ = gl::Buffer(n * sizeof(gpu::ParticlePlasticState)).labelled(kPlasticStateLabel);
+  if (deformationGradient) elasticDeformation_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled(kElasticDeformationLabel);
+  kirchhoffStress_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled(kKirchhoffStressLabel);
+  if (affine) affine_ = gl::Buffer(n * sizeof(gpu::Mat3x4)).labelled(kAffineLabel);
 }
 
 void ParticleBuffers::write(std::size_t first, const ParticleRecords& records) {
@@ -78,6 +91,39 @@ auto ParticleBuffers::stateBuffersOf(Self& self) {
 }
 
 std::vector<const gl::Buffer*> ParticleBuffers::stateBuffers() const { return stateBuffersOf(*this); }
+
+const char* ParticleBuffers::labelOf(const gl::Buffer& buffer) const {
+  if (&buffer == &positionMass_) return kPositionMassLabel;
+  if (&buffer == &velocityVolume_) return kVelocityVolumeLabel;
+  if (&buffer == &elasticDeformation_) return kElasticDeformationLabel;
+  if (&buffer == &kirchhoffStress_) return kKirchhoffStressLabel;
+  if (&buffer == &affine_) return kAffineLabel;
+  return kPlasticStateLabel;
+}
+
+void ParticleBuffers::checkFinite(const std::vector<std::string>& bytes, std::size_t count,
+                                  const std::string& source) const {
+  const std::vector<const gl::Buffer*> buffers = stateBuffers();
+  for (std::size_t b = 0; b < buffers.size(); ++b) {
+    // Every 4-byte word of a particle's record is a float (mat3's padding included, written as 0), but for the
+    // plastic state's material index.
+    const std::size_t words = buffers[b]->bytes() / capacity_ / sizeof(float);
+    const std::size_t indexWord =
+        buffers[b] == &plasticState_ ? offsetof(gpu::ParticlePlasticState, materialIndex) / sizeof(float) : words;
+    for (std::size_t particle = 0; particle < count; ++particle) {
+      for (std::size_t word = 0; word < words; ++word) {
+        if (word == indexWord) continue;
+        float value;
+        std::memcpy(&value, bytes[b].data() + (particle * words + word) * sizeof(float), sizeof value);
+        if (std::isfinite(value)) continue;
+        throw InputError(source + ": buffer " + std::to_string(b + 1) + " of the checkpoint (" + labelOf(*buffers[b]) +
+                         ") holds a value that is not finite (" + (std::isnan(value) ? "NaN" : "infinity") +
+                         ") for particle " + std::to_string(particle) +
+                         "; a run never checkpoints such a state, so this file cannot be resumed");
+      }
+    }
+  }
+}
 
 std::vector<gl::Buffer*> ParticleBuffers::stateBuffers() { return stateBuffersOf(*this); }
 

@@ -3,6 +3,7 @@
 // count, published at the particle bindings of the GPU contract (FIRN_PARTICLE_BINDINGS_FIRST to _END). Which
 // quantities exist depends on the scene: F for every model but water, APIC's C for APIC only.
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -41,10 +42,15 @@ class ParticleBuffers {
   // The buffers a checkpoint holds, in its order (those the scene has).
   std::vector<const gl::Buffer*> stateBuffers() const;
   std::vector<gl::Buffer*> stateBuffers();
+  // Throws InputError naming `source`, the buffer and the particle when a float of particles [0, count) in `bytes`
+  // is not finite. `bytes` holds the stateBuffers()' contents in their order (a checkpoint's first buffers), each
+  // checked to be of its buffer's size, and count is at most the capacity.
+  void checkFinite(const std::vector<std::string>& bytes, std::size_t count, const std::string& source) const;
 
  private:
   template <class Self>
   static auto stateBuffersOf(Self& self);
+  const char* labelOf(const gl::Buffer& buffer) const;
 
   std::size_t capacity_;
   gl::Buffer positionMass_;

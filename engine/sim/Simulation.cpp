@@ -256,6 +256,11 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   if (checkpoint.particleCount > particleCapacity() || checkpoint.releasedEmitterParticles > pendingParticles_.size()) {
     throw InputError(source.string() + ": the checkpoint holds more particles than the scene makes");
   }
+  if (!std::isfinite(checkpoint.timeS) || !std::isfinite(checkpoint.fastestSpeedMPerS)) {
+    throw InputError(source.string() + ": the checkpoint's time or speed estimate is not finite; a run never "
+                     "checkpoints such a state, so this file cannot be resumed");
+  }
+  state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
   state_.loadStateBytes(checkpoint.buffers);
   timeS_ = checkpoint.timeS;
   steps_ = checkpoint.steps;

@@ -1,5 +1,6 @@
 // Scene parsing: the values land in the Scene, and every kind of bad input is an InputError that names the
 // file, the key path and the problem (docs/scene-format.md).
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -478,6 +479,55 @@ TEST(SceneLoader, ReportsMissingFile) {
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_STREQ(error.what(), "scenes/does-not-exist.json: cannot open scene file (No such file or directory)");
+  }
+}
+
+// The file: 150 KB of '[' crashed the parser's recursive copy. The nest is refused before parsing, at the
+// bracket that goes past kMaxNestingDepth (64), within 0.5 s (the scan is one pass: microseconds; the rest is room
+// for a loaded machine). 64 levels are still read, so the limit is where it says.
+TEST(SceneLoader, RefusesNestingBeyondTheLimitBeforeParsing) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    parseScene(std::string(150 * 1024, '['), "deep.json");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(), "deep.json: line 1, column 65: arrays and objects nested more than 64 levels deep "
+                               "(a scene's own keys go 4 levels deep)");
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
+  // Brackets inside strings are text, not nesting; 64 levels parse (and fail later, as no scene).
+  const std::string deepest = std::string(64, '[') + "\"[[[{\"" + std::string(64, ']');
+  try {
+    parseScene(deepest, "deepest.json");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).find("nested"), std::string::npos) << error.what();
+  }
+}
+
+// Scene files are read only if regular and at most kMaxSceneFileBytes (16 MiB): /dev/zero is refused from its
+// stat, and a larger file from its size, before a byte is read (the file is sparse: it takes no disk).
+TEST(SceneLoader, RefusesFilesThatAreNotRegularOrTooLarge) {
+  try {
+    loadScene("/dev/zero");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(),
+                 "/dev/zero: is not a regular file but a character device; a scene file is read from a regular file only");
+  }
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("firn-scene-large-" + std::to_string(std::random_device{}()) + ".json");
+  std::ofstream(path).put(' ');
+  std::filesystem::resize_file(path, kMaxSceneFileBytes + 1);
+  struct RemoveOnExit {
+    const std::filesystem::path& path;
+    ~RemoveOnExit() { std::filesystem::remove(path); }
+  } removeOnExit{path};
+  try {
+    loadScene(path);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), path.string() + ": is 16777217 bytes, more than the 16777216 a scene file may have");
   }
 }
 
