@@ -13,13 +13,16 @@ LameParameters lameParameters(double youngsModulusPa, double poissonRatio) {
 }
 
 double waveSpeedMPerS(const Material& material, double lambdaScale, double muScale) {
+  // Snow at the compression limit J_P = 1 − θc.
+  return hardenedWaveSpeedMPerS(material, 1.0 - material.criticalCompression, lambdaScale, muScale);
+}
+
+double hardenedWaveSpeedMPerS(const Material& material, double plasticJ, double lambdaScale, double muScale) {
   if (material.model == MaterialModel::Water) {
     return gpu::waterWaveSpeed(material.bulkModulusPa, material.gamma, material.densityKgPerM3);
   }
   const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
-  // Snow at the compression limit J_P = 1 − θc.
-  const double hardening =
-      material.model == MaterialModel::Snow ? std::exp(material.hardening * material.criticalCompression) : 1.0;
+  const double hardening = material.model == MaterialModel::Snow ? std::exp(material.hardening * (1.0 - plasticJ)) : 1.0;
   return gpu::pressureWaveSpeed(lambdaScale * lame.lambdaPa, muScale * lame.muPa, hardening, material.densityKgPerM3);
 }
 

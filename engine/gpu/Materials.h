@@ -25,6 +25,10 @@ LameParameters lameParameters(double youngsModulusPa, double poissonRatio);
 // sqrt(k γ / ρ) for water (dp/dJ at rest). A body's lambda_scale and mu_scale scale λ and μ.
 double waveSpeedMPerS(const Material& material, double lambdaScale = 1, double muScale = 1);
 
+// The same wave in a particle whose snow has compacted to `plasticJ` (hardened by e^{ξ(1 − J_P)}, without limit: J_P
+// falls below 1 − θc as compaction goes on); other models do not harden, and give waveSpeedMPerS.
+double hardenedWaveSpeedMPerS(const Material& material, double plasticJ, double lambdaScale = 1, double muScale = 1);
+
 // The explicit step's elastic stability bound Δt < h / c (CFL on the elastic wave).
 double elasticStableDtS(const Material& material, double cellSizeM, double lambdaScale = 1, double muScale = 1);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <tuple>
 #include <utility>
 
 #include "Error.h"
@@ -28,9 +29,7 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
       solver_(scene.solver), maxNodeValue_(fixedPoint.maxNodeValue()),
-      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3) {
-  for (const Material& material : scene.materials) materialNames_.push_back(material.name);
-}
+      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies) {}
 
 void Diagnostics::noteParticles(const std::vector<ParticleSeed>& seeds) {
   for (const ParticleSeed& seed : seeds) {
@@ -58,8 +57,43 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
   const int material = particleMaterial_[static_cast<std::size_t>(particle)];
   const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";
   return "particle " + std::to_string(particle) + " " + origin + " (material \"" +
-         materialNames_[static_cast<std::size_t>(material)] + "\") near (" + format("%.4g", position.x) + ", " +
+         materials_[static_cast<std::size_t>(material)].name + "\") near (" + format("%.4g", position.x) + ", " +
          format("%.4g", position.y) + ", " + format("%.4g", position.z) + ") m";
+}
+
+// Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}
+// without limit, and once its wave outruns the step the step is unstable although the scene's bound, taken at
+// J_P = 1 − θc, held. Named is the snow particle whose hardened wave is fastest, in its last finite state (the
+// watchdog rejects a non-finite update), which is often not the first particle to fail.
+std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
+  const std::string generic = "Reduce time.dt or youngs_modulus; the elastic wave bound is dt < h / c = " +
+                              format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
+                              format("%.4g", dtS_) + " s).";
+  if (solver_.semiImplicit()) return generic;
+  const std::vector<float> plasticJ = state.particles().read(particleBody_.size()).plasticJ;
+  std::size_t stiffest = plasticJ.size();
+  double fastestMPerS = 0;
+  for (std::size_t p = 0; p < plasticJ.size(); ++p) {
+    const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[p])];
+    if (material.model != MaterialModel::Snow || !std::isfinite(plasticJ[p])) continue;
+    const int body = particleBody_[p];
+    const double speedMPerS =
+        hardenedWaveSpeedMPerS(material, plasticJ[p], body >= 0 ? bodies_[std::size_t(body)].lambdaScale : 1.0,
+                               body >= 0 ? bodies_[std::size_t(body)].muScale : 1.0);
+    if (speedMPerS > fastestMPerS) std::tie(stiffest, fastestMPerS) = std::pair(p, speedMPerS);
+  }
+  const double boundS = grid_.cellSizeM / fastestMPerS;
+  if (stiffest == plasticJ.size() || !(boundS < dtS_)) return generic;
+  const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[stiffest])];
+  return "Snow had compacted beyond what the step can take: " +
+         describeParticle(static_cast<std::int32_t>(stiffest), state) + " reached J_P = " +
+         format("%.3g", plasticJ[stiffest]) + ", and hardening e^(xi (1 - J_P)) = " +
+         format("%.3g", std::exp(material.hardening * (1.0 - plasticJ[stiffest]))) + " (hardening " +
+         format("%.3g", material.hardening) + ") made its wave speed " + format("%.4g", fastestMPerS) +
+         " m/s, whose bound h / c = " + format("%.4g", boundS) + " s is below time.dt = " + format("%.4g", dtS_) +
+         " s (the scene's bound, " + format("%.4g", stableDtS_) + " s, holds down to J_P = 1 - critical_compression). "
+         "Set time.adaptive (its steps follow the hardened wave speed), lower the impact's speed or the hardening, "
+         "or reduce time.dt.";
 }
 
 void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
@@ -120,7 +154,7 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
     events.emplace_back(status.nonFiniteStep,
                         when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle, state) +
                             " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
-                            " particle updates rejected). Reduce time.dt or youngs_modulus; " + stiffness + ".");
+                            " particle updates rejected). " + nonFiniteCause(state));
   }
   if (status.cflCount > 0) {
     events.emplace_back(status.cflStep,

@@ -35,6 +35,7 @@ class Diagnostics {
  private:
   std::string describeNode(std::int32_t node) const;
   std::string describeParticle(std::int32_t particle, const GpuState& state) const;
+  std::string nonFiniteCause(const GpuState& state) const;
 
   GridSpec grid_;
   double dtS_ = 0;
@@ -42,7 +43,8 @@ class Diagnostics {
   SolverSpec solver_;
   double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
   int kernelWidth_ = 4;       // nodes of a particle's stencil per axis
-  std::vector<std::string> materialNames_;
+  std::vector<Material> materials_;
+  std::vector<Body> bodies_;
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle
 };
