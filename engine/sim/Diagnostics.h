@@ -43,6 +43,7 @@ class Diagnostics {
   double maxNodeValue_ = 0;   // the fixed-point range of a node sum, in reference masses
   int kernelWidth_ = 4;       // nodes of a particle's stencil per axis
   std::vector<std::string> materialNames_;
+  std::string fastestCollider_;        // "colliders[i] (… m/s)" when a collider moves, else empty
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle
 };
