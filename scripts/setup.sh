@@ -8,6 +8,7 @@ packages=(
   libglew-dev libglfw3-dev libglm-dev libassimp-dev nlohmann-json3-dev libcli11-dev libstb-dev
   zlib1g-dev            # the checkpoints' CRC-32
   libgtest-dev libbenchmark-dev
+  assimp-testmodels     # the tests voxelize its hostile meshes (AMF/test9.amf: thin parts across a large box)
   glslang-tools         # the tests compile every shader with Khronos' reference front end, glslangValidator
   mesa-vulkan-drivers   # lavapipe, under Mesa's Zink: the GL tests' second GL implementation
   libopenvdb-dev libboost-iostreams-dev  # the VDB caches; Debian's FindOpenVDB.cmake needs Boost.Iostreams too

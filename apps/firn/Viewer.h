@@ -21,7 +21,7 @@ struct ViewOptions {
   std::optional<render::RenderMode> renderMode;
   bool domainBox = false;              // outline the domain's box (B switches)
   std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
-  bool showProgress = false;           // a progress line on stderr while sampling (when it is a terminal)
+  bool showProgress = false;           // progress on stderr while sampling (in place on a terminal)
 };
 
 // Runs until the window closes (or `frames` frames). Throws NoOpenGLError (exit 4) without a display or a

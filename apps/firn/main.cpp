@@ -1,7 +1,5 @@
 // The `firn` command line (docs/command-line.md). Exit status: 0 success, 2 bad input,
 // 3 unstable or overflowed simulation, 4 no usable OpenGL 4.3.
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -18,13 +16,16 @@
 
 #include "Bench.h"
 #include "Error.h"
+#include "OptionChecks.h"
 #include "Viewer.h"
 #include "gl/Context.h"
+#include "io/OutputPath.h"
 #include "io/Ply.h"
 #include "io/Text.h"
 #include "io/Video.h"
 #include "run/Budget.h"
 #include "run/HeadlessRun.h"
+#include "run/Progress.h"
 #include "scene/Scene.h"
 #include "voxelizer/ProcessMemory.h"
 #include "voxelizer/Voxelizer.h"
@@ -42,7 +43,8 @@ int runCommand(const std::string& scenePath, firn::RunOptions options) {
     throw firn::InputError("--mp4: the ffmpeg program is not on the PATH (Debian: apt-get install ffmpeg); "
                            "--png writes the frames without it");
   }
-  options.showProgress = isatty(STDERR_FILENO) != 0;
+  if (!options.videoPath.empty()) firn::checkWritableFile(options.videoPath, "--mp4");
+  options.showProgress = true;
   const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, std::cerr);
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
@@ -53,7 +55,9 @@ int runCommand(const std::string& scenePath, firn::RunOptions options) {
 }
 
 int viewCommand(const std::string& scenePath, firn::ViewOptions options) {
-  options.showProgress = isatty(STDERR_FILENO) != 0;
+  // Said before the session, not when it ends.
+  if (!options.screenshotPath.empty()) firn::checkWritableFile(options.screenshotPath, "--screenshot");
+  options.showProgress = true;
   firn::runViewer(sceneOrDefault(scenePath), options);
   return 0;
 }
@@ -77,27 +81,56 @@ constexpr double kVoxelizeBytesPerParticle = 112;
 
 std::string formatG(double value) { return firn::format("%.3g", value); }
 
-// Refuses, before sampling, a fill estimated beyond --max-particles or the memory this process can allocate,
-// with the spacing that would fit. Returns the most particles sampling may make.
-std::size_t checkVoxelizeBudget(const VoxelizeOptions& options, const firn::voxelizer::SampleEstimate& estimate,
-                                double spacingM) {
+// Positions tested per particle the limits allow: a lattice over the mesh's box is tested point by point, and a
+// mesh that fills little of its box (thin parts far apart) costs tests without particles. A sphere's box holds
+// 1.9 lattice points per particle inside; 8 allows a shape that fills an eighth of its box.
+constexpr double kVoxelizeTestsPerParticle = 8;
+
+// N ∝ 1/s³: the spacing at which `count` becomes `most`, rounded up to 3 significant digits so that it does fit.
+double fittingSpacingM(double spacingM, double count, double most) {
+  const double fitting = spacingM * std::cbrt(count / most);
+  const double unit = std::pow(10.0, std::floor(std::log10(fitting)) - 2);
+  return std::ceil(fitting / unit) * unit;
+}
+
+// Refuses, before sampling, a fill estimated beyond --max-particles or the memory this process can allocate, or a
+// lattice of more positions to test than kVoxelizeTestsPerParticle per particle those allow, with the spacing that
+// would fit. Returns the most particles sampling may make.
+std::size_t checkVoxelizeBudget(const VoxelizeOptions& options, const firn::voxelizer::TriangleMesh& mesh,
+                                const firn::voxelizer::SampleEstimate& estimate, double spacingM) {
   const double allocatable = double(firn::voxelizer::allocatableBytes());
   const double memoryParticles = allocatable / kVoxelizeBytesPerParticle;
   const bool memoryBinds = memoryParticles < double(options.maxParticles);
   const double most = std::min(memoryParticles, double(options.maxParticles));
-  if (estimate.points <= most) return static_cast<std::size_t>(most);
-  // N ∝ 1/s³: the spacing for `most` particles, rounded up to 3 significant digits so that it does fit.
-  const double fitting = spacingM * std::cbrt(estimate.points / most);
-  const double unit = std::pow(10.0, std::floor(std::log10(fitting)) - 2);
   const std::string limit = memoryBinds ? "the " + formatG(allocatable / double(1 << 30)) +
                                               " GiB this process can still allocate (about " +
                                               formatG(kVoxelizeBytesPerParticle) + " bytes per particle)"
                                         : "--max-particles " + firn::withThousands(double(options.maxParticles));
-  throw firn::InputError(options.meshPath + ": about " + firn::withThousands(estimate.points) + " particles at spacing " +
-                         formatG(spacingM) + " m (" + firn::withThousands(estimate.insideTests) +
-                         " positions to test), more than " + limit + "; a spacing of " +
-                         formatG(std::ceil(fitting / unit) * unit) + " m or a smaller --scale would fit" +
-                         (memoryBinds ? std::string() : ", or raise --max-particles"));
+  const std::string raise = memoryBinds ? std::string() : ", or raise --max-particles";
+  if (estimate.points > most) {
+    throw firn::InputError(options.meshPath + ": about " + firn::withThousands(estimate.points) +
+                           " particles at spacing " + formatG(spacingM) + " m (" +
+                           firn::withThousands(estimate.insideTests) + " positions to test), more than " + limit +
+                           "; a spacing of " + formatG(fittingSpacingM(spacingM, estimate.points, most)) +
+                           " m or a smaller --scale would fit" + raise);
+  }
+  const double mostTests = kVoxelizeTestsPerParticle * most;
+  if (estimate.insideTests > mostTests) {
+    // The estimate's coarse lattice misses parts thinner than its spacing; the signed volume says what they hold.
+    const firn::voxelizer::Bounds box = firn::voxelizer::bounds(mesh);
+    const glm::dvec3 extentM = box.maxM - box.minM;
+    const double volumeM3 = std::abs(firn::voxelizer::signedVolume(mesh));
+    throw firn::InputError(
+        options.meshPath + ": " + firn::withThousands(estimate.insideTests) + " positions to test at spacing " +
+        formatG(spacingM) + " m over the mesh's " + formatG(extentM.x) + " × " + formatG(extentM.y) + " × " +
+        formatG(extentM.z) + " m box, more than " + firn::withThousands(mostTests) + " (" +
+        formatG(kVoxelizeTestsPerParticle) + " per particle that " + limit + " allows), for about " +
+        firn::withThousands(std::max(estimate.points, volumeM3 / (spacingM * spacingM * spacingM))) +
+        " particles (its signed volume is " + formatG(volumeM3) + " m³): the mesh fills little of its box. A spacing of " +
+        formatG(fittingSpacingM(spacingM, estimate.insideTests, mostTests)) + " m or a smaller --scale would fit" +
+        raise);
+  }
+  return static_cast<std::size_t>(most);
 }
 
 int voxelizeCommand(const VoxelizeOptions& options) {
@@ -122,14 +155,11 @@ int voxelizeCommand(const VoxelizeOptions& options) {
   const auto loaded = Clock::now();
 
   const voxelizer::SampleEstimate estimate = voxelizer::estimateVoxelize(mesh, sampling);
-  sampling.maxPoints = checkVoxelizeBudget(options, estimate, sampling.spacingM);
+  sampling.maxPoints = checkVoxelizeBudget(options, mesh, estimate, sampling.spacingM);
   std::fprintf(stderr, "firn voxelize: about %s particles to sample (%s positions to test)\n",
                firn::withThousands(estimate.points).c_str(), firn::withThousands(estimate.insideTests).c_str());
-  std::optional<firn::ProgressLine> progressLine;
-  if (isatty(STDERR_FILENO) != 0) {
-    progressLine.emplace(stderr);
-    sampling.progress = [&](double fraction) { progressLine->show("firn voxelize: sampling", fraction); };
-  }
+  std::optional<firn::ProgressLine> progressLine(std::in_place, stderr);
+  sampling.progress = [&](double fraction) { progressLine->showFraction("firn voxelize: sampling", fraction); };
   const auto sample = [&](const voxelizer::SamplingOptions& with) {
     try {
       return voxelizer::voxelize(mesh, with);
@@ -249,21 +279,21 @@ int main(int argc, char** argv) {
              "and VDB caches");
   run->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
   run->add_option("--frames", runOptions.frames, "Number of frames after frame 0 (default: the scene's time.frames)")
-      ->check(CLI::Range(0, 1000000));
+      ->check(firn::cli::inRange(0, 1000000));
   run->add_option("--out", outputDir, "Output folder for stats.csv and frame_NNNN.ply")->capture_default_str();
   run->add_flag("--no-ply", noPly, "Write stats.csv only, no point caches");
   run->add_flag("--pass-times", runOptions.passTimes,
                 "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
   run->add_flag("--png", runOptions.writePng, "Also render each frame offscreen to frame_NNNN.png");
   run->add_option("--width", runOptions.imageSizePx.x, "Picture width in pixels (--png, --mp4)")
-      ->check(CLI::Range(16, 8192))->capture_default_str();
+      ->check(firn::cli::inRange(16, 8192))->capture_default_str();
   run->add_option("--height", runOptions.imageSizePx.y, "Picture height in pixels (--png, --mp4)")
-      ->check(CLI::Range(16, 8192))->capture_default_str();
+      ->check(firn::cli::inRange(16, 8192))->capture_default_str();
   run->add_option("--color", runOptions.colorMode, colorHelp)
-      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
+      ->transform(firn::cli::oneOf(colorModes))
       ->default_str("material");
   CLI::Option* runRender = run->add_option("--render", runRenderMode, renderHelp)
-      ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
+      ->transform(firn::cli::oneOf(renderModes))
       ->default_str("surface");
   run->add_flag("--domain-box", runOptions.domainBox, domainBoxHelp);
   run->add_flag("--mesh", runOptions.writeMesh,
@@ -273,7 +303,7 @@ int main(int argc, char** argv) {
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
   run->add_option("--checkpoint-every", runOptions.checkpointEvery,
                   "Write checkpoint_NNNN.firn (the complete state) every K frames")
-      ->check(CLI::Range(1, 1000000));
+      ->check(firn::cli::inRange(1, 1000000));
   std::string resumePath;
   run->add_option("--resume", resumePath, "Continue from a checkpoint of this scene, bit for bit as if never interrupted")
       ->check(CLI::ExistingFile);
@@ -282,21 +312,21 @@ int main(int argc, char** argv) {
   std::string screenshotPath;
   CLI::App* view = app.add_subcommand("view", "Open a window and watch the scene (GLFW; needs a display or xvfb-run)");
   view->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
-  view->add_option("--frames", viewOptions.frames, "Exit after this many drawn frames")->check(CLI::Range(1, 100000000));
+  view->add_option("--frames", viewOptions.frames, "Exit after this many drawn frames")->check(firn::cli::inRange(1, 100000000));
   view->add_option("--screenshot", screenshotPath, "With --frames: write the last frame to this PNG file")
       ->needs("--frames");
-  view->add_option("--width", viewOptions.widthPx, "Window width in pixels")->check(CLI::Range(16, 8192))
+  view->add_option("--width", viewOptions.widthPx, "Window width in pixels")->check(firn::cli::inRange(16, 8192))
       ->capture_default_str();
-  view->add_option("--height", viewOptions.heightPx, "Window height in pixels")->check(CLI::Range(16, 8192))
+  view->add_option("--height", viewOptions.heightPx, "Window height in pixels")->check(firn::cli::inRange(16, 8192))
       ->capture_default_str();
   view->add_option("--throw-at", viewOptions.throwAtFrames,
-                   "Throw a snowball from the camera at these frames, as the T key does (scripted demos)")
-      ->check(CLI::PositiveNumber);
+                   "Throw a snowball from the camera at these frames (comma-separated), as the T key does (scripted demos)")
+      ->check(firn::cli::inRange(1, 100000000))->delimiter(',');
   view->add_option("--color", viewOptions.colorMode, colorHelp)
-      ->transform(CLI::CheckedTransformer(colorModes, CLI::ignore_case).description("{material,speed,plastic,stress}"))
+      ->transform(firn::cli::oneOf(colorModes))
       ->default_str("material");
   CLI::Option* viewRender = view->add_option("--render", viewRenderMode, renderHelp)
-      ->transform(CLI::CheckedTransformer(renderModes, CLI::ignore_case).description("{particles,surface}"))
+      ->transform(firn::cli::oneOf(renderModes))
       ->default_str("surface");
   view->add_flag("--domain-box", viewOptions.domainBox, domainBoxHelp);
 
@@ -308,25 +338,25 @@ int main(int argc, char** argv) {
   voxelize->add_option("--out", voxelizeOptions.outputPath, "Output point cloud (binary PLY: x y z vx vy vz mass plastic_j)")
       ->required();
   CLI::Option* spacing = voxelize->add_option("--spacing", voxelizeOptions.spacingM, "Particle spacing s in metres")
-                             ->check(CLI::PositiveNumber);
+                             ->check(firn::cli::positive());
   CLI::Option* cellSize = voxelize->add_option("--cell-size", voxelizeOptions.cellSizeM,
                                                "Grid cell size h in metres: spacing h / cbrt(--particles-per-cell)")
-                              ->check(CLI::PositiveNumber)->excludes(spacing);
+                              ->check(firn::cli::positive())->excludes(spacing);
   voxelize->add_option("--particles-per-cell", voxelizeOptions.particlesPerCell, "Particles per grid cell (with --cell-size)")
-      ->check(CLI::Range(0.001, 1000.0))->needs(cellSize)->capture_default_str();
+      ->check(firn::cli::inRange(0.001, 1000))->needs(cellSize)->capture_default_str();
   voxelize->add_option("--sampler", voxelizeOptions.sampler, "lattice (jittered, grid-aligned) or poisson_disk (blue noise)")
-      ->check(CLI::IsMember({"lattice", "poisson_disk"}))->capture_default_str();
+      ->check(firn::cli::oneOf(std::vector<std::string>{"lattice", "poisson_disk"}))->capture_default_str();
   voxelize->add_option("--seed", voxelizeOptions.seed, "Random seed of the jitter or the Poisson-disk samples");
   voxelize->add_option("--scale", voxelizeOptions.placement.scale, "Uniform scale applied to the mesh first")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(firn::cli::positive())->capture_default_str();
   voxelize->add_option("--rotate-deg", rotateDeg, "Rotation X,Y,Z in degrees (about x, then y, then z), after scaling")
       ->expected(3)->delimiter(',');
   voxelize->add_option("--translate", translateM, "Translation X,Y,Z in metres, applied last")->expected(3)->delimiter(',');
   voxelize->add_option("--density", voxelizeOptions.densityKgPerM3, "Density in kg/m³ of the particles' masses (density · s³ on the lattice)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(firn::cli::positive())->capture_default_str();
   voxelize->add_option("--max-particles", voxelizeOptions.maxParticles,
                        "Refuse, before sampling, a mesh estimated to yield more particles than this")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{2147483647}))->capture_default_str();
+      ->check(firn::cli::inRange(1, 2147483647))->capture_default_str();
 
   BenchCommand benchOptions;
   benchOptions.outputDir = benchOptions.options.outputDir.string();
@@ -342,11 +372,11 @@ int main(int argc, char** argv) {
   bench->add_option("--out", benchOptions.outputDir, "Output folder for the tables, machine.txt, summary.txt and plots")
       ->capture_default_str();
   bench->add_option("--repeats", benchOptions.options.repeats, "Timed runs per configuration; each table gives their median")
-      ->check(CLI::Range(1, 1000))->capture_default_str();
+      ->check(firn::cli::inRange(1, 1000))->capture_default_str();
   bench->add_option("--steps", benchOptions.options.stepsPerRepeat, "Steps per timed run (default: the sizes' own)")
-      ->check(CLI::Range(1, 1000000));
+      ->check(firn::cli::inRange(1, 1000000));
   bench->add_option("--only", benchOptions.options.tables, "Only these tables (comma-separated)")
-      ->check(CLI::IsMember(firn::bench::tableNames()))->delimiter(',');
+      ->check(firn::cli::oneOf(firn::bench::tableNames()))->delimiter(',');
   bench->add_option("--assets", benchOptions.assetsDir, "Firn's assets folder (scenes/bunny_thesis.json, meshes/bunny.obj)")
       ->capture_default_str();
   bench->add_option("--thesis-cloud", benchOptions.thesisCloud,
@@ -355,11 +385,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   bench->add_option("--thesis-dt", benchOptions.options.thesisDtS,
                     "Time step of thesis.csv in seconds (the thesis's 1e-3 is beyond Firn's explicit elastic bound)")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(firn::cli::positive())->capture_default_str();
   bench->add_option("--atomics", benchOptions.options.atomics,
                     "How P2G sums in the particle, grid, passes and thesis tables, a series each (comma-separated: "
                     "fixed, float); default: fixed, and float where the driver has float atomics")
-      ->check(CLI::IsMember({"fixed", "float"}))->delimiter(',');
+      ->check(firn::cli::oneOf(std::vector<std::string>{"fixed", "float"}))->delimiter(',');
   bench->add_flag("--no-plots", benchOptions.noPlots, "Write the tables only");
   bench->add_option("--plots-only", benchOptions.plotsOnly, "Measure nothing: plot the tables already in this folder");
 
@@ -368,8 +398,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int status = app.exit(error);
-    return status == 0 ? 0 : static_cast<int>(firn::ExitCode::BadInput);
+    // --help is a parse "error" that succeeds: CLI11 prints the help. Anything else is bad input, said as Firn's
+    // other errors are.
+    if (error.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(error);
+    std::fprintf(stderr, "firn: error: %s\nRun with --help for more information.\n", error.what());
+    return static_cast<int>(firn::ExitCode::BadInput);
   }
 
   try {

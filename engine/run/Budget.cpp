@@ -1,7 +1,6 @@
 #include "run/Budget.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -158,29 +157,6 @@ std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::Conte
   for (const BodyEstimate& estimate : budget.bodies) estimated += estimate.particles;
   limits.expectedParticles = static_cast<std::size_t>(reserveMargin * estimated);
   return sampleBodies(scene, limits);
-}
-
-ProgressLine::~ProgressLine() {
-  if (shown_) std::fprintf(stream_, "\n");
-}
-
-void ProgressLine::show(const std::string& prefix, double fraction) {
-  const double nowS = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  if (prefix != prefix_) {
-    prefix_ = prefix;
-    startS_ = nowS;
-  }
-  // A few times a second, and not at all for what takes less than a second.
-  constexpr double quietS = 1.0;
-  constexpr double intervalS = 0.25;
-  if (nowS - startS_ < quietS || nowS - shownS_ < intervalS) return;
-  shownS_ = nowS;
-  shown_ = true;
-  const double elapsedS = nowS - startS_;
-  const int etaS = fraction > 0 ? static_cast<int>(elapsedS / fraction * (1 - fraction) + 0.5) : 0;
-  std::fprintf(stream_, "\r%s %3.0f%%  ETA %d:%02d   ", prefix.c_str(), 100 * std::clamp(fraction, 0.0, 1.0), etaS / 60,
-               etaS % 60);
-  std::fflush(stream_);
 }
 
 }  // namespace firn

@@ -2,7 +2,6 @@
 // Before sampling a scene: the particles its bodies will make, estimated, against what the GPU's buffers hold
 // and what the host can allocate; then sampling held to that (docs/scene-format.md, Sizes and limits).
 #include <cstddef>
-#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -34,23 +33,5 @@ ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl
 // when set.
 std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
                                              const std::function<void(std::size_t body, double fraction)>& progress);
-
-// A progress line on a terminal: "\r<prefix> 45%  ETA 0:12", at most a few times a second, and a line break
-// when done. For sampling, which can take minutes for large bodies.
-class ProgressLine {
- public:
-  explicit ProgressLine(std::FILE* stream) : stream_(stream) {}
-  ~ProgressLine();
-  ProgressLine(const ProgressLine&) = delete;
-  ProgressLine& operator=(const ProgressLine&) = delete;
-  void show(const std::string& prefix, double fraction);
-
- private:
-  std::FILE* stream_;
-  std::string prefix_;
-  double startS_ = 0;
-  double shownS_ = -1;
-  bool shown_ = false;
-};
 
 }  // namespace firn

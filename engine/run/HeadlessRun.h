@@ -18,7 +18,7 @@ struct RunOptions {
   std::optional<int> frames;       // overrides the scene's time.frames
   std::filesystem::path outputDir = "firn-out";
   bool writePly = true;
-  bool showProgress = false;       // a progress line on stderr (when it is a terminal)
+  bool showProgress = false;       // progress on stderr: in place on a terminal, a line every few seconds elsewhere
   bool passTimes = false;          // time every pass on the GPU and print a table at the end
   bool writePng = false;           // render each frame offscreen to frame_NNNN.png
   glm::ivec2 imageSizePx{1280, 720};

@@ -138,6 +138,68 @@ void warnAboutSheets(const Scene& scene, const std::vector<ParticleSeed>& partic
   }
 }
 
+// A bound on the step from a speed: h / |v|, the CFL condition, for what moves that fast (a particle, a collider
+// that the snow it meets follows, a fall under gravity), with what to change to raise it.
+struct SpeedBound {
+  double dtS = std::numeric_limits<double>::infinity();
+  std::string what;  // "the CFL bound h / |v| = … s of …"
+  std::string key;   // the scene's key that sets the speed
+  std::string fix;   // what to lower, besides time.dt
+};
+
+// The speeds a step must keep within a cell: the fastest particle at the start, the fastest collider (snow it
+// touches takes its velocity, and a collider crossing more than a cell per step passes through snow), and the
+// speed a fall under gravity reaches across the domain's interior, √(2 |g| L) with L the interior's extent along g
+// (walls stop anything longer).
+std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<ParticleSeed>& particles) {
+  const double h = scene.grid.cellSizeM;
+  std::vector<SpeedBound> bounds;
+  double fastestMPerS = 0;
+  int fastestBody = -1;
+  for (const ParticleSeed& particle : particles) {
+    const double speed = glm::length(particle.velocityMPerS);
+    if (speed <= fastestMPerS) continue;
+    fastestMPerS = speed;
+    fastestBody = particle.bodyIndex;
+  }
+  if (fastestMPerS > 0) {
+    const std::string key = "bodies[" + std::to_string(fastestBody) + "].velocity";
+    bounds.push_back({h / fastestMPerS,
+                      "the CFL bound h / |v| = " + seconds(h / fastestMPerS) + " of the fastest particle (" +
+                          format("%.3g m/s", fastestMPerS) + ")",
+                      key, "lower the body velocities"});
+  }
+  int fastestCollider = -1;
+  double colliderMPerS = 0;
+  for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+    const double speed = glm::length(scene.colliders[c].velocityMPerS);
+    if (speed > colliderMPerS) {
+      colliderMPerS = speed;
+      fastestCollider = int(c);
+    }
+  }
+  if (fastestCollider >= 0) {
+    const std::string name = "colliders[" + std::to_string(fastestCollider) + "]";
+    bounds.push_back({h / colliderMPerS,
+                      "the CFL bound h / |v| = " + seconds(h / colliderMPerS) + " of " + name + " (a " +
+                          colliderName(scene.colliders[std::size_t(fastestCollider)].shape) + " moving at " +
+                          format("%.3g m/s", colliderMPerS) + ": the snow it meets takes its speed)",
+                      name + ".velocity", "slow " + name + ".velocity"});
+  }
+  const double gravity = glm::length(scene.gravityMPerS2);
+  if (gravity > 0) {
+    const glm::dvec3 extentM = scene.grid.interiorMaxM() - scene.grid.interiorMinM();
+    const double fallM = glm::dot(glm::abs(scene.gravityMPerS2) / gravity, extentM);
+    const double fallSpeedMPerS = std::sqrt(2 * gravity * fallM);
+    bounds.push_back({h / fallSpeedMPerS,
+                      "the CFL bound h / √(2 |g| L) = " + seconds(h / fallSpeedMPerS) + " of gravity (|g| = " +
+                          format("%.3g m/s²", gravity) + ": a fall across the domain's interior, L = " +
+                          format("%.3g m", fallM) + ", reaches " + format("%.3g m/s", fallSpeedMPerS) + ")",
+                      "gravity", "reduce gravity"});
+  }
+  return bounds;
+}
+
 }  // namespace
 
 PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles, std::optional<int> lastFrame) {
@@ -145,55 +207,75 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
   const double h = scene.grid.cellSizeM;
   const double dt = scene.time.dtS;
 
-  // The elastic bound dt < h / c of the stiffest material as its body uses it, and the CFL bound dt < h / |v| of
-  // the fastest particle at the start.
+  // The elastic bound dt < h / c of the stiffest material as its body uses it, and the CFL bounds dt < h / |v| of
+  // what moves.
   const StiffestBody stiffest = stiffestBody(scene);
   const double elasticDt = h / stiffest.waveSpeedMPerS;
   const std::string stiffestName = "material \"" +
                                    scene.materials.at(std::size_t(scene.bodies.at(std::size_t(stiffest.bodyIndex)).materialIndex)).name +
                                    "\" (wave speed c = " + format("%.4g m/s", stiffest.waveSpeedMPerS) + ")";
-  double fastestMPerS = 0;
-  for (const ParticleSeed& particle : particles) fastestMPerS = std::max(fastestMPerS, double(glm::length(particle.velocityMPerS)));
-  const double cflDt = fastestMPerS > 0 ? h / fastestMPerS : std::numeric_limits<double>::infinity();
-  // A semi-implicit step takes the elastic forces implicitly: only the particles' CFL bound limits it, and the
-  // elastic bound is what an explicit step of the scene would need.
+  const std::vector<SpeedBound> speeds = speedBounds(scene, particles);
+  SpeedBound cfl;
+  std::string speedNotes;
+  for (const SpeedBound& bound : speeds) {
+    if (bound.dtS < cfl.dtS) cfl = bound;
+    speedNotes += ", " + bound.what;
+  }
+  // A semi-implicit step takes the elastic forces implicitly: only the CFL bounds limit it, and the elastic bound
+  // is what an explicit step of the scene would need.
   const bool semiImplicit = scene.solver.semiImplicit();
-  report.stableDtS = semiImplicit ? cflDt : std::min(elasticDt, cflDt);
-  const std::string cflNote = std::isfinite(cflDt) ? "CFL bound h / |v| = " + seconds(cflDt) + " for the fastest particle (" +
-                                                         format("%.3g m/s", fastestMPerS) + ")"
-                                                   : std::string();
+  const SpeedBound elastic{elasticDt, "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName, "", ""};
+  const SpeedBound& binding = !semiImplicit && elasticDt <= cfl.dtS ? elastic : cfl;
+  report.stableDtS = binding.dtS;
   if (semiImplicit) {
-    report.notes.push_back("stable time step: semi-implicit, bounded by the particles' CFL condition" +
-                           (cflNote.empty() ? std::string(" (the particles start at rest)") : ": " + cflNote) +
+    report.notes.push_back("stable time step: semi-implicit, bounded by the CFL conditions" +
+                           (speeds.empty() ? std::string(" (nothing moves at the start)") : ": " + speedNotes.substr(2)) +
                            "; time.dt = " + seconds(dt) + " is " + format("%.3g", dt / elasticDt) +
                            " times the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName +
                            " that an explicit step would need");
   } else {
     report.notes.push_back("stable time step: elastic bound h / c = " + seconds(elasticDt) + " for " + stiffestName +
-                           (cflNote.empty() ? std::string() : ", " + cflNote) + "; time.dt = " + seconds(dt));
+                           speedNotes + "; time.dt = " + seconds(dt));
   }
+  const double frameS = 1 / scene.time.frameRateHz;
   if (scene.time.adaptive) {
     report.notes.push_back("adaptive time step: each step at most " + seconds(dt) + " and " +
                            format("%.2g", scene.time.cfl) + " of the bounds");
+    // Adaptive steps shrink with the speeds: a speed that would need more steps per frame than a frame may take
+    // (TimeSpec::maxStepsPerFrame) cannot be run.
+    const double stepsPerFrame = frameS / (scene.time.cfl * cfl.dtS);
+    if (stepsPerFrame > TimeSpec::maxStepsPerFrame) {
+      throw InputError(sceneFileName(scene) + ": " + cfl.key + ": " + cfl.what +
+                       " would make the adaptive steps " + seconds(scene.time.cfl * cfl.dtS) + " long, " +
+                       format("%.3g", stepsPerFrame) + " per frame, more than the " +
+                       withThousands(TimeSpec::maxStepsPerFrame) + " steps a frame may take; " + cfl.fix);
+    }
   } else {
-    const std::string limit = !semiImplicit && elasticDt <= cflDt
-                                  ? "the elastic bound h / c = " + seconds(elasticDt) + " of " + stiffestName
-                                  : "the CFL bound h / |v| = " + seconds(cflDt) + " of the fastest particle";
     if (dt > kPreflightFarBeyondFactor * report.stableDtS) {
-      const std::string advice = semiImplicit || elasticDt > cflDt
-                                     ? ""
-                                     : ", or set solver.integrator to \"semi_implicit\", which the elastic bound does "
-                                       "not limit";
+      const std::string advice = &binding == &elastic && !semiImplicit
+                                     ? ", or set solver.integrator to \"semi_implicit\", which the elastic bound does "
+                                       "not limit"
+                                     : ", or " + binding.fix;
       throw InputError(sceneFileName(scene) + ": time.dt: " + seconds(dt) + " is " + format("%.3g", dt / report.stableDtS) +
-                       " times " + limit + "; the " + (semiImplicit ? "semi-implicit" : "explicit") +
+                       " times " + binding.what + "; the " + (semiImplicit ? "semi-implicit" : "explicit") +
                        " step cannot be stable beyond it. Set time.dt to at most " + seconds(report.stableDtS) +
                        " (a fifth of it is a safe choice)" + advice);
     }
     if (dt > report.stableDtS) {
-      report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + limit +
+      report.warnings.push_back("time.dt = " + seconds(dt) + " exceeds " + binding.what +
                                 ": the run is likely to go unstable; set time.dt to at most " +
                                 seconds(report.stableDtS) + ", or let \"adaptive\": true choose it");
     }
+  }
+
+  // Positions are floats on the GPU (GridSpec::positionResolutionM); the scene loader refuses what is far too coarse.
+  const double resolutionM = scene.grid.positionResolutionM();
+  if (resolutionM > GridSpec::warnedPositionResolutionCells * h) {
+    report.warnings.push_back("grid.origin: positions out at the domain's far corner are 32-bit floats " +
+                              format("%.3g m", resolutionM) + " apart, " + format("%.3g", resolutionM / h) +
+                              " of a cell (more than 1/1000): a particle slower than " +
+                              format("%.3g m/s", resolutionM / (2 * dt)) + " (half of that per step of time.dt) "
+                              "stands still. Move the scene nearer to (0, 0, 0) for finer positions");
   }
 
   // Particles per cell, and the fixed-point resolution that leaves (sim/FixedPoint.h; fixed-point atomics only).

@@ -10,6 +10,7 @@
 #include "render/Renderer.h"
 #include "run/Budget.h"
 #include "run/Preflight.h"
+#include "run/Progress.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
 
@@ -24,7 +25,7 @@ std::vector<ParticleSeed> sampleShowingProgress(const Scene& scene, const gl::Co
   if (options.showProgress) {
     progressLine.emplace(stderr);
     progress = [&](std::size_t body, double fraction) {
-      progressLine->show(options.messagePrefix + ": sampling bodies[" + std::to_string(body) + "]:", fraction);
+      progressLine->showFraction(options.messagePrefix + ": sampling bodies[" + std::to_string(body) + "]:", fraction);
     };
   }
   return sampleWithinBudget(scene, gl, options.reservedParticles, progress);

@@ -26,7 +26,7 @@ enum class RenderMode;
 
 struct SessionOptions {
   std::string messagePrefix = "firn";    // what each message starts with: "firn", "firn view"
-  bool showProgress = false;             // a progress line on stderr while sampling
+  bool showProgress = false;             // progress on stderr while sampling (run/Progress.h)
   std::optional<int> lastFrame;          // the run's last frame: the opening line and the emitters' notes say it
   bool withSurface = false;              // the surface's settings checked against the particles before simulating
   double reservedParticles = 0;          // the budget's room for particles added while running (an estimate)

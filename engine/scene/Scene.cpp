@@ -1,6 +1,12 @@
 // The snow presets a scene may name, the models' names, and the built-in scene `firn run` uses with no SCENE.
 #include "scene/Scene.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/common.hpp>
+
 namespace firn {
 
 const std::vector<Material>& snowPresets() {
@@ -19,6 +25,14 @@ const std::vector<Material>& snowPresets() {
       {"slushy", 4.8e4, 0.25, 600, 3.0e-2, 1.0e-2, 5},
   };
   return presets;
+}
+
+double GridSpec::positionResolutionM() const {
+  const glm::dvec3 farthest = glm::max(glm::abs(originM), glm::abs(originM + glm::dvec3(cells) * cellSizeM));
+  const double largest = std::max({farthest.x, farthest.y, farthest.z});
+  if (!(largest < double(std::numeric_limits<float>::max()))) return std::numeric_limits<double>::infinity();
+  const auto coordinate = float(largest);
+  return double(std::nextafter(coordinate, std::numeric_limits<float>::infinity())) - double(coordinate);
 }
 
 std::string sceneFileName(const Scene& scene) {

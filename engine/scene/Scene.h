@@ -40,6 +40,18 @@ struct GridSpec {
   static constexpr int wallCells = 2;
   glm::dvec3 interiorMinM() const { return originM + double(wallCells) * cellSizeM; }
   glm::dvec3 interiorMaxM() const { return originM + glm::dvec3(cells - wallCells) * cellSizeM; }
+
+  // The spacing of 32-bit floats at the domain's corner farthest from (0, 0, 0): the GPU keeps positions as floats,
+  // so no particle's position there is finer than this. A step moves a particle by whole multiples of it: one
+  // slower than half of it per step stands still, and the B-spline weights see where in its cell it is only to
+  // this resolution.
+  double positionResolutionM() const;
+  // Coarser than a hundredth of a cell is refused: the weights would know fewer than 100 places per cell, and a
+  // particle slower than half a percent of a cell per step would never move. Coarser than a thousandth is a
+  // warning (pre-flight gives the speed below which particles stand still). At the origin a grid of 1024 cells
+  // reaches h / 8192 at its far corner, within both.
+  static constexpr double refusedPositionResolutionCells = 1.0 / 100;
+  static constexpr double warnedPositionResolutionCells = 1.0 / 1000;
 };
 
 struct TimeSpec {
@@ -48,6 +60,11 @@ struct TimeSpec {
   double cfl = 0.4;         // the fraction of a cell the fastest particle, or the elastic wave, may cross per step
   double frameRateHz = 30;  // frame N is the state at N / frameRateHz
   int frames = 60;
+
+  // A frame may take at most this many steps (time.dt against frame_rate): at a millisecond per step, a GPU's
+  // cost for a modest scene, that is a quarter of an hour per frame; more is a unit mistake. SteppingPolicy counts
+  // a frame's steps in an int.
+  static constexpr double maxStepsPerFrame = 1e6;
 };
 
 struct SolverSpec {

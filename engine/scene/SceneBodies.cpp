@@ -180,6 +180,15 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
   result.angularVelocityRadPerS = body.vec3("angular_velocity", result.angularVelocityRadPerS);
   result.lambdaScale = body.number("lambda_scale", result.lambdaScale, Interval::atLeast(0));
   result.muScale = body.number("mu_scale", result.muScale, Interval::atLeast(0));
+  // Either scale alone may be 0 (λ = 0: no resistance to volume change beyond μ's; μ = 0: a compressible fluid).
+  // Both at 0 leave the body no elastic stress: nothing resists its compression, and it has no wave speed to bound
+  // the step. Water's stress comes from its bulk modulus, which the scales do not touch.
+  if (result.lambdaScale == 0 && result.muScale == 0 &&
+      materials[std::size_t(result.materialIndex)].model != MaterialModel::Water) {
+    body.fail("mu_scale", "must not be 0 together with lambda_scale: with both 0 the body has no elastic stress, so "
+                          "nothing resists its compression (its particles pile into ever fewer cells) and no elastic "
+                          "wave bounds its time step; give one of them a value above 0");
+  }
   result.massScale = body.number("mass_scale", result.massScale, Interval::greaterThan(0));
   constexpr int maxFrames = 1000000;  // as time.frames
   result.startFrame = body.integer("start_frame", result.startFrame, 0, maxFrames);

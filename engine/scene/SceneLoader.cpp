@@ -1,6 +1,8 @@
 // Reads a scene file (docs/scene-format.md) into a Scene: the top level and its small sections (grid, time,
 // solver, camera) here, materials, bodies and colliders in the files SceneSections.h names. Every problem is an
 // InputError naming the file, the key path and the problem (scene/JsonChecker.h).
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include "Error.h"
@@ -27,6 +29,17 @@ GridSpec readGrid(const Object& grid) {
   spec.cells = grid.required("cells").ivec3(8, 1024);
   // A cell over a kilometre is a unit mistake, and bounds the domain's extent far from a double's range.
   spec.cellSizeM = grid.number("cell_size", Interval::openClosed(0, 1000));
+  const double resolutionCells = spec.positionResolutionM() / spec.cellSizeM;
+  if (resolutionCells > GridSpec::refusedPositionResolutionCells) {
+    const glm::dvec3 farCorner = spec.originM + glm::dvec3(spec.cells) * spec.cellSizeM;
+    grid.fail("origin", "positions out to the domain's far corner (" + formatApproximately(farCorner.x) + ", " +
+                            formatApproximately(farCorner.y) + ", " + formatApproximately(farCorner.z) +
+                            ") m are 32-bit floats on the GPU, " + format("%.3g", spec.positionResolutionM()) +
+                            " m apart there: " + format("%.3g", resolutionCells) +
+                            " of a cell (cell_size " + formatNumber(spec.cellSizeM) +
+                            " m), coarser than the 1/100 of a cell a particle's place in its cell needs. Move the "
+                            "scene nearer to (0, 0, 0), or use larger cells");
+  }
   return spec;
 }
 
@@ -39,6 +52,24 @@ TimeSpec readTime(const Object& time) {
   if (spec.dtS > frameDurationS) {
     time.fail("dt", "must not exceed one frame, 1 / frame_rate = " + formatApproximately(frameDurationS) + " s (got " +
                         formatNumber(spec.dtS) + ")");
+  }
+  // The GPU takes dt (and each step's share of a frame) as a 32-bit float: beyond a normal float's range it would
+  // be 0 or infinite there.
+  if (!(spec.dtS >= double(std::numeric_limits<float>::min()) && spec.dtS <= double(std::numeric_limits<float>::max()))) {
+    time.fail("dt", "must be a normal 32-bit float, between " + formatApproximately(std::numeric_limits<float>::min()) +
+                        " and " + formatApproximately(std::numeric_limits<float>::max()) + " s, as the GPU takes it (got " +
+                        formatNumber(spec.dtS) + ")");
+  }
+  // Each frame takes ⌈(1 / frame_rate) / dt⌉ steps. A frame rate below 1 Hz is the unusual value of the two (a frame
+  // of more than a second), so the message names it; otherwise the step is what is small.
+  const double stepsPerFrame = std::ceil(frameDurationS / spec.dtS - 1e-9);
+  if (stepsPerFrame > TimeSpec::maxStepsPerFrame) {
+    const std::string problem = "a frame (1 / frame_rate = " + formatApproximately(frameDurationS) + " s) would take " +
+                                format("%.3g", stepsPerFrame) + " steps of dt = " + formatNumber(spec.dtS) +
+                                " s, more than the " + withThousands(TimeSpec::maxStepsPerFrame) +
+                                " steps a frame may take (at a millisecond per step, a quarter of an hour per frame); "
+                                "raise time.dt or time.frame_rate";
+    time.fail(spec.frameRateHz < 1 ? "frame_rate" : "dt", problem);
   }
   constexpr int maxFrames = 1000000;  // about nine hours at 30 Hz: more is a typo, not a shot
   spec.frames = time.integer("frames", spec.frames, 0, maxFrames);

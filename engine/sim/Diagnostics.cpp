@@ -6,6 +6,8 @@
 #include <tuple>
 #include <utility>
 
+#include <glm/geometric.hpp>
+
 #include "Error.h"
 #include "gpu/GpuFunctions.h"
 #include "gpu/Materials.h"
@@ -29,7 +31,15 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
       solver_(scene.solver), maxNodeValue_(fixedPoint.maxNodeValue()),
-      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies) {}
+      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies) {
+  double fastestMPerS = 0;
+  for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+    const double speed = glm::length(scene.colliders[c].velocityMPerS);
+    if (speed <= fastestMPerS) continue;
+    fastestMPerS = speed;
+    fastestCollider_ = "colliders[" + std::to_string(c) + "] (" + format("%.4g", speed) + " m/s)";
+  }
+}
 
 void Diagnostics::noteParticles(const std::vector<ParticleSeed>& seeds) {
   for (const ParticleSeed& seed : seeds) {
@@ -161,7 +171,11 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                         when(status.cflStep) + ": " + describeParticle(status.cflParticle, state) + " moved " +
                             format("%.4g", status.cflCellsPerStep) + " cells in one step (CFL limit 1; " +
                             std::to_string(status.cflCount) + " violations). Reduce time.dt below h / |v| or lower "
-                            "the body velocities; " + stiffness + ".");
+                            "the body velocities" +
+                            (fastestCollider_.empty()
+                                 ? std::string()
+                                 : ", or slow " + fastestCollider_ + ": the snow a collider meets takes its speed") +
+                            "; " + stiffness + ".");
   }
   if (solverFailure) {
     const SolveReport& solve = solverFailure->report;

@@ -1,5 +1,6 @@
 // The pre-flight check: the time step against the elastic and CFL bounds (warn, or stop when far beyond),
 // and bodies that start inside colliders.
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -79,6 +80,69 @@ TEST(Preflight, BodyStartingInsideAColliderIsReported) {
   EXPECT_NE(report.warnings[0].find("start inside colliders[0] (a plane)"), std::string::npos) << report.warnings[0];
   const std::size_t inside = std::stoul(report.warnings[0].substr(report.warnings[0].find(": ") + 2));
   EXPECT_NEAR(double(inside), 0.5 * double(particles.size()), 0.05 * double(particles.size()));
+}
+
+// A collider at 1e6 m/s crosses 2e4 cells per step of 1e-3 s (h = 0.05 m): its CFL bound h / |v| = 5e-8 s, not the
+// bodies' (at rest), is what the refusal names, with the key to change.
+TEST(Preflight, FastColliderIsNamedWhenItBindsTheStep) {
+  const Scene scene = sceneWith("1e-3", kBall, R"([ { "type": "box", "min": [0.2, 0.2, 0.2], "max": [0.3, 0.3, 0.3],
+                                                      "velocity": [1e6, 0, 0] } ])");
+  try {
+    preflight(scene, sampleBodies(scene));
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("time.dt: 0.001 s is 2e+04 times the CFL bound h / |v| = 5e-08 s of colliders[0] (a box "
+                           "moving at 1e+06 m/s"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("or slow colliders[0].velocity"), std::string::npos) << message;
+  }
+}
+
+// Gravity of 1e30 m/s² over the interior's 1 m (20 cells of 0.05 m) reaches √(2e30) = 1.41e15 m/s: the bound
+// h / √(2 |g| L) = 3.54e-17 s names gravity, for fixed steps and for adaptive ones (whose steps would number 1e15
+// a frame).
+TEST(Preflight, HugeGravityIsNamed) {
+  Scene scene = sceneWith("1e-3", kBall);
+  scene.gravityMPerS2 = {0, -1e30, 0};
+  const std::vector<ParticleSeed> particles = sampleBodies(scene);
+  try {
+    preflight(scene, particles);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("times the CFL bound h / √(2 |g| L) = 3.54e-17 s of gravity (|g| = 1e+30 "
+                                             "m/s²"),
+              std::string::npos)
+        << error.what();
+  }
+  scene.time.adaptive = true;
+  try {
+    preflight(scene, particles);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("preflight.json: gravity: the CFL bound h / √(2 |g| L) = 3.54e-17 s", 0), 0u)
+        << error.what();
+  }
+  // Earth's gravity over the same metre: 4.43 m/s, a bound of 0.0113 s, far above dt.
+  scene.gravityMPerS2 = {0, -9.81, 0};
+  EXPECT_NO_THROW(preflight(scene, particles));
+}
+
+// At x = 1000 m floats are 2⁻¹⁴ m = 6.1e-5 m apart, 0.00122 of a 0.05 m cell: above the warning's thousandth (not
+// the refusal's hundredth). A step of 1e-3 s moves a particle only if it is faster than 6.1e-5 / 2 / 1e-3 m/s.
+TEST(Preflight, DomainFarFromTheOriginWarnsWithTheSpeedThatStandsStill) {
+  Scene scene = sceneWith("1e-3", kBall);
+  scene.grid.originM.x = 1000;
+  EXPECT_DOUBLE_EQ(scene.grid.positionResolutionM(), std::ldexp(1.0, -14));
+  // The grid moves, the ball does not: its particles lie outside it, which pre-flight does not look at.
+  const PreflightReport report = preflight(scene, sampleBodies(sceneWith("1e-3", kBall)));
+  EXPECT_TRUE(contains(report.warnings, "grid.origin: positions out at the domain's far corner are 32-bit floats "
+                                        "6.1e-05 m apart, 0.00122 of a cell"));
+  EXPECT_TRUE(contains(report.warnings, "a particle slower than 0.0305 m/s"));
+  // At the origin the same grid's far corner, 1.2 m, has floats 1.2e-7 m apart: no warning.
+  const Scene atOrigin = sceneWith("1e-3", kBall);
+  EXPECT_TRUE(preflight(atOrigin, sampleBodies(atOrigin)).warnings.empty());
 }
 
 // Every scene Firn ships passes its own pre-flight check without a warning.
