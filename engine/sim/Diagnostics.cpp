@@ -74,18 +74,19 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 // Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}
 // without limit, and once its wave outruns the step the step is unstable although the scene's bound, taken at
 // J_P = 1 − θc, held. Named is the snow particle whose hardened wave is fastest, in its last finite state (the
-// watchdog rejects a non-finite update), which is often not the first particle to fail.
+// watchdog rejects a non-finite update), which is often not the first particle to fail. Beyond the scene's bound
+// that bound is the cause, and what an unstable step leaves in J_P (≤ 0, even) tells nothing.
 std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
   const std::string generic = "Reduce time.dt or youngs_modulus; the elastic wave bound is dt < h / c = " +
                               format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
                               format("%.4g", dtS_) + " s).";
-  if (solver_.semiImplicit()) return generic;
+  if (solver_.semiImplicit() || dtS_ > stableDtS_) return generic;
   const std::vector<float> plasticJ = state.particles().read(particleBody_.size()).plasticJ;
   std::size_t stiffest = plasticJ.size();
   double fastestMPerS = 0;
   for (std::size_t p = 0; p < plasticJ.size(); ++p) {
     const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[p])];
-    if (material.model != MaterialModel::Snow || !std::isfinite(plasticJ[p])) continue;
+    if (material.model != MaterialModel::Snow || !(plasticJ[p] > 0.0f && plasticJ[p] < 1.0f)) continue;
     const int body = particleBody_[p];
     const double speedMPerS =
         hardenedWaveSpeedMPerS(material, plasticJ[p], body >= 0 ? bodies_[std::size_t(body)].lambdaScale : 1.0,

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 #include <vector>
+#include "support/TestFiles.h"
 
 namespace firn::test {
 
@@ -27,15 +28,6 @@ inline Result runFirn(const std::string& arguments, const std::string& environme
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-inline std::filesystem::path freshDirectory(const std::string& name) {
-  // The process id keeps concurrent test runs (ctest --parallel, two checkouts) out of each other's way.
-  const std::filesystem::path directory =
-      std::filesystem::temp_directory_path() / ("firn_cli_test_" + std::to_string(getpid()) + "_" + name);
-  std::filesystem::remove_all(directory);
-  std::filesystem::create_directories(directory);
-  return directory;
 }
 
 inline std::filesystem::path writeScene(const std::filesystem::path& directory, const std::string& name,

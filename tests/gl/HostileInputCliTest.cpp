@@ -29,6 +29,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using firn::test::fileBytes;
 using firn::test::freshDirectory;
 using firn::test::readCsv;
 using firn::test::Result;
@@ -44,11 +45,6 @@ const char* const kSmallScene = R"({
   "colliders": [ { "type": "plane", "point": [0, 0.3, 0], "normal": [0, 1, 0] } ] })";
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-std::string fileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 

@@ -276,6 +276,34 @@ TEST_F(SimulationTest, NonFiniteParticleIsReportedAndNeverStored) {
   }
 }
 
+// Snow thrown at a wall at 20 m/s compacts far past its critical compression within a few steps, and hardening
+// e^{ξ(1 − J_P)} (unbounded) lifts its wave speed past the fixed step, well inside the scene's bound (2e-4 s against
+// 8.95e-4 s, which assumes J_P ≥ 1 − θc). The watchdog names that, and the advice holds: with "adaptive" steps, which
+// follow the hardened wave speed, the same impact stays finite past its first 0.04 s.
+TEST_F(SimulationTest, SnowCompactedPastTheStepIsNamedAsTheCause) {
+  for (const char* adaptive : {"false", "true"}) {
+    const Scene scene = sceneFromJson(std::string(R"({ "grid": { "cells": [48, 32, 32], "cell_size": 0.02 },
+      "time": { "dt": 2e-4, "frame_rate": 40, "adaptive": )") + adaptive + R"( },
+      "solver": { "kernel": "quadratic", "transfer": "apic" }, "materials": { "snow": { "preset": "stomakhin" } },
+      "bodies": [ { "shape": "sphere", "center": [0.3, 0.3, 0.32], "radius": 0.08, "material": "snow",
+                    "velocity": [20, 0, 0] } ],
+      "colliders": [ { "type": "plane", "point": [0.7, 0, 0], "normal": [-1, 0, 0], "friction": 1.0,
+                       "boundary": "separate" } ] })");
+    Simulation simulation(scene, firn::sampleBodies(scene), gl(), 0, firn::MaterialPrograms::SceneModels, 4096);
+    simulation.advanceTo(0.04);
+    if (std::string(adaptive) == "true") {
+      simulation.checkWatchdog();
+      const firn::ParticleSnapshot s = simulation.snapshot();
+      EXPECT_EQ(firn::test::firstNonFiniteParticle(s), s.size());
+      continue;
+    }
+    const std::string message = watchdogMessage(simulation);
+    EXPECT_NE(message.find("Snow had compacted beyond what the step can take"), std::string::npos) << message;
+    EXPECT_NE(message.find("reached J_P = "), std::string::npos) << message;
+    EXPECT_NE(message.find("Set time.adaptive"), std::string::npos) << message;
+  }
+}
+
 // Grid passes cover the region the particles occupy: the same snowball in a 48³ and a 192³ domain has the same
 // active blocks, so the grid passes do the same work (the timing ratio is measured by benchmarks, not here).
 TEST_F(SimulationTest, ActiveGridFollowsParticlesNotDomain) {

@@ -23,6 +23,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using firn::test::fileBytes;
 using firn::test::freshDirectory;
 using firn::test::Result;
 using firn::test::runFirn;
@@ -41,11 +42,6 @@ const char* const kBallScene = R"({
   "materials": { "snow": { "preset": "stomakhin" } },
   "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.25, "material": "snow" } ],
   "camera": { "position": [0.6, 0.6, 1.8], "target": [0.6, 0.6, 0.6], "fov_deg": 40 } })";
-
-std::string fileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 // Reads a binary PLY as writeMeshPly writes it, checking its header line by line.
 firn::SurfaceMesh readSurfacePly(const fs::path& path) {

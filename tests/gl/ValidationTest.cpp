@@ -189,17 +189,17 @@ BarVibration measureBarPeriod(const std::string& kernel, int cellsAlongBar, doub
 // free–free rod; e.g. Graff, Wave Motion in Elastic Solids). The period is measured as the second zero crossing
 // of the modal displacement, which filters out the higher modes that the slabs' velocity steps excite.
 //
-// The solver's one large error is its own: Stomakhin's initial volumes V0 = m / ρ_grid (the grid density,
-// smoothed twice by the kernel) read ρ too low near a free surface, so the particles near one carry more
-// volume, and that much more stress, than they have: measured, the outermost layer at a face 1.6–1.8× its
-// m/ρ, the next 1.2–1.3×, edge and corner particles up to 5×. This bar's V0 sum is 1.71× (quadratic) or
-// 1.81× (cubic) its volume at w = 3h, 1.33× / 1.37× at w = 6h. The fundamental's Rayleigh quotient with those
-// volumes, ω² = (π/L)² (E/ρ) κ with κ = Σ V0 sin²(πX/L) / Σ (m/ρ) sin²(πX/L) (the strain energy weighted by
-// the mode's strain), predicts the period T / √κ, and that is what is checked: the measured period is
-// 21–23 % (h = L/18) and 12–13 % (h = L/36) shorter than 2L/c, and within 1.1 % of T / √κ.
+// The initial volumes are the grid density's, V0 = m / max(ρ_grid, ρ) (docs/algorithm.md eq. 6a). Without the
+// max, ρ_grid read ρ too low near a free surface, so the particles near one carried more volume, and that much
+// more stress, than they have: the outermost layer at a face 1.6–1.8× its m/ρ, edge and corner particles up to
+// 5×, and this bar's period came out 21–23 % (h = L/18) and 12–13 % (h = L/36) short of 2L/c. The fundamental's
+// Rayleigh quotient with the volumes used, ω² = (π/L)² (E/ρ) κ with κ = Σ V0 sin²(πX/L) / Σ (m/ρ) sin²(πX/L)
+// (the strain energy weighted by the mode's strain), predicts the period T / √κ, and that is what is checked;
+// κ is now 1.0000 (h = L/18) and 0.9993–0.9998 (h = L/36), where the grid reads an interior particle denser than ρ.
 //
 // Tolerance, from a measured convergence: the remaining error (measured / (T/√κ) − 1) was +1.04 % / +0.47 %
-// (quadratic, h = L/18 / L/36) and +0.80 % / +0.35 % (cubic), shrinking 0.45× and 0.44× as h halves. Its sign
+// (quadratic, h = L/18 / L/36) and +0.80 % / +0.35 % (cubic) with the unbounded volumes, +0.73 % / +0.32 % and
+// +0.62 % / +0.23 % now, shrinking about 0.45× as h halves. Its sign
 // and size agree with the lumped-mass dispersion of degree-p B-spline elements with exact stiffness,
 // ω_h² / ω² = sinc^{2(p+1)}(kh/2), i.e. a period longer by (p+1)(kh)²/24 = +0.38 % / +0.51 % at kh = π/18;
 // the rest (particle quadrature at 2 particles per cell and axis, the κ model) is not separated here.
@@ -230,8 +230,8 @@ TEST_F(Validation, ElasticBarVibratesAtAnalyticPeriod) {
 // checked against 2L/c itself. What remains is the discretization error that ElasticBarVibratesAtAnalyticPeriod
 // measured against T/√κ (the period longer by about 1 % at h = L/18 and 0.5 % at L/36, shrinking as h²), so
 // the same bounds: below 2 % at L/18, 1 % at L/36, and shrinking by at least 0.6× as h halves (measured:
-// +0.73 % / +0.32 % quadratic, +0.62 % / +0.23 % cubic). With Stomakhin's grid-density volumes the same bar is
-// 12–23 % short of 2L/c.
+// +0.73 % / +0.32 % quadratic, +0.62 % / +0.23 % cubic). With Stomakhin's grid-density volumes unbounded by ρ the
+// same bar was 12–23 % short of 2L/c.
 TEST_F(Validation, ElasticBarWithMaterialVolumesVibratesAtTwoLengthsOverWaveSpeed) {
   const double analyticPeriodS = barAnalyticPeriodS();
   for (const std::string kernel : {"quadratic", "cubic"}) {

@@ -20,23 +20,14 @@
 #include "io/InputFile.h"
 #include "io/OutputFolder.h"
 #include "io/StatsCsv.h"
+#include "support/TestFiles.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using firn::test::fileBytes;
+using firn::test::freshDirectory;
 using Clock = std::chrono::steady_clock;
-
-fs::path freshFolder(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / ("firn_run_files_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
-std::string fileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 void writeBytes(const fs::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
@@ -61,7 +52,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // process: the refusal names the folder and the holder's process id. Once the first ends, its lock file is gone
 // (the folder holds only outputs) and the folder is free.
 TEST(OutputFolderClaim, SecondClaimIsRefusedUntilTheFirstEnds) {
-  const fs::path folder = freshFolder("claim") / "out";
+  const fs::path folder = freshDirectory("claim") / "out";
   {
     const firn::OutputFolderClaim first(folder);
     EXPECT_TRUE(fs::is_directory(folder));
@@ -76,7 +67,7 @@ TEST(OutputFolderClaim, SecondClaimIsRefusedUntilTheFirstEnds) {
 // A process killed with SIGKILL cannot release anything itself; the kernel drops its lock, and the lock file it
 // leaves behind (naming it) is taken over by the next claim.
 TEST(OutputFolderClaim, ClaimOfAKilledProcessIsTakenOver) {
-  const fs::path folder = freshFolder("killed");
+  const fs::path folder = freshDirectory("killed");
   int ready[2];
   ASSERT_EQ(pipe(ready), 0);
   const pid_t child = fork();
@@ -113,7 +104,7 @@ TEST(OutputFolderClaim, ClaimOfAKilledProcessIsTakenOver) {
 // their stat alone, well under a second (0.5 s leaves room for a loaded machine; the refusal itself takes
 // microseconds).
 TEST(InputFile, PipesAndDevicesAreRefusedAtOnce) {
-  const fs::path folder = freshFolder("pipes");
+  const fs::path folder = freshDirectory("pipes");
   const fs::path fifo = folder / "scene.json";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
   const auto start = Clock::now();
@@ -131,7 +122,7 @@ TEST(InputFile, PipesAndDevicesAreRefusedAtOnce) {
 
 // A file of exactly the limit is read; one byte more is refused with both sizes.
 TEST(InputFile, FilesBeyondTheLimitAreRefused) {
-  const fs::path path = freshFolder("size") / "scene.json";
+  const fs::path path = freshDirectory("size") / "scene.json";
   writeBytes(path, std::string(1000, ' '));
   EXPECT_EQ(firn::readRegularFile(path, "scene file", 1000).size(), 1000u);
   EXPECT_EQ(inputErrorOf([&] { firn::readRegularFile(path, "scene file", 999); }),
@@ -159,7 +150,7 @@ firn::Checkpoint sampleCheckpoint() {
 }
 
 TEST(CheckpointFile, ReadsBackWhatWasWritten) {
-  const fs::path path = freshFolder("roundtrip") / "checkpoint_0012.firn";
+  const fs::path path = freshDirectory("roundtrip") / "checkpoint_0012.firn";
   const firn::Checkpoint written = sampleCheckpoint();
   firn::writeCheckpoint(path, written);
   const firn::Checkpoint read = firn::readCheckpoint(path);
@@ -176,7 +167,7 @@ TEST(CheckpointFile, ReadsBackWhatWasWritten) {
 // CRC-32 detects every error of one byte, so no flipped byte anywhere in the file loads: each is bad input naming
 // the file. A flip past the magic and the version makes the file corrupt, and in a buffer the message says which.
 TEST(CheckpointFile, EveryFlippedByteIsRefusedNamingTheFile) {
-  const fs::path folder = freshFolder("flipped");
+  const fs::path folder = freshDirectory("flipped");
   const fs::path path = folder / "checkpoint_0012.firn";
   firn::writeCheckpoint(path, sampleCheckpoint());
   const std::string bytes = fileBytes(path);
@@ -208,7 +199,7 @@ TEST(CheckpointFile, EveryFlippedByteIsRefusedNamingTheFile) {
 
 // Version 2 had no checksums: such a file is refused with the versions and what to do, not misread.
 TEST(CheckpointFile, EarlierFormatVersionIsRefusedClearly) {
-  const fs::path folder = freshFolder("version");
+  const fs::path folder = freshDirectory("version");
   const fs::path path = folder / "checkpoint_0012.firn";
   firn::writeCheckpoint(path, sampleCheckpoint());
   std::string bytes = fileBytes(path);
@@ -222,7 +213,7 @@ TEST(CheckpointFile, EarlierFormatVersionIsRefusedClearly) {
 
 // Cut anywhere after its header, a checkpoint is truncated; with bytes appended, corrupt.
 TEST(CheckpointFile, CutOrExtendedFilesAreRefused) {
-  const fs::path path = freshFolder("cut") / "checkpoint_0012.firn";
+  const fs::path path = freshDirectory("cut") / "checkpoint_0012.firn";
   firn::writeCheckpoint(path, sampleCheckpoint());
   const std::string bytes = fileBytes(path);
   writeBytes(path, bytes.substr(0, bytes.size() - 1));
@@ -239,7 +230,7 @@ std::string statsRow(int frame) { return std::to_string(frame) + ",0.1,10,100,1,
 // Resumed at frame 3, the file keeps the rows of frames 0 to 2 as they were, drops those of 3 on (the run writes
 // them again) and a last row cut short by a killed run, and appends the new rows after the kept ones.
 TEST(StatsCsvResume, KeepsTheRowsBeforeTheCheckpointsFrame) {
-  const fs::path path = freshFolder("stats") / "stats.csv";
+  const fs::path path = freshDirectory("stats") / "stats.csv";
   const std::string header = std::string(firn::StatsCsvWriter::header()) + "\n";
   writeBytes(path, header + statsRow(0) + statsRow(1) + statsRow(2) + statsRow(3) + statsRow(4) + "5,0.1,1");
   {
@@ -257,7 +248,7 @@ TEST(StatsCsvResume, KeepsTheRowsBeforeTheCheckpointsFrame) {
 
 // Rows under another header (another version's columns) cannot be continued: refused, and the file is untouched.
 TEST(StatsCsvResume, AnotherHeaderIsRefusedAndLeftAsItWas) {
-  const fs::path path = freshFolder("header") / "stats.csv";
+  const fs::path path = freshDirectory("header") / "stats.csv";
   const std::string old = "frame,time_s,steps\n0,0,0\n1,0.1,10\n";
   writeBytes(path, old);
   EXPECT_EQ(inputErrorOf([&] { firn::StatsCsvWriter stats(path, 1); }),

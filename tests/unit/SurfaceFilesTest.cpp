@@ -18,22 +18,13 @@
 #include "io/Vdb.h"
 #include "scene/Scene.h"
 #include "voxelizer/Mesh.h"
+#include "support/TestFiles.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path freshFolder(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / ("firn_surface_files_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
-std::string fileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using firn::test::fileBytes;
+using firn::test::freshDirectory;
 
 const std::string kScene = R"({
   "grid": { "cells": [16, 16, 16], "cell_size": 0.05 },
@@ -63,7 +54,7 @@ TEST(SurfaceSection, DefaultsAndValues) {
 }
 
 TEST(MeshPly, AssimpReadsTheMeshItWrites) {
-  const fs::path path = freshFolder("ply") / "tetrahedron.ply";
+  const fs::path path = freshDirectory("ply") / "tetrahedron.ply";
   firn::writeMeshPly(path, tetrahedron());
   const firn::voxelizer::TriangleMesh read = firn::voxelizer::loadMesh(path);
   ASSERT_EQ(read.triangles.size(), 4u);
@@ -78,7 +69,7 @@ TEST(MeshPly, AssimpReadsTheMeshItWrites) {
 }
 
 TEST(MeshPly, RefusesWhatItMustNotWrite) {
-  const fs::path folder = freshFolder("ply_bad");
+  const fs::path folder = freshDirectory("ply_bad");
   firn::SurfaceMesh notFinite = tetrahedron();
   notFinite.positionsM[2].y = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(firn::writeMeshPly(folder / "nan.ply", notFinite), std::invalid_argument);
@@ -103,7 +94,7 @@ TEST(Vdb, SameFrameSameBytesAndReadBack) {
   frame.surface = tetrahedron();
   frame.frame = 7;
   frame.timeS = 0.25;
-  const fs::path folder = freshFolder("vdb");
+  const fs::path folder = freshDirectory("vdb");
   firn::writeVdb(folder / "a.vdb", frame);
   firn::writeVdb(folder / "b.vdb", frame);
   EXPECT_EQ(fileBytes(folder / "a.vdb"), fileBytes(folder / "b.vdb"));
@@ -133,7 +124,7 @@ TEST(Vdb, SameFrameSameBytesAndReadBack) {
 TEST(MeshPly, VelocitiesFollowTheNormals) {
   firn::SurfaceMesh mesh = tetrahedron();
   mesh.velocitiesMPerS = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {-1, -2, -3}};
-  const fs::path folder = freshFolder("ply_velocity");
+  const fs::path folder = freshDirectory("ply_velocity");
   firn::writeMeshPly(folder / "moving.ply", mesh);
   const std::string bytes = fileBytes(folder / "moving.ply");
   const std::size_t body = bytes.find("end_header\n") + std::string("end_header\n").size();
@@ -158,7 +149,7 @@ TEST(Vdb, VelocityGridWhereTheDensityReachesOnePercent) {
   frame.density.values = {0.005f, 0.02f, 0.9f};  // below 1%, above it, above the iso level
   frame.velocityMPerS = {{9, 9, 9}, {0.5f, -1, 2}, {0.25f, 0, -4}};
   frame.surface = tetrahedron();
-  const fs::path folder = freshFolder("vdb_velocity");
+  const fs::path folder = freshDirectory("vdb_velocity");
   firn::writeVdb(folder / "v.vdb", frame);
   openvdb::initialize();
   openvdb::io::File file((folder / "v.vdb").string());
