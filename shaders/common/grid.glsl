@@ -9,9 +9,10 @@
 // the moment it happens, in the accumulator or at the node. FIRN_FLOAT_ATOMICS sums floats instead, with
 // GL_NV_shader_atomic_float at the node.
 //
-// Rounding to 2^-k is dithered, floor(x·2^k + u) with u uniform in [0, 1) (taken exactly, quantize): its expectation is x, so slow
-// motion — a small fraction of a cell per step, whose contributions are a few quanta each — does not lose
-// momentum to rounding bias (plain rounding measurably slowed a freely falling block by 1e-4 in 200 steps).
+// Rounding to 2^-k is dithered, floor(x·2^k + u) with u uniform in [0, 1), taken exactly (quantize): its
+// expectation is x, so slow motion — a small fraction of a cell per step, whose contributions are a few quanta
+// each — does not lose momentum to rounding bias (plain rounding measurably slowed a freely falling block by 1e-4
+// in 200 steps).
 // u is one hash per particle and step (of its position, not its index, so reordering the particles changes no
 // sum), spread over its stencil nodes and channels by additive recurrences with irrational steps, u_nc =
 // fract(u_p + n·φ + c·ψ): each u_nc is uniform over particles, which is all unbiased rounding needs, and it

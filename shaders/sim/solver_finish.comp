@@ -2,9 +2,10 @@
 // The semi-implicit solve's end (common/solver.glsl): a node a collider held along its normal takes the collider's
 // Coulomb friction now, bounded by the whole normal impulse of the step, the approach update_grid.comp removed and the
 // push the held component took in the solve (SolverNode.residual.w; common/colliders.glsl). The solution keeps the
-// components its constraints held at their collided values, but a node the constraints left free — outside the colliders, or separating from one, when v* was
-// computed — may now move into a collider or out of the domain: it meets them as update_grid.comp's nodes do. A node
-// the solve did not change meets them unchanged, so with β = 0 the step is the explicit one to the bit.
+// components its constraints held at their collided values, but a node the constraints left free — outside the
+// colliders, or separating from one, when v* was computed — may now move into a collider or out of the domain: it
+// meets them as update_grid.comp's nodes do. A node the solve did not change meets them unchanged, so with β = 0 the
+// step is the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c).
 // A work group per active block, an invocation per node.
 // Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders. Writes: the grid's
 // velocities.
