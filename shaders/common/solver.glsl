@@ -117,16 +117,17 @@ float heldNormalComponent(vec3 u, vec4 constraint) {
 // P = S (m I + β Δt² Hᵢᵢ) S on the components the constraint leaves free, inverted there, 0 on the held ones (and at a
 // node without mass, which the constraints hold). S P S + (I − S) m keeps the free and held components apart, so its
 // inverse is P⁻¹ on the free ones; a final projection drops what rounding leaves on the held ones. Returned as the
-// diagonal (xyz) and the entries yz, zx, xy of the symmetric inverse.
+// diagonal (xyz) and the entries yz, zx, xy of the symmetric inverse. The block is inverted over m, P⁻¹ =
+// (P / m)⁻¹ / m: with float sums a node at a cubic stencil's far corner holds 1e-14 of a particle's mass, and the
+// determinant of a block of such entries, their cube, underflows float, so inverse() returned infinities there.
 void invertPreconditioner(float massKg, mat3 stiffnessKg, vec4 constraint, out vec3 inverseDiagonal,
                           out vec3 inverseOffDiagonal) {
   inverseDiagonal = inverseOffDiagonal = vec3(0.0);
   if (!(massKg > 0.0)) return;
   mat3 free = mat3(constrain(vec3(1.0, 0.0, 0.0), constraint), constrain(vec3(0.0, 1.0, 0.0), constraint),
                    constrain(vec3(0.0, 0.0, 1.0), constraint));
-  mat3 block = free * (massKg * mat3(1.0) + stiffnessKg) * free + massKg * (mat3(1.0) - free);
-  mat3 inverseBlock = inverse(block);
-  inverseBlock = free * inverseBlock * free;
+  mat3 blockOverMass = free * (mat3(1.0) + stiffnessKg / massKg) * free + (mat3(1.0) - free);
+  mat3 inverseBlock = free * inverse(blockOverMass) * free / massKg;
   inverseDiagonal = vec3(inverseBlock[0][0], inverseBlock[1][1], inverseBlock[2][2]);
   inverseOffDiagonal = vec3(inverseBlock[2][1], inverseBlock[0][2], inverseBlock[1][0]);
 }

@@ -57,7 +57,9 @@ void main() {
   }
   solverNodes[i].preconditioned.xyz = velocityMass.xyz - start;  // the first iteration's direction, v* − x₀
   vec3 momentum = velocityMass.w * velocityMass.xyz;
-  vec3 scaledMomentum = velocityMass.w > 0.0 ? inverse(velocityMass.w * mat3(1.0) + stiffnessKg) * momentum : vec3(0.0);
+  // (m + β Δt² Hᵢᵢ)⁻¹ m v* = (I + β Δt² Hᵢᵢ / m)⁻¹ v*, inverted over m as the preconditioner is (common/solver.glsl).
+  vec3 scaledMomentum =
+      velocityMass.w > 0.0 ? inverse(mat3(1.0) + stiffnessKg / velocityMass.w) * velocityMass.xyz : vec3(0.0);
   float traceKg = stiffnessKg[0][0] + stiffnessKg[1][1] + stiffnessKg[2][2];
   writeBlockPartial(slot, vec4(roundingFloorTerm(velocityMass.w, traceKg), 0.0, dot(residual, precondition(i, residual)),
                                dot(momentum, scaledMomentum)));
