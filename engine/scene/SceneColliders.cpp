@@ -8,7 +8,6 @@
 #include <glm/trigonometric.hpp>
 
 #include "io/Text.h"
-
 #include "scene/ColliderMotion.h"
 #include "scene/SceneSections.h"
 
