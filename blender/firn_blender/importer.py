@@ -383,9 +383,33 @@ def _collider_origin(collider):
     return np.array(collider["point"], dtype=float)
 
 
+def _key_collider_motion(obj, collider, origin, keyframes, frame_rate):
+    """A keyframed collider's poses (docs/scene-format.md, colliders): at each keyframe's time the shape, built about
+    `origin`, turned by rotate_deg about the pivot (Firn's R = R_z R_y R_x is Blender's XYZ Euler, in the parent's
+    Firn axes) and moved by translate. Blender interpolates the Euler angles linearly: the same turn as Firn's slerp
+    about one axis; a turn about several axes, or about a pivot away from the shape's centre, is drawn approximately
+    between keyframes."""
+    pivot = np.array(collider.get("pivot", origin), dtype=float)
+    obj.rotation_mode = "XYZ"
+    for key in keyframes:
+        angles = np.radians(np.array(key.get("rotate_deg", [0, 0, 0]), dtype=float))
+        translate = np.array(key.get("translate", [0, 0, 0]), dtype=float)
+        cx, cy, cz = np.cos(angles)
+        sx, sy, sz = np.sin(angles)
+        rotate_x = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+        rotate_y = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+        rotate_z = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+        rotation = rotate_z @ rotate_y @ rotate_x
+        frame = float(key["time_s"]) * frame_rate
+        obj.location = tuple(pivot + translate + rotation @ (origin - pivot))
+        obj.rotation_euler = tuple(angles)
+        obj.keyframe_insert("location", frame=frame)
+        obj.keyframe_insert("rotation_euler", frame=frame)
+
+
 def _collider_objects(context, scene_path, run, parent):
-    """The scene's colliders, each translating at its velocity from its position at t = 0
-    (docs/scene-format.md, colliders), keyed linearly at the first and last frames."""
+    """The scene's colliders, each translating at its velocity from its position at t = 0, keyed linearly at the
+    first and last frames, or following its keyframes (docs/scene-format.md, colliders)."""
     with open(scene_path) as f:
         scene = json.load(f)
     grid = scene.get("grid", {})
@@ -398,13 +422,18 @@ def _collider_objects(context, scene_path, run, parent):
         obj = bpy.data.objects.new(name, _collider_mesh(name, collider, extent_m))
         obj.parent = parent
         origin = _collider_origin(collider)
-        velocity = np.array(collider.get("velocity", [0, 0, 0]), dtype=float)
-        for frame in sorted({first, last}):
-            obj.location = tuple(origin + velocity * frame / run.frame_rate)
-            obj.keyframe_insert("location", frame=frame)
+        keyframes = collider.get("keyframes", [])
+        if keyframes:
+            _key_collider_motion(obj, collider, origin, keyframes, run.frame_rate)
+        else:
+            velocity = np.array(collider.get("velocity", [0, 0, 0]), dtype=float)
+            for frame in sorted({first, last}):
+                obj.location = tuple(origin + velocity * frame / run.frame_rate)
+                obj.keyframe_insert("location", frame=frame)
         if obj.animation_data and obj.animation_data.action:
             for curve in obj.animation_data.action.fcurves:
-                curve.extrapolation = "LINEAR"
+                # Keyframed motion holds its first and last poses beyond them; a velocity goes on.
+                curve.extrapolation = "CONSTANT" if keyframes else "LINEAR"
                 for key in curve.keyframe_points:
                     key.interpolation = "LINEAR"
         obj["firn_collider"] = collider["type"]

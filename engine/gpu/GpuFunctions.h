@@ -7,6 +7,7 @@
 #include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "gpu/GpuLayout.h"
@@ -14,14 +15,18 @@
 namespace firn::gpu {
 
 using vec3 = glm::vec3;
+using vec4 = glm::vec4;
 using glm::abs;
 using glm::any;
+using glm::cross;
 using glm::dot;
 using glm::greaterThan;
 using glm::length;
 using glm::max;
 using glm::normalize;
 using glm::sign;
+using std::cos;
+using std::sin;
 using std::sqrt;
 
 #include "common/shared_functions.h"

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
+
+#include "scene/ColliderMotion.h"
 
 namespace firn::render {
 
@@ -68,7 +71,8 @@ PlaneQuad planeQuad(const Scene& scene, const glm::dvec3& pointM, const glm::dve
 Ground findGround(const Scene& scene) {
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& collider = scene.colliders[i];
-    if (collider.shape != ColliderShape::Plane) continue;
+    // The ground is drawn moving at most along itself; a keyframed plane turns, and is drawn as a plane.
+    if (collider.shape != ColliderShape::Plane || !collider.keyframes.empty()) continue;
     const glm::dvec3 normal = glm::normalize(collider.normal);
     if (normal.y < kMinGroundNormalY || !planeCutsDomain(scene, collider.pointM, normal)) continue;
     return {planeQuad(scene, collider.pointM, normal), glm::vec3(collider.velocityMPerS), static_cast<int>(i)};
@@ -213,6 +217,16 @@ Bounds usedRegion(const Scene& scene) {
     }
     glm::dvec3 minM = collider.shape == ColliderShape::Sphere ? collider.centerM - collider.radiusM : collider.minM;
     glm::dvec3 maxM = collider.shape == ColliderShape::Sphere ? collider.centerM + collider.radiusM : collider.maxM;
+    if (!collider.keyframes.empty()) {
+      // Wherever its keyframes take it, turned any way: within its reach of the pivot's positions.
+      const double reachM = colliderReachM(scene, collider);
+      minM = glm::dvec3(std::numeric_limits<double>::infinity());
+      maxM = -minM;
+      for (const ColliderKeyframe& key : collider.keyframes) {
+        minM = glm::min(minM, collider.pivotM + key.translateM - reachM);
+        maxM = glm::max(maxM, collider.pivotM + key.translateM + reachM);
+      }
+    }
     // A collider the snow's flight reaches, as far as it lies in the domain.
     if (overlaps(snow, minM, maxM) && clipToDomain(scene, minM, maxM)) include(region, empty, minM, maxM);
   }
@@ -225,6 +239,7 @@ double drawnRadiusM(const Scene& scene) {
   double travelM = 0;
   for (const Collider& collider : scene.colliders) {
     travelM = std::max(travelM, glm::length(collider.velocityMPerS) * durationS);
+    for (const ColliderKeyframe& key : collider.keyframes) travelM = std::max(travelM, glm::length(key.translateM));
   }
   // A plane quad's centre lies within the domain; its corners are √2 half-sides further.
   return halfDiagonalM + std::sqrt(2.0) * largestExtentM(scene) + travelM;

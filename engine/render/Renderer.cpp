@@ -15,6 +15,7 @@
 #include "gl/ShaderLibrary.h"
 #include "gpu/GpuLayout.h"
 #include "gpu/Materials.h"
+#include "scene/ColliderMotion.h"
 
 namespace firn::render {
 
@@ -50,7 +51,9 @@ int shadowTextureSize(const Scene& scene, float groundHalfSizeM) {
 float speedScale(const Scene& scene) {
   double speedMPerS = 0;
   for (const Body& body : scene.bodies) speedMPerS = std::max(speedMPerS, glm::length(body.velocityMPerS));
-  for (const Collider& collider : scene.colliders) speedMPerS = std::max(speedMPerS, glm::length(collider.velocityMPerS));
+  for (const Collider& collider : scene.colliders) {
+    speedMPerS = std::max(speedMPerS, fastestColliderSpeedMPerS(scene, collider));
+  }
   // Free fall through the domain: v = √(2 g H).
   const double heightM = scene.domainMaxM().y - scene.domainMinM().y;
   speedMPerS = std::max(speedMPerS, std::sqrt(2 * glm::length(scene.gravityMPerS2) * heightM));
@@ -71,7 +74,8 @@ const char* colorModeName(ColorMode mode) {
   return "unknown";
 }
 
-Renderer::Renderer(const Scene& scene) : ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
+Renderer::Renderer(const Scene& scene)
+    : colliders_(scene.colliders), ground_(findGround(scene)), speedScaleMPerS_(speedScale(scene)) {
   // One entry per entry of the simulation's material table (particles carry that index): the scene's materials,
   // then the variants of bodies with their own Lamé scales, drawn in their base material's colour.
   for (const std::size_t i : buildMaterialTable(scene).entryMaterial) {
@@ -128,27 +132,27 @@ void Renderer::buildGeometry(const Scene& scene) {
   const float checkerM = checkerCellM(scene);
   const float fadeM = ground_.quad.halfSizeM;
   if (ground_.colliderIndex < 0) {
-    add(quadTriangles(ground_.quad), {0, 0, kGroundAlbedoSrgb, glm::vec3(0.0f), checkerM, fadeM, true, false});
+    add(quadTriangles(ground_.quad), {0, 0, kGroundAlbedoSrgb, -1, checkerM, fadeM, true, false});
   }
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& collider = scene.colliders[i];
-    const glm::vec3 velocity(collider.velocityMPerS);
+    const int index = static_cast<int>(i);
     switch (collider.shape) {
       case ColliderShape::Plane: {
         const bool isGround = static_cast<int>(i) == ground_.colliderIndex;
         if (!isGround && !planeCutsDomain(scene, collider.pointM, collider.normal)) break;
         const PlaneQuad quad = isGround ? ground_.quad : planeQuad(scene, collider.pointM, collider.normal);
-        add(quadTriangles(quad), {0, 0, isGround ? kGroundAlbedoSrgb : kPlaneAlbedoSrgb, velocity, checkerM,
+        add(quadTriangles(quad), {0, 0, isGround ? kGroundAlbedoSrgb : kPlaneAlbedoSrgb, index, checkerM,
                                   quad.halfSizeM, isGround, false});
         break;
       }
       case ColliderShape::Sphere:
         add(sphereTriangles(glm::vec3(collider.centerM), static_cast<float>(collider.radiusM)),
-            {0, 0, kColliderAlbedoSrgb, velocity, 0.0f, 0.0f, false, true});
+            {0, 0, kColliderAlbedoSrgb, index, 0.0f, 0.0f, false, true});
         break;
       case ColliderShape::Box:
         add(boxTriangles(glm::vec3(collider.minM), glm::vec3(collider.maxM)),
-            {0, 0, kColliderAlbedoSrgb, velocity, 0.0f, 0.0f, false, true});
+            {0, 0, kColliderAlbedoSrgb, index, 0.0f, 0.0f, false, true});
         break;
     }
   }
@@ -169,6 +173,16 @@ PlaneQuad Renderer::groundAt(double timeS) const {
   PlaneQuad quad = ground_.quad;
   quad.centerM += ground_.velocityMPerS * static_cast<float>(timeS);
   return quad;
+}
+
+glm::mat4 Renderer::surfacePose(const SurfaceDraw& surface, double timeS) const {
+  if (surface.colliderIndex < 0) return glm::mat4(1.0f);
+  // x = c(t) + R(t) (x_rest − pivot) (docs/algorithm.md eq. 31), in double before the one rounding to float.
+  const Collider& collider = colliders_[std::size_t(surface.colliderIndex)];
+  const RigidPose pose = colliderPose(collider, timeS);
+  glm::dmat4 matrix = glm::dmat4(glm::mat3_cast(pose.rotation));
+  matrix[3] = glm::dvec4(pose.pivotM - glm::dmat3(matrix) * collider.pivotM, 1.0);
+  return glm::mat4(matrix);
 }
 
 void Renderer::setView(const gl::Program& program, const FrameView& view) const {
@@ -257,7 +271,7 @@ void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const P
   surfaceArray_.bind();
   for (const SurfaceDraw& surface : surfaces_) {
     if (!surface.castsShadow) continue;
-    colliderShadowProgram_.set("translationM", surface.velocityMPerS * static_cast<float>(timeS));
+    colliderShadowProgram_.set("poseMatrix", surfacePose(surface, timeS));
     glDrawArrays(GL_TRIANGLES, surface.firstVertex, surface.vertexCount);
   }
   glDisable(GL_BLEND);
@@ -285,7 +299,7 @@ void Renderer::drawSurfaces(const FrameView& view, double timeS, const PlaneQuad
   groundShadow_.color().bind(kGroundShadowTextureUnit);
   surfaceArray_.bind();
   for (const SurfaceDraw& surface : surfaces_) {
-    surfaceProgram_.set("translationM", surface.velocityMPerS * static_cast<float>(timeS));
+    surfaceProgram_.set("poseMatrix", surfacePose(surface, timeS));
     surfaceProgram_.set("albedoSrgb", surface.albedoSrgb);
     surfaceProgram_.set("checkerCellM", surface.checkerCellM);
     surfaceProgram_.set("fadeHalfSizeM", surface.fadeHalfSizeM);

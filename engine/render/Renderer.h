@@ -76,7 +76,7 @@ class Renderer {
     GLint firstVertex;
     GLsizei vertexCount;
     glm::vec3 albedoSrgb;
-    glm::vec3 velocityMPerS;
+    int colliderIndex;    // whose motion moves it; −1: the ground drawn where the scene has none
     float checkerCellM;   // planes
     float fadeHalfSizeM;  // planes
     bool isGround;
@@ -129,6 +129,10 @@ class Renderer {
   GLsizei edgeVertexCount_ = 0;
   bool domainEdges_ = false;
 
+  // The rigid motion that carries a surface's mesh, built at rest, to where its collider is at timeS.
+  glm::mat4 surfacePose(const SurfaceDraw& surface, double timeS) const;
+
+  std::vector<Collider> colliders_;  // the scene's, whose poses move the surfaces
   Ground ground_;
   gl::Framebuffer groundShadow_;  // optical depth of the key light's shadow over the ground quad
   gl::Framebuffer snowShadowMap_;  // depth towards the key light of the snow's surface (render/shadow_map.glsl)

@@ -15,6 +15,7 @@
 #include "gpu/GpuFunctions.h"
 #include "gpu/Materials.h"
 #include "io/Text.h"
+#include "scene/ColliderMotion.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
 #include "sim/SceneUpload.h"
@@ -39,7 +40,7 @@ const char* colliderName(ColliderShape shape) {
 // become a sheet on the collider's surface) or particles that cannot be moved out.
 void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
   if (scene.colliders.empty()) return;
-  const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene);
+  ColliderTableAt colliders(scene);
   struct Overlap {
     std::size_t particles = 0;
     float deepestM = 0;
@@ -50,7 +51,7 @@ void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>
     if (particle.bodyIndex < 0) continue;
     const auto body = std::size_t(particle.bodyIndex);
     ++bodyParticles[body];
-    const ColliderEscape escape = escapeColliders(scene.grid, colliders, particle);
+    const ColliderEscape escape = escapeColliders(scene.grid, colliders(particle.releaseTimeS), particle);
     if (escape.collider < 0) continue;
     if (escape.stuck) {
       throw InputError(bodyName(scene, body) + ": a particle at " +
@@ -172,7 +173,8 @@ std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<Partic
   int fastestCollider = -1;
   double colliderMPerS = 0;
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
-    const double speed = glm::length(scene.colliders[c].velocityMPerS);
+    // A turning collider's surface moves fastest at its reach from the pivot: |v| + |ω| r.
+    const double speed = fastestColliderSpeedMPerS(scene, scene.colliders[c]);
     if (speed > colliderMPerS) {
       colliderMPerS = speed;
       fastestCollider = int(c);
@@ -180,11 +182,13 @@ std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<Partic
   }
   if (fastestCollider >= 0) {
     const std::string name = "colliders[" + std::to_string(fastestCollider) + "]";
+    const std::string motion =
+        scene.colliders[std::size_t(fastestCollider)].keyframes.empty() ? ".velocity" : ".keyframes";
     bounds.push_back({h / colliderMPerS,
                       "the CFL bound h / |v| = " + seconds(h / colliderMPerS) + " of " + name + " (a " +
                           colliderName(scene.colliders[std::size_t(fastestCollider)].shape) + " moving at " +
                           format("%.3g m/s", colliderMPerS) + ": the snow it meets takes its speed)",
-                      name + ".velocity", "slow " + name + ".velocity"});
+                      name + motion, "slow " + name + motion});
   }
   const double gravity = glm::length(scene.gravityMPerS2);
   if (gravity > 0) {

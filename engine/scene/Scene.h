@@ -181,6 +181,14 @@ struct Body {
   }
 };
 
+// One keyframe of a collider's motion: at `timeS` the collider is its shape at rest turned by `rotateDeg` about
+// its pivot (R = R_z R_y R_x, as bodies' rotate_deg) and moved by `translateM` (docs/algorithm.md, Colliders).
+struct ColliderKeyframe {
+  double timeS = 0;
+  glm::dvec3 translateM{0.0};
+  glm::dvec3 rotateDeg{0.0};
+};
+
 struct Collider {
   ColliderShape shape = ColliderShape::Plane;
   glm::dvec3 pointM{0.0};   // plane: a point on it
@@ -189,7 +197,9 @@ struct Collider {
   double radiusM = 0;       // sphere
   glm::dvec3 minM{0.0};     // box
   glm::dvec3 maxM{0.0};     // box
-  glm::dvec3 velocityMPerS{0.0};  // the collider translates at this velocity
+  glm::dvec3 velocityMPerS{0.0};  // without keyframes, the collider translates at this velocity
+  glm::dvec3 pivotM{0.0};         // the point it turns about, at rest (the shape's centre unless given)
+  std::vector<ColliderKeyframe> keyframes;  // its poses at increasing times; empty: it moves at velocityMPerS
   double friction = 0;            // Coulomb μ
   Boundary boundary = Boundary::Slip;
 };

@@ -12,6 +12,7 @@
 #include "gpu/GpuFunctions.h"
 #include "gpu/Materials.h"
 #include "io/Text.h"
+#include "scene/ColliderMotion.h"
 #include "sim/GpuState.h"
 
 namespace firn {
@@ -34,7 +35,7 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
       kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies) {
   double fastestMPerS = 0;
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
-    const double speed = glm::length(scene.colliders[c].velocityMPerS);
+    const double speed = fastestColliderSpeedMPerS(scene, scene.colliders[c]);
     if (speed <= fastestMPerS) continue;
     fastestMPerS = speed;
     fastestCollider_ = "colliders[" + std::to_string(c) + "] (" + format("%.4g", speed) + " m/s)";

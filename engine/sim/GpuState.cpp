@@ -157,6 +157,10 @@ void GpuState::writeStepUniforms(const gpu::StepUniforms& uniforms) {
   stepUniforms_.upload(0, sizeof uniforms, &uniforms);
 }
 
+void GpuState::writeColliders(const std::vector<gpu::ColliderParams>& colliders) {
+  colliders_.upload(0, colliders.size() * sizeof(gpu::ColliderParams), colliders.data());
+}
+
 gpu::WatchdogStatus GpuState::watchdog() const { return watchdog_.read<gpu::WatchdogStatus>(1)[0]; }
 
 double GpuState::fastestSignalMPerS() const {

@@ -51,6 +51,8 @@ class GpuState {
   void resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl);
 
   void writeStepUniforms(const gpu::StepUniforms& uniforms);
+  // The colliders' poses for the step to come (buildColliderTable); the table keeps its size.
+  void writeColliders(const std::vector<gpu::ColliderParams>& colliders);
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;

@@ -9,36 +9,51 @@
 
 #include "gpu/GpuFunctions.h"
 #include "io/Checkpoint.h"
+#include "scene/ColliderMotion.h"
 
 namespace firn {
 
-std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene) {
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double timeS) {
   std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene.colliders.size(), 1), gpu::ColliderParams{});
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     gpu::ColliderParams& out = colliders[i];
+    // The shape at rest, from the pivot: with the default pivot its defining point is the pivot itself, 0.
     switch (c.shape) {
       case ColliderShape::Plane:
-        out.geometryA = glm::vec4(glm::vec3(c.pointM), 0);
-        out.geometryB = glm::vec4(glm::vec3(glm::normalize(c.normal)), 0);
+        out.shapeA = glm::vec4(glm::vec3(c.pointM - c.pivotM), 0);
+        out.shapeB = glm::vec4(glm::vec3(glm::normalize(c.normal)), 0);
         out.shapeBoundary.x = gpu::SHAPE_PLANE;
         break;
       case ColliderShape::Sphere:
-        out.geometryA = glm::vec4(glm::vec3(c.centerM), float(c.radiusM));
+        out.shapeA = glm::vec4(glm::vec3(c.centerM - c.pivotM), float(c.radiusM));
         out.shapeBoundary.x = gpu::SHAPE_SPHERE;
         break;
       case ColliderShape::Box:
-        out.geometryA = glm::vec4(glm::vec3(c.minM), 0);
-        out.geometryB = glm::vec4(glm::vec3(c.maxM), 0);
+        out.shapeA = glm::vec4(glm::vec3(0.5 * (c.minM + c.maxM) - c.pivotM), 0);
+        out.shapeB = glm::vec4(glm::vec3(0.5 * (c.maxM - c.minM)), 0);
         out.shapeBoundary.x = gpu::SHAPE_BOX;
         break;
     }
-    out.velocityFriction = glm::vec4(glm::vec3(c.velocityMPerS), float(c.friction));
+    const RigidPose segment = colliderPose(c, colliderPose(c, timeS).segmentStartS);
+    out.pivotTime = glm::vec4(glm::vec3(segment.pivotM), float(segment.segmentStartS));
+    out.rotation = glm::vec4(float(segment.rotation.x), float(segment.rotation.y), float(segment.rotation.z),
+                             float(segment.rotation.w));
+    out.velocityFriction = glm::vec4(glm::vec3(segment.velocityMPerS), float(c.friction));
+    out.angularVelocity = glm::vec4(glm::vec3(segment.angularVelocityRadPerS), 0);
     out.shapeBoundary.y = c.boundary == Boundary::Sticky ? gpu::BOUNDARY_STICKY
                           : c.boundary == Boundary::Slip ? gpu::BOUNDARY_SLIP
                                                          : gpu::BOUNDARY_SEPARATE;
   }
   return colliders;
+}
+
+const std::vector<gpu::ColliderParams>& ColliderTableAt::operator()(double timeS) {
+  if (table_.empty() || timeS != timeS_) {
+    table_ = buildColliderTable(scene_, timeS);
+    timeS_ = timeS;
+  }
+  return table_;
 }
 
 ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
@@ -77,7 +92,7 @@ ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::Coll
 }
 
 ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds) {
-  const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene);
+  ColliderTableAt colliders(scene);
   const bool hasColliders = !scene.colliders.empty();
   ParticleRecords records;
   records.positionMass.reserve(seeds.size());
@@ -85,7 +100,7 @@ ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, 
   records.plastic.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
     const Material& material = scene.materials.at(std::size_t(seed.materialIndex));
-    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders, seed).positionM
+    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders(seed.releaseTimeS), seed).positionM
                                                                     : seed.positionM;
     records.positionMass.emplace_back(positionM, seed.massKg);
     records.velocityVolume.emplace_back(seed.velocityMPerS, float(seed.massKg / material.densityKgPerM3));

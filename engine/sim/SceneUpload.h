@@ -12,8 +12,21 @@
 
 namespace firn {
 
-// One entry per collider, at least one (zeroed) so the binding is always a valid buffer.
-std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene);
+// One entry per collider, at least one (zeroed) so the binding is always a valid buffer, each with its pose at the
+// start of the segment of its motion that holds `timeS` (colliderPose): the GPU advances it rigidly from there.
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double timeS);
+
+// The collider table at a time, rebuilt only when the time changes (particles come grouped by release time).
+class ColliderTableAt {
+ public:
+  explicit ColliderTableAt(const Scene& scene) : scene_(scene) {}
+  const std::vector<gpu::ColliderParams>& operator()(double timeS);
+
+ private:
+  const Scene& scene_;
+  double timeS_ = 0;
+  std::vector<gpu::ColliderParams> table_;
+};
 
 // Where a particle of a scene body starts, given the colliders: one that starts inside a collider (where the
 // collider is at the particle's release time) is moved along the collider's outward normal to just outside its
@@ -26,6 +39,7 @@ struct ColliderEscape {
   float depthM = 0;           // how deep inside that collider it started
   bool stuck = false;         // inside colliders still after the passes, or moved out of the grid's interior
 };
+// `colliders` is the table at the seed's release time.
 ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
                                const ParticleSeed& seed);
 

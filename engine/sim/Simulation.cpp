@@ -72,12 +72,14 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
                                       blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
                                       needsDeformationGradient(scene_, programs)),
-             materialTable_, buildColliderTable(scene_), gl, stepShaderOptions(scene_, programs)),
+             materialTable_, buildColliderTable(scene_, 0), gl, stepShaderOptions(scene_, programs)),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
       gl_(gl),
-      sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, seeds)) {
+      sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, seeds)),
+      keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
+                                      [](const Collider& c) { return !c.keyframes.empty(); })) {
   const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
   writeParticles(0, particles);
   particleCount_ = particles.size();
@@ -142,6 +144,8 @@ void Simulation::releaseDueParticles() {
 
 void Simulation::step(double dtS) {
   releaseDueParticles();
+  // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
+  if (keyframedColliders_) state_.writeColliders(buildColliderTable(scene_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);

@@ -153,6 +153,7 @@ class Simulation {
   gl::PassTimer passTimer_;
   gl::ContextInfo gl_;
   std::uint64_t sceneFingerprint_ = 0;
+  bool keyframedColliders_ = false;  // whether the collider table changes as the steps go
 
   std::size_t particleCount_ = 0;
   std::vector<ParticleSeed> pendingParticles_;  // emitters' particles not yet released, by release time

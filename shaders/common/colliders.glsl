@@ -1,5 +1,6 @@
 // Signed-distance colliders and the boundary response shared by grid nodes and particles
-// (Stomakhin et al. 2013 §8; Blažević 2022 ch. 5; Snow thesis 2015 §4.4). Colliders translate at their velocity.
+// (Stomakhin et al. 2013 §8; Blažević 2022 ch. 5; Snow thesis 2015 §4.4). Colliders move rigidly: a surface point
+// moves at v + ω × (x − c(t)) (docs/algorithm.md eq. 33).
 
 #include "common/shared_functions.h"
 
@@ -29,7 +30,7 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
-      v = boundaryResponse(v, normal, c.velocityFriction.xyz, c.velocityFriction.w, c.shapeBoundary.y);
+      v = boundaryResponse(v, normal, colliderVelocity(c, probe, timeS), c.velocityFriction.w, c.shapeBoundary.y);
     }
   }
 #endif
@@ -55,7 +56,8 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
     int boundary = c.shapeBoundary.y;
-    float normalSpeed = dot(v - c.velocityFriction.xyz, normal);
+    vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
+    float normalSpeed = dot(v - boundaryVelocity, normal);
     if (boundary == BOUNDARY_STICKY) {
       code |= CONSTRAINT_FIXED;
     } else if (boundary == BOUNDARY_SLIP || normalSpeed < 0.0) {
@@ -64,7 +66,7 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
       heldNormal = normal;
       approachMPerS = max(-normalSpeed, 0.0);
     }
-    v = boundaryResponse(v, normal, c.velocityFriction.xyz, 0.0, boundary);
+    v = boundaryResponse(v, normal, boundaryVelocity, 0.0, boundary);
   }
 #endif
   return vec4(heldNormal, float(code));
@@ -83,11 +85,12 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constrain
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
-    vec3 tangential = v - c.velocityFriction.xyz;
+    vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
+    vec3 tangential = v - boundaryVelocity;
     float tangentialSpeed = length(tangential);
     float frictionLoss = c.velocityFriction.w * max(normalImpulseMPerS, 0.0);
     tangential = tangentialSpeed <= frictionLoss ? vec3(0.0) : tangential * (1.0 - frictionLoss / tangentialSpeed);
-    return tangential + c.velocityFriction.xyz;
+    return tangential + boundaryVelocity;
   }
 #endif
   return v;

@@ -159,15 +159,24 @@ FIRN_STRUCT(ParticlePlasticState, FIRN_PARTICLE_PLASTIC_STATE)
   member(ivec4, model)
 FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 
-// ColliderParams: one collider, translating at its velocity (common/colliders.glsl).
-//   geometryA         plane: a point; sphere: the centre, w the radius (m); box: the min corner (m), at t = 0
-//   geometryB         plane: the unit normal; box: the max corner (m), at t = 0
-//   velocityFriction  xyz the velocity (m/s), w Coulomb's μ
+// ColliderParams: one collider, a rigid motion of its shape at rest (common/colliders.glsl; docs/algorithm.md,
+// Colliders). The host writes its pose at the start of the segment of motion that holds the step (for a collider
+// without keyframes, at t = 0 for good); colliderDistance advances it rigidly by v and ω to the time it probes.
+//   shapeA            the shape at rest, from its pivot (m): plane: a point; sphere: the centre, w the radius;
+//                     box: the centre
+//   shapeB            plane: the unit normal; box: the half extents (m)
+//   pivotTime         xyz where the pivot is (m) at the time w (s)
+//   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)
+//   velocityFriction  xyz the pivot's velocity v (m/s), w Coulomb's μ
+//   angularVelocity   xyz ω (rad/s), about the pivot
 //   shapeBoundary     x SHAPE_*, y BOUNDARY_*
 #define FIRN_COLLIDER_PARAMS(member, array) \
-  member(vec4, geometryA)                   \
-  member(vec4, geometryB)                   \
+  member(vec4, shapeA)                      \
+  member(vec4, shapeB)                      \
+  member(vec4, pivotTime)                   \
+  member(vec4, rotation)                    \
   member(vec4, velocityFriction)            \
+  member(vec4, angularVelocity)             \
   member(ivec4, shapeBoundary)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 

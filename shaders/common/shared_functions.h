@@ -37,34 +37,68 @@ FIRN_GENERIC Real waterWaveSpeed(Real bulkModulusPa, Real gamma, Real densityKgP
 // the colliders) and a few hundred per tile (its accumulators); 60,000 / (KERNEL_WIDTH² + 16) leaves room for it.
 FIRN_FUNCTION uint maxTileParticles(int kernelWidth) { return 60000u / uint(kernelWidth * kernelWidth + 16); }
 
+// v rotated by the unit quaternion q (xyz its vector part u, w its scalar part): v + w t + u × t, t = 2 u × v.
+FIRN_FUNCTION vec3 rotateByQuaternion(vec4 q, vec3 v) {
+  vec3 u = vec3(q.x, q.y, q.z);
+  vec3 t = 2.0f * cross(u, v);
+  return v + q.w * t + cross(u, t);
+}
+
+FIRN_FUNCTION vec4 inverseQuaternion(vec4 q) { return vec4(-q.x, -q.y, -q.z, q.w); }
+
+// The turn of a body spinning at angularVelocity for durationS: |ω| t about ω's axis, a unit quaternion.
+FIRN_FUNCTION vec4 turnOver(vec3 angularVelocity, float durationS) {
+  float speed = length(angularVelocity);
+  if (!(speed > 0.0f)) return vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  float halfAngle = 0.5f * speed * durationS;
+  return vec4(angularVelocity * (sin(halfAngle) / speed), cos(halfAngle));
+}
+
+// Where a collider's pivot is at timeS: its pose moves rigidly from c.pivotTime.w at v (docs/algorithm.md eq. 33).
+FIRN_FUNCTION vec3 colliderPivot(ColliderParams c, float timeS) {
+  return vec3(c.pivotTime) + vec3(c.velocityFriction) * (timeS - c.pivotTime.w);
+}
+
 // A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at
-// time timeS: colliders translate at their velocity.
+// time timeS: x is taken into the frame of the shape at rest (eq. 33), measured there (eq. 27), and the normal
+// turned back into the world.
 FIRN_FUNCTION float colliderDistance(ColliderParams c, vec3 x, float timeS, FIRN_OUT(vec3) normal) {
-  vec3 displacement = vec3(c.velocityFriction) * timeS;
+  vec4 turn = turnOver(vec3(c.angularVelocity), timeS - c.pivotTime.w);
+  vec3 fromPivot = rotateByQuaternion(inverseQuaternion(c.rotation),
+                                      rotateByQuaternion(inverseQuaternion(turn), x - colliderPivot(c, timeS)));
+  vec3 restNormal;
+  float signedDistance;
   if (c.shapeBoundary.x == SHAPE_PLANE) {
-    normal = vec3(c.geometryB);
-    return dot(x - (vec3(c.geometryA) + displacement), normal);
-  }
-  if (c.shapeBoundary.x == SHAPE_SPHERE) {
-    vec3 fromCentre = x - (vec3(c.geometryA) + displacement);
+    restNormal = vec3(c.shapeB);
+    signedDistance = dot(fromPivot - vec3(c.shapeA), restNormal);
+  } else if (c.shapeBoundary.x == SHAPE_SPHERE) {
+    vec3 fromCentre = fromPivot - vec3(c.shapeA);
     float distanceToCentre = length(fromCentre);
-    normal = distanceToCentre > 0.0f ? fromCentre / distanceToCentre : vec3(0.0f, 1.0f, 0.0f);
-    return distanceToCentre - c.geometryA.w;
+    restNormal = distanceToCentre > 0.0f ? fromCentre / distanceToCentre : vec3(0.0f, 1.0f, 0.0f);
+    signedDistance = distanceToCentre - c.shapeA.w;
+  } else {
+    vec3 halfExtent = vec3(c.shapeB);
+    vec3 fromCentre = fromPivot - vec3(c.shapeA);
+    vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
+    if (any(greaterThan(excess, vec3(0.0f)))) {
+      vec3 outside = max(excess, vec3(0.0f)) * sign(fromCentre);
+      restNormal = normalize(outside);
+      signedDistance = length(outside);
+    } else {
+      // Inside: the nearest face decides the normal.
+      int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
+      restNormal = vec3(0.0f);
+      restNormal[axis] = fromCentre[axis] >= 0.0f ? 1.0f : -1.0f;
+      signedDistance = excess[axis];
+    }
   }
-  vec3 centre = 0.5f * (vec3(c.geometryA) + vec3(c.geometryB)) + displacement;
-  vec3 halfExtent = 0.5f * (vec3(c.geometryB) - vec3(c.geometryA));
-  vec3 fromCentre = x - centre;
-  vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
-  if (any(greaterThan(excess, vec3(0.0f)))) {
-    vec3 outside = max(excess, vec3(0.0f)) * sign(fromCentre);
-    normal = normalize(outside);
-    return length(outside);
-  }
-  // Inside: the nearest face decides the normal.
-  int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
-  normal = vec3(0.0f);
-  normal[axis] = fromCentre[axis] >= 0.0f ? 1.0f : -1.0f;
-  return excess[axis];
+  normal = rotateByQuaternion(turn, rotateByQuaternion(c.rotation, restNormal));
+  return signedDistance;
+}
+
+// The velocity of a collider's surface at x at timeS, the rigid motion's v + ω × (x − c(t)) (eq. 33).
+FIRN_FUNCTION vec3 colliderVelocity(ColliderParams c, vec3 x, float timeS) {
+  return vec3(c.velocityFriction) + cross(vec3(c.angularVelocity), x - colliderPivot(c, timeS));
 }
 
 #ifndef __cplusplus

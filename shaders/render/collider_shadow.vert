@@ -4,8 +4,8 @@
 #include "render/lighting.glsl"
 #include "render/ground.glsl"
 
-layout(location = 0) in vec3 positionM;  // at time 0
+layout(location = 0) in vec3 positionM;  // at rest
 
-uniform vec3 translationM;  // the collider's displacement at this frame's time
+uniform mat4 poseMatrix;  // the collider's rigid motion from rest to this frame's time
 
-void main() { gl_Position = vec4(groundCoordinates(shadowPoint(positionM + translationM)), 0.0, 1.0); }
+void main() { gl_Position = vec4(groundCoordinates(shadowPoint(vec3(poseMatrix * vec4(positionM, 1.0)))), 0.0, 1.0); }

@@ -134,7 +134,7 @@ TEST(GpuContract, ArraysStrideAsTheHostWritesThem) {
     std::size_t strideBytes;
   } arrays[] = {{"common/bindings.glsl", "materials[0].elastic", sizeof(MaterialParams)},
                 {"common/particles.glsl", "plasticState[0].plasticJ", sizeof(ParticlePlasticState)},
-                {"common/colliders.glsl", "colliders[0].geometryA", sizeof(ColliderParams)},
+                {"common/colliders.glsl", "colliders[0].shapeA", sizeof(ColliderParams)},
                 {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)},
                 {"surface/vertices.glsl", "vertices[0].positionM", sizeof(SurfaceVertex)},
                 {"surface/node_sums.glsl", "nodeSums[0].color", sizeof(SurfaceNodeSums)}};
@@ -174,7 +174,7 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       {"common/bindings.glsl", "materials[0].model", GL_SHADER_STORAGE_BLOCK, "MaterialBuffer", FIRN_BINDING_MATERIALS, 0},
       {"common/watchdog.glsl", "overflowCount", GL_SHADER_STORAGE_BLOCK, "WatchdogBuffer", FIRN_BINDING_WATCHDOG,
        sizeof(WatchdogStatus)},
-      {"common/colliders.glsl", "colliders[0].geometryA", GL_SHADER_STORAGE_BLOCK, "ColliderBuffer",
+      {"common/colliders.glsl", "colliders[0].shapeA", GL_SHADER_STORAGE_BLOCK, "ColliderBuffer",
        FIRN_BINDING_COLLIDERS, 0},
       {"common/particles.glsl", "positionMass[0]", GL_SHADER_STORAGE_BLOCK, "PositionMassBuffer",
        FIRN_BINDING_POSITION_MASS, 0},

@@ -100,6 +100,24 @@ TEST(Preflight, FastColliderIsNamedWhenItBindsTheStep) {
   }
 }
 
+// A box turning a quarter turn in 1e-6 s about its centre: ω = (π/2) / 1e-6 s = 1.571e6 rad/s, and its corners,
+// sqrt(0.05² · 3) = 0.0866 m from the pivot, move at |ω| r = 1.36e5 m/s; the bound h / |v| = 3.676e-7 s names the
+// collider and its keyframes.
+TEST(Preflight, TurningColliderIsBoundByItsSurfacesSpeed) {
+  const Scene scene = sceneWith("1e-3", kBall, R"([ { "type": "box", "min": [0.2, 0.2, 0.2], "max": [0.3, 0.3, 0.3],
+      "keyframes": [ { "time_s": 0 }, { "time_s": 1e-6, "rotate_deg": [0, 90, 0] } ] } ])");
+  try {
+    preflight(scene, sampleBodies(scene));
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("CFL bound h / |v| = 3.68e-07 s of colliders[0] (a box moving at 1.36e+05 m/s"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("or slow colliders[0].keyframes"), std::string::npos) << message;
+  }
+}
+
 // Gravity of 1e30 m/s² over the interior's 1 m (20 cells of 0.05 m) reaches √(2e30) = 1.41e15 m/s: the bound
 // h / √(2 |g| L) = 3.54e-17 s names gravity, for fixed steps and for adaptive ones (whose steps would number 1e15
 // a frame).
