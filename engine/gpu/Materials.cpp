@@ -22,7 +22,7 @@ double hardenedWaveSpeedMPerS(const Material& material, double plasticJ, double 
     return gpu::waterWaveSpeed(material.bulkModulusPa, material.gamma, material.densityKgPerM3);
   }
   const LameParameters lame = lameParameters(material.youngsModulusPa, material.poissonRatio);
-  const double hardening = material.model == MaterialModel::Snow ? std::exp(material.hardening * (1.0 - plasticJ)) : 1.0;
+  const double hardening = material.model == MaterialModel::Snow ? gpu::snowHardening(material.hardening, plasticJ) : 1.0;
   return gpu::pressureWaveSpeed(lambdaScale * lame.lambdaPa, muScale * lame.muPa, hardening, material.densityKgPerM3);
 }
 

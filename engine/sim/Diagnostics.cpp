@@ -100,7 +100,7 @@ std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
   return "Snow had compacted beyond what the step can take: " +
          describeParticle(static_cast<std::int32_t>(stiffest), state) + " reached J_P = " +
          format("%.3g", plasticJ[stiffest]) + ", and hardening e^(xi (1 - J_P)) = " +
-         format("%.3g", std::exp(material.hardening * (1.0 - plasticJ[stiffest]))) + " (hardening " +
+         format("%.3g", gpu::snowHardening(double(material.hardening), double(plasticJ[stiffest]))) + " (hardening " +
          format("%.3g", material.hardening) + ") made its wave speed " + format("%.4g", fastestMPerS) +
          " m/s, whose bound h / c = " + format("%.4g", boundS) + " s is below time.dt = " + format("%.4g", dtS_) +
          " s (the scene's bound, " + format("%.4g", stableDtS_) + " s, holds down to J_P = 1 - critical_compression). "

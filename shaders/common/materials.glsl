@@ -27,7 +27,7 @@ mat3 fixedCorotatedStress(mat3 F, mat3 U, vec3 sigma, float mu, float lambda) {
 
 // Snow's Lamé parameters hardened at J_P (eq. 7): μ = μ0 e^{ξ(1−J_P)}, λ = λ0 e^{ξ(1−J_P)}.
 vec2 hardenedLameParameters(MaterialParams m, float plasticJ) {
-  return m.elastic.xy * exp(m.elastic.z * (1.0 - plasticJ));
+  return m.elastic.xy * snowHardening(m.elastic.z, plasticJ);
 }
 
 #ifdef FIRN_MATERIAL_SNOW
@@ -152,7 +152,7 @@ MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3
 // e^{ξ(1 − J_P)}, by 148× at J_P = 0.5 with ξ = 10), and sqrt(k γ / ρ) for water.
 float waveSpeed(MaterialParams m, float state) {
   if (m.model.x == MODEL_WATER) return waterWaveSpeed(m.fluid.x, m.fluid.y, m.elastic.w);
-  float stiffening = m.model.x == MODEL_SNOW ? exp(m.elastic.z * (1.0 - state)) : 1.0;
+  float stiffening = m.model.x == MODEL_SNOW ? snowHardening(m.elastic.z, state) : 1.0;
   return pressureWaveSpeed(m.elastic.y, m.elastic.x, stiffening, m.elastic.w);
 }
 

@@ -20,6 +20,9 @@
 #define Real float
 #endif
 
+// Snow's hardening, e^{ξ(1 − J_P)} (Stomakhin et al. 2013 eq. 7): the factor its Lamé parameters take at J_P.
+FIRN_GENERIC Real snowHardening(Real hardening, Real plasticJ) { return exp(hardening * (Real(1) - plasticJ)); }
+
 // The speed of the fastest elastic (pressure) wave in a solid, sqrt((λ + 2μ) / ρ), with its moduli stiffened
 // by `stiffening` (snow's hardening e^{ξ(1 − J_P)}, Stomakhin et al. 2013 eq. 7; 1 for other solids).
 FIRN_GENERIC Real pressureWaveSpeed(Real lambdaPa, Real muPa, Real stiffening, Real densityKgPerM3) {

@@ -2,6 +2,7 @@
 // One headless GL context shared by every test in the GL test binary (llvmpipe in CI).
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "gl/Context.h"
 #include "sim/Simulation.h"
@@ -21,6 +22,14 @@ inline std::size_t firstNonFiniteParticle(const ParticleSnapshot& s) {
     if (!std::isfinite(sum)) return i;  // a NaN or infinity in any term makes the sum non-finite
   }
   return s.size();
+}
+
+// Whether two snapshots hold the same particles to the last bit (positions, masses, velocities, volumes, J_P).
+inline bool sameBytes(const ParticleSnapshot& a, const ParticleSnapshot& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.positionMass.data(), b.positionMass.data(), a.size() * sizeof(glm::vec4)) == 0 &&
+         std::memcmp(a.velocityVolume.data(), b.velocityVolume.data(), a.size() * sizeof(glm::vec4)) == 0 &&
+         std::memcmp(a.plasticJ.data(), b.plasticJ.data(), a.size() * sizeof(float)) == 0;
 }
 
 }  // namespace firn::test

@@ -27,6 +27,7 @@ namespace {
 
 using firn::HessianProduct;
 using firn::ParticleSnapshot;
+using firn::test::sameBytes;
 using firn::Scene;
 using firn::Simulation;
 
@@ -72,13 +73,6 @@ const std::string kNeoHookean = R"({ "model": "neo_hookean", "youngs_modulus": 1
 const std::string kGround =
     R"([{ "type": "plane", "point": [0, 0.2, 0], "normal": [0, 1, 0], "boundary": "slip", "friction": 0.3 },
         { "type": "sphere", "center": [0.6, 0.25, 0.6], "radius": 0.12, "boundary": "sticky" }])";
-
-bool sameBytes(const ParticleSnapshot& a, const ParticleSnapshot& b) {
-  return a.size() == b.size() &&
-         std::memcmp(a.positionMass.data(), b.positionMass.data(), a.size() * sizeof(glm::vec4)) == 0 &&
-         std::memcmp(a.velocityVolume.data(), b.velocityVolume.data(), a.size() * sizeof(glm::vec4)) == 0 &&
-         std::memcmp(a.plasticJ.data(), b.plasticJ.data(), a.size() * sizeof(float)) == 0;
-}
 
 ParticleSnapshot runSteps(const Scene& scene, int steps) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());

@@ -19,6 +19,7 @@
 namespace {
 
 using firn::ParticleSnapshot;
+using firn::test::sameBytes;
 using firn::Scene;
 using firn::Simulation;
 
@@ -67,13 +68,6 @@ Scene isolatedParticles(const std::string& solver) {
     "time": { "dt": 5e-4, "frame_rate": 10 }, "solver": )" + solver + R"(, "materials": )" + kMaterials +
                               R"(, "bodies": [)" + bodies + "] }",
                           "isolated particles");
-}
-
-bool sameBytes(const ParticleSnapshot& a, const ParticleSnapshot& b) {
-  return a.size() == b.size() &&
-         std::memcmp(a.positionMass.data(), b.positionMass.data(), a.size() * sizeof(glm::vec4)) == 0 &&
-         std::memcmp(a.velocityVolume.data(), b.velocityVolume.data(), a.size() * sizeof(glm::vec4)) == 0 &&
-         std::memcmp(a.plasticJ.data(), b.plasticJ.data(), a.size() * sizeof(float)) == 0;
 }
 
 // Isolated particles fall for 2 s (4,000 steps) along symplectic Euler's discrete parabola, y0 + ½ g t² + ½ g Δt t,
