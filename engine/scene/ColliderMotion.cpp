@@ -93,6 +93,11 @@ double colliderReachM(const Scene& scene, const Collider& collider) {
     lowM = collider.minM;
     highM = collider.maxM;
   }
+  if (collider.shape == ColliderShape::Mesh) {
+    const voxelizer::Bounds box = voxelizer::bounds(*collider.mesh);
+    lowM = box.minM;
+    highM = box.maxM;
+  }
   // The farthest corner of the box (or, for a plane, of the domain) from the pivot.
   const glm::dvec3 farthestM = glm::max(glm::abs(lowM - collider.pivotM), glm::abs(highM - collider.pivotM));
   return glm::length(farthestM);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 namespace firn {
@@ -29,7 +30,8 @@ enum class ParticleVolume { GridDensity, MaterialDensity };
 enum class Integrator { Explicit, SemiImplicit };
 enum class BodyShape { Sphere, Box, Mesh, Points };
 enum class BodySampler { Lattice, PoissonDisk };  // how sphere, box and mesh bodies are filled
-enum class ColliderShape { Plane, Sphere, Box };
+enum class ColliderShape { Plane, Sphere, Box, Mesh };
+enum class RigidShape { Sphere, Box, Mesh };
 
 struct GridSpec {
   glm::dvec3 originM{0.0};
@@ -202,6 +204,46 @@ struct Collider {
   std::vector<ColliderKeyframe> keyframes;  // its poses at increasing times; empty: it moves at velocityMPerS
   double friction = 0;            // Coulomb μ
   Boundary boundary = Boundary::Slip;
+  // Mesh colliders: the file (as the scene names it, and resolved against the scene's folder) and its placement at
+  // rest, as mesh bodies' (p' = translate + R · (scale · p)); the placed mesh, loaded with the scene; and the
+  // samples of its signed distance field per grid cell and axis (spacing cell_size / fieldResolution).
+  std::string path;
+  std::filesystem::path resolvedPath;
+  double scale = 1;
+  glm::dvec3 rotateDeg{0.0};
+  glm::dvec3 translateM{0.0};
+  std::shared_ptr<const voxelizer::TriangleMesh> mesh;
+  double fieldResolution = 2;
+};
+
+// A rigid body the snow pushes and that pushes the snow (docs/algorithm.md, Rigid bodies). Its frame has its origin
+// at the centre of mass and its axes at the shape's own (a box's edges; a mesh's file axes after the placement's
+// rotation, so a mesh body starts unturned); it starts turned by `rotateDeg` (boxes) and moves under gravity, the
+// snow's impulses and its contacts with the colliders and the domain walls.
+struct RigidBody {
+  RigidShape shape = RigidShape::Sphere;
+  glm::dvec3 centerM{0.0};      // sphere and box: the centre at t = 0
+  double radiusM = 0;           // sphere
+  glm::dvec3 halfExtentsM{0.0}; // box, along its own axes
+  glm::dvec3 rotateDeg{0.0};    // box: its turn at t = 0 (R = R_z R_y R_x)
+  // Mesh: the file and its placement, as mesh colliders'; the placed mesh, in world coordinates at t = 0.
+  std::string path;
+  std::filesystem::path resolvedPath;
+  double scale = 1;
+  glm::dvec3 meshRotateDeg{0.0};
+  glm::dvec3 translateM{0.0};
+  std::shared_ptr<const voxelizer::TriangleMesh> mesh;
+  double fieldResolution = 2;   // mesh: its distance field's samples per grid cell and axis
+  glm::dvec3 velocityMPerS{0.0};
+  glm::dvec3 angularVelocityRadPerS{0.0};
+  double friction = 0.3;        // Coulomb μ against the snow, the colliders and the walls
+  Boundary boundary = Boundary::Separate;
+  // From the shape and "mass" or "density" (the loader fills them): the mass, the volume, where the centre of mass
+  // is at t = 0, and the inertia tensor about it along the body's own axes.
+  double massKg = 0;
+  double volumeM3 = 0;
+  glm::dvec3 centerOfMassM{0.0};
+  glm::dmat3 inertiaKgM2{0.0};
 };
 
 // How the snow's surface is reconstructed from the particles (docs/surfaces.md): for `--render surface`, `--mesh`
@@ -232,6 +274,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Body> bodies;
   std::vector<Collider> colliders;
+  std::vector<RigidBody> rigidBodies;
   std::optional<CameraSpec> camera;  // absent: the renderer frames the scene itself
   SurfaceSpec surface;
 

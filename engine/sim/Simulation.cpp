@@ -313,4 +313,10 @@ std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
   return nodes;
 }
 
+std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
+  std::vector<ObjectPose> poses;
+  for (const RigidBody& body : scene_.rigidBodies) poses.push_back(initialBodyPose(body));
+  return poses;
+}
+
 }  // namespace firn

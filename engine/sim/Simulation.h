@@ -21,6 +21,7 @@
 #include "gpu/ParticleView.h"
 #include "io/Checkpoint.h"
 #include "scene/Scene.h"
+#include "scene/SceneObjects.h"
 #include "sim/Diagnostics.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
@@ -99,6 +100,9 @@ class Simulation {
   SolverSummary takeSolverSummary();
 
   ParticleSnapshot snapshot() const;
+  // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
+  // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
+  std::vector<ObjectPose> rigidBodyPoses() const;
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;

@@ -1,0 +1,132 @@
+#include "scene/SceneObjects.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
+
+#include "scene/ColliderMotion.h"
+
+namespace firn {
+
+namespace {
+
+// A UV sphere about the origin, counter-clockwise seen from outside: fine enough that its facets stay within
+// 0.2 % of the radius (48 segments round, 24 from pole to pole).
+voxelizer::TriangleMesh sphereMesh(double radiusM) {
+  constexpr int kSegments = 48, kRings = 24;
+  voxelizer::TriangleMesh mesh;
+  for (int ring = 0; ring <= kRings; ++ring) {
+    const double polar = glm::pi<double>() * ring / kRings;
+    for (int segment = 0; segment < kSegments; ++segment) {
+      const double azimuth = 2 * glm::pi<double>() * segment / kSegments;
+      mesh.vertices.push_back(radiusM * glm::dvec3(std::sin(polar) * std::cos(azimuth), std::cos(polar),
+                                                   -std::sin(polar) * std::sin(azimuth)));
+    }
+  }
+  const auto vertex = [](int ring, int segment) { return unsigned(ring * kSegments + segment % kSegments); };
+  for (int ring = 0; ring < kRings; ++ring) {
+    for (int segment = 0; segment < kSegments; ++segment) {
+      const unsigned a = vertex(ring, segment), b = vertex(ring + 1, segment), c = vertex(ring + 1, segment + 1),
+                     d = vertex(ring, segment + 1);
+      if (ring > 0) mesh.triangles.emplace_back(a, b, d);
+      if (ring + 1 < kRings) mesh.triangles.emplace_back(d, b, c);
+    }
+  }
+  return mesh;
+}
+
+// A box of these half extents about the origin, two outward triangles per face.
+voxelizer::TriangleMesh boxMesh(const glm::dvec3& halfExtentsM) {
+  voxelizer::TriangleMesh mesh;
+  for (int corner = 0; corner < 8; ++corner) {
+    mesh.vertices.push_back(halfExtentsM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+  }
+  // Faces −x, +x, −y, +y, −z, +z as corner quads wound counter-clockwise from outside.
+  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& face : faces) {
+    mesh.triangles.emplace_back(face[0], face[1], face[2]);
+    mesh.triangles.emplace_back(face[0], face[2], face[3]);
+  }
+  return mesh;
+}
+
+// A square across the domain in the plane through the origin with this normal, facing it.
+voxelizer::TriangleMesh planeMesh(const glm::dvec3& normal, double halfSizeM) {
+  const glm::dvec3 helper = std::abs(normal.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(helper, normal));
+  const glm::dvec3 v = glm::cross(normal, u);
+  voxelizer::TriangleMesh mesh;
+  mesh.vertices = {halfSizeM * (-u - v), halfSizeM * (u - v), halfSizeM * (u + v), halfSizeM * (-u + v)};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+voxelizer::TriangleMesh shifted(voxelizer::TriangleMesh mesh, const glm::dvec3& originM) {
+  for (glm::dvec3& vertex : mesh.vertices) vertex -= originM;
+  return mesh;
+}
+
+voxelizer::TriangleMesh colliderMesh(const Scene& scene, const Collider& collider) {
+  switch (collider.shape) {
+    case ColliderShape::Plane: {
+      const double halfSizeM = glm::length(scene.domainMaxM() - scene.domainMinM());
+      return shifted(planeMesh(collider.normal, halfSizeM), collider.pivotM - collider.pointM);
+    }
+    case ColliderShape::Sphere: return shifted(sphereMesh(collider.radiusM), collider.pivotM - collider.centerM);
+    case ColliderShape::Box:
+      return shifted(boxMesh(0.5 * (collider.maxM - collider.minM)), collider.pivotM - 0.5 * (collider.minM + collider.maxM));
+    case ColliderShape::Mesh: return shifted(*collider.mesh, collider.pivotM);
+  }
+  return {};
+}
+
+voxelizer::TriangleMesh bodyMesh(const RigidBody& body) {
+  switch (body.shape) {
+    case RigidShape::Sphere: return sphereMesh(body.radiusM);
+    case RigidShape::Box: return boxMesh(body.halfExtentsM);
+    case RigidShape::Mesh: return shifted(*body.mesh, body.centerOfMassM);
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<SceneObject> sceneObjects(const Scene& scene) {
+  std::vector<SceneObject> objects;
+  for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& collider = scene.colliders[i];
+    SceneObject& object = objects.emplace_back();
+    object.kind = ObjectKind::Collider;
+    object.index = int(i);
+    object.name = "colliders[" + std::to_string(i) + "]";
+    object.moves = collider.shape != ColliderShape::Plane &&
+                   (!collider.keyframes.empty() || collider.velocityMPerS != glm::dvec3(0.0));
+    object.meshM = colliderMesh(scene, collider);
+  }
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    SceneObject& object = objects.emplace_back();
+    object.kind = ObjectKind::RigidBody;
+    object.index = int(i);
+    object.name = "rigid_bodies[" + std::to_string(i) + "]";
+    object.moves = true;
+    object.meshM = bodyMesh(scene.rigidBodies[i]);
+  }
+  return objects;
+}
+
+ObjectPose colliderObjectPose(const Collider& collider, double timeS) {
+  const RigidPose pose = colliderPose(collider, timeS);
+  return {pose.pivotM, pose.rotation, pose.velocityMPerS, pose.angularVelocityRadPerS};
+}
+
+ObjectPose initialBodyPose(const RigidBody& body) {
+  ObjectPose pose;
+  pose.positionM = body.centerOfMassM;
+  if (body.shape == RigidShape::Box) pose.orientation = glm::normalize(glm::quat_cast(voxelizer::rotationMatrix(body.rotateDeg)));
+  pose.velocityMPerS = body.velocityMPerS;
+  pose.angularVelocityRadPerS = body.angularVelocityRadPerS;
+  return pose;
+}
+
+}  // namespace firn

@@ -1,0 +1,45 @@
+#pragma once
+// The solid objects of a scene as an artist sees them and a DCC replays them: each collider (analytic or mesh) and
+// each rigid body as a triangle mesh in its own frame, and where that frame is at a time (docs/output.md, bodies.csv).
+#include <string>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "scene/Scene.h"
+#include "voxelizer/Mesh.h"
+
+namespace firn {
+
+// A point p of an object's frame is at positionM + orientation · p. For a collider the frame's origin is its pivot
+// and its axes the world's at rest; for a rigid body, its centre of mass and its own axes (Scene.h, RigidBody).
+struct ObjectPose {
+  glm::dvec3 positionM{0.0};
+  glm::dquat orientation{1, 0, 0, 0};
+  glm::dvec3 velocityMPerS{0.0};           // of the frame's origin
+  glm::dvec3 angularVelocityRadPerS{0.0};  // world axes
+};
+
+enum class ObjectKind { Collider, RigidBody };
+
+struct SceneObject {
+  ObjectKind kind = ObjectKind::Collider;
+  int index = 0;     // into Scene::colliders or Scene::rigidBodies
+  std::string name;  // "colliders[2]", "rigid_bodies[0]": as errors and pre-flight name them
+  bool moves = false;  // a rigid body, or a collider with keyframes or a velocity
+  // The object's surface in its own frame: a mesh's triangles as placed, a sphere's and a box's tessellated, a
+  // plane's a square across the domain (planes are the ground and walls, drawn but never exported as moving).
+  voxelizer::TriangleMesh meshM;
+};
+
+// Every collider, then every rigid body, in the scene's order.
+std::vector<SceneObject> sceneObjects(const Scene& scene);
+
+// A collider's frame at timeS (from colliderPose): position the pivot's, orientation its turn from rest.
+ObjectPose colliderObjectPose(const Collider& collider, double timeS);
+
+// A rigid body's frame at t = 0, as the scene places it.
+ObjectPose initialBodyPose(const RigidBody& body);
+
+}  // namespace firn

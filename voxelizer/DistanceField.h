@@ -1,0 +1,35 @@
+#pragma once
+// A triangle mesh's signed distance field, sampled on a regular lattice in the mesh's own coordinates, for mesh
+// colliders and rigid bodies (docs/algorithm.md, Mesh colliders). |φ| is the exact distance to the nearest
+// triangle at every sample; the sign comes from the generalized winding number (WindingNumber.h), as the voxelizer
+// fills meshes, so open, flipped and overlapping artist meshes have an inside: negative where |w| ≥ 0.5.
+#include <cstddef>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "voxelizer/Mesh.h"
+
+namespace firn::voxelizer {
+
+struct DistanceField {
+  glm::dvec3 originM{0.0};        // where sample (0, 0, 0) lies, in the mesh's coordinates
+  double spacingM = 0;            // between neighbouring samples, on every axis
+  glm::ivec3 samples{0};          // per axis
+  std::vector<float> distancesM;  // φ (m) per sample, x fastest, then y, then z; negative inside
+
+  std::size_t sampleCount() const { return std::size_t(samples.x) * std::size_t(samples.y) * std::size_t(samples.z); }
+  float at(int x, int y, int z) const {
+    return distancesM[(std::size_t(z) * std::size_t(samples.y) + std::size_t(y)) * std::size_t(samples.x) + std::size_t(x)];
+  }
+};
+
+// The lattice bakeDistanceField samples: the mesh's box grown by marginM on every side, in whole steps of spacingM
+// from its low corner (so the scene can count a field's memory before baking it).
+DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, double marginM);
+
+// Bakes the field of `mesh` on distanceFieldLattice(bounds(mesh), spacingM, marginM). Throws MeshError if the mesh
+// has no triangles.
+DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM);
+
+}  // namespace firn::voxelizer
