@@ -16,7 +16,15 @@ void BufferBindings::storage(GLuint binding, const Buffer& buffer) { set(storage
 
 void BufferBindings::uniform(GLuint binding, const Buffer& buffer) { set(uniform_, binding, buffer); }
 
+void BufferBindings::texture(GLuint unit, const BufferTexture& texture) {
+  if (textures_.size() <= unit) textures_.resize(unit + 1, nullptr);
+  textures_[unit] = &texture;
+}
+
 void BufferBindings::bindFor(const Program& program) const {
+  for (std::size_t unit = 0; unit < textures_.size(); ++unit) {
+    if (textures_[unit] != nullptr) textures_[unit]->bind(GLuint(unit));
+  }
   for (const GLuint binding : program.storageBindings()) {
     if (binding >= storage_.size() || storage_[binding] == nullptr || !*storage_[binding]) {
       throw std::logic_error(program.name() + " declares storage binding " + std::to_string(binding) +

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gl/Buffer.h"
+#include "gl/BufferTexture.h"
 #include "gl/GL.h"
 
 namespace firn::gl {
@@ -17,6 +18,8 @@ class BufferBindings {
  public:
   void storage(GLuint binding, const Buffer& buffer);
   void uniform(GLuint binding, const Buffer& buffer);
+  // A buffer texture every program finds at `unit` (bound for each, whether it samples it or not: they are few).
+  void texture(GLuint unit, const BufferTexture& texture);
 
   // Binds every block `program` declares; throws std::logic_error if one has no buffer here.
   void bindFor(const Program& program) const;
@@ -26,6 +29,7 @@ class BufferBindings {
 
   std::vector<const Buffer*> storage_;  // by storage binding point, null where nothing is published
   std::vector<const Buffer*> uniform_;  // by uniform binding point
+  std::vector<const BufferTexture*> textures_;  // by texture unit, null where nothing is published
 };
 
 }  // namespace firn::gl

@@ -222,6 +222,9 @@ void loadGLFunctions(ContextInfo& info) {
   GLint64 maxBlockBytes = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlockBytes);
   info.maxStorageBlockBytes = maxBlockBytes;
+  GLint maxTexels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  info.maxTextureBufferTexels = maxTexels;
   glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &info.maxComputeWorkGroupCountX);
   // Both report KiB: NVX the dedicated memory free now, ATI the free memory for buffers (the first of four).
   constexpr GLenum currentAvailableVidmemNvx = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX

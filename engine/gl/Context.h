@@ -15,6 +15,7 @@ struct ContextInfo {
   std::string version;
   bool hasFloatAtomics = false;  // GL_NV_shader_atomic_float
   long long maxStorageBlockBytes = 0;
+  long long maxTextureBufferTexels = 0;  // GL_MAX_TEXTURE_BUFFER_SIZE: the collider fields' buffer texture
   int maxComputeWorkGroupCountX = 0;
   // GPU memory free when the context was made, where the driver says (GL_NVX_gpu_memory_info, GL_ATI_meminfo);
   // 0 where it does not.

@@ -2,6 +2,7 @@
 // The functions the host shares with the shaders (shaders/common/shared_functions.h), in namespace firn::gpu:
 // GLSL's built-ins are glm's (and std's, for the double-precision templates).
 #include <cmath>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
@@ -16,8 +17,12 @@ namespace firn::gpu {
 
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
+using ivec3 = glm::ivec3;
 using glm::abs;
 using glm::any;
+using glm::clamp;
+using glm::floor;
+using glm::min;
 using glm::cross;
 using glm::dot;
 using glm::greaterThan;
@@ -30,5 +35,29 @@ using std::sin;
 using std::sqrt;
 
 #include "common/shared_functions.h"
+
+// A collider's signed distance φ at x (m, negative inside its solid) and its outward unit normal there at timeS,
+// as common/colliders.glsl's colliderDistance measures it: `fieldSamples` is the field buffer the table's mesh
+// entries index (SceneUpload.h, ColliderFields).
+inline float colliderDistance(const ColliderParams& c, const std::vector<float>& fieldSamples, vec3 x, float timeS,
+                              vec3& normal) {
+  const vec3 fromPivot = colliderRestPoint(c, x, timeS);
+  vec3 restNormal;
+  float distanceM;
+  if (c.shapeBoundary.x == SHAPE_MESH) {
+    ivec3 cell;
+    vec3 fraction, outsideM;
+    fieldCell(c, fromPivot, cell, fraction, outsideM);
+    float corners[8];
+    for (int k = 0; k < 8; ++k) {
+      corners[k] = fieldSamples.at(std::size_t(fieldSampleIndex(c, cell + ivec3(k & 1, (k >> 1) & 1, k >> 2))));
+    }
+    distanceM = cellDistance(corners, fraction, outsideM, restNormal);
+  } else {
+    distanceM = shapeDistance(c, fromPivot, restNormal);
+  }
+  normal = colliderWorldDirection(c, restNormal, timeS);
+  return distanceM;
+}
 
 }  // namespace firn::gpu

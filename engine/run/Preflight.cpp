@@ -31,6 +31,7 @@ const char* colliderName(ColliderShape shape) {
     case ColliderShape::Plane: return "plane";
     case ColliderShape::Sphere: return "sphere";
     case ColliderShape::Box: return "box";
+    case ColliderShape::Mesh: return "mesh";
   }
   return "collider";
 }
@@ -39,25 +40,33 @@ const char* colliderName(ColliderShape shape) {
 // says how many and how deep, per body and collider; refuses a body that would be moved out whole (it would
 // become a sheet on the collider's surface) or particles that cannot be moved out.
 void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
-  if (scene.colliders.empty()) return;
-  ColliderTableAt colliders(scene);
+  if (scene.colliders.empty() && scene.rigidBodies.empty()) return;
+  // The table holds the colliders, then the rigid bodies: snow that starts inside a body is moved out of it alike.
+  const ColliderFields fields = bakeColliderFields(scene);
+  ColliderTableAt colliders(scene, fields);
+  const std::size_t solids = scene.colliders.size() + scene.rigidBodies.size();
+  const auto solidName = [&](std::size_t c) {
+    return c < scene.colliders.size()
+               ? "colliders[" + std::to_string(c) + "] (a " + colliderName(scene.colliders[c].shape) + ")"
+               : "rigid_bodies[" + std::to_string(c - scene.colliders.size()) + "]";
+  };
   struct Overlap {
     std::size_t particles = 0;
     float deepestM = 0;
   };
-  std::vector<std::vector<Overlap>> overlaps(scene.bodies.size(), std::vector<Overlap>(scene.colliders.size()));
+  std::vector<std::vector<Overlap>> overlaps(scene.bodies.size(), std::vector<Overlap>(solids));
   std::vector<std::size_t> bodyParticles(scene.bodies.size(), 0), bodyInside(scene.bodies.size(), 0);
   for (const ParticleSeed& particle : particles) {
     if (particle.bodyIndex < 0) continue;
     const auto body = std::size_t(particle.bodyIndex);
     ++bodyParticles[body];
-    const ColliderEscape escape = escapeColliders(scene.grid, colliders(particle.releaseTimeS), particle);
+    const ColliderEscape escape = escapeColliders(scene.grid, colliders(particle.releaseTimeS), fields.samples, particle);
     if (escape.collider < 0) continue;
     if (escape.stuck) {
       throw InputError(bodyName(scene, body) + ": a particle at " +
                        format("(%.4g, ", particle.positionM.x) + format("%.4g, ", particle.positionM.y) +
-                       format("%.4g)", particle.positionM.z) + " starts inside colliders[" +
-                       std::to_string(escape.collider) + "] and cannot be moved out of it: moving it out puts it in "
+                       format("%.4g)", particle.positionM.z) + " starts inside " +
+                       solidName(std::size_t(escape.collider)) + " and cannot be moved out of it: moving it out puts it in "
                        "another collider or beyond the grid's interior; move the body or the colliders");
     }
     ++bodyInside[body];
@@ -71,12 +80,11 @@ void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>
                        " particles starts inside a collider; moved out they would form a sheet on the collider's "
                        "surface. Move the body out of the collider");
     }
-    for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
+    for (std::size_t c = 0; c < solids; ++c) {
       const Overlap& overlap = overlaps[b][c];
       if (overlap.particles == 0) continue;
       report.warnings.push_back("bodies[" + std::to_string(b) + "]: " + withThousands(overlap.particles) + " of its " +
-                                withThousands(bodyParticles[b]) + " particles start inside colliders[" + std::to_string(c) +
-                                "] (a " + colliderName(scene.colliders[c].shape) + "), up to " +
+                                withThousands(bodyParticles[b]) + " particles start inside " + solidName(c) + ", up to " +
                                 format("%.3g m", overlap.deepestM) +
                                 " deep; they are moved out to its surface before the first step");
     }

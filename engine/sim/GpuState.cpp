@@ -31,6 +31,7 @@ GpuStateLayout GpuStateLayout::forScene(const Scene& scene, std::size_t particle
   // The velocity before forces: PIC/FLIP's increment and the semi-implicit solve's start (common/grid.glsl).
   layout.impulse = scene.solver.transfer == Transfer::PicFlip || scene.solver.semiImplicit();
   layout.semiImplicit = scene.solver.semiImplicit();
+  layout.rigidBodies = scene.rigidBodies.size();
   return layout;
 }
 
@@ -95,14 +96,21 @@ const GpuStateLayout& checkedLayout(const GpuStateLayout& layout, const gl::Cont
 }  // namespace
 
 GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
-                   const std::vector<gpu::ColliderParams>& colliders, const gl::ContextInfo& gl,
-                   const gl::ShaderOptions& options)
+                   const std::vector<gpu::ColliderParams>& colliders, const std::vector<float>& colliderFields,
+                   const gl::ContextInfo& gl, const gl::ShaderOptions& options)
     : layout_(checkedLayout(layout, gl)),
       particles_(layout_.particleCapacity, layout_.deformationGradient, layout_.affine),
       grid_(layout_, gl::ShaderLibrary(), options, gl) {
   if (layout_.semiImplicit) solver_.emplace(layout_.particleCapacity);
   materials_ = gl::Buffer::fromVector(materials.entries).labelled("materials");
   colliders_ = gl::Buffer::fromVector(colliders).labelled("colliders");
+  if (colliderFields.size() > std::size_t(gl.maxTextureBufferTexels)) {
+    throw InputError(layout_.sceneFile + ": colliders: the distance fields and contact probes hold " +
+                     std::to_string(colliderFields.size()) + " floats, more than the " +
+                     std::to_string(gl.maxTextureBufferTexels) + " texels " + gl.renderer +
+                     " allows a buffer texture; lower the mesh colliders' and bodies' \"resolution\"");
+  }
+  colliderFields_ = gl::BufferTexture(colliderFields);
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms)).labelled("step uniforms");
   const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
   watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog).labelled("watchdog");
@@ -138,6 +146,7 @@ void GpuState::publish() {
   if (solver_) solver_->publish(bindings_);
   bindings_.storage(FIRN_BINDING_MATERIALS, materials_);
   bindings_.storage(FIRN_BINDING_COLLIDERS, colliders_);
+  bindings_.texture(FIRN_TEXTURE_UNIT_COLLIDER_FIELDS, colliderFields_);
   bindings_.storage(FIRN_BINDING_WATCHDOG, watchdog_);
   bindings_.uniform(FIRN_BINDING_STEP_UNIFORMS, stepUniforms_);
 }
@@ -157,8 +166,13 @@ void GpuState::writeStepUniforms(const gpu::StepUniforms& uniforms) {
   stepUniforms_.upload(0, sizeof uniforms, &uniforms);
 }
 
-void GpuState::writeColliders(const std::vector<gpu::ColliderParams>& colliders) {
-  colliders_.upload(0, colliders.size() * sizeof(gpu::ColliderParams), colliders.data());
+void GpuState::writeColliders(const std::vector<gpu::ColliderParams>& colliders, std::size_t first) {
+  colliders_.upload(first * sizeof(gpu::ColliderParams), colliders.size() * sizeof(gpu::ColliderParams),
+                    colliders.data());
+}
+
+std::vector<gpu::ColliderParams> GpuState::readColliders(std::size_t first, std::size_t count) const {
+  return colliders_.read<gpu::ColliderParams>(count, first);
 }
 
 gpu::WatchdogStatus GpuState::watchdog() const { return watchdog_.read<gpu::WatchdogStatus>(1)[0]; }
@@ -169,11 +183,13 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-// The particles' buffers, then the watchdog: the order of a checkpoint's sections.
+// The particles' buffers, then the watchdog, then (with rigid bodies, whose state it holds) the collider table: the
+// order of a checkpoint's sections.
 template <class Self>
 auto GpuState::stateBuffersOf(Self& self) {
   auto buffers = self.particles_.stateBuffers();
   buffers.push_back(&self.watchdog_);
+  if (self.layout_.rigidBodies > 0) buffers.push_back(&self.colliders_);
   return buffers;
 }
 

@@ -30,8 +30,8 @@ class GpuState {
   // The block grid's passes are built with the step's shader options. Throws InputError when a buffer would exceed
   // what the driver allows per shader storage block.
   GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
-           const std::vector<gpu::ColliderParams>& colliders, const gl::ContextInfo& gl,
-           const gl::ShaderOptions& options);
+           const std::vector<gpu::ColliderParams>& colliders, const std::vector<float>& colliderFields,
+           const gl::ContextInfo& gl, const gl::ShaderOptions& options);
 
   std::size_t particleCapacity() const { return layout_.particleCapacity; }
 
@@ -51,8 +51,10 @@ class GpuState {
   void resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl);
 
   void writeStepUniforms(const gpu::StepUniforms& uniforms);
-  // The colliders' poses for the step to come (buildColliderTable); the table keeps its size.
-  void writeColliders(const std::vector<gpu::ColliderParams>& colliders);
+  // Entries of the collider table from `first` on: the colliders' poses for the step to come (buildColliderTable), a
+  // launched body's state. The table keeps its size.
+  void writeColliders(const std::vector<gpu::ColliderParams>& colliders, std::size_t first = 0);
+  std::vector<gpu::ColliderParams> readColliders(std::size_t first, std::size_t count) const;
   gpu::WatchdogStatus watchdog() const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
@@ -81,6 +83,7 @@ class GpuState {
   std::optional<SolverState> solver_;
   gl::Buffer materials_;
   gl::Buffer colliders_;
+  gl::BufferTexture colliderFields_;  // the mesh colliders' and bodies' distance fields, the bodies' probes
   gl::Buffer watchdog_;
   gl::Buffer stepUniforms_;
   gl::BufferBindings bindings_;

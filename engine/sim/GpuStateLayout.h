@@ -21,6 +21,7 @@ struct GpuStateLayout {
   bool affine = false;              // APIC's C
   bool impulse = true;              // the grid's impulse storage: PIC/FLIP or semi-implicit
   bool semiImplicit = false;        // the solve's vectors per node and stiffness per particle
+  std::size_t rigidBodies = 0;      // the collider table's last entries, whose state carries over from step to step
 
   static GpuStateLayout forScene(const Scene& scene, std::size_t particleCapacity, std::size_t blockCapacity,
                                  bool deformationGradient);

@@ -1,20 +1,148 @@
 #include "sim/SceneUpload.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <unordered_set>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "gpu/GpuFunctions.h"
 #include "io/Checkpoint.h"
 #include "scene/ColliderMotion.h"
+#include "voxelizer/DistanceField.h"
 
 namespace firn {
 
-std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double timeS) {
-  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene.colliders.size(), 1), gpu::ColliderParams{});
+namespace {
+
+int boundaryCode(Boundary boundary) {
+  return boundary == Boundary::Sticky ? gpu::BOUNDARY_STICKY
+         : boundary == Boundary::Slip ? gpu::BOUNDARY_SLIP
+                                      : gpu::BOUNDARY_SEPARATE;
+}
+
+// Bakes `mesh`'s field for the grid at its resolution, appends its samples and says where they lie from `pivotM`.
+ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::TriangleMesh& mesh, double resolution,
+                                  const GridSpec& grid, const glm::dvec3& pivotM) {
+  const double spacingM = grid.cellSizeM / resolution;
+  voxelizer::DistanceField field =
+      voxelizer::bakeDistanceField(mesh, spacingM, ColliderFields::kFieldMarginCells * grid.cellSizeM);
+  ColliderFields::Field placed;
+  placed.first = static_cast<int>(samples.size());
+  placed.samples = field.samples;
+  placed.originFromPivotM = field.originM - pivotM;
+  placed.spacingM = field.spacingM;
+  samples.insert(samples.end(), field.distancesM.begin(), field.distancesM.end());
+  return placed;
+}
+
+void setField(gpu::ColliderParams& entry, const ColliderFields::Field& field) {
+  entry.shapeBoundary.x = gpu::SHAPE_MESH;
+  entry.field = glm::ivec4(field.first, field.samples);
+  entry.fieldOrigin = glm::vec4(glm::vec3(field.originFromPivotM), float(field.spacingM));
+}
+
+}  // namespace
+
+std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
+  switch (body.shape) {
+    case RigidShape::Sphere: return {glm::dvec3(0.0)};
+    case RigidShape::Box: {
+      std::vector<glm::dvec3> corners;
+      for (int corner = 0; corner < 8; ++corner) {
+        corners.push_back(body.halfExtentsM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+      }
+      return corners;
+    }
+    case RigidShape::Mesh: break;
+  }
+  // Support points: the vertex farthest along each of a Fibonacci lattice's directions, which spread evenly over
+  // the sphere, so the probes outline the mesh's convex hull wherever it may touch a floor or a wall.
+  std::vector<std::size_t> chosen;
+  const double goldenAngle = glm::pi<double>() * (3 - std::sqrt(5.0));
+  for (int k = 0; k < kMeshProbeDirections; ++k) {
+    const double y = 1 - 2 * (k + 0.5) / kMeshProbeDirections;
+    const double ring = std::sqrt(1 - y * y);
+    const glm::dvec3 direction(ring * std::cos(goldenAngle * k), y, ring * std::sin(goldenAngle * k));
+    std::size_t farthest = 0;
+    for (std::size_t v = 1; v < body.mesh->vertices.size(); ++v) {
+      if (glm::dot(body.mesh->vertices[v], direction) > glm::dot(body.mesh->vertices[farthest], direction)) farthest = v;
+    }
+    if (std::find(chosen.begin(), chosen.end(), farthest) == chosen.end()) chosen.push_back(farthest);
+  }
+  std::vector<glm::dvec3> probes;
+  for (const std::size_t v : chosen) probes.push_back(body.mesh->vertices[v] - body.centerOfMassM);
+  return probes;
+}
+
+ColliderFields bakeColliderFields(const Scene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  ColliderFields fields;
+  fields.colliders.resize(scene.colliders.size());
+  for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
+    const Collider& c = scene.colliders[i];
+    if (c.shape == ColliderShape::Mesh) {
+      fields.colliders[i] = appendField(fields.samples, *c.mesh, c.fieldResolution, scene.grid, c.pivotM);
+    }
+  }
+  fields.bodies.resize(scene.rigidBodies.size());
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    const RigidBody& body = scene.rigidBodies[i];
+    if (body.shape == RigidShape::Mesh) {
+      fields.bodies[i] = appendField(fields.samples, *body.mesh, body.fieldResolution, scene.grid, body.centerOfMassM);
+    }
+    const std::vector<glm::dvec3> probes = bodyProbes(body);
+    fields.bodyProbes.emplace_back(static_cast<int>(fields.samples.size()), static_cast<int>(probes.size()));
+    for (const glm::dvec3& probe : probes) {
+      fields.samples.insert(fields.samples.end(), {float(probe.x), float(probe.y), float(probe.z)});
+    }
+  }
+  fields.bakeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return fields;
+}
+
+gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& fields, std::size_t index,
+                                   const ObjectPose& pose, double timeS) {
+  gpu::ColliderParams entry{};
+  switch (body.shape) {
+    case RigidShape::Sphere:
+      entry.shapeA = glm::vec4(0, 0, 0, float(body.radiusM));
+      entry.shapeBoundary.x = gpu::SHAPE_SPHERE;
+      break;
+    case RigidShape::Box:
+      entry.shapeB = glm::vec4(glm::vec3(body.halfExtentsM), 0);
+      entry.shapeBoundary.x = gpu::SHAPE_BOX;
+      break;
+    case RigidShape::Mesh: setField(entry, fields.bodies.at(index)); break;
+  }
+  entry.pivotTime = glm::vec4(glm::vec3(pose.positionM), float(timeS));
+  entry.rotation = glm::vec4(float(pose.orientation.x), float(pose.orientation.y), float(pose.orientation.z),
+                             float(pose.orientation.w));
+  entry.velocityFriction = glm::vec4(glm::vec3(pose.velocityMPerS), float(body.friction));
+  entry.angularVelocity = glm::vec4(glm::vec3(pose.angularVelocityRadPerS), 0);
+  entry.shapeBoundary.y = boundaryCode(body.boundary);
+  entry.shapeBoundary.z = 1;
+  entry.shapeBoundary.w = body.parked ? 0 : 1;
+  entry.bodyMass = glm::vec4(float(body.massKg), body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f, 0, 0);
+  entry.bodyProbes = glm::ivec4(fields.bodyProbes.at(index), 0, 0);
+  // L = R I Rᵀ ω: the inertia is the body's own frame's, ω the world's.
+  const glm::dmat3 turn = glm::mat3_cast(pose.orientation);
+  entry.angularMomentum =
+      glm::vec4(glm::vec3(turn * body.inertiaKgM2 * glm::transpose(turn) * pose.angularVelocityRadPerS), 0);
+  const glm::dmat3 inverseInertia = glm::inverse(body.inertiaKgM2);
+  for (int column = 0; column < 3; ++column) entry.inverseInertia[column] = glm::vec4(glm::vec3(inverseInertia[column]), 0);
+  return entry;
+}
+
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS) {
+  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene.colliders.size() + scene.rigidBodies.size(), 1),
+                                             gpu::ColliderParams{});
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     gpu::ColliderParams& out = colliders[i];
@@ -34,6 +162,7 @@ std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double t
         out.shapeB = glm::vec4(glm::vec3(0.5 * (c.maxM - c.minM)), 0);
         out.shapeBoundary.x = gpu::SHAPE_BOX;
         break;
+      case ColliderShape::Mesh: setField(out, fields.colliders.at(i)); break;
     }
     const RigidPose segment = colliderPose(c, colliderPose(c, timeS).segmentStartS);
     out.pivotTime = glm::vec4(glm::vec3(segment.pivotM), float(segment.segmentStartS));
@@ -41,23 +170,26 @@ std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double t
                              float(segment.rotation.w));
     out.velocityFriction = glm::vec4(glm::vec3(segment.velocityMPerS), float(c.friction));
     out.angularVelocity = glm::vec4(glm::vec3(segment.angularVelocityRadPerS), 0);
-    out.shapeBoundary.y = c.boundary == Boundary::Sticky ? gpu::BOUNDARY_STICKY
-                          : c.boundary == Boundary::Slip ? gpu::BOUNDARY_SLIP
-                                                         : gpu::BOUNDARY_SEPARATE;
+    out.shapeBoundary.y = boundaryCode(c.boundary);
+    out.shapeBoundary.w = 1;
+  }
+  for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b) {
+    const RigidBody& body = scene.rigidBodies[b];
+    colliders[scene.colliders.size() + b] = rigidBodyEntry(body, fields, b, initialBodyPose(body), 0);
   }
   return colliders;
 }
 
 const std::vector<gpu::ColliderParams>& ColliderTableAt::operator()(double timeS) {
   if (table_.empty() || timeS != timeS_) {
-    table_ = buildColliderTable(scene_, timeS);
+    table_ = buildColliderTable(scene_, fields_, timeS);
     timeS_ = timeS;
   }
   return table_;
 }
 
 ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
-                               const ParticleSeed& seed) {
+                               const std::vector<float>& fieldSamples, const ParticleSeed& seed) {
   // A few passes settle a particle in overlapping colliders (a box resting on a plane); one still inside after
   // them is wedged between colliders.
   constexpr int passes = 4;
@@ -72,7 +204,7 @@ ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::Coll
     inside = false;
     for (std::size_t c = 0; c < colliders.size(); ++c) {
       glm::vec3 normal;
-      const float distanceM = gpu::colliderDistance(colliders[c], escape.positionM, timeS, normal);
+      const float distanceM = gpu::colliderDistance(colliders[c], fieldSamples, escape.positionM, timeS, normal);
       if (!(distanceM < 0)) continue;
       if (escape.collider < 0) {
         escape.collider = static_cast<int>(c);
@@ -91,16 +223,17 @@ ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::Coll
   return escape;
 }
 
-ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds) {
-  ColliderTableAt colliders(scene);
-  const bool hasColliders = !scene.colliders.empty();
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const ColliderFields& fields,
+                                const std::vector<ParticleSeed>& seeds) {
+  ColliderTableAt colliders(scene, fields);
+  const bool hasColliders = !scene.colliders.empty() || !scene.rigidBodies.empty();
   ParticleRecords records;
   records.positionMass.reserve(seeds.size());
   records.velocityVolume.reserve(seeds.size());
   records.plastic.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
     const Material& material = scene.materials.at(std::size_t(seed.materialIndex));
-    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders(seed.releaseTimeS), seed).positionM
+    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders(seed.releaseTimeS), fields.samples, seed).positionM
                                                                     : seed.positionM;
     records.positionMass.emplace_back(positionM, seed.massKg);
     records.velocityVolume.emplace_back(seed.velocityMPerS, float(seed.massKg / material.densityKgPerM3));

@@ -4,26 +4,59 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "gpu/GpuLayout.h"
 #include "gpu/Materials.h"
 #include "scene/Scene.h"
+#include "scene/SceneObjects.h"
 
 namespace firn {
 
-// One entry per collider, at least one (zeroed) so the binding is always a valid buffer, each with its pose at the
-// start of the segment of its motion that holds `timeS` (colliderPose): the GPU advances it rigidly from there.
-std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, double timeS);
+// The field buffer (common/colliders.glsl: a buffer texture of floats): the signed distance field of each mesh
+// collider and mesh body, baked once from its placed mesh (voxelizer/DistanceField.h) at cell_size / resolution with
+// a margin of kFieldMarginCells cells, and each rigid body's contact probes; and where each one's lie in it.
+struct ColliderFields {
+  static constexpr double kFieldMarginCells = 2;
+  struct Field {
+    int first = -1;                     // the first sample, −1 for none
+    glm::ivec3 samples{0};              // per axis
+    glm::dvec3 originFromPivotM{0.0};   // sample (0, 0, 0) in the shape's rest frame, from its pivot
+    double spacingM = 0;
+  };
+  std::vector<float> samples;
+  std::vector<Field> colliders;           // per scene collider
+  std::vector<Field> bodies;              // per rigid body
+  std::vector<glm::ivec2> bodyProbes;     // per rigid body: its first float, and its probes (3 floats each)
+  double bakeSeconds = 0;                 // how long the fields took to bake
+};
+ColliderFields bakeColliderFields(const Scene& scene);
+
+// A rigid body's contact probes in its own frame (integrate_bodies.comp): a sphere's centre (with its radius as the
+// contact radius), a box's corners, and a mesh's support points in kMeshProbeDirections directions spread evenly
+// over the sphere, each vertex once.
+constexpr int kMeshProbeDirections = 128;
+std::vector<glm::dvec3> bodyProbes(const RigidBody& body);
+
+// One entry per collider, then one per rigid body at its initial state; at least one (zeroed) so the binding is always
+// a valid buffer. Each collider has its pose at the start of the segment of its motion that holds `timeS`
+// (colliderPose): the GPU advances it rigidly from there.
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS);
+
+// A rigid body's entry in the collider table with its frame at `pose` (SceneObjects.h).
+gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& fields, std::size_t index,
+                                   const ObjectPose& pose, double timeS);
 
 // The collider table at a time, rebuilt only when the time changes (particles come grouped by release time).
 class ColliderTableAt {
  public:
-  explicit ColliderTableAt(const Scene& scene) : scene_(scene) {}
+  ColliderTableAt(const Scene& scene, const ColliderFields& fields) : scene_(scene), fields_(fields) {}
   const std::vector<gpu::ColliderParams>& operator()(double timeS);
 
  private:
   const Scene& scene_;
+  const ColliderFields& fields_;
   double timeS_ = 0;
   std::vector<gpu::ColliderParams> table_;
 };
@@ -39,9 +72,9 @@ struct ColliderEscape {
   float depthM = 0;           // how deep inside that collider it started
   bool stuck = false;         // inside colliders still after the passes, or moved out of the grid's interior
 };
-// `colliders` is the table at the seed's release time.
+// `colliders` is the table at the seed's release time, `fieldSamples` ColliderFields::samples.
 ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::ColliderParams>& colliders,
-                               const ParticleSeed& seed);
+                               const std::vector<float>& fieldSamples, const ParticleSeed& seed);
 
 // New particles as their buffers hold them: undeformed, unstressed, at rest relative to their seed velocity, and
 // out of the colliders (escapeColliders; particles added while running, bodyIndex −1, are placed as given).
@@ -53,7 +86,8 @@ struct ParticleRecords {
 };
 // V0 = m / ρ of the particle's material: the volume with "particle_volume": "material_density", and the most a
 // particle may take from the grid density otherwise (compute_volumes.comp; docs/algorithm.md, Initial volumes).
-ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const std::vector<ParticleSeed>& seeds);
+ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, const ColliderFields& fields,
+                                const std::vector<ParticleSeed>& seeds);
 
 // The blocks of the grid (BLOCK_WIDTH³ nodes) the particles' stencils reach where they are: how large the block
 // pool starts (sim/GpuState.h).

@@ -69,10 +69,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     : scene_(requireParticles(scene, seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
+      colliderFields_(bakeColliderFields(scene_)),
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
                                       blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
                                       needsDeformationGradient(scene_, programs)),
-             materialTable_, buildColliderTable(scene_, 0), gl, stepShaderOptions(scene_, programs)),
+             materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
+             stepShaderOptions(scene_, programs)),
       fixedPoint_(fixedPointScaleFor(scene_, seeds)),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
@@ -100,7 +102,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 }
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
-  state_.particles().write(first, particleRecords(scene_, materialTable_, particles));
+  state_.particles().write(first, particleRecords(scene_, materialTable_, colliderFields_, particles));
   diagnostics_.noteParticles(particles);
 }
 
@@ -145,7 +147,12 @@ void Simulation::releaseDueParticles() {
 void Simulation::step(double dtS) {
   releaseDueParticles();
   // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
-  if (keyframedColliders_) state_.writeColliders(buildColliderTable(scene_, timeS_));
+  // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).
+  if (keyframedColliders_) {
+    std::vector<gpu::ColliderParams> table = buildColliderTable(scene_, colliderFields_, timeS_);
+    table.resize(scene_.colliders.size());
+    state_.writeColliders(table);
+  }
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);
@@ -315,8 +322,22 @@ std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
 
 std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
   std::vector<ObjectPose> poses;
-  for (const RigidBody& body : scene_.rigidBodies) poses.push_back(initialBodyPose(body));
+  if (scene_.rigidBodies.empty()) return poses;
+  for (const gpu::ColliderParams& entry : state_.readColliders(scene_.colliders.size(), scene_.rigidBodies.size())) {
+    ObjectPose& pose = poses.emplace_back();
+    // The entry's pose is at the time of its pivotTime.w, the end of the last step (or t = 0): now.
+    pose.positionM = glm::dvec3(glm::vec3(entry.pivotTime));
+    pose.orientation = glm::dquat(entry.rotation.w, entry.rotation.x, entry.rotation.y, entry.rotation.z);
+    pose.velocityMPerS = glm::dvec3(glm::vec3(entry.velocityFriction));
+    pose.angularVelocityRadPerS = glm::dvec3(glm::vec3(entry.angularVelocity));
+  }
   return poses;
+}
+
+void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
+  RigidBody body = scene_.rigidBodies.at(index);
+  body.parked = false;
+  state_.writeColliders({rigidBodyEntry(body, colliderFields_, index, pose, timeS_)}, scene_.colliders.size() + index);
 }
 
 }  // namespace firn

@@ -25,6 +25,7 @@
 #include "sim/Diagnostics.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
+#include "sim/SceneUpload.h"
 #include "sim/StepPipeline.h"
 #include "sim/SteppingPolicy.h"
 
@@ -103,6 +104,10 @@ class Simulation {
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
+  // Puts rigid body `index` (a parked one, Scene.h) into the simulation at `pose`, from the next step on.
+  void launchRigidBody(std::size_t index, const ObjectPose& pose);
+  // How long the scene's distance fields took to bake (s).
+  double colliderFieldsBakeSeconds() const { return colliderFields_.bakeSeconds; }
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;
@@ -150,6 +155,7 @@ class Simulation {
   Scene scene_;
   StepPipeline pipeline_;
   MaterialTable materialTable_;
+  ColliderFields colliderFields_;  // baked once: the collider table's mesh entries and the bodies' probes index it
   GpuState state_;
   FixedPointScale fixedPoint_;
   SteppingPolicy stepping_;

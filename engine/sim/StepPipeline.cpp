@@ -21,7 +21,12 @@ gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms program
   options.defines.emplace_back(scene.solver.kernel == Kernel::Cubic ? "FIRN_KERNEL_CUBIC" : "FIRN_KERNEL_QUADRATIC", "1");
   options.defines.emplace_back(scene.solver.transfer == Transfer::Apic ? "FIRN_TRANSFER_APIC" : "FIRN_TRANSFER_PIC_FLIP",
                                "1");
-  if (!scene.colliders.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDERS", "1");
+  if (!scene.colliders.empty() || !scene.rigidBodies.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDERS", "1");
+  // Distance fields (mesh colliders and bodies) and the bodies' contact probes are read from one buffer texture.
+  const bool meshColliders = std::any_of(scene.colliders.begin(), scene.colliders.end(),
+                                         [](const Collider& c) { return c.shape == ColliderShape::Mesh; });
+  if (meshColliders || !scene.rigidBodies.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDER_FIELDS", "1");
+  if (!scene.rigidBodies.empty()) options.defines.emplace_back("FIRN_HAS_RIGID_BODIES", "1");
   // Only the material models present are compiled in, and F only where one of them needs it.
   for (const auto& [model, define] : {std::pair{MaterialModel::Snow, "FIRN_MATERIAL_SNOW"},
                                       std::pair{MaterialModel::FixedCorotated, "FIRN_MATERIAL_FIXED_COROTATED"},
@@ -71,7 +76,8 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   uniforms.momentumUnitKgMPerS =
       float(scene.time.adaptive ? fixedPoint.referenceMassKg * h / dtS : fixedPoint.momentumUnitKgMPerS);
   uniforms.fixedPointFractionBits = fixedPoint.fractionBits;
-  uniforms.colliderCount = static_cast<std::uint32_t>(scene.colliders.size());
+  uniforms.colliderCount = static_cast<std::uint32_t>(scene.colliders.size() + scene.rigidBodies.size());
+  uniforms.rigidBodyCount = static_cast<std::uint32_t>(scene.rigidBodies.size());
   if (scene.solver.semiImplicit()) {
     uniforms.implicitRatio = float(scene.solver.implicitRatio);
     uniforms.solverToleranceSquared = float(scene.solver.tolerance * scene.solver.tolerance);
@@ -86,12 +92,22 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
                      " does not offer; use \"fixed\"");
   }
+  // The bodies take the snow's push from the explicit grid update's collider response (eq. 35); the semi-implicit
+  // solve holds nodes at the colliders inside its iterations, where that push is not one impulse per node.
+  if (!scene.rigidBodies.empty() && scene.solver.semiImplicit()) {
+    throw InputError("rigid_bodies: bodies are coupled to the snow with the explicit step only; use "
+                     "\"solver\": {\"integrator\": \"explicit\"} or remove the rigid bodies");
+  }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
   particleToGrid_ = gl::ComputePass(library, "sim/p2g.comp", options);
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
+  if (!scene.rigidBodies.empty()) {
+    integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
+    rigidBodies_ = scene.rigidBodies.size();
+  }
   if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
 }
 
@@ -112,6 +128,10 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   if (implicitSolver_) solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(kStorage);
+  if (rigidBodies_ > 0) {
+    integrateBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
+    glMemoryBarrier(kStorage);
+  }
   return solve;
 }
 

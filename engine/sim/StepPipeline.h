@@ -2,7 +2,7 @@
 // The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
 // of the grid this step needs and the particles sorted into them (the block grid's own passes, sim/BlockGrid.h);
 // particle to grid; the grid update (forces, gravity, colliders, walls); grid to particle with the deformation
-// update, plasticity and advection. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
+// update, plasticity and advection; then the rigid bodies, pushed by the snow. The programs are built for the scene: its kernel, transfer, atomics, colliders and material models,
 // and nothing else.
 #include <cstddef>
 #include <cstdint>
@@ -42,7 +42,7 @@ class StepPipeline {
   // to grid.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
-  // particle. Returns how the solve ended (explicit steps: no iterations).
+  // particle, the rigid bodies. Returns how the solve ended (explicit steps: no iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The semi-implicit solve, if the scene has one (tests reach its passes through it).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
@@ -55,6 +55,8 @@ class StepPipeline {
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
+  gl::ComputePass integrateBodies_;  // scenes with rigid bodies
+  std::size_t rigidBodies_ = 0;
   std::optional<ImplicitSolver> implicitSolver_;
 };
 

@@ -4,7 +4,65 @@
 
 #include "common/shared_functions.h"
 
+#ifdef FIRN_HAS_RIGID_BODIES
+#include "common/fixed64.glsl"
+// The bodies' entries gather the snow's impulses (pushRigidBody).
+layout(std430, binding = FIRN_BINDING_COLLIDERS) buffer ColliderBuffer { ColliderParams colliders[]; };
+#else
 layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer { ColliderParams colliders[]; };
+#endif
+#ifdef FIRN_HAS_COLLIDER_FIELDS
+layout(binding = FIRN_TEXTURE_UNIT_COLLIDER_FIELDS) uniform samplerBuffer colliderFields;
+#endif
+
+// A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at time
+// timeS: x is taken into the frame of the shape at rest (eq. 33) and measured there — an analytic shape by eq. 27, a
+// mesh by its distance field (eq. 28) — and the normal turned back into the world.
+float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
+  vec3 fromPivot = colliderRestPoint(c, x, timeS);
+  vec3 restNormal;
+  float distanceM;
+#ifdef FIRN_HAS_COLLIDER_FIELDS
+  if (c.shapeBoundary.x == SHAPE_MESH) {
+    ivec3 cell;
+    vec3 fraction, outsideM;
+    fieldCell(c, fromPivot, cell, fraction, outsideM);
+    // The corners one by one: a loop would spend llvmpipe's iterations per invocation (docs/platform.md).
+    float corners[8];
+    corners[0] = texelFetch(colliderFields, fieldSampleIndex(c, cell)).r;
+    corners[1] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 0, 0))).r;
+    corners[2] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 1, 0))).r;
+    corners[3] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 1, 0))).r;
+    corners[4] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 0, 1))).r;
+    corners[5] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 0, 1))).r;
+    corners[6] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 1, 1))).r;
+    corners[7] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 1, 1))).r;
+    distanceM = cellDistance(corners, fraction, outsideM, restNormal);
+  } else {
+    distanceM = shapeDistance(c, fromPivot, restNormal);
+  }
+#else
+  distanceM = shapeDistance(c, fromPivot, restNormal);
+#endif
+  normal = colliderWorldDirection(c, restNormal, timeS);
+  return distanceM;
+}
+
+#ifdef FIRN_HAS_RIGID_BODIES
+// Newton's third law at a node or a particle at x (docs/algorithm.md, eq. 35): the body of entry i takes the
+// opposite of the impulse its response gave the snow there, and that impulse's moment about its centre of mass,
+// summed in 64-bit fixed point so that the sums, like P2G's, do not depend on the order of the additions.
+void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
+  vec3 impulse = -impulseOnSnowKgMPerS / momentumUnitKgMPerS;
+  vec3 moment = cross(x - colliderPivot(colliders[i], timeS), -impulseOnSnowKgMPerS) / (momentumUnitKgMPerS * cellSizeM);
+  uvec4 low;
+  ivec4 high;
+  splitFixed64(vec4(round(impulse), 0.0), low, high);
+  FIRN_ADD_FIXED64(colliders[i].impulseLow, colliders[i].impulseHigh, low, high)
+  splitFixed64(vec4(round(moment), 0.0), low, high);
+  FIRN_ADD_FIXED64(colliders[i].angularLow, colliders[i].angularHigh, low, high)
+}
+#endif
 
 // Velocity after meeting a boundary whose surface moves at boundaryVelocity (Stomakhin 2013 §8):
 // sticky takes the boundary's velocity; slip removes the normal part of the relative velocity; separate
@@ -23,14 +81,21 @@ vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction
   return tangential + boundaryVelocity;
 }
 
-// Applies every collider whose solid contains `probe` (a node, or a particle's predicted position).
-vec3 collideWithColliders(vec3 probe, vec3 v, float timeS) {
+// Applies every collider whose solid contains `probe` (a node, or a particle's predicted position) to its velocity;
+// a rigid body takes the opposite of the change in the probe's momentum (`massKg` times the change in v).
+vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg) {
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
+    if (c.shapeBoundary.w == 0) continue;  // a parked body
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
-      v = boundaryResponse(v, normal, colliderVelocity(c, probe, timeS), c.velocityFriction.w, c.shapeBoundary.y);
+      vec3 response = boundaryResponse(v, normal, colliderVelocity(c, probe, timeS), c.velocityFriction.w,
+                                       c.shapeBoundary.y);
+#ifdef FIRN_HAS_RIGID_BODIES
+      if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
+#endif
+      v = response;
     }
   }
 #endif
@@ -54,7 +119,7 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
   for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
-    if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
+    if (c.shapeBoundary.w == 0 || colliderDistance(c, probe, timeS, normal) > 0.0) continue;
     int boundary = c.shapeBoundary.y;
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     float normalSpeed = dot(v - boundaryVelocity, normal);
@@ -84,7 +149,7 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constrain
   for (uint i = 0u; i < colliderCount; ++i) {
     ColliderParams c = colliders[i];
     vec3 normal;
-    if (colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
+    if (c.shapeBoundary.w == 0 || colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     vec3 tangential = v - boundaryVelocity;
     float tangentialSpeed = length(tangential);

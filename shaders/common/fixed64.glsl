@@ -48,3 +48,14 @@ vec4 fixed64ToFloat(uvec4 low, ivec4 high) {
   return vec4(fixed64ToFloat(low.x, high.x), fixed64ToFloat(low.y, high.y), fixed64ToFloat(low.z, high.z),
               fixed64ToFloat(low.w, high.w));
 }
+
+// Adds 64-bit sums (low, high) to the words `lowWords`/`highWords` of a node, a word at a time: the low word's
+// atomicAdd returns the sum before, which tells whether it carried into the high word. The words end as the exact
+// 64-bit sum whatever the order of the additions. (A macro: GLSL's atomics take the buffer's variable itself.)
+#define FIRN_ADD_FIXED64(lowWords, highWords, low, high)                    \
+  for (int c = 0; c < 4; ++c) {                                           \
+    if (low[c] == 0u && high[c] == 0) continue;                           \
+    uint previous = atomicAdd(lowWords[c], low[c]);                       \
+    int carry = previous + low[c] < previous ? 1 : 0;                     \
+    if (high[c] + carry != 0) atomicAdd(highWords[c], high[c] + carry);   \
+  }

@@ -80,6 +80,10 @@
 // The snow's surface (shaders/surface/surface_contract.h declares its bindings).
 #define FIRN_SURFACE_BINDINGS_FIRST 21
 #define FIRN_SURFACE_BINDINGS_END 32
+// Texture units: the mesh colliders' and bodies' distance fields and the bodies' contact probes, one float per
+// texel of a buffer texture (common/colliders.glsl): a texture, so that the passes that meet colliders need no
+// storage block more (llvmpipe holds a shader to 16, docs/platform.md).
+#define FIRN_TEXTURE_UNIT_COLLIDER_FIELDS 0
 // Uniform block binding points.
 #define FIRN_BINDING_STEP_UNIFORMS 0        // StepUniforms
 #define FIRN_BINDING_SURFACE_UNIFORMS 1     // SurfaceUniforms (surface_contract.h)
@@ -106,6 +110,7 @@ FIRN_CONSTANT(int, MODEL_DRUCKER_PRAGER, 4)
 FIRN_CONSTANT(int, SHAPE_PLANE, 0)
 FIRN_CONSTANT(int, SHAPE_SPHERE, 1)
 FIRN_CONSTANT(int, SHAPE_BOX, 2)
+FIRN_CONSTANT(int, SHAPE_MESH, 3)  // a signed distance field baked from a triangle mesh (ColliderParams.field)
 FIRN_CONSTANT(int, BOUNDARY_STICKY, 0)
 FIRN_CONSTANT(int, BOUNDARY_SLIP, 1)
 FIRN_CONSTANT(int, BOUNDARY_SEPARATE, 2)
@@ -162,6 +167,9 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 // ColliderParams: one collider, a rigid motion of its shape at rest (common/colliders.glsl; docs/algorithm.md,
 // Colliders). The host writes its pose at the start of the segment of motion that holds the step (for a collider
 // without keyframes, at t = 0 for good); colliderDistance advances it rigidly by v and ω to the time it probes.
+// The table holds the scene's colliders, then an entry per rigid body (docs/algorithm.md, Rigid bodies), whose pose
+// integrate_bodies.comp writes at the end of every step: its pivot is the body's centre of mass, its shape at rest
+// is in the body's own frame.
 //   shapeA            the shape at rest, from its pivot (m): plane: a point; sphere: the centre, w the radius;
 //                     box: the centre
 //   shapeB            plane: the unit normal; box: the half extents (m)
@@ -169,7 +177,19 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 //   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)
 //   velocityFriction  xyz the pivot's velocity v (m/s), w Coulomb's μ
 //   angularVelocity   xyz ω (rad/s), about the pivot
-//   shapeBoundary     x SHAPE_*, y BOUNDARY_*
+//   shapeBoundary     x SHAPE_*, y BOUNDARY_*, z: a rigid body's entry 1, else 0; w: a body that takes part 1, a
+//                     parked one (the viewer's spare balls, out of the domain until thrown) 0
+//   field             SHAPE_MESH: x the first of its samples in the field buffer, yzw the samples per axis
+//   fieldOrigin       SHAPE_MESH: xyz where sample (0, 0, 0) lies at rest, from the pivot (m); w the spacing (m)
+// A rigid body's entry also holds its dynamics and the snow's push on it this step:
+//   bodyMass          x the mass (kg), y the contact radius of its probes (m: a sphere's radius, else 0)
+//   bodyProbes        x the first of its contact probes in the field buffer (3 floats each, in its own frame, m),
+//                     y their number
+//   angularMomentum   xyz L about the centre of mass (kg·m²/s, world axes)
+//   inverseInertia    the columns of I⁻¹ in the body's own frame (1/(kg·m²))
+//   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
+//                     momentumUnitKgMPerS (common/fixed64.glsl)
+//   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · cellSizeM
 #define FIRN_COLLIDER_PARAMS(member, array) \
   member(vec4, shapeA)                      \
   member(vec4, shapeB)                      \
@@ -177,7 +197,17 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
   member(vec4, rotation)                    \
   member(vec4, velocityFriction)            \
   member(vec4, angularVelocity)             \
-  member(ivec4, shapeBoundary)
+  member(ivec4, shapeBoundary)              \
+  member(ivec4, field)                      \
+  member(vec4, fieldOrigin)                 \
+  member(vec4, bodyMass)                    \
+  member(ivec4, bodyProbes)                 \
+  member(vec4, angularMomentum)             \
+  array(vec4, inverseInertia, 3)            \
+  member(uvec4, impulseLow)                 \
+  member(ivec4, impulseHigh)                \
+  member(uvec4, angularLow)                 \
+  member(ivec4, angularHigh)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 
 // BlockTableHeader: the pool of blocks and this step's active ones (common/blocks.glsl); a BlockSlot per slot
@@ -342,9 +372,10 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //   momentumUnitKgMPerS            the fixed-point momentum unit m_ref·h/Δt_ref: Δt_ref is the scene's dt, or with
 //                                  adaptive steps this step's (sim/StepPipeline.cpp)
 //   fixedPointFractionBits         k: a nondimensional 1 is stored as 2^k (common/grid.glsl takes 2^±k by ldexp)
-//   colliderCount                  the collider table's entries
+//   colliderCount                  the collider table's entries: the scene's colliders, then rigidBodyCount bodies
 //   implicitRatio, solverToleranceSquared   semi-implicit: β and the tolerance²
 //   solverFractionBits             semi-implicit: k_H, the units 2^−k_H of SolverNode.productLow/High
+//   rigidBodyCount                 the rigid bodies, the collider table's last entries
 #define FIRN_STEP_UNIFORMS(member, array)  \
   member(vec3, gridOriginM)                \
   member(float, cellSizeM)                 \
@@ -363,7 +394,7 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
   member(float, implicitRatio)             \
   member(float, solverToleranceSquared)    \
   member(int, solverFractionBits)          \
-  member(uint, unused)
+  member(uint, rigidBodyCount)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

@@ -49,6 +49,13 @@ FIRN_FUNCTION vec3 rotateByQuaternion(vec4 q, vec3 v) {
 
 FIRN_FUNCTION vec4 inverseQuaternion(vec4 q) { return vec4(-q.x, -q.y, -q.z, q.w); }
 
+// The turn `first` followed by `then`: the quaternion product then · first (Hamilton's, xyz the vector part).
+FIRN_FUNCTION vec4 composeTurns(vec4 first, vec4 then) {
+  vec3 u = vec3(then.x, then.y, then.z), v = vec3(first.x, first.y, first.z);
+  vec3 vectorPart = then.w * v + first.w * u + cross(u, v);
+  return vec4(vectorPart.x, vectorPart.y, vectorPart.z, then.w * first.w - dot(u, v));
+}
+
 // The turn of a body spinning at angularVelocity for durationS: |ω| t about ω's axis, a unit quaternion.
 FIRN_FUNCTION vec4 turnOver(vec3 angularVelocity, float durationS) {
   float speed = length(angularVelocity);
@@ -62,41 +69,88 @@ FIRN_FUNCTION vec3 colliderPivot(ColliderParams c, float timeS) {
   return vec3(c.pivotTime) + vec3(c.velocityFriction) * (timeS - c.pivotTime.w);
 }
 
-// A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at
-// time timeS: x is taken into the frame of the shape at rest (eq. 33), measured there (eq. 27), and the normal
-// turned back into the world.
-FIRN_FUNCTION float colliderDistance(ColliderParams c, vec3 x, float timeS, FIRN_OUT(vec3) normal) {
+// x taken into the frame of a collider's shape at rest, from its pivot, at time timeS (eq. 33): where eq. 27 measures
+// the shape.
+FIRN_FUNCTION vec3 colliderRestPoint(ColliderParams c, vec3 x, float timeS) {
   vec4 turn = turnOver(vec3(c.angularVelocity), timeS - c.pivotTime.w);
-  vec3 fromPivot = rotateByQuaternion(inverseQuaternion(c.rotation),
-                                      rotateByQuaternion(inverseQuaternion(turn), x - colliderPivot(c, timeS)));
-  vec3 restNormal;
-  float signedDistance;
+  return rotateByQuaternion(inverseQuaternion(c.rotation),
+                            rotateByQuaternion(inverseQuaternion(turn), x - colliderPivot(c, timeS)));
+}
+
+// A direction of the shape at rest (a normal) turned into the world at timeS.
+FIRN_FUNCTION vec3 colliderWorldDirection(ColliderParams c, vec3 restDirection, float timeS) {
+  vec4 turn = turnOver(vec3(c.angularVelocity), timeS - c.pivotTime.w);
+  return rotateByQuaternion(turn, rotateByQuaternion(c.rotation, restDirection));
+}
+
+// The signed distance φ (m, negative inside) of an analytic shape (plane, sphere, box) at a point of its rest frame,
+// and its outward unit normal there (eq. 27).
+FIRN_FUNCTION float shapeDistance(ColliderParams c, vec3 fromPivot, FIRN_OUT(vec3) restNormal) {
   if (c.shapeBoundary.x == SHAPE_PLANE) {
     restNormal = vec3(c.shapeB);
-    signedDistance = dot(fromPivot - vec3(c.shapeA), restNormal);
-  } else if (c.shapeBoundary.x == SHAPE_SPHERE) {
+    return dot(fromPivot - vec3(c.shapeA), restNormal);
+  }
+  if (c.shapeBoundary.x == SHAPE_SPHERE) {
     vec3 fromCentre = fromPivot - vec3(c.shapeA);
     float distanceToCentre = length(fromCentre);
     restNormal = distanceToCentre > 0.0f ? fromCentre / distanceToCentre : vec3(0.0f, 1.0f, 0.0f);
-    signedDistance = distanceToCentre - c.shapeA.w;
-  } else {
-    vec3 halfExtent = vec3(c.shapeB);
-    vec3 fromCentre = fromPivot - vec3(c.shapeA);
-    vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
-    if (any(greaterThan(excess, vec3(0.0f)))) {
-      vec3 outside = max(excess, vec3(0.0f)) * sign(fromCentre);
-      restNormal = normalize(outside);
-      signedDistance = length(outside);
-    } else {
-      // Inside: the nearest face decides the normal.
-      int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
-      restNormal = vec3(0.0f);
-      restNormal[axis] = fromCentre[axis] >= 0.0f ? 1.0f : -1.0f;
-      signedDistance = excess[axis];
-    }
+    return distanceToCentre - c.shapeA.w;
   }
-  normal = rotateByQuaternion(turn, rotateByQuaternion(c.rotation, restNormal));
-  return signedDistance;
+  vec3 halfExtent = vec3(c.shapeB);
+  vec3 fromCentre = fromPivot - vec3(c.shapeA);
+  vec3 excess = abs(fromCentre) - halfExtent;  // > 0 on the axes where x lies outside the slab
+  if (any(greaterThan(excess, vec3(0.0f)))) {
+    vec3 outside = max(excess, vec3(0.0f)) * sign(fromCentre);
+    restNormal = normalize(outside);
+    return length(outside);
+  }
+  // Inside: the nearest face decides the normal.
+  int axis = excess.x > excess.y ? (excess.x > excess.z ? 0 : 2) : (excess.y > excess.z ? 1 : 2);
+  restNormal = vec3(0.0f);
+  restNormal[axis] = fromCentre[axis] >= 0.0f ? 1.0f : -1.0f;
+  return excess[axis];
+}
+
+// Where a point of a mesh collider's rest frame falls in its distance field (ColliderParams.field, fieldOrigin):
+// the lattice cell whose samples the trilinear interpolation reads (its low corner, `cell`), the point's place in
+// it (`fraction`, in [0, 1]³), and how far the point lies outside the lattice (`outsideM`, 0 inside): the lattice
+// covers the mesh with a margin, and beyond it φ grows by that distance (a lower bound, as φ is 1-Lipschitz).
+FIRN_FUNCTION void fieldCell(ColliderParams c, vec3 fromPivot, FIRN_OUT(ivec3) cell, FIRN_OUT(vec3) fraction,
+                             FIRN_OUT(vec3) outsideM) {
+  vec3 highest = vec3(float(c.field.y - 1), float(c.field.z - 1), float(c.field.w - 1));
+  vec3 lattice = (fromPivot - vec3(c.fieldOrigin)) / c.fieldOrigin.w;
+  vec3 inside = clamp(lattice, vec3(0.0f), highest);
+  outsideM = (lattice - inside) * c.fieldOrigin.w;
+  cell = ivec3(min(floor(inside), highest - 1.0f));
+  fraction = inside - vec3(cell);
+}
+
+// The sample index of a lattice point in the field buffer.
+FIRN_FUNCTION int fieldSampleIndex(ColliderParams c, ivec3 sample) {
+  return c.field.x + (sample.z * c.field.z + sample.y) * c.field.y + sample.x;
+}
+
+// φ inside a lattice cell by trilinear interpolation of its corners (corner k at x = k & 1, y = (k >> 1) & 1,
+// z = k >> 2), and the direction of its gradient there — the outward normal (eq. 28): the interpolant's exact
+// gradient, so a probe's normal is continuous within a cell and points away from the nearer surface.
+FIRN_FUNCTION float cellDistance(float corners[8], vec3 fraction, vec3 outsideM, FIRN_OUT(vec3) restNormal) {
+  vec3 f = fraction;
+  vec3 g = vec3(1.0f) - f;
+  float x00 = g.x * corners[0] + f.x * corners[1], x10 = g.x * corners[2] + f.x * corners[3];
+  float x01 = g.x * corners[4] + f.x * corners[5], x11 = g.x * corners[6] + f.x * corners[7];
+  float y0 = g.y * x00 + f.y * x10, y1 = g.y * x01 + f.y * x11;
+  float distanceM = g.z * y0 + f.z * y1;
+  vec3 gradient = vec3(g.y * g.z * (corners[1] - corners[0]) + f.y * g.z * (corners[3] - corners[2]) +
+                           g.y * f.z * (corners[5] - corners[4]) + f.y * f.z * (corners[7] - corners[6]),
+                       g.z * (x10 - x00) + f.z * (x11 - x01), y1 - y0);
+  float outside = length(outsideM);
+  if (outside > 0.0f) {
+    restNormal = outsideM / outside;
+    return distanceM + outside;
+  }
+  float gradientLength = length(gradient);
+  restNormal = gradientLength > 0.0f ? gradient / gradientLength : vec3(0.0f, 1.0f, 0.0f);
+  return distanceM;
 }
 
 // The velocity of a collider's surface at x at timeS, the rigid motion's v + ω × (x − c(t)) (eq. 33).

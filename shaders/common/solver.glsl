@@ -48,17 +48,6 @@ bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   return fits;
 }
 
-// Adds 64-bit sums (low, high) to the words `lowWords`/`highWords` of a node, a word at a time: the low word's
-// atomicAdd returns the sum before, which tells whether it carried into the high word. The words end as the exact
-// 64-bit sum whatever the order of the additions. (A macro: GLSL's atomics take the buffer's variable itself.)
-#define FIRN_ADD_FIXED64(lowWords, highWords, low, high)                    \
-  for (int c = 0; c < 4; ++c) {                                           \
-    if (low[c] == 0u && high[c] == 0) continue;                           \
-    uint previous = atomicAdd(lowWords[c], low[c]);                       \
-    int carry = previous + low[c] < previous ? 1 : 0;                     \
-    if (high[c] + carry != 0) atomicAdd(highWords[c], high[c] + carry);   \
-  }
-
 // Adds a tile's sums of a Hessian product at a node.
 void addProductToNode(uint address, uvec4 low, ivec4 high) {
   FIRN_ADD_FIXED64(solverNodes[address].productLow, solverNodes[address].productHigh, low, high)

@@ -67,7 +67,7 @@ void advanceParticle(uint p) {
   // Particle collisions at the predicted position, at the end of the step.
   float endTimeS = timeS + dtS;
   vec3 predicted = x + dtS * velocity;
-  velocity = collideWithColliders(predicted, velocity, endTimeS);
+  velocity = collideWithColliders(predicted, velocity, endTimeS, positionMass[p].w);
   velocity = collideWithDomainWalls(predicted, velocity, interiorMin(), interiorMax());
   // Keep the stencil on the grid whatever happens: cubic needs x/h ∈ [1, nodes − 2).
   vec3 newPosition = clamp(x + dtS * velocity, gridOriginM + cellSizeM,

@@ -30,7 +30,7 @@ void main() {
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) {
-    velocity = collideWithColliders(x, velocity, timeS);
+    velocity = collideWithColliders(x, velocity, timeS, velocityMass.w);
   } else {
     velocity = collidersFrictionAfterSolve(x, velocity, timeS, solverNodes[i].constraint, solverNodes[i].residual.w);
   }

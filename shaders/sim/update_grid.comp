@@ -45,7 +45,7 @@ void main() {
 #ifdef FIRN_SEMI_IMPLICIT
     constraint = collideForSolve(x, velocity, timeS, approachMPerS);
 #else
-    velocity = collideWithColliders(x, velocity, timeS);
+    velocity = collideWithColliders(x, velocity, timeS, massKg);
 #endif
 #ifdef FIRN_SEMI_IMPLICIT
     int walls = wallConstraint(x, velocity, interiorMin(), interiorMax());

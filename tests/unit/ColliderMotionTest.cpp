@@ -113,22 +113,23 @@ TEST(ColliderMotion, TheGpuTableAdvancedToAKeyframeIsAtIt) {
   scene.colliders = {paddle()};
   const Collider& box = scene.colliders[0];
   const ColliderKeyframe& key = box.keyframes[1];
+  const ColliderFields noFields = bakeColliderFields(scene);
   const glm::dmat3 rotation = voxelizer::rotationMatrix(key.rotateDeg);
   for (const double tableTimeS : {0.3, key.timeS}) {
-    const gpu::ColliderParams table = buildColliderTable(scene, tableTimeS).at(0);
+    const gpu::ColliderParams table = buildColliderTable(scene, noFields, tableTimeS).at(0);
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec3 restM((corner & 1) ? box.maxM.x : box.minM.x, (corner & 2) ? box.maxM.y : box.minM.y,
                              (corner & 4) ? box.maxM.z : box.minM.z);
       const glm::dvec3 posedM = box.pivotM + key.translateM + rotation * (restM - box.pivotM);
       glm::vec3 normal;
-      EXPECT_NEAR(gpu::colliderDistance(table, glm::vec3(posedM), float(key.timeS), normal), 0.0, 1e-6)
+      EXPECT_NEAR(gpu::colliderDistance(table, noFields.samples, glm::vec3(posedM), float(key.timeS), normal), 0.0, 1e-6)
           << "corner " << corner << ", table at " << tableTimeS << " s";
     }
   }
   // The boundary velocity v + ω × r (eq. 33) at 0.6 s, in the last segment: v = 0.8 m/s along x, ω = 2π rad/s
   // about +y, and the pivot at (0.5, 0.2, 0.5) + (0, 0.1, 0) + 0.1 s · v = (0.58, 0.3, 0.5); 0.1 m from it along −x,
   // ω × r = (0, 0, 0.1 ω). Float rounding as above.
-  const gpu::ColliderParams table = buildColliderTable(scene, 0.6).at(0);
+  const gpu::ColliderParams table = buildColliderTable(scene, noFields, 0.6).at(0);
   const glm::vec3 velocity = gpu::colliderVelocity(table, glm::vec3(0.48f, 0.3f, 0.5f), 0.6f);
   EXPECT_NEAR(velocity.x, 0.8, 1e-6);
   EXPECT_NEAR(velocity.y, 0.0, 1e-6);
