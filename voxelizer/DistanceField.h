@@ -28,8 +28,17 @@ struct DistanceField {
 // from its low corner (so the scene can count a field's memory before baking it).
 DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, double marginM);
 
-// Bakes the field of `mesh` on distanceFieldLattice(bounds(mesh), spacingM, marginM). Throws MeshError if the mesh
-// has no triangles.
+// Bakes the field of `mesh` on distanceFieldLattice(bounds(mesh), spacingM, marginM), on `threadCount` threads (0:
+// as many as the machine has; the field's bytes are the same for any count). Throws MeshError if the mesh has no
+// triangles, a triangle indexes past the vertices, a vertex is not finite, or the spacing or the margin is not
+// positive and finite.
+// How (DistanceField.cpp, after Bridson's makelevelset3): exact distances in a band two spacings wide around each
+// triangle, the closest triangles carried outward by sweeps and relaxed until no sample has a nearer triangle
+// among its 26 neighbours'; distances to the triangle found are exact, and so is the triangle wherever the
+// nearest lies within the band's two spacings. The sign is the winding number's at every sample within a spacing
+// of the surface, and elsewhere that of a few probes per region the surface does not cross (all of the region's
+// samples where its probes disagree, as around a hole).
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM);
+DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM, unsigned threadCount);
 
 }  // namespace firn::voxelizer

@@ -17,6 +17,7 @@
 #include <glm/vector_relational.hpp>
 #include <gtest/gtest.h>
 
+#include "support/TestMeshes.h"
 #include "voxelizer/Voxelizer.h"
 
 namespace firn::voxelizer {
@@ -38,54 +39,8 @@ class TemporaryDirectory {
   std::filesystem::path path_;
 };
 
-// Rings of constant latitude between the poles, faces counter-clockwise seen from outside. Every vertex lies on
-// the sphere, so the polyhedron lies inside it.
-TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments) {
-  TriangleMesh mesh;
-  mesh.vertices.emplace_back(0, 0, radiusM);
-  for (unsigned ring = 1; ring < rings; ++ring) {
-    const double polarRad = pi * ring / rings;
-    for (unsigned segment = 0; segment < segments; ++segment) {
-      const double azimuthRad = 2 * pi * segment / segments;
-      mesh.vertices.push_back(radiusM * glm::dvec3(std::sin(polarRad) * std::cos(azimuthRad),
-                                                   std::sin(polarRad) * std::sin(azimuthRad), std::cos(polarRad)));
-    }
-  }
-  mesh.vertices.emplace_back(0, 0, -radiusM);
-  const auto southPole = static_cast<unsigned>(mesh.vertices.size() - 1);
-  auto vertex = [&](unsigned ring, unsigned segment) { return 1 + (ring - 1) * segments + segment % segments; };
-  for (unsigned segment = 0; segment < segments; ++segment) {
-    mesh.triangles.emplace_back(0, vertex(1, segment), vertex(1, segment + 1));
-    for (unsigned ring = 1; ring + 1 < rings; ++ring) {
-      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment), vertex(ring + 1, segment + 1));
-      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment + 1), vertex(ring, segment + 1));
-    }
-    mesh.triangles.emplace_back(vertex(rings - 1, segment), southPole, vertex(rings - 1, segment + 1));
-  }
-  return mesh;
-}
-
-// The torus about the z axis with ring radius R and tube radius r: u around the ring, v around the tube.
-TriangleMesh torus(double ringRadiusM, double tubeRadiusM, unsigned ringSegments, unsigned tubeSegments) {
-  TriangleMesh mesh;
-  for (unsigned u = 0; u < ringSegments; ++u) {
-    for (unsigned v = 0; v < tubeSegments; ++v) {
-      const double ringRad = 2 * pi * u / ringSegments;
-      const double tubeRad = 2 * pi * v / tubeSegments;
-      const double axisDistanceM = ringRadiusM + tubeRadiusM * std::cos(tubeRad);
-      mesh.vertices.emplace_back(axisDistanceM * std::cos(ringRad), axisDistanceM * std::sin(ringRad),
-                                 tubeRadiusM * std::sin(tubeRad));
-    }
-  }
-  auto vertex = [&](unsigned u, unsigned v) { return u % ringSegments * tubeSegments + v % tubeSegments; };
-  for (unsigned u = 0; u < ringSegments; ++u) {
-    for (unsigned v = 0; v < tubeSegments; ++v) {
-      mesh.triangles.emplace_back(vertex(u, v), vertex(u + 1, v), vertex(u + 1, v + 1));
-      mesh.triangles.emplace_back(vertex(u, v), vertex(u + 1, v + 1), vertex(u, v + 1));
-    }
-  }
-  return mesh;
-}
+using test::torus;
+using test::uvSphere;
 
 void writeObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
   std::ofstream out(path);
