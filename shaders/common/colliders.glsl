@@ -3,9 +3,11 @@
 // moves at v + ω × (x − c(t)) (docs/algorithm.md eq. 33).
 
 #include "common/shared_functions.h"
+// Outside the #ifdef below: the shader library includes a file once, wherever it first appears, and the
+// preprocessor's branches come after that (a later include of it in an active branch would find nothing).
+#include "common/fixed64.glsl"
 
 #ifdef FIRN_HAS_RIGID_BODIES
-#include "common/fixed64.glsl"
 // The bodies' entries gather the snow's impulses (pushRigidBody).
 layout(std430, binding = FIRN_BINDING_COLLIDERS) buffer ColliderBuffer { ColliderParams colliders[]; };
 #else

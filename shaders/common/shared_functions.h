@@ -126,8 +126,8 @@ FIRN_FUNCTION void fieldCell(ColliderParams c, vec3 fromPivot, FIRN_OUT(ivec3) c
 }
 
 // The sample index of a lattice point in the field buffer.
-FIRN_FUNCTION int fieldSampleIndex(ColliderParams c, ivec3 sample) {
-  return c.field.x + (sample.z * c.field.z + sample.y) * c.field.y + sample.x;
+FIRN_FUNCTION int fieldSampleIndex(ColliderParams c, ivec3 latticePoint) {
+  return c.field.x + (latticePoint.z * c.field.z + latticePoint.y) * c.field.y + latticePoint.x;
 }
 
 // φ inside a lattice cell by trilinear interpolation of its corners (corner k at x = k & 1, y = (k >> 1) & 1,
