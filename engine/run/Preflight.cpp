@@ -152,7 +152,11 @@ void noteObjects(const Scene& scene, PreflightReport& report) {
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
     const RigidBody& body = scene.rigidBodies[i];
     const glm::dmat3& inertia = body.inertiaKgM2;
-    const bool diagonal = inertia[0][1] == 0 && inertia[0][2] == 0 && inertia[1][2] == 0;
+    // A mesh's products of inertia carry the integrals' rounding, a few ε of the moments: below 1e-12 of the
+    // largest moment they are shown as the 0 they are.
+    const double roundingKgM2 = 1e-12 * std::max({inertia[0][0], inertia[1][1], inertia[2][2]});
+    const bool diagonal = std::abs(inertia[0][1]) <= roundingKgM2 && std::abs(inertia[0][2]) <= roundingKgM2 &&
+                          std::abs(inertia[1][2]) <= roundingKgM2;
     const auto row = [&](int r) {
       return format("%.3g", inertia[0][r]) + ", " + format("%.3g", inertia[1][r]) + ", " + format("%.3g", inertia[2][r]);
     };
