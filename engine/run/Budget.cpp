@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <glm/common.hpp>
 
 #include "Error.h"
 #include "gpu/GpuLayout.h"
 #include "io/Text.h"
+#include "scene/FieldLattice.h"
 #include "sim/GpuState.h"
 #include "voxelizer/ProcessMemory.h"
 
@@ -61,6 +64,21 @@ double gridBytes(const Scene& scene, const GpuStateLayout& layout, const gl::Con
   return double(layout.blockMapBytes()) + poolBlocks * double(layout.poolBytesPerBlock());
 }
 
+// The mesh colliders' and rigid bodies' distance fields take their memory before any particle: a field that
+// leaves no room is refused here, naming the largest field's resolution (the key that sizes it).
+void checkFieldsFit(const Scene& scene, const std::vector<FieldLattice>& fields, double fieldsBytes, double roomBytes,
+                    const std::string& room) {
+  if (fields.empty() || fieldsBytes < roomBytes) return;
+  const FieldLattice& largest = *std::max_element(
+      fields.begin(), fields.end(), [](const FieldLattice& a, const FieldLattice& b) { return a.bytes() < b.bytes(); });
+  throw InputError(sceneFileName(scene) + ": " + largest.object + ".resolution: the distance field of " + largest.path +
+                   ", " + format("%.0f", largest.samples.x) + " × " + format("%.0f", largest.samples.y) + " × " +
+                   format("%.0f", largest.samples.z) + " samples " + format("%.3g", largest.spacingM) + " m apart (" +
+                   bytes(largest.bytes()) + " as 32-bit floats), with the scene's " + std::to_string(fields.size()) +
+                   " distance fields in all (" + bytes(fieldsBytes) + "), does not fit " + room +
+                   "; lower its resolution, make the mesh smaller or use a coarser cell_size");
+}
+
 Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
   // F is counted whatever the materials: the estimate is of the larger layout.
   const GpuStateLayout layout = GpuStateLayout::forScene(scene, 0, 0, true);
@@ -68,6 +86,11 @@ Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
   const double gpuBytesPerParticle = double(layout.particleBytesPerParticle());
   const double largestBufferBytesPerParticle = double(layout.largestParticleBufferBytesPerParticle());
   const double grid = gridBytes(scene, layout, gl);
+  // The distance fields live on the GPU beside the grid, and on the host while they are baked.
+  const std::vector<FieldLattice> fields = fieldLattices(scene);
+  double fieldsBytes = 0;
+  for (const FieldLattice& field : fields) fieldsBytes += field.bytes();
+  const std::string fieldsText = fields.empty() ? std::string() : ", " + bytes(fieldsBytes) + " for the distance fields";
   std::vector<Limit> limits;
   limits.push_back({double(std::numeric_limits<std::int32_t>::max()), "the GPU's 32-bit particle indices"});
   limits.push_back({double(gl.maxStorageBlockBytes) / largestBufferBytesPerParticle,
@@ -75,17 +98,25 @@ Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
                         " allows per particle buffer (" + format("%.0f", largestBufferBytesPerParticle) +
                         " bytes per particle)"});
   if (gl.availableMemoryBytes > 0) {
-    limits.push_back({(double(gl.availableMemoryBytes) - grid) / gpuBytesPerParticle,
-                      "the " + bytes(double(gl.availableMemoryBytes)) + " of GPU memory " + gl.renderer +
-                          " has free (" + format("%.0f", gpuBytesPerParticle) + " bytes per particle in all, after " +
-                          bytes(grid) + " for the grid)"});
+    const std::string gpuMemory = "the " + bytes(double(gl.availableMemoryBytes)) + " of GPU memory " + gl.renderer + " has free";
+    checkFieldsFit(scene, fields, fieldsBytes, double(gl.availableMemoryBytes) - grid,
+                   gpuMemory + " after " + bytes(grid) + " for the grid");
+    limits.push_back({(double(gl.availableMemoryBytes) - grid - fieldsBytes) / gpuBytesPerParticle,
+                      gpuMemory + " (" + format("%.0f", gpuBytesPerParticle) + " bytes per particle in all, after " +
+                          bytes(grid) + " for the grid" + fieldsText + ")"});
   }
   const double hostBytesPerParticle = kHostBytesPerParticle + (gl.buffersInHostMemory ? gpuBytesPerParticle : 0);
   const double allocatable = double(voxelizer::allocatableBytes());
   const double hostGrid = gl.buffersInHostMemory ? grid : 0;
-  limits.push_back({(allocatable - hostGrid) / hostBytesPerParticle,
-                    "the " + bytes(allocatable) + " of memory this process can still allocate (about " +
-                        format("%.0f", hostBytesPerParticle) + " bytes per particle while sampling and uploading" +
+  // Baked on the host; where the driver keeps its buffers in host memory, the GPU's copy is there too.
+  const double hostFieldsBytes = (gl.buffersInHostMemory ? 2 : 1) * fieldsBytes;
+  const std::string hostMemory = "the " + bytes(allocatable) + " of memory this process can still allocate";
+  checkFieldsFit(scene, fields, hostFieldsBytes, allocatable - hostGrid,
+                 hostMemory + (gl.buffersInHostMemory ? " after " + bytes(hostGrid) + " for the grid" : std::string()));
+  limits.push_back({(allocatable - hostGrid - hostFieldsBytes) / hostBytesPerParticle,
+                    hostMemory + " (about " + format("%.0f", hostBytesPerParticle) +
+                        " bytes per particle while sampling and uploading" +
+                        (fields.empty() ? std::string() : ", after " + bytes(hostFieldsBytes) + " for the distance fields") +
                         (gl.buffersInHostMemory ? ", after " + bytes(hostGrid) + " for the grid, " + gl.renderer +
                                                       "'s buffers included, which it keeps in host memory)"
                                                 : std::string(")"))});

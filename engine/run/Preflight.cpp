@@ -16,6 +16,7 @@
 #include "gpu/Materials.h"
 #include "io/Text.h"
 #include "scene/ColliderMotion.h"
+#include "scene/FieldLattice.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
 #include "sim/SceneUpload.h"
@@ -144,6 +145,36 @@ void warnAboutSheets(const Scene& scene, const std::vector<ParticleSeed>& partic
     const std::string warning = voxelizer::sheetWarning(voxelizer::measureSurface(*body.mesh), bodyParticles[b],
                                                         particleSpacingM(body, scene.grid));
     if (!warning.empty()) report.warnings.push_back("bodies[" + std::to_string(b) + "]: " + body.path + ": " + warning);
+  }
+}
+
+// Each distance field's lattice and memory (scene/FieldLattice.h), and each rigid body's mass, volume and inertia.
+void noteObjects(const Scene& scene, PreflightReport& report) {
+  for (const FieldLattice& field : fieldLattices(scene)) {
+    report.notes.push_back(field.object + ": distance field of " + field.path + ", " + format("%.0f", field.samples.x) +
+                           " × " + format("%.0f", field.samples.y) + " × " + format("%.0f", field.samples.z) +
+                           " samples " + format("%.3g", field.spacingM) + " m apart (" +
+                           format("%.3g", field.bytes() / 1e6) + " MB as 32-bit floats)");
+  }
+  for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
+    const RigidBody& body = scene.rigidBodies[i];
+    const glm::dmat3& inertia = body.inertiaKgM2;
+    // A mesh's products of inertia carry the integrals' rounding, a few ε of the moments: below 1e-12 of the
+    // largest moment they are shown as the 0 they are.
+    const double roundingKgM2 = 1e-12 * std::max({inertia[0][0], inertia[1][1], inertia[2][2]});
+    const bool diagonal = std::abs(inertia[0][1]) <= roundingKgM2 && std::abs(inertia[0][2]) <= roundingKgM2 &&
+                          std::abs(inertia[1][2]) <= roundingKgM2;
+    const auto row = [&](int r) {
+      return format("%.3g", inertia[0][r]) + ", " + format("%.3g", inertia[1][r]) + ", " + format("%.3g", inertia[2][r]);
+    };
+    report.notes.push_back("rigid_bodies[" + std::to_string(i) + "]: " + format("%.4g kg", body.massKg) + ", " +
+                           format("%.4g m³", body.volumeM3) + ", centre of mass (" + format("%.4g", body.centerOfMassM.x) +
+                           ", " + format("%.4g", body.centerOfMassM.y) + ", " + format("%.4g", body.centerOfMassM.z) +
+                           ") m, inertia about it " +
+                           (diagonal ? "diag(" + format("%.3g", inertia[0][0]) + ", " + format("%.3g", inertia[1][1]) +
+                                           ", " + format("%.3g", inertia[2][2]) + ")"
+                                     : "[" + row(0) + "; " + row(1) + "; " + row(2) + "]") +
+                           " kg m² along its own axes");
   }
 }
 
@@ -304,6 +335,7 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
                            "× a cell's particles at rest");
   }
 
+  noteObjects(scene, report);
   noteEmitters(scene, particles, lastFrame, report);
   warnAboutSheets(scene, particles, report);
   reportBodiesInColliders(scene, particles, report);

@@ -1,7 +1,8 @@
 #pragma once
 // The check before a run: the time step against each material's elastic wave bound and the bodies' starting
 // speeds, the particles per cell, emitters, mesh bodies that fill as a sheet, bodies that start inside colliders,
-// and the fixed-point headroom. Nothing here needs a GL context.
+// the fixed-point headroom, the distance fields' lattices and the rigid bodies' mass and inertia. Nothing here needs
+// a GL context.
 #include <optional>
 #include <string>
 #include <vector>

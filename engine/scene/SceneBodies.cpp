@@ -52,20 +52,10 @@ voxelizer::Transform readPlacement(const Object& body) {
   return placement;
 }
 
-void loadMeshBody(const Object& body, Body& result, const voxelizer::Transform& placement, const GridSpec& grid) {
-  voxelizer::TriangleMesh mesh;
-  try {
-    mesh = voxelizer::transformed(voxelizer::loadMesh(result.resolvedPath), placement);
-  } catch (const voxelizer::MeshError& error) {
-    body.fail("path", error.what());
-  }
-  const std::string problem =
-      voxelizer::whyNotFillable(mesh, voxelizer::measureSurface(mesh), particleSpacingM(result, grid));
-  if (!problem.empty()) body.fail("path", result.resolvedPath.string() + ": " + problem);
-  const voxelizer::Bounds box = voxelizer::bounds(mesh);
-  result.loadedMinM = box.minM;
-  result.loadedMaxM = box.maxM;
-  result.mesh = std::make_shared<const voxelizer::TriangleMesh>(std::move(mesh));
+std::filesystem::path readFilePath(const Object& object, const std::filesystem::path& sceneFolder, std::string& path) {
+  path = object.required("path").string();
+  if (path.empty()) object.fail("path", "must not be empty");
+  return sceneFolder / path;
 }
 
 void loadPointsBody(const Object& body, Body& result, const voxelizer::Transform& placement, const GridSpec& grid,
@@ -133,6 +123,22 @@ void checkParticleMasses(const Object& body, const Body& result, const GridSpec&
 
 }  // namespace
 
+PlacedMesh readPlacedMesh(const Object& object, const std::filesystem::path& sceneFolder, double spacingM) {
+  PlacedMesh result;
+  result.resolvedPath = readFilePath(object, sceneFolder, result.path);
+  result.placement = readPlacement(object);
+  voxelizer::TriangleMesh mesh;
+  try {
+    mesh = voxelizer::transformed(voxelizer::loadMesh(result.resolvedPath), result.placement);
+  } catch (const voxelizer::MeshError& error) {
+    object.fail("path", error.what());
+  }
+  const std::string problem = voxelizer::whyNotFillable(mesh, voxelizer::measureSurface(mesh), spacingM);
+  if (!problem.empty()) object.fail("path", result.resolvedPath.string() + ": " + problem);
+  result.mesh = std::make_shared<const voxelizer::TriangleMesh>(std::move(mesh));
+  return result;
+}
+
 Body readBody(const Object& body, const GridSpec& grid, const std::vector<Material>& materials,
               const std::filesystem::path& sceneFolder) {
   Body result;
@@ -147,11 +153,7 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
     }
     return keys;
   };
-  const auto readFile = [&] {
-    result.path = body.required("path").string();
-    if (result.path.empty()) body.fail("path", "must not be empty");
-    result.resolvedPath = sceneFolder / result.path;
-  };
+  const auto readFile = [&] { result.resolvedPath = readFilePath(body, sceneFolder, result.path); };
   switch (result.shape) {
     case BodyShape::Sphere:
       body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), {}, "a sphere body");
@@ -196,7 +198,13 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
   result.particlesPerCell = body.number("particles_per_cell", result.particlesPerCell, Interval::openClosed(0, 1000));
   result.sampler = body.choice<BodySampler>("sampler", result.sampler,
                                             {{"lattice", BodySampler::Lattice}, {"poisson_disk", BodySampler::PoissonDisk}});
-  if (result.shape == BodyShape::Mesh) loadMeshBody(body, result, readPlacement(body), grid);
+  if (result.shape == BodyShape::Mesh) {
+    PlacedMesh placed = readPlacedMesh(body, sceneFolder, particleSpacingM(result, grid));
+    const voxelizer::Bounds box = voxelizer::bounds(*placed.mesh);
+    result.loadedMinM = box.minM;
+    result.loadedMaxM = box.maxM;
+    result.mesh = std::move(placed.mesh);
+  }
   if (result.shape == BodyShape::Points) {
     loadPointsBody(body, result, readPlacement(body), grid,
                    materials[std::size_t(result.materialIndex)].densityKgPerM3);

@@ -1,7 +1,8 @@
-// The scene file's "colliders": planes, spheres and boxes the snow meets (docs/scene-format.md).
+// The scene file's "colliders": planes, spheres, boxes and meshes the snow meets (docs/scene-format.md).
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -53,10 +54,12 @@ std::vector<ColliderKeyframe> readKeyframes(const Value& keyframes) {
 
 }  // namespace
 
-Collider readCollider(const Object& collider) {
+Collider readCollider(const Object& collider, const GridSpec& grid, const std::filesystem::path& sceneFolder) {
   Collider result;
-  result.shape = collider.required("type").choice<ColliderShape>(
-      {{"plane", ColliderShape::Plane}, {"sphere", ColliderShape::Sphere}, {"box", ColliderShape::Box}}, {"mesh"});
+  result.shape = collider.required("type").choice<ColliderShape>({{"plane", ColliderShape::Plane},
+                                                                  {"sphere", ColliderShape::Sphere},
+                                                                  {"box", ColliderShape::Box},
+                                                                  {"mesh", ColliderShape::Mesh}});
   const std::vector<std::string> commonKeys = {"velocity", "keyframes", "pivot", "friction", "boundary"};
   const auto keysWith = [&](std::vector<std::string> keys) {
     keys.insert(keys.end(), commonKeys.begin(), commonKeys.end());
@@ -87,6 +90,21 @@ Collider readCollider(const Object& collider) {
       checkBoxCorners(collider, result.minM, result.maxM);
       result.pivotM = 0.5 * (result.minM + result.maxM);
       break;
+    case ColliderShape::Mesh: {
+      collider.checkKeys(keysWith({"type", "path", "scale", "rotate_deg", "translate", "resolution"}), {},
+                         "a mesh collider");
+      result.fieldResolution = collider.number("resolution", result.fieldResolution, fieldResolutionAllowed());
+      PlacedMesh placed = readPlacedMesh(collider, sceneFolder, grid.cellSizeM / result.fieldResolution);
+      result.path = std::move(placed.path);
+      result.resolvedPath = std::move(placed.resolvedPath);
+      result.scale = placed.placement.scale;
+      result.rotateDeg = placed.placement.rotateDeg;
+      result.translateM = placed.placement.translateM;
+      const voxelizer::Bounds box = voxelizer::bounds(*placed.mesh);
+      result.mesh = std::move(placed.mesh);
+      result.pivotM = 0.5 * (box.minM + box.maxM);
+      break;
+    }
   }
   if (collider.has("velocity") && collider.has("keyframes")) {
     collider.fail("keyframes", "a collider moves either at its velocity or by keyframes, not both (remove "

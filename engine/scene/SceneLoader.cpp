@@ -1,6 +1,6 @@
 // Reads a scene file (docs/scene-format.md) into a Scene: the top level and its small sections (grid, time,
-// solver, camera) here, materials, bodies and colliders in the files SceneSections.h names. Every problem is an
-// InputError naming the file, the key path and the problem (scene/JsonChecker.h).
+// solver, camera) here, materials, bodies, colliders and rigid bodies in the files SceneSections.h names. Every
+// problem is an InputError naming the file, the key path and the problem (scene/JsonChecker.h).
 #include <cmath>
 #include <limits>
 #include <string>
@@ -135,8 +135,8 @@ CameraSpec readCamera(const Object& camera) {
 
 Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   root.checkKeys(
-      {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders", "camera",
-       "surface"},
+      {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders",
+       "rigid_bodies", "camera", "surface"},
       {},
       "a scene");
   Scene scene;
@@ -162,8 +162,11 @@ Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
       colliders->fail("expected an array of colliders (got " + describeValue(colliders->json()) + ")");
     }
     for (std::size_t i = 0; i < colliders->json().size(); ++i) {
-      scene.colliders.push_back(readCollider(Object(colliders->element(i))));
+      scene.colliders.push_back(readCollider(Object(colliders->element(i)), scene.grid, sceneFolder));
     }
+  }
+  if (const auto rigidBodies = root.optional("rigid_bodies")) {
+    scene.rigidBodies = readRigidBodies(*rigidBodies, scene.grid, sceneFolder);
   }
   if (const auto camera = root.optional("camera")) scene.camera = readCamera(Object(*camera));
   if (const auto surface = root.optional("surface")) scene.surface = readSurface(Object(*surface));

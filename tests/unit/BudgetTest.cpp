@@ -1,6 +1,8 @@
 // The estimate before sampling (run/Budget.h; docs/scene-format.md, Sizes and limits): each body's particles
 // against the GPU's buffers, with the semi-implicit solve's buffers counted where the scene has them. No GL: the
 // driver's limits are given as a gl::ContextInfo.
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,6 +13,7 @@
 #include "scene/Sampling.h"
 #include "scene/Scene.h"
 #include "sim/GpuState.h"
+#include "support/TestFiles.h"
 
 namespace firn {
 namespace {
@@ -123,6 +126,42 @@ TEST(Budget, SamplingStopsAtTheLimitWhenTheEstimateIsShort) {
     EXPECT_NE(message.find("budget.json: bodies[0]"), std::string::npos) << message;
     EXPECT_NE(message.find("a test limit"), std::string::npos) << message;
   }
+}
+
+// The box of snow beside a rigid cube of 0.503 m (a mesh, at `resolution` samples per 1 cm cell), in `folder`.
+Scene sceneWithMeshBody(const std::filesystem::path& folder, const std::string& resolution) {
+  std::ofstream(folder / "cube.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                        "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+                                        "f 4 1 5\nf 4 5 8\nf 3 4 8\nf 3 8 7\n";
+  return parseScene(R"({
+    "grid": { "cells": [64, 64, 64], "cell_size": 0.01 },
+    "time": { "dt": 1e-5, "frame_rate": 50, "frames": 1 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": [0.05, 0.05, 0.05], "max": [0.15, 0.15, 0.15], "material": "snow" } ],
+    "rigid_bodies": [ { "shape": "mesh", "path": "cube.obj", "scale": 0.503, "translate": [0.06, 0.06, 0.06],
+                        "density": 500, "resolution": )" + resolution + " } ] }",
+                    folder / "budget.json");
+}
+
+TEST(Budget, DistanceFieldsTakeTheirMemoryFirst) {
+  const std::filesystem::path folder = test::freshDirectory("budget_fields");
+  gl::ContextInfo gl = driver();
+  gl.maxStorageBlockBytes = 1LL << 30;
+  gl.availableMemoryBytes = 320LL << 20;
+  // At resolution 8 the field's spacing is 1.25 mm over 0.503 m and 3 cells each side: ⌈0.563 / 0.00125⌉ + 1 = 452
+  // samples per axis, 92.3 million floats, 352 MiB: more than the GPU has free. (The sizes stay clear of whole
+  // steps, where the count would hang on the rounding of the division.)
+  const std::string message = refusal(sceneWithMeshBody(folder, "8"), gl);
+  EXPECT_EQ(message.rfind((folder / "budget.json").string() + ": rigid_bodies[0].resolution: the distance field of "
+                                                              "cube.obj, 452 × 452 × 452 samples 0.00125 m apart (352.3 MiB",
+                          0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("lower its resolution"), std::string::npos) << message;
+  // At resolution 2, 5 mm: 114³ samples, 5.652 MiB, which the GPU's limit counts beside the grid.
+  const ParticleBudget budget = checkParticleBudget(sceneWithMeshBody(folder, "2"), gl, 0);
+  EXPECT_NE(budget.limit.find(", 5.652 MiB for the distance fields)"), std::string::npos) << budget.limit;
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

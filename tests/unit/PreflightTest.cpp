@@ -2,6 +2,7 @@
 // and bodies that start inside colliders.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include "gpu/Materials.h"
 #include "run/Preflight.h"
 #include "scene/Scene.h"
+#include "support/TestFiles.h"
 
 namespace firn {
 namespace {
@@ -172,6 +174,33 @@ TEST(Preflight, ShippedScenesAreWithinTheirBounds) {
     const PreflightReport report = preflight(scene, sampleBodies(scene));
     EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
   }
+}
+
+// Each rigid body's mass, volume and inertia, and each distance field's lattice and size, are notes.
+TEST(Preflight, RigidBodiesAndDistanceFieldsAreNoted) {
+  const std::filesystem::path folder = test::freshDirectory("preflight_rigid_bodies");
+  std::ofstream(folder / "cube.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                        "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\n"
+                                        "f 4 1 5\nf 4 5 8\nf 3 4 8\nf 3 8 7\n";
+  const Scene scene = parseScene(R"({
+    "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 1 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ )" + std::string(kBall) + R"( ],
+    "rigid_bodies": [
+      { "shape": "box", "center": [0.3, 0.3, 0.3], "size": [0.1, 0.2, 0.3], "mass": 6 },
+      { "shape": "mesh", "path": "cube.obj", "scale": 0.21, "translate": [0.8, 0.2, 0.8], "density": 1000 } ] })",
+                                 folder / "preflight.json");
+  const PreflightReport report = preflight(scene, sampleBodies(scene));
+  // m/12 diag(b² + c², a² + c², a² + b²) = 0.5 diag(0.13, 0.1, 0.05) kg m².
+  EXPECT_TRUE(contains(report.notes, "rigid_bodies[0]: 6 kg, 0.006 m³, centre of mass (0.3, 0.3, 0.3) m, inertia "
+                                     "about it diag(0.065, 0.05, 0.025) kg m²"));
+  EXPECT_TRUE(contains(report.notes, "rigid_bodies[1]: 9.261 kg, 0.009261 m³, centre of mass (0.905, 0.305, 0.905) m, inertia "
+                                     "about it diag(0.0681, 0.0681, 0.0681) kg m²"));
+  // Spacing 0.025 m over 0.21 m and 0.15 m each side: ⌈0.51 / 0.025⌉ + 1 = 22 samples per axis, 42,592 bytes.
+  EXPECT_TRUE(contains(report.notes, "rigid_bodies[1]: distance field of cube.obj, 22 × 22 × 22 samples 0.025 m apart "
+                                     "(0.0426 MB as 32-bit floats)"));
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

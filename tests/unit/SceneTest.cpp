@@ -393,10 +393,10 @@ TEST(SceneLoader, RejectsMaterialKeysOfAnotherModel) {
               "must be one of \"snow\", \"fixed_corotated\", \"neo_hookean\", \"water\", \"drucker_prager\" (got \"granite\")");
 }
 
-TEST(SceneLoader, RejectsUnsupportedShapesAndKeys) {
+TEST(SceneLoader, MeshColliderNeedsItsFile) {
   Json scene = validScene();
   scene["colliders"] = {{{"type", "mesh"}}};
-  expectError(scene, "colliders[0].type", "\"mesh\" is part of the scene format but not supported by this build yet");
+  expectError(scene, "colliders[0].path", "required key is missing");
 }
 
 TEST(SceneLoader, ReadsAdaptiveTimeStep) {

@@ -1,0 +1,38 @@
+#pragma once
+// The lattices of the scene's signed distance fields, one per mesh collider and mesh rigid body, sized before any
+// is baked: where the fields' memory is counted (run/Budget.cpp) and reported (run/Preflight.cpp), and what the
+// baking is asked for (voxelizer/DistanceField.h).
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scene/Scene.h"
+#include "voxelizer/Mesh.h"
+
+namespace firn {
+
+// The field covers the placed mesh's box grown by this many grid cells on every side, so that it is defined
+// wherever a particle near the surface, or a node of its stencil (2 cells away with the cubic kernel), asks for it.
+constexpr double kFieldMarginCells = 3;
+
+struct FieldLattice {
+  std::string object;  // "colliders[1]", "rigid_bodies[0]": as errors and the pre-flight name them
+  std::string path;    // the mesh file, as the scene names it
+  double spacingM = 0; // cell_size / resolution
+  double marginM = 0;  // kFieldMarginCells cells
+  // Per axis; doubles, so that the count of a wild scene cannot overflow before it is refused.
+  glm::dvec3 samples{0.0};
+
+  double sampleCount() const { return samples.x * samples.y * samples.z; }
+  double bytes() const { return 4 * sampleCount(); }  // one 32-bit float per sample
+};
+
+// Matches voxelizer::distanceFieldLattice(bounds(mesh), spacingM, marginM): ⌈(extent + 2 margin) / spacing⌉ + 1
+// samples per axis, in whole steps from the grown box's low corner.
+FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution);
+
+// Every mesh collider's field, then every mesh rigid body's, in the scene's order.
+std::vector<FieldLattice> fieldLattices(const Scene& scene);
+
+}  // namespace firn
