@@ -28,8 +28,9 @@ struct FieldLattice {
   double bytes() const { return 4 * sampleCount(); }  // one 32-bit float per sample
 };
 
-// Matches voxelizer::distanceFieldLattice(bounds(mesh), spacingM, marginM): ⌈(extent + 2 margin) / spacing⌉ + 1
-// samples per axis, in whole steps from the grown box's low corner.
+// voxelizer::distanceFieldLattice(bounds(mesh), spacingM, marginM)'s size, ⌈(extent + 2 margin) / spacing⌉ + 1
+// samples per axis, in doubles (that one takes a rounding's slack off a whole number of steps, so this may count one
+// sample more per axis: the budget's side).
 FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution);
 
 // Every mesh collider's field, then every mesh rigid body's, in the scene's order.

@@ -15,6 +15,7 @@
 #include "gpu/GpuFunctions.h"
 #include "io/Checkpoint.h"
 #include "scene/ColliderMotion.h"
+#include "scene/FieldLattice.h"
 #include "voxelizer/DistanceField.h"
 
 namespace firn {
@@ -30,9 +31,8 @@ int boundaryCode(Boundary boundary) {
 // Bakes `mesh`'s field for the grid at its resolution, appends its samples and says where they lie from `pivotM`.
 ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::TriangleMesh& mesh, double resolution,
                                   const GridSpec& grid, const glm::dvec3& pivotM) {
-  const double spacingM = grid.cellSizeM / resolution;
-  voxelizer::DistanceField field =
-      voxelizer::bakeDistanceField(mesh, spacingM, ColliderFields::kFieldMarginCells * grid.cellSizeM);
+  const FieldLattice lattice = fieldLattice(mesh, grid, resolution);
+  voxelizer::DistanceField field = voxelizer::bakeDistanceField(mesh, lattice.spacingM, lattice.marginM);
   ColliderFields::Field placed;
   placed.first = static_cast<int>(samples.size());
   placed.samples = field.samples;

@@ -15,10 +15,9 @@
 namespace firn {
 
 // The field buffer (common/colliders.glsl: a buffer texture of floats): the signed distance field of each mesh
-// collider and mesh body, baked once from its placed mesh (voxelizer/DistanceField.h) at cell_size / resolution with
-// a margin of kFieldMarginCells cells, and each rigid body's contact probes; and where each one's lie in it.
+// collider and mesh body, baked once from its placed mesh (voxelizer/DistanceField.h) on its FieldLattice
+// (scene/FieldLattice.h), and each rigid body's contact probes; and where each one's lie in it.
 struct ColliderFields {
-  static constexpr double kFieldMarginCells = 2;
   struct Field {
     int first = -1;                     // the first sample, −1 for none
     glm::ivec3 samples{0};              // per axis

@@ -55,8 +55,9 @@ float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
 // opposite of the impulse its response gave the snow there, and that impulse's moment about its centre of mass,
 // summed in 64-bit fixed point so that the sums, like P2G's, do not depend on the order of the additions.
 void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
-  vec3 impulse = -impulseOnSnowKgMPerS / momentumUnitKgMPerS;
-  vec3 moment = cross(x - colliderPivot(colliders[i], timeS), -impulseOnSnowKgMPerS) / (momentumUnitKgMPerS * cellSizeM);
+  float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) / momentumUnitKgMPerS;
+  vec3 impulse = -impulseOnSnowKgMPerS * unitsPerKgMPerS;
+  vec3 moment = cross(x - colliderPivot(colliders[i], timeS), -impulseOnSnowKgMPerS) * (unitsPerKgMPerS / cellSizeM);
   uvec4 low;
   ivec4 high;
   splitFixed64(vec4(round(impulse), 0.0), low, high);

@@ -188,8 +188,8 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 //   angularMomentum   xyz L about the centre of mass (kg·m²/s, world axes)
 //   inverseInertia    the columns of I⁻¹ in the body's own frame (1/(kg·m²))
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
-//                     momentumUnitKgMPerS (common/fixed64.glsl)
-//   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · cellSizeM
+//                     momentumUnitKgMPerS · 2^−k, P2G's momentum units (common/fixed64.glsl)
+//   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · 2^−k · h
 #define FIRN_COLLIDER_PARAMS(member, array) \
   member(vec4, shapeA)                      \
   member(vec4, shapeB)                      \

@@ -72,8 +72,9 @@ void main() {
   mat3 restInverseInertia = mat3(body.inverseInertia[0].xyz, body.inverseInertia[1].xyz, body.inverseInertia[2].xyz);
 
   // The snow's push (eq. 35) and gravity.
-  vec3 impulse = fixed64ToFloat(body.impulseLow, body.impulseHigh).xyz * momentumUnitKgMPerS;
-  vec3 angularImpulse = fixed64ToFloat(body.angularLow, body.angularHigh).xyz * (momentumUnitKgMPerS * cellSizeM);
+  float kgMPerSPerUnit = ldexp(momentumUnitKgMPerS, -fixedPointFractionBits);
+  vec3 impulse = fixed64ToFloat(body.impulseLow, body.impulseHigh).xyz * kgMPerSPerUnit;
+  vec3 angularImpulse = fixed64ToFloat(body.angularLow, body.angularHigh).xyz * (kgMPerSPerUnit * cellSizeM);
   vec3 x = colliderPivot(body, timeS);
   vec4 q = body.rotation;
   vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;

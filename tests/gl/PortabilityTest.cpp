@@ -115,6 +115,17 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   semiImplicitFloat.solver.integrator = Integrator::SemiImplicit;
   semiImplicitFloat.solver.atomics = Atomics::Float;
   scenes.emplace_back(semiImplicitFloat, MaterialPrograms::SceneModels);
+  // Objects: a mesh collider alone (the distance fields), then with a rigid body (the bodies' pushes and pass).
+  Scene withMeshCollider = base;
+  Collider mesh;
+  mesh.shape = ColliderShape::Mesh;
+  withMeshCollider.colliders.push_back(mesh);
+  scenes.emplace_back(withMeshCollider, MaterialPrograms::SceneModels);
+  Scene withRigidBody = withMeshCollider;
+  RigidBody ball;
+  ball.radiusM = 0.1;
+  withRigidBody.rigidBodies.push_back(ball);
+  scenes.emplace_back(withRigidBody, MaterialPrograms::SceneModels);
   return scenes;
 }
 
