@@ -213,19 +213,17 @@ class ClosestTriangles {
   Choice descend(Choice start, const glm::dvec3& pointM) const {
     for (std::int32_t from = noTriangle; start.triangle != from;) {
       from = start.triangle;
-      for (const std::uint32_t corner : cornerVertices_[std::size_t(from)]) {
-        for (std::uint32_t at = cornerTrianglesBegin_[corner]; at < cornerTrianglesBegin_[corner + 1]; ++at) {
-          start = better(start, cornerTriangles_[at], pointM);
-        }
+      for (std::uint32_t at = neighboursBegin_[std::size_t(from)]; at < neighboursBegin_[std::size_t(from) + 1]; ++at) {
+        start = better(start, neighbours_[at], pointM);
       }
     }
     return start;
   }
 
  private:
-  // The triangles around every vertex, vertices welded by position (a soup that repeats its corners per triangle
-  // is still one surface): corners of triangle t are cornerVertices_[t], and the triangles around vertex v are
-  // cornerTriangles_[cornerTrianglesBegin_[v], cornerTrianglesBegin_[v + 1]).
+  // The triangles that share a corner with each triangle, vertices welded by position (a soup that repeats its
+  // corners per triangle is still one surface): those of triangle t are neighbours_[neighboursBegin_[t],
+  // neighboursBegin_[t + 1]), each once, t itself not among them.
   void linkTriangles(const TriangleMesh& mesh) {
     std::vector<std::uint32_t> byPosition(mesh.vertices.size());
     for (std::size_t v = 0; v < byPosition.size(); ++v) byPosition[v] = std::uint32_t(v);
@@ -242,25 +240,36 @@ class ClosestTriangles {
       welded[byPosition[rank]] = weldedCount;
     }
     ++weldedCount;
-    cornerVertices_.resize(mesh.triangles.size());
-    cornerTrianglesBegin_.assign(std::size_t(weldedCount) + 1, 0);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (int corner = 0; corner < 3; ++corner) {
-        cornerVertices_[t][std::size_t(corner)] = welded[mesh.triangles[t][corner]];
-        ++cornerTrianglesBegin_[cornerVertices_[t][std::size_t(corner)] + 1];
-      }
+    // The triangles around each welded vertex, v's at aroundBegin[v] to aroundBegin[v + 1].
+    std::vector<std::uint32_t> aroundBegin(std::size_t(weldedCount) + 1, 0);
+    for (const glm::uvec3& corners : mesh.triangles) {
+      for (int corner = 0; corner < 3; ++corner) ++aroundBegin[welded[corners[corner]] + 1];
     }
-    for (std::size_t v = 0; v < weldedCount; ++v) cornerTrianglesBegin_[v + 1] += cornerTrianglesBegin_[v];
-    cornerTriangles_.resize(cornerTrianglesBegin_.back());
-    std::vector<std::uint32_t> filled(cornerTrianglesBegin_.begin(), cornerTrianglesBegin_.end() - 1);
+    for (std::size_t v = 0; v < weldedCount; ++v) aroundBegin[v + 1] += aroundBegin[v];
+    std::vector<std::int32_t> around(aroundBegin.back());
+    std::vector<std::uint32_t> filled(aroundBegin.begin(), aroundBegin.end() - 1);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (const std::uint32_t corner : cornerVertices_[t]) cornerTriangles_[filled[corner]++] = std::int32_t(t);
+      for (int corner = 0; corner < 3; ++corner) around[filled[welded[mesh.triangles[t][corner]]]++] = std::int32_t(t);
+    }
+    neighboursBegin_.assign(mesh.triangles.size() + 1, 0);
+    std::vector<std::int32_t> ring;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      ring.clear();
+      for (int corner = 0; corner < 3; ++corner) {
+        const std::uint32_t v = welded[mesh.triangles[t][corner]];
+        ring.insert(ring.end(), around.begin() + aroundBegin[v], around.begin() + aroundBegin[v + 1]);
+      }
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      for (const std::int32_t other : ring) {
+        if (other != std::int32_t(t)) neighbours_.push_back(other);
+      }
+      neighboursBegin_[t + 1] = std::uint32_t(neighbours_.size());
     }
   }
 
-  std::vector<std::array<std::uint32_t, 3>> cornerVertices_;
-  std::vector<std::uint32_t> cornerTrianglesBegin_;
-  std::vector<std::int32_t> cornerTriangles_;
+  std::vector<std::uint32_t> neighboursBegin_;
+  std::vector<std::int32_t> neighbours_;
   glm::dvec3 originM_;
   double spacingM_;
   glm::ivec3 samples_;
