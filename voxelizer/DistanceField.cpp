@@ -19,9 +19,9 @@
 // The bake follows Bridson's makelevelset3 (SDFGen; Bridson, "Fluid Simulation for Computer Graphics", 2nd ed.,
 // 2015, ch. 4): exact distances in a narrow band around every triangle, then each sample's closest triangle carried
 // outward from neighbour to neighbour, the distance to it always computed exactly. Here the propagation is sweeps
-// along the lattice's lines (independent lines, so threads share them without changing a byte) followed by
-// relaxation to a fixed point: every sample ends with the closest of its own, its six neighbours' and the
-// triangles that share a corner with its own.
+// along the lattice's lines (independent lines, so threads share them without changing a byte), a descent over
+// the surface at every sample, and relaxation to a fixed point: every sample ends with the closest of its own,
+// its six neighbours' and the triangles that share a corner with its own.
 // The sign is the generalized winding number's (WindingNumber.h), evaluated at every sample near the surface and,
 // away from it, at a few samples of each connected region that the surface cannot cross.
 
@@ -34,9 +34,9 @@ constexpr double bandSpacings = 2;
 // The sign's band: samples this many spacings or nearer to the surface have their own winding number. Where a
 // triangle crosses the segment between two 6-neighbours, h long, the crossing splits it, so one of the two lies
 // within h/2 of the triangle: no two neighbours outside the band have the surface between them. The extra
-// hundredth is room for rounding. Each winding number near the surface costs about 7 µs (10 µs of a 100,000-
-// triangle sphere's bake per band sample), so the band is no wider than the argument needs: at one spacing it
-// held twice the samples.
+// hundredth is room for rounding. A winding number near the surface took about 7 µs on the 100,000-triangle
+// sphere of distance_field_benchmarks.cpp, so the band is no wider than the argument needs: at a whole spacing
+// it held twice the samples.
 constexpr double signBandSpacings = 0.51;
 // Away from the surface the winding number is probed on the sub-lattice of every probeStride-th sample per axis
 // (and at each region's first sample): 1/64 of the samples, few enough that probing costs little next to the
@@ -322,7 +322,7 @@ void bakeBand(ClosestTriangles& field, unsigned threadCount) {
 
 // (2a) Sweeps along every lattice line, forward then back, x lines then y then z: each sample offers its closest
 // triangle to the next along the line. After the three axes every sample has a triangle (every triangle's band
-// holds samples), usually the nearest already. A sweep's lines are independent, so threads take whole lines.
+// holds samples) to start the descent from. A sweep's lines are independent, so threads take whole lines.
 void sweepLines(ClosestTriangles& field, unsigned threadCount) {
   const glm::ivec3 n = field.samples();
   for (int axis = 0; axis < 3; ++axis) {
