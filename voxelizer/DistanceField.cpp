@@ -60,7 +60,9 @@ constexpr std::size_t samplesPerChunk = 4096;
 
 constexpr std::int32_t noTriangle = -1;
 
-bool isFinite(const glm::dvec3& point) { return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z); }
+bool isFinite(const glm::dvec3& point) {
+  return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z);
+}
 
 // Runs task(chunk) for every chunk in [0, chunkCount) on up to threadCount threads (the caller's among them),
 // chunks handed out in turn. Tasks write disjoint results that do not depend on which thread ran them, so the
@@ -94,15 +96,15 @@ std::size_t chunksOf(std::size_t count, std::size_t perChunk) { return (count + 
 struct Triangle {
   glm::dvec3 aM, bM, cM;
   glm::dvec3 abM, acM;
-  glm::dvec3 normalM2;           // ab × ac, unnormalized
-  double inverseNormalSquared;   // 1 / |ab × ac|², or 0 for a flat one (flatTriangleSine)
+  glm::dvec3 normalM2;          // ab × ac, unnormalized
+  double inverseNormalSquared;  // 1 / |ab × ac|², or 0 for a flat one (flatTriangleSine)
 };
 
 Triangle makeTriangle(const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
   Triangle triangle{aM, bM, cM, bM - aM, cM - aM, glm::cross(bM - aM, cM - aM), 0};
   const double normalSquared = glm::dot(triangle.normalM2, triangle.normalM2);
-  const double flatSquared = flatTriangleSine * flatTriangleSine * glm::dot(triangle.abM, triangle.abM) *
-                             glm::dot(triangle.acM, triangle.acM);
+  const double flatSquared =
+      flatTriangleSine * flatTriangleSine * glm::dot(triangle.abM, triangle.abM) * glm::dot(triangle.acM, triangle.acM);
   triangle.inverseNormalSquared = normalSquared > flatSquared ? 1 / normalSquared : 0;
   return triangle;
 }
@@ -467,8 +469,8 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
       const std::size_t end = std::min(toVisit.size(), (chunk + 1) * samplesPerChunk);
       for (std::size_t v = chunk * samplesPerChunk; v < end; ++v) {
         const std::size_t sample = toVisit[v];
-        const ClosestTriangles::Choice best = improve(sample, field.coordinates(sample),
-                                                      [&](std::size_t neighbour) { return changed[neighbour] != 0; });
+        const ClosestTriangles::Choice best =
+            improve(sample, field.coordinates(sample), [&](std::size_t neighbour) { return changed[neighbour] != 0; });
         if (best.triangle != field.closest(sample)) nextUpdates[chunk].push_back({sample, best});
       }
     });
@@ -549,7 +551,8 @@ std::vector<std::uint8_t> classifyInside(const ClosestTriangles& field, const Wi
   std::vector<std::uint8_t> regionMixed(regionFirst.size(), 0);
   for (const std::size_t sample : toEvaluate) {
     const std::int32_t label = region[sample];
-    if (label != inBand && inside[sample] != inside[regionFirst[std::size_t(label)]]) regionMixed[std::size_t(label)] = 1;
+    if (label != inBand && inside[sample] != inside[regionFirst[std::size_t(label)]])
+      regionMixed[std::size_t(label)] = 1;
   }
   std::vector<std::size_t> mixedSamples;
   for (std::size_t sample = 0; sample < sampleCount; ++sample) {
@@ -612,7 +615,8 @@ DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, doubl
   triangles.reserve(mesh.triangles.size());
   for (const glm::uvec3& corners : mesh.triangles) {
     for (int corner = 0; corner < 3; ++corner) {
-      if (corners[corner] >= mesh.vertices.size()) throw MeshError("distance field: a triangle indexes past the vertices");
+      if (corners[corner] >= mesh.vertices.size())
+        throw MeshError("distance field: a triangle indexes past the vertices");
       if (!isFinite(mesh.vertices[corners[corner]])) throw MeshError("distance field: a vertex is not finite");
     }
     triangles.push_back(makeTriangle(mesh.vertices[corners.x], mesh.vertices[corners.y], mesh.vertices[corners.z]));

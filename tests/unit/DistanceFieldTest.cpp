@@ -82,11 +82,13 @@ TriangleMesh flipped(TriangleMesh mesh) {
 double segmentDistanceM(const glm::dvec3& pointM, const glm::dvec3& startM, const glm::dvec3& endM) {
   const glm::dvec3 alongM = endM - startM;
   const double lengthSquared = glm::dot(alongM, alongM);
-  const double fraction = lengthSquared > 0 ? std::clamp(glm::dot(pointM - startM, alongM) / lengthSquared, 0.0, 1.0) : 0;
+  const double fraction =
+      lengthSquared > 0 ? std::clamp(glm::dot(pointM - startM, alongM) / lengthSquared, 0.0, 1.0) : 0;
   return glm::length(pointM - (startM + fraction * alongM));
 }
 
-double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
+double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, const glm::dvec3& bM,
+                              const glm::dvec3& cM) {
   const glm::dvec3 normal = glm::cross(bM - aM, cM - aM);
   const double normalLength = glm::length(normal);
   if (normalLength > 0) {
@@ -97,13 +99,15 @@ double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, co
                            glm::dot(glm::cross(aM - cM, projectedM - cM), normal) >= 0;
     if (insideAll) return std::abs(glm::dot(pointM - aM, unit));
   }
-  return std::min({segmentDistanceM(pointM, aM, bM), segmentDistanceM(pointM, bM, cM), segmentDistanceM(pointM, cM, aM)});
+  return std::min(
+      {segmentDistanceM(pointM, aM, bM), segmentDistanceM(pointM, bM, cM), segmentDistanceM(pointM, cM, aM)});
 }
 
 double bruteDistanceM(const glm::dvec3& pointM, const TriangleMesh& mesh) {
   double nearestM = std::numeric_limits<double>::infinity();
   for (const glm::uvec3& t : mesh.triangles) {
-    nearestM = std::min(nearestM, bruteTriangleDistanceM(pointM, mesh.vertices[t.x], mesh.vertices[t.y], mesh.vertices[t.z]));
+    nearestM =
+        std::min(nearestM, bruteTriangleDistanceM(pointM, mesh.vertices[t.x], mesh.vertices[t.y], mesh.vertices[t.z]));
   }
   return nearestM;
 }
@@ -114,7 +118,9 @@ double bruteDistanceM(const glm::dvec3& pointM, const TriangleMesh& mesh) {
 TriangleMesh randomishMesh() {
   TriangleMesh mesh = test::uvSphere(1.0, 7, 11);
   std::mt19937 random(20260127);
-  const auto unit = [&] { return double(random() - std::mt19937::min()) / double(std::mt19937::max() - std::mt19937::min()); };
+  const auto unit = [&] {
+    return double(random() - std::mt19937::min()) / double(std::mt19937::max() - std::mt19937::min());
+  };
   for (glm::dvec3& vertexM : mesh.vertices) vertexM *= 0.3 + 0.2 * unit();
   const auto addTriangle = [&](const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
     const auto first = unsigned(mesh.vertices.size());
