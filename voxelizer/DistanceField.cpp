@@ -1,7 +1,6 @@
 #include "voxelizer/DistanceField.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
