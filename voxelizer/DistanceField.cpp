@@ -1,7 +1,6 @@
 #include "voxelizer/DistanceField.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -19,9 +19,9 @@
 // The bake follows Bridson's makelevelset3 (SDFGen; Bridson, "Fluid Simulation for Computer Graphics", 2nd ed.,
 // 2015, ch. 4): exact distances in a narrow band around every triangle, then each sample's closest triangle carried
 // outward from neighbour to neighbour, the distance to it always computed exactly. Here the propagation is sweeps
-// along the lattice's lines (independent lines, so threads share them without changing a byte) followed by
-// relaxation to a fixed point: every sample ends with the closest of its own, its six neighbours' and the
-// triangles that share a corner with its own.
+// along the lattice's lines (independent lines, so threads share them without changing a byte), a descent over
+// the surface at every sample, and relaxation to a fixed point: every sample ends with the closest of its own,
+// its six neighbours' and the triangles that share a corner with its own.
 // The sign is the generalized winding number's (WindingNumber.h), evaluated at every sample near the surface and,
 // away from it, at a few samples of each connected region that the surface cannot cross.
 
@@ -33,9 +33,11 @@ namespace {
 constexpr double bandSpacings = 2;
 // The sign's band: samples this many spacings or nearer to the surface have their own winding number. Where a
 // triangle crosses the segment between two 6-neighbours, h long, the crossing splits it, so one of the two lies
-// within h/2 of the triangle; a whole spacing leaves room for rounding. No two neighbours outside the band have
-// the surface between them.
-constexpr double signBandSpacings = 1;
+// within h/2 of the triangle: no two neighbours outside the band have the surface between them. The extra
+// hundredth is room for rounding. A winding number near the surface took about 7 µs on the 100,000-triangle
+// sphere of distance_field_benchmarks.cpp, so the band is no wider than the argument needs: at a whole spacing
+// it held twice the samples.
+constexpr double signBandSpacings = 0.51;
 // Away from the surface the winding number is probed on the sub-lattice of every probeStride-th sample per axis
 // (and at each region's first sample): 1/64 of the samples, few enough that probing costs little next to the
 // band's own winding numbers, dense enough that a region reaching through a hole in an open mesh, where w passes
@@ -58,7 +60,9 @@ constexpr std::size_t samplesPerChunk = 4096;
 
 constexpr std::int32_t noTriangle = -1;
 
-bool isFinite(const glm::dvec3& point) { return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z); }
+bool isFinite(const glm::dvec3& point) {
+  return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z);
+}
 
 // Runs task(chunk) for every chunk in [0, chunkCount) on up to threadCount threads (the caller's among them),
 // chunks handed out in turn. Tasks write disjoint results that do not depend on which thread ran them, so the
@@ -92,15 +96,15 @@ std::size_t chunksOf(std::size_t count, std::size_t perChunk) { return (count + 
 struct Triangle {
   glm::dvec3 aM, bM, cM;
   glm::dvec3 abM, acM;
-  glm::dvec3 normalM2;           // ab × ac, unnormalized
-  double inverseNormalSquared;   // 1 / |ab × ac|², or 0 for a flat one (flatTriangleSine)
+  glm::dvec3 normalM2;          // ab × ac, unnormalized
+  double inverseNormalSquared;  // 1 / |ab × ac|², or 0 for a flat one (flatTriangleSine)
 };
 
 Triangle makeTriangle(const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
   Triangle triangle{aM, bM, cM, bM - aM, cM - aM, glm::cross(bM - aM, cM - aM), 0};
   const double normalSquared = glm::dot(triangle.normalM2, triangle.normalM2);
-  const double flatSquared = flatTriangleSine * flatTriangleSine * glm::dot(triangle.abM, triangle.abM) *
-                             glm::dot(triangle.acM, triangle.acM);
+  const double flatSquared =
+      flatTriangleSine * flatTriangleSine * glm::dot(triangle.abM, triangle.abM) * glm::dot(triangle.acM, triangle.acM);
   triangle.inverseNormalSquared = normalSquared > flatSquared ? 1 / normalSquared : 0;
   return triangle;
 }
@@ -213,19 +217,17 @@ class ClosestTriangles {
   Choice descend(Choice start, const glm::dvec3& pointM) const {
     for (std::int32_t from = noTriangle; start.triangle != from;) {
       from = start.triangle;
-      for (const std::uint32_t corner : cornerVertices_[std::size_t(from)]) {
-        for (std::uint32_t at = cornerTrianglesBegin_[corner]; at < cornerTrianglesBegin_[corner + 1]; ++at) {
-          start = better(start, cornerTriangles_[at], pointM);
-        }
+      for (std::uint32_t at = neighboursBegin_[std::size_t(from)]; at < neighboursBegin_[std::size_t(from) + 1]; ++at) {
+        start = better(start, neighbours_[at], pointM);
       }
     }
     return start;
   }
 
  private:
-  // The triangles around every vertex, vertices welded by position (a soup that repeats its corners per triangle
-  // is still one surface): corners of triangle t are cornerVertices_[t], and the triangles around vertex v are
-  // cornerTriangles_[cornerTrianglesBegin_[v], cornerTrianglesBegin_[v + 1]).
+  // The triangles that share a corner with each triangle, vertices welded by position (a soup that repeats its
+  // corners per triangle is still one surface): those of triangle t are neighbours_[neighboursBegin_[t],
+  // neighboursBegin_[t + 1]), each once, t itself not among them.
   void linkTriangles(const TriangleMesh& mesh) {
     std::vector<std::uint32_t> byPosition(mesh.vertices.size());
     for (std::size_t v = 0; v < byPosition.size(); ++v) byPosition[v] = std::uint32_t(v);
@@ -242,25 +244,36 @@ class ClosestTriangles {
       welded[byPosition[rank]] = weldedCount;
     }
     ++weldedCount;
-    cornerVertices_.resize(mesh.triangles.size());
-    cornerTrianglesBegin_.assign(std::size_t(weldedCount) + 1, 0);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (int corner = 0; corner < 3; ++corner) {
-        cornerVertices_[t][std::size_t(corner)] = welded[mesh.triangles[t][corner]];
-        ++cornerTrianglesBegin_[cornerVertices_[t][std::size_t(corner)] + 1];
-      }
+    // The triangles around each welded vertex, v's at aroundBegin[v] to aroundBegin[v + 1].
+    std::vector<std::uint32_t> aroundBegin(std::size_t(weldedCount) + 1, 0);
+    for (const glm::uvec3& corners : mesh.triangles) {
+      for (int corner = 0; corner < 3; ++corner) ++aroundBegin[welded[corners[corner]] + 1];
     }
-    for (std::size_t v = 0; v < weldedCount; ++v) cornerTrianglesBegin_[v + 1] += cornerTrianglesBegin_[v];
-    cornerTriangles_.resize(cornerTrianglesBegin_.back());
-    std::vector<std::uint32_t> filled(cornerTrianglesBegin_.begin(), cornerTrianglesBegin_.end() - 1);
+    for (std::size_t v = 0; v < weldedCount; ++v) aroundBegin[v + 1] += aroundBegin[v];
+    std::vector<std::int32_t> around(aroundBegin.back());
+    std::vector<std::uint32_t> filled(aroundBegin.begin(), aroundBegin.end() - 1);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (const std::uint32_t corner : cornerVertices_[t]) cornerTriangles_[filled[corner]++] = std::int32_t(t);
+      for (int corner = 0; corner < 3; ++corner) around[filled[welded[mesh.triangles[t][corner]]]++] = std::int32_t(t);
+    }
+    neighboursBegin_.assign(mesh.triangles.size() + 1, 0);
+    std::vector<std::int32_t> ring;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      ring.clear();
+      for (int corner = 0; corner < 3; ++corner) {
+        const std::uint32_t v = welded[mesh.triangles[t][corner]];
+        ring.insert(ring.end(), around.begin() + aroundBegin[v], around.begin() + aroundBegin[v + 1]);
+      }
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      for (const std::int32_t other : ring) {
+        if (other != std::int32_t(t)) neighbours_.push_back(other);
+      }
+      neighboursBegin_[t + 1] = std::uint32_t(neighbours_.size());
     }
   }
 
-  std::vector<std::array<std::uint32_t, 3>> cornerVertices_;
-  std::vector<std::uint32_t> cornerTrianglesBegin_;
-  std::vector<std::int32_t> cornerTriangles_;
+  std::vector<std::uint32_t> neighboursBegin_;
+  std::vector<std::int32_t> neighbours_;
   glm::dvec3 originM_;
   double spacingM_;
   glm::ivec3 samples_;
@@ -311,7 +324,7 @@ void bakeBand(ClosestTriangles& field, unsigned threadCount) {
 
 // (2a) Sweeps along every lattice line, forward then back, x lines then y then z: each sample offers its closest
 // triangle to the next along the line. After the three axes every sample has a triangle (every triangle's band
-// holds samples), usually the nearest already. A sweep's lines are independent, so threads take whole lines.
+// holds samples) to start the descent from. A sweep's lines are independent, so threads take whole lines.
 void sweepLines(ClosestTriangles& field, unsigned threadCount) {
   const glm::ivec3 n = field.samples();
   for (int axis = 0; axis < 3; ++axis) {
@@ -344,12 +357,12 @@ void sweepLines(ClosestTriangles& field, unsigned threadCount) {
   }
 }
 
-// (2b) Relaxation to a fixed point, Jacobi style so that the order of work cannot matter: in the first round every
-// sample tries its six neighbours' triangles and then descends the surface from the best; in later rounds only
-// the neighbours of samples that changed in the round before try the changed ones' triangles (and descend from
-// an improvement). Changes are applied together after each round. Each strictly lowers its sample's (distance,
-// index), so the rounds end, with no sample improved on by a neighbour's triangle or by a triangle next to its
-// own on the surface. The line sweeps leave few samples to change, so later rounds touch few samples.
+// (2b) Descent and relaxation to a fixed point. Every sample first descends the surface (ClosestTriangles::descend)
+// from the better of its own triangle and its x predecessor's. Then rounds, Jacobi style so that the order of work
+// cannot matter: in the first every sample tries its six neighbours' triangles, in later ones only the neighbours
+// of samples that changed in the round before try the changed ones' triangles; an improvement descends. Changes
+// are applied together after each round. Each strictly lowers its sample's (distance, index), so the rounds end,
+// with no sample improved on by a neighbour's triangle or by a triangle next to its own on the surface.
 void relax(ClosestTriangles& field, unsigned threadCount) {
   const glm::ivec3 n = field.samples();
   const std::size_t sampleCount = field.sampleCount();
@@ -357,8 +370,9 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
     std::size_t sample;
     ClosestTriangles::Choice choice;
   };
-  // The best of `sample`'s own triangle and its neighbours' for which `offers` holds, improved by descent.
-  const auto improve = [&](std::size_t sample, const glm::ivec3& at, bool descendAlways, const auto& offers) {
+  // The best of `sample`'s own triangle and its neighbours' for which `offers` holds, improved by descent if it
+  // is not its own (from which it has descended already).
+  const auto improve = [&](std::size_t sample, const glm::ivec3& at, const auto& offers) {
     const glm::dvec3 pointM = field.positionM(at);
     const ClosestTriangles::Choice own = field.choice(sample);
     ClosestTriangles::Choice best = own;
@@ -371,7 +385,7 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
         if (offers(neighbour)) best = field.better(best, field.closest(neighbour), pointM);
       }
     }
-    return descendAlways || best.triangle != own.triangle ? field.descend(best, pointM) : best;
+    return best.triangle != own.triangle ? field.descend(best, pointM) : best;
   };
 
   std::vector<std::uint8_t> changed(sampleCount, 0);  // in the round before
@@ -385,7 +399,29 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
     }
   };
 
-  // The first round, over the whole lattice by slabs of layers.
+  // Every sample descends once, along x lines (independent, so threads take whole lines), each starting from the
+  // better of its own triangle and the one its predecessor on the line just descended to: the nearest triangles
+  // of neighbouring samples lie close on the surface, so the descent takes a step or two, where descending from
+  // the sweeps' triangles, carried unchanged along whole lines, took six on average (on the 100,000-triangle
+  // sphere of distance_field_benchmarks.cpp).
+  const std::size_t lineCount = std::size_t(n.y) * std::size_t(n.z);
+  const std::size_t linesPerChunk = std::max<std::size_t>(1, samplesPerChunk / std::size_t(n.x));
+  forEachChunk(chunksOf(lineCount, linesPerChunk), threadCount, [&](std::size_t chunk) {
+    const std::size_t lineEnd = std::min(lineCount, (chunk + 1) * linesPerChunk);
+    for (std::size_t line = chunk * linesPerChunk; line < lineEnd; ++line) {
+      const int y = int(line % std::size_t(n.y));
+      const int z = int(line / std::size_t(n.y));
+      for (int x = 0; x < n.x; ++x) {
+        const std::size_t sample = field.index(x, y, z);
+        const glm::dvec3 pointM = field.positionM({x, y, z});
+        ClosestTriangles::Choice best = field.choice(sample);
+        if (x > 0) best = field.better(best, field.closest(sample - 1), pointM);
+        field.set(sample, field.descend(best, pointM));
+      }
+    }
+  });
+
+  // The first round, over the whole lattice by slabs of layers: every neighbour's triangle is offered.
   const std::size_t layerSamples = std::size_t(n.x) * std::size_t(n.y);
   const std::size_t layersPerSlab = std::max<std::size_t>(1, samplesPerChunk / layerSamples);
   updates.assign(chunksOf(std::size_t(n.z), layersPerSlab), {});
@@ -395,8 +431,7 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
       for (int y = 0; y < n.y; ++y) {
         for (int x = 0; x < n.x; ++x) {
           const std::size_t sample = field.index(x, y, z);
-          const ClosestTriangles::Choice best =
-              improve(sample, {x, y, z}, true, [](std::size_t) { return true; });
+          const ClosestTriangles::Choice best = improve(sample, {x, y, z}, [](std::size_t) { return true; });
           if (best.triangle != field.closest(sample)) updates[slab].push_back({sample, best});
         }
       }
@@ -434,8 +469,8 @@ void relax(ClosestTriangles& field, unsigned threadCount) {
       const std::size_t end = std::min(toVisit.size(), (chunk + 1) * samplesPerChunk);
       for (std::size_t v = chunk * samplesPerChunk; v < end; ++v) {
         const std::size_t sample = toVisit[v];
-        const ClosestTriangles::Choice best = improve(sample, field.coordinates(sample), false,
-                                                      [&](std::size_t neighbour) { return changed[neighbour] != 0; });
+        const ClosestTriangles::Choice best =
+            improve(sample, field.coordinates(sample), [&](std::size_t neighbour) { return changed[neighbour] != 0; });
         if (best.triangle != field.closest(sample)) nextUpdates[chunk].push_back({sample, best});
       }
     });
@@ -516,7 +551,8 @@ std::vector<std::uint8_t> classifyInside(const ClosestTriangles& field, const Wi
   std::vector<std::uint8_t> regionMixed(regionFirst.size(), 0);
   for (const std::size_t sample : toEvaluate) {
     const std::int32_t label = region[sample];
-    if (label != inBand && inside[sample] != inside[regionFirst[std::size_t(label)]]) regionMixed[std::size_t(label)] = 1;
+    if (label != inBand && inside[sample] != inside[regionFirst[std::size_t(label)]])
+      regionMixed[std::size_t(label)] = 1;
   }
   std::vector<std::size_t> mixedSamples;
   for (std::size_t sample = 0; sample < sampleCount; ++sample) {
@@ -579,7 +615,8 @@ DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, doubl
   triangles.reserve(mesh.triangles.size());
   for (const glm::uvec3& corners : mesh.triangles) {
     for (int corner = 0; corner < 3; ++corner) {
-      if (corners[corner] >= mesh.vertices.size()) throw MeshError("distance field: a triangle indexes past the vertices");
+      if (corners[corner] >= mesh.vertices.size())
+        throw MeshError("distance field: a triangle indexes past the vertices");
       if (!isFinite(mesh.vertices[corners[corner]])) throw MeshError("distance field: a vertex is not finite");
     }
     triangles.push_back(makeTriangle(mesh.vertices[corners.x], mesh.vertices[corners.y], mesh.vertices[corners.z]));

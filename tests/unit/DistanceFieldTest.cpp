@@ -64,6 +64,13 @@ double boxDistanceM(const glm::dvec3& pointM, const glm::dvec3& lowM, const glm:
   return glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0);
 }
 
+// The box without its +x face (the last two triangles).
+TriangleMesh openBox(const glm::dvec3& lowM, const glm::dvec3& highM) {
+  TriangleMesh mesh = box(lowM, highM);
+  mesh.triangles.resize(10);
+  return mesh;
+}
+
 TriangleMesh flipped(TriangleMesh mesh) {
   for (glm::uvec3& triangle : mesh.triangles) std::swap(triangle.y, triangle.z);
   return mesh;
@@ -75,11 +82,13 @@ TriangleMesh flipped(TriangleMesh mesh) {
 double segmentDistanceM(const glm::dvec3& pointM, const glm::dvec3& startM, const glm::dvec3& endM) {
   const glm::dvec3 alongM = endM - startM;
   const double lengthSquared = glm::dot(alongM, alongM);
-  const double fraction = lengthSquared > 0 ? std::clamp(glm::dot(pointM - startM, alongM) / lengthSquared, 0.0, 1.0) : 0;
+  const double fraction =
+      lengthSquared > 0 ? std::clamp(glm::dot(pointM - startM, alongM) / lengthSquared, 0.0, 1.0) : 0;
   return glm::length(pointM - (startM + fraction * alongM));
 }
 
-double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
+double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, const glm::dvec3& bM,
+                              const glm::dvec3& cM) {
   const glm::dvec3 normal = glm::cross(bM - aM, cM - aM);
   const double normalLength = glm::length(normal);
   if (normalLength > 0) {
@@ -90,13 +99,15 @@ double bruteTriangleDistanceM(const glm::dvec3& pointM, const glm::dvec3& aM, co
                            glm::dot(glm::cross(aM - cM, projectedM - cM), normal) >= 0;
     if (insideAll) return std::abs(glm::dot(pointM - aM, unit));
   }
-  return std::min({segmentDistanceM(pointM, aM, bM), segmentDistanceM(pointM, bM, cM), segmentDistanceM(pointM, cM, aM)});
+  return std::min(
+      {segmentDistanceM(pointM, aM, bM), segmentDistanceM(pointM, bM, cM), segmentDistanceM(pointM, cM, aM)});
 }
 
 double bruteDistanceM(const glm::dvec3& pointM, const TriangleMesh& mesh) {
   double nearestM = std::numeric_limits<double>::infinity();
   for (const glm::uvec3& t : mesh.triangles) {
-    nearestM = std::min(nearestM, bruteTriangleDistanceM(pointM, mesh.vertices[t.x], mesh.vertices[t.y], mesh.vertices[t.z]));
+    nearestM =
+        std::min(nearestM, bruteTriangleDistanceM(pointM, mesh.vertices[t.x], mesh.vertices[t.y], mesh.vertices[t.z]));
   }
   return nearestM;
 }
@@ -107,7 +118,9 @@ double bruteDistanceM(const glm::dvec3& pointM, const TriangleMesh& mesh) {
 TriangleMesh randomishMesh() {
   TriangleMesh mesh = test::uvSphere(1.0, 7, 11);
   std::mt19937 random(20260127);
-  const auto unit = [&] { return double(random() - std::mt19937::min()) / double(std::mt19937::max() - std::mt19937::min()); };
+  const auto unit = [&] {
+    return double(random() - std::mt19937::min()) / double(std::mt19937::max() - std::mt19937::min());
+  };
   for (glm::dvec3& vertexM : mesh.vertices) vertexM *= 0.3 + 0.2 * unit();
   const auto addTriangle = [&](const glm::dvec3& aM, const glm::dvec3& bM, const glm::dvec3& cM) {
     const auto first = unsigned(mesh.vertices.size());
@@ -255,8 +268,7 @@ TEST(DistanceField, SignIsTheExactWindingNumbersOnAClosedMesh) {
 // cross has probes on both sides of w = 0.5 and is evaluated sample by sample. At the centre w = 5/6 (five faces
 // of six, each 1/6 of the sphere of directions); within the middle half of the box w stays above 0.5.
 TEST(DistanceField, OpenCubeStillHasAnInside) {
-  TriangleMesh openCube = box(glm::dvec3(-0.5), glm::dvec3(0.5));
-  openCube.triangles.resize(10);  // the last face, +x, is gone
+  const TriangleMesh openCube = openBox(glm::dvec3(-0.5), glm::dvec3(0.5));
   const WindingNumber winding(openCube);
   const DistanceField field = bakeDistanceField(openCube, 0.05, 0.15);
   int middleCount = 0;
@@ -272,6 +284,32 @@ TEST(DistanceField, OpenCubeStillHasAnInside) {
     }
   });
   EXPECT_GE(middleCount, 1000);  // 11³ samples
+}
+
+// Two boxes in one mesh, overlapping: w = 2 where both hold a point, and |w| ≥ 0.5 keeps it inside. |φ| is the
+// distance to the nearest triangle, the faces inside the other box included, so the nearer of the two boxes'
+// surfaces (|box field|); the sign is the union's. Float storage bounds the difference.
+TEST(DistanceField, OverlappingBoxesAreInsideWhereEitherIs) {
+  const glm::dvec3 firstLowM(-0.5, -0.3, -0.3), firstHighM(0.2, 0.3, 0.3);
+  const glm::dvec3 secondLowM(-0.1, -0.2, -0.4), secondHighM(0.5, 0.4, 0.2);
+  TriangleMesh both = box(firstLowM, firstHighM);
+  const TriangleMesh second = box(secondLowM, secondHighM);
+  for (const glm::uvec3& triangle : second.triangles) both.triangles.push_back(triangle + glm::uvec3(8));
+  both.vertices.insert(both.vertices.end(), second.vertices.begin(), second.vertices.end());
+  const DistanceField field = bakeDistanceField(both, 0.043, 0.1);
+  int overlapCount = 0;
+  forEachSample(field, [&](int x, int y, int z, const glm::dvec3& pointM) {
+    const double firstM = boxDistanceM(pointM, firstLowM, firstHighM);
+    const double secondM = boxDistanceM(pointM, secondLowM, secondHighM);
+    const double phiM = field.at(x, y, z);
+    ASSERT_NEAR(std::abs(phiM), std::min(std::abs(firstM), std::abs(secondM)), floatStorageToleranceM)
+        << x << ' ' << y << ' ' << z;
+    if (std::min(std::abs(firstM), std::abs(secondM)) > floatStorageToleranceM) {
+      ASSERT_EQ(phiM < 0, firstM < 0 || secondM < 0) << x << ' ' << y << ' ' << z;
+    }
+    overlapCount += firstM < 0 && secondM < 0;
+  });
+  EXPECT_GT(overlapCount, 100);  // about 0.3 × 0.5 × 0.5 m³ / 0.043³ m³ ≈ 940
 }
 
 // A wall 2 cm thick sampled every 1 cm, the samples halfway between the wall's faces and its centre: each lies
@@ -297,9 +335,8 @@ TEST(DistanceField, OneCellThickWallHasAnInside) {
 // sample-by-sample path of the sign too.
 TEST(DistanceField, SameBytesForAnyThreadCount) {
   const TriangleMesh ring = test::torus(0.3, 0.12, 48, 24);
-  TriangleMesh openCube = box(glm::dvec3(-0.5), glm::dvec3(0.5));
-  openCube.triangles.resize(10);
-  for (const TriangleMesh* mesh : {&ring, static_cast<const TriangleMesh*>(&openCube)}) {
+  const TriangleMesh openCube = openBox(glm::dvec3(-0.5), glm::dvec3(0.5));
+  for (const TriangleMesh* mesh : {&ring, &openCube}) {
     const DistanceField single = bakeDistanceField(*mesh, 0.02, 0.06, 1);
     for (const unsigned threads : {2u, 3u, 7u}) {
       EXPECT_TRUE(sameBytes(single, bakeDistanceField(*mesh, 0.02, 0.06, threads))) << threads << " threads";
