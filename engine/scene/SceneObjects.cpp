@@ -129,4 +129,16 @@ ObjectPose initialBodyPose(const RigidBody& body) {
   return pose;
 }
 
+glm::dvec3 worldPoint(const ObjectPose& pose, const glm::dvec3& pointM) {
+  return pose.positionM + pose.orientation * pointM;
+}
+
+voxelizer::TriangleMesh posedMesh(const voxelizer::TriangleMesh& meshM, const ObjectPose& pose) {
+  voxelizer::TriangleMesh mesh;
+  mesh.vertices.reserve(meshM.vertices.size());
+  for (const glm::dvec3& vertexM : meshM.vertices) mesh.vertices.push_back(worldPoint(pose, vertexM));
+  mesh.triangles = meshM.triangles;
+  return mesh;
+}
+
 }  // namespace firn
