@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <ostream>
@@ -147,8 +146,6 @@ std::vector<ObjectPose> objectPoses(const Scene& scene, const std::vector<SceneO
   return poses;
 }
 
-bool isFinite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 std::string vectorText(const glm::dvec3& v) {
   return "(" + formatApproximately(v.x) + ", " + formatApproximately(v.y) + ", " + formatApproximately(v.z) + ")";
 }
@@ -159,11 +156,8 @@ void requireFinitePoses(const std::vector<SceneObject>& objects, const std::vect
                         double timeS) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const ObjectPose& pose = poses[i];
+    if (isFinite(pose)) continue;
     const glm::dquat& q = pose.orientation;
-    if (isFinite(pose.positionM) && isFinite(glm::dvec3(q.x, q.y, q.z)) && std::isfinite(q.w) &&
-        isFinite(pose.velocityMPerS) && isFinite(pose.angularVelocityRadPerS)) {
-      continue;
-    }
     throw SimulationError("the simulation became unstable:\n  - frame " + std::to_string(frame) + " (t = " +
                           formatApproximately(timeS) + " s): " + objects[i].name +
                           " became non-finite (NaN or Inf): position " + vectorText(pose.positionM) +

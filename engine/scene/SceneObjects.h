@@ -43,6 +43,9 @@ ObjectPose colliderObjectPose(const Collider& collider, double timeS);
 // A rigid body's frame at t = 0, as the scene places it.
 ObjectPose initialBodyPose(const RigidBody& body);
 
+// Whether every number of the pose is finite (no NaN, no infinity): a pose that is not stops a run (exit 3).
+bool isFinite(const ObjectPose& pose);
+
 // Where the pose puts a point of its object's frame: positionM + orientation · pointM.
 glm::dvec3 worldPoint(const ObjectPose& pose, const glm::dvec3& pointM);
 
