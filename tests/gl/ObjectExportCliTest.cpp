@@ -31,7 +31,7 @@ using firn::test::writeScene;
 
 // 1,536 particles of snow on a ground plane (colliders[0]) in a 16³ grid; a paddle (colliders[1], a box about its
 // centre (0.4, 0.5, 0.4)) above the snow with keyframes at 0, 0.125 and 0.25 s, the times of frames 0, 2 and 4 at
-// 16 frames a second; and a sphere that stays (colliders[2]).
+// 16 frames a second; a sphere that stays (colliders[2]); and a sphere translating at 0.4 m/s (colliders[3]).
 const char* const kPaddleScene = R"({
   "grid": { "cells": [16, 16, 16], "cell_size": 0.05 },
   "time": { "dt": 1e-3, "frame_rate": 16, "frames": 4 },
@@ -43,9 +43,11 @@ const char* const kPaddleScene = R"({
       "keyframes": [ { "time_s": 0 },
                      { "time_s": 0.125, "translate": [0.05, -0.05, 0], "rotate_deg": [0, 90, 0] },
                      { "time_s": 0.25, "translate": [0.1, -0.05, 0.025], "rotate_deg": [30, 90, 0] } ] },
-    { "type": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.05 } ] })";
+    { "type": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.05 },
+    { "type": "sphere", "center": [0.15, 0.6, 0.15], "radius": 0.05, "velocity": [0.4, 0, 0] } ] })";
 
 const glm::dvec3 kPivotM(0.4, 0.5, 0.4);
+const glm::dvec3 kBallCentreM(0.15, 0.6, 0.15);
 
 const std::vector<std::string> kHeader = {
     "frame",      "time_s",     "object",     "kind",         "x_m",          "y_m",
@@ -146,16 +148,25 @@ TEST(ObjectExportCli, KeyframedColliderHasARowPerFrameAtItsKeyframesPoses) {
   const Result result = runFirn("run " + scene.string() + " --no-ply --mesh --out " + out.string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
 
-  const auto rows = readCsv(out / "bodies.csv");
-  ASSERT_EQ(rows.size(), 6u) << "the header and frames 0 to 4 of the paddle alone (the plane and sphere stay)";
-  EXPECT_EQ(rows[0], kHeader);
+  const auto allRows = readCsv(out / "bodies.csv");
+  ASSERT_EQ(allRows.size(), 11u) << "the header and frames 0 to 4 of the paddle and the rolling ball (the plane and "
+                                    "the other sphere stay)";
+  EXPECT_EQ(allRows[0], kHeader);
+  // Per frame, the moving colliders in the scene's order.
+  std::vector<std::vector<std::string>> rows = {allRows[0]};
   for (int frame = 0; frame <= 4; ++frame) {
-    const std::vector<std::string>& row = rows[std::size_t(frame) + 1];
-    ASSERT_EQ(row.size(), kHeader.size());
-    EXPECT_EQ(row[0], std::to_string(frame));
-    EXPECT_EQ(number(row[1]), frame / 16.0);
-    EXPECT_EQ(row[2], "colliders[1]");
-    EXPECT_EQ(row[3], "collider");
+    for (int object = 0; object < 2; ++object) {
+      const std::vector<std::string>& row = allRows[std::size_t(2 * frame + object) + 1];
+      ASSERT_EQ(row.size(), kHeader.size());
+      EXPECT_EQ(row[0], std::to_string(frame));
+      EXPECT_EQ(number(row[1]), frame / 16.0);
+      EXPECT_EQ(row[2], object == 0 ? "colliders[1]" : "colliders[3]");
+      EXPECT_EQ(row[3], "collider");
+      if (object == 0) rows.push_back(row);
+    }
+    // The ball without keyframes: its centre moved by v t, unturned.
+    expectPose(poseOf(allRows[std::size_t(2 * frame) + 2]), kBallCentreM + glm::dvec3(0.4, 0, 0) * (frame / 16.0),
+               glm::dquat(1, 0, 0, 0), glm::dvec3(0.4, 0, 0), frame);
   }
   // At each keyframe's time the keyframe's pose, and the velocity of the segment it begins (none after the last).
   expectPose(poseOf(rows[1]), kPivotM, glm::dquat(1, 0, 0, 0), glm::dvec3(0.05, -0.05, 0) / 0.125, 0);
@@ -195,6 +206,7 @@ TEST(ObjectExportCli, KeyframedColliderHasARowPerFrameAtItsKeyframesPoses) {
     EXPECT_NEAR(std::abs(vertexM.y - 0.5), 0.05, kMeshToleranceM);
     EXPECT_NEAR(std::abs(vertexM.z - 0.4), 0.1, kMeshToleranceM);
   }
+  EXPECT_TRUE(fs::exists(out / "colliders_3_0004.ply"));
   EXPECT_FALSE(fs::exists(out / "colliders_0_0000.ply"));
   EXPECT_FALSE(fs::exists(out / "colliders_2_0000.ply"));
 }
@@ -232,7 +244,7 @@ TEST(ObjectExportCli, ResumeInTheRunsOwnFolderKeepsTheEarlierRowsOnce) {
                    " --out " + out.string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_EQ(fileBytes(out / "bodies.csv"), uninterrupted);
-  EXPECT_EQ(readCsv(out / "bodies.csv").size(), 6u);
+  EXPECT_EQ(readCsv(out / "bodies.csv").size(), 11u);
 }
 
 }  // namespace
