@@ -275,13 +275,13 @@ int main(int argc, char** argv) {
   std::string videoPath;
   bool noPly = false;
   CLI::App* run = app.add_subcommand(
-      "run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames, and if asked pictures, surface meshes "
-             "and VDB caches");
+      "run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames, bodies.csv where objects move, and if "
+             "asked pictures, surface and object meshes and VDB caches");
   run->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
   run->add_option("--frames", runOptions.frames, "Number of frames after frame 0 (default: the scene's time.frames)")
       ->check(firn::cli::inRange(0, 1000000));
   run->add_option("--out", outputDir, "Output folder for stats.csv and frame_NNNN.ply")->capture_default_str();
-  run->add_flag("--no-ply", noPly, "Write stats.csv only, no point caches");
+  run->add_flag("--no-ply", noPly, "Write stats.csv (and bodies.csv) only, no point caches");
   run->add_flag("--pass-times", runOptions.passTimes,
                 "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
   run->add_flag("--png", runOptions.writePng, "Also render each frame offscreen to frame_NNNN.png");
@@ -297,7 +297,8 @@ int main(int argc, char** argv) {
       ->default_str("surface");
   run->add_flag("--domain-box", runOptions.domainBox, domainBoxHelp);
   run->add_flag("--mesh", runOptions.writeMesh,
-                "Also write the snow's surface as frame_NNNN_surface.ply (binary PLY: vertices with normals, triangles)");
+                "Also write the snow's surface as frame_NNNN_surface.ply (binary PLY: vertices with normals, triangles) "
+                "and each rigid body and moving collider posed as OBJECT_NNNN.ply (colliders_1_0000.ply)");
   run->add_flag("--vdb", runOptions.writeVdb,
                 "Also write frame_NNNN.vdb (OpenVDB): a density grid and a level set of the snow's surface");
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");

@@ -11,7 +11,11 @@ Blender frame N shows Firn's frame N (the state at N / frame_rate); frame 0 is t
   blur, with a snow volume material.
 - The point caches (frame_NNNN.ply): one object of points (a mesh of vertices drawn as points by a geometry
   nodes modifier) carrying the caches' `velocity`, `mass` and `plastic_j` as point attributes.
-- The scene file's colliders, when the scene is given: planes, spheres and boxes, moving at their velocities.
+- The rigid bodies and moving colliders of bodies.csv: one object each, keyed at every frame with the row's
+  position and quaternion; its mesh the object's first mesh file (OBJECT_NNNN.ply, with --mesh) taken back to the
+  object's own frame, else the scene file's collider, else an empty.
+- The scene file's colliders, when the scene is given: planes, spheres and boxes, moving at their velocities or
+  following their keyframes (those bodies.csv holds come from it instead).
 """
 
 import csv
@@ -23,10 +27,12 @@ import re
 import bpy
 import numpy as np
 from bpy.app.handlers import persistent
+from mathutils import Matrix
 
 from . import firn_ply
 
 FRAME_FILE = re.compile(r"^frame_(\d{4,})(_surface)?\.(ply|vdb)$")
+OBJECT_MESH_FILE = re.compile(r"^(colliders|rigid_bodies)_(\d+)_(\d{4,})\.ply$")  # colliders[1] → colliders_1_NNNN
 KIND_SURFACE = "surface"
 KIND_POINTS = "points"
 
@@ -43,7 +49,14 @@ class RunFolder:
         if not os.path.isdir(self.folder):
             raise FirnRunError(f"{self.folder}: not a folder")
         self.surfaces, self.points, self.volumes = {}, {}, {}
+        self.object_meshes = {}  # by object ("colliders[1]"), by frame
         for name in os.listdir(self.folder):
+            match = OBJECT_MESH_FILE.match(name)
+            if match:
+                frame = int(match.group(3))
+                if last_frame is None or frame <= last_frame:
+                    self.object_meshes.setdefault(f"{match.group(1)}[{match.group(2)}]", {})[frame] = name
+                continue
             match = FRAME_FILE.match(name)
             if not match:
                 continue
@@ -59,6 +72,7 @@ class RunFolder:
         if not (self.surfaces or self.points or self.volumes):
             raise FirnRunError(f"{self.folder}: no frame_NNNN.ply, frame_NNNN_surface.ply or frame_NNNN.vdb")
         self.frame_rate = read_frame_rate(os.path.join(self.folder, "stats.csv"))
+        self.bodies = read_bodies(os.path.join(self.folder, "bodies.csv"), last_frame)
 
     def frames(self):
         every = set(self.surfaces) | set(self.points) | set(self.volumes)
@@ -75,6 +89,24 @@ def read_frame_rate(stats_path):
             if frame > 0 and time_s > 0:
                 return frame / time_s
     raise FirnRunError(f"{stats_path}: fewer than two frames, so no frame rate")
+
+
+def read_bodies(bodies_path, last_frame=None):
+    """bodies.csv's poses (docs/command-line.md, bodies.csv): by object ("colliders[1]", "rigid_bodies[0]"), its
+    rows in frame order as (frame, kind, position, quaternion w x y z); {} when the run wrote none (a scene without
+    moving objects)."""
+    if not os.path.exists(bodies_path):
+        return {}
+    bodies = {}
+    with open(bodies_path, newline="") as f:
+        for row in csv.DictReader(f):
+            frame = int(row["frame"])
+            if last_frame is not None and frame > last_frame:
+                continue
+            position = tuple(float(row[c]) for c in ("x_m", "y_m", "z_m"))
+            quaternion = tuple(float(row[c]) for c in ("qw", "qx", "qy", "qz"))
+            bodies.setdefault(row["object"], {})[frame] = (row["kind"], position, quaternion)
+    return {name: [(frame, *rows[frame]) for frame in sorted(rows)] for name, rows in bodies.items()}
 
 
 def set_frame_rate(scene, frame_rate):
@@ -340,7 +372,7 @@ def _volume_object(context, name, run, parent):
 
 
 def _collider_mesh(name, collider, extent_m):
-    """A collider's solid in Firn's coordinates, about its position at t = 0 (the object's origin)."""
+    """A collider's solid in Firn's coordinates, about its shape's centre (a plane's point) at rest."""
     import bmesh
     shape = bmesh.new()
     kind = collider["type"]
@@ -407,17 +439,93 @@ def _key_collider_motion(obj, collider, origin, keyframes, frame_rate):
         obj.keyframe_insert("rotation_euler", frame=frame)
 
 
-def _collider_objects(context, scene_path, run, parent):
-    """The scene's colliders, each translating at its velocity from its position at t = 0, keyed linearly at the
-    first and last frames, or following its keyframes (docs/scene-format.md, colliders)."""
+def _linear_constant(obj):
+    """Keys joined by straight lines, the first and last poses held beyond them."""
+    for curve in obj.animation_data.action.fcurves:
+        curve.extrapolation = "CONSTANT"
+        for key in curve.keyframe_points:
+            key.interpolation = "LINEAR"
+
+
+def rotation_matrix(quaternion):
+    """The rotation of a unit quaternion (w, x, y, z), in double precision (mathutils' is single)."""
+    w, x, y, z = quaternion
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _rest_mesh_from_file(name, path, position, quaternion):
+    """An object's mesh file of one frame taken back to the object's own frame, p = q⁻¹ (x − position), so that the
+    object's keys put it where each frame's file has it (every frame's file has the same vertices and triangles)."""
+    vertices, triangles = firn_ply.read_ply(path)
+    world = firn_ply.vectors(vertices, ("x", "y", "z")).astype(np.float64)
+    rest = (world - np.array(position)) @ rotation_matrix(quaternion)  # rows: (R⁻¹ (x − position))ᵀ = (x − position)ᵀ R
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(rest.tolist(), [], triangles.astype(np.int64).tolist())
+    mesh.update()
+    return mesh
+
+
+def _moving_objects(context, run, parent, scene_colliders, extent_m):
+    """bodies.csv's objects, each keyed at every frame with its row's position and quaternion (in the parent's Firn
+    axes), interpolated linearly between frames: its mesh from its first mesh file, else (a collider, with the scene
+    given) the scene's shape about the pivot, the point bodies.csv follows, else an empty at its frame."""
+    objects = []
+    for name, rows in run.bodies.items():
+        object_name = f"Firn {name}"
+        files = run.object_meshes.get(name, {})
+        shown = [row for row in rows if row[0] in files]
+        collider = None
+        match = re.fullmatch(r"colliders\[(\d+)\]", name)
+        if match and int(match.group(1)) < len(scene_colliders):
+            collider = scene_colliders[int(match.group(1))]
+        if shown:
+            frame, _, position, quaternion = shown[0]
+            data = _rest_mesh_from_file(object_name, os.path.join(run.folder, files[frame]), position, quaternion)
+        elif collider is not None:
+            data = _collider_mesh(object_name, collider, extent_m)
+            origin = _collider_origin(collider)
+            pivot = np.array(collider.get("pivot", origin), dtype=float)
+            data.transform(Matrix.Translation(tuple(origin - pivot)))
+        else:
+            data = None
+        obj = bpy.data.objects.new(object_name, data)
+        if data is None:
+            obj.empty_display_type = "ARROWS"
+        obj.parent = parent
+        obj.rotation_mode = "QUATERNION"
+        for frame, _, position, quaternion in rows:
+            obj.location = position
+            obj.rotation_quaternion = quaternion
+            obj.keyframe_insert("location", frame=frame)
+            obj.keyframe_insert("rotation_quaternion", frame=frame)
+        _linear_constant(obj)
+        obj["firn_object"] = name
+        obj["firn_object_kind"] = rows[0][1]
+        context.collection.objects.link(obj)
+        objects.append(obj)
+    return objects
+
+
+def _read_scene(scene_path):
+    """The scene file's colliders and the length of its domain's diagonal (how far a plane is drawn)."""
     with open(scene_path) as f:
         scene = json.load(f)
     grid = scene.get("grid", {})
     cells = np.array(grid.get("cells", [64, 64, 64]), dtype=float)
-    extent_m = float(np.linalg.norm(cells * float(grid.get("cell_size", 0.02))))
+    return scene.get("colliders", []), float(np.linalg.norm(cells * float(grid.get("cell_size", 0.02))))
+
+
+def _collider_objects(context, colliders, extent_m, run, parent):
+    """The scene's colliders that bodies.csv does not hold, each translating at its velocity from its position at
+    t = 0, keyed linearly at the first and last frames, or following its keyframes (docs/scene-format.md,
+    colliders)."""
     first, last = run.frames()
     objects = []
-    for index, collider in enumerate(scene.get("colliders", [])):
+    for index, collider in enumerate(colliders):
+        if f"colliders[{index}]" in run.bodies:
+            continue
         name = f"Firn collider {index} ({collider['type']})"
         obj = bpy.data.objects.new(name, _collider_mesh(name, collider, extent_m))
         obj.parent = parent
@@ -474,7 +582,8 @@ def import_run(context, folder, scene_path="", last_frame=None):
         group = particles_node_group()
         modifier.node_group = group
         modifier[_radius_socket(group)] = _particle_radius(points)
-    if scene_path:
-        _collider_objects(context, bpy.path.abspath(scene_path), run, parent)
+    colliders, extent_m = _read_scene(bpy.path.abspath(scene_path)) if scene_path else ([], 0.0)
+    _moving_objects(context, run, parent, colliders, extent_m)
+    _collider_objects(context, colliders, extent_m, run, parent)
     register()
     return parent

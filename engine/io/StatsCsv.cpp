@@ -1,16 +1,9 @@
 #include "io/StatsCsv.h"
 
-#include <cerrno>
-#include <charconv>
 #include <cmath>
-#include <cstring>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
-#include <system_error>
-
-#include "Error.h"
-#include "io/AtomicFile.h"
-#include "io/InputFile.h"
 
 namespace firn {
 
@@ -20,48 +13,10 @@ const char* StatsCsvWriter::header() {
          "solver_iterations,solver_residual";
 }
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : path_(path) {
-  start(std::string(header()) + '\n');
-}
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : file_(path, header(), "stats file") {}
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame) : path_(path) {
-  std::string rows = std::string(header()) + '\n';
-  std::error_code error;
-  if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) {
-    start(rows);
-    return;
-  }
-  requireRegularFile(path, "stats file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot read stats file (" + std::strerror(errno) + ")");
-  std::string line;
-  std::getline(in, line);
-  if (line != header()) {
-    throw InputError(path.string() + ": its header is not the one this version of Firn writes, so its rows before "
-                     "frame " + std::to_string(firstFrame) + " cannot be kept; move it away to resume without them");
-  }
-  for (int lineNumber = 2; std::getline(in, line); ++lineNumber) {
-    // A last line without its line break is a row cut short by a run that was killed while writing it.
-    if (in.eof()) break;
-    int frame = 0;
-    const auto [end, parseError] = std::from_chars(line.data(), line.data() + line.size(), frame);
-    if (parseError != std::errc() || end == line.data() + line.size() || *end != ',') {
-      throw InputError(path.string() + ": line " + std::to_string(lineNumber) +
-                       ": no frame number, so the rows before frame " + std::to_string(firstFrame) +
-                       " cannot be kept; move it away to resume without them");
-    }
-    if (frame < firstFrame) rows += line + '\n';
-  }
-  if (in.bad()) throw InputError(path.string() + ": cannot read stats file (" + std::strerror(errno) + ")");
-  in.close();
-  start(rows);
-}
-
-void StatsCsvWriter::start(const std::string& rows) {
-  writeFileAtomically(path_, rows, "stats file");
-  out_.open(path_, std::ios::app);
-  if (!out_) throw InputError(path_.string() + ": cannot write stats file (" + std::strerror(errno) + ")");
-}
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame)
+    : file_(path, header(), "stats file", firstFrame) {}
 
 void StatsCsvWriter::write(const FrameStats& s) {
   const double values[] = {s.massKg,           s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z,
@@ -77,9 +32,7 @@ void StatsCsvWriter::write(const FrameStats& s) {
                 s.centerOfMassM.x, s.centerOfMassM.y, s.centerOfMassM.z, s.meanPlasticJ,
                 static_cast<unsigned long long>(s.particlesAtWalls), static_cast<unsigned long long>(s.activeBlocks),
                 s.solverIterations, s.solverResidual);
-  out_ << row;
-  out_.flush();
-  if (!out_) throw InputError(path_.string() + ": writing the stats failed (disk full?)");
+  file_.append(row);
 }
 
 }  // namespace firn

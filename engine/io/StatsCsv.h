@@ -3,10 +3,10 @@
 // The rows are plain numbers; the run measures them (run/HeadlessRun.cpp).
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <string>
 
 #include <glm/vec3.hpp>
+
+#include "io/FrameCsv.h"
 
 namespace firn {
 
@@ -46,11 +46,7 @@ class StatsCsvWriter {
   static const char* header();
 
  private:
-  // Writes `rows` (the header and any kept rows) to the file atomically, then opens it to append.
-  void start(const std::string& rows);
-
-  std::filesystem::path path_;
-  std::ofstream out_;
+  FrameCsv file_;
 };
 
 }  // namespace firn

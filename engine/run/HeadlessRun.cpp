@@ -7,23 +7,28 @@
 #include <ostream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "Error.h"
 #include "gl/Context.h"
+#include "io/BodiesCsv.h"
 #include "io/Checkpoint.h"
 #include "io/OutputFolder.h"
 #include "io/Ply.h"
 #include "io/StatsCsv.h"
 #include "io/SurfaceMesh.h"
+#include "io/Text.h"
 #include "io/Vdb.h"
 #include "io/Video.h"
 #include "run/Progress.h"
 #include "run/SimulationSession.h"
+#include "scene/SceneObjects.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
+#include "voxelizer/Mesh.h"
 
 namespace firn {
 
@@ -118,6 +123,74 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
   return stats;
 }
 
+// The objects bodies.csv and the object meshes follow: the rigid bodies and the colliders that move.
+std::vector<SceneObject> movingObjects(const Scene& scene) {
+  std::vector<SceneObject> objects = sceneObjects(scene);
+  objects.erase(std::remove_if(objects.begin(), objects.end(), [](const SceneObject& object) { return !object.moves; }),
+                objects.end());
+  return objects;
+}
+
+// Each moving object's frame at the simulation's time: a collider's from its motion, a rigid body's as the
+// simulation holds it (read back from the GPU, only when the scene has bodies).
+std::vector<ObjectPose> objectPoses(const Scene& scene, const std::vector<SceneObject>& objects,
+                                    const Simulation& simulation) {
+  std::vector<ObjectPose> bodyPoses;
+  if (!scene.rigidBodies.empty()) bodyPoses = simulation.rigidBodyPoses();
+  std::vector<ObjectPose> poses;
+  for (const SceneObject& object : objects) {
+    poses.push_back(object.kind == ObjectKind::Collider
+                        ? colliderObjectPose(scene.colliders[std::size_t(object.index)], simulation.timeS())
+                        : bodyPoses.at(std::size_t(object.index)));
+  }
+  return poses;
+}
+
+std::string vectorText(const glm::dvec3& v) {
+  return "(" + formatApproximately(v.x) + ", " + formatApproximately(v.y) + ", " + formatApproximately(v.z) + ")";
+}
+
+// A frame whose object has a pose that is not finite stops the run as the watchdog stops it for a particle
+// (SimulationError, exit 3), before anything of the frame is written: its earlier frames stay on disk.
+void requireFinitePoses(const std::vector<SceneObject>& objects, const std::vector<ObjectPose>& poses, int frame,
+                        double timeS) {
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const ObjectPose& pose = poses[i];
+    if (isFinite(pose)) continue;
+    const glm::dquat& q = pose.orientation;
+    throw SimulationError("the simulation became unstable:\n  - frame " + std::to_string(frame) + " (t = " +
+                          formatApproximately(timeS) + " s): " + objects[i].name +
+                          " became non-finite (NaN or Inf): position " + vectorText(pose.positionM) +
+                          " m, orientation (" + formatApproximately(q.w) + ", " + formatApproximately(q.x) + ", " +
+                          formatApproximately(q.y) + ", " + formatApproximately(q.z) + "), velocity " +
+                          vectorText(pose.velocityMPerS) + " m/s, angular velocity " +
+                          vectorText(pose.angularVelocityRadPerS) + " rad/s. Reduce time.dt.");
+  }
+}
+
+// "colliders[1]" → "colliders_1": the stem of the object's mesh files, <stem>_NNNN.ply, whose last digits are the
+// frame's alone, as sequence importers read them.
+std::string meshFileStem(const std::string& objectName) {
+  std::string stem;
+  for (char c : objectName) {
+    if (c == '[') {
+      stem += '_';
+    } else if (c != ']') {
+      stem += c;
+    }
+  }
+  return stem;
+}
+
+SurfaceMesh toSurfaceMesh(const voxelizer::TriangleMesh& mesh) {
+  SurfaceMesh surface;
+  surface.positionsM.reserve(mesh.vertices.size());
+  for (const glm::dvec3& vertexM : mesh.vertices) surface.positionsM.emplace_back(vertexM);
+  surface.indices.reserve(3 * mesh.triangles.size());
+  for (const glm::uvec3& triangle : mesh.triangles) surface.indices.insert(surface.indices.end(), {triangle.x, triangle.y, triangle.z});
+  return surface;
+}
+
 std::string progressText(int frame, int frames, double simulatedS, double stepsPerS, double etaS) {
   const int eta = static_cast<int>(etaS + 0.5);
   char text[128];
@@ -160,7 +233,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   surface::SurfaceReconstruction* snowSurface = surfacePictures || caches ? &session.surface() : nullptr;
   if (snowSurface) snowSurface->setPassTiming(options.passTimes);
   std::optional<StatsCsvWriter> stats;  // started once a checkpoint has been accepted
+  const std::vector<SceneObject> objects = movingObjects(scene);
+  std::optional<BodiesCsvWriter> bodies;  // with stats, when the scene has moving objects
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
+    const std::vector<ObjectPose> poses = objectPoses(scene, objects, simulation);
+    requireFinitePoses(objects, poses, frame, simulation.timeS());
     const ParticleSnapshot particles = simulation.snapshot();
     FrameStats row = measureFrame(particles, scene.grid);
     row.frame = frame;
@@ -172,6 +249,28 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.solverIterations = solves.mostIterations;
     row.solverResidual = solves.largestResidual;
     stats->write(row);
+    if (bodies) {
+      std::vector<ObjectFrameRow> rows;
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        ObjectFrameRow& objectRow = rows.emplace_back();
+        objectRow.frame = frame;
+        objectRow.timeS = simulation.timeS();
+        objectRow.object = objects[i].name;
+        objectRow.kind = objects[i].kind == ObjectKind::Collider ? "collider" : "rigid_body";
+        objectRow.positionM = poses[i].positionM;
+        objectRow.orientation = poses[i].orientation;
+        objectRow.velocityMPerS = poses[i].velocityMPerS;
+        objectRow.angularVelocityRadPerS = poses[i].angularVelocityRadPerS;
+      }
+      bodies->write(rows);
+    }
+    if (options.writeMesh) {
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        writeMeshPly(options.outputDir / numberedFileName(meshFileStem(objects[i].name).c_str(), frame, ".ply"),
+                     toSurfaceMesh(posedMesh(objects[i].meshM, poses[i])),
+                     objects[i].name + " at frame " + std::to_string(frame));
+      }
+    }
     if (options.writePly) writePly(options.outputDir / numberedFileName("frame", frame, ".ply"), toPointCache(particles));
     if (snowSurface) {
       snowSurface->reconstruct(
@@ -205,6 +304,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   // A resumed run takes up at the checkpoint's frame, which it writes again (the same state, so the same file).
   int firstFrame = 0;
   const std::filesystem::path statsPath = options.outputDir / "stats.csv";
+  const std::filesystem::path bodiesPath = options.outputDir / "bodies.csv";
   if (checkpoint) {
     simulation.resume(*checkpoint, options.resumePath);
     firstFrame = checkpoint->frame;
@@ -218,9 +318,13 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     std::error_code error;
     const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
                                                        options.outputDir, error);
-    if (ownFolder) stats.emplace(statsPath, firstFrame);
+    if (ownFolder) {
+      stats.emplace(statsPath, firstFrame);
+      if (!objects.empty()) bodies.emplace(bodiesPath, firstFrame);
+    }
   }
   if (!stats) stats.emplace(statsPath);
+  if (!bodies && !objects.empty()) bodies.emplace(bodiesPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   // Each frame shows on a terminal; a log gets a line every few seconds.
   constexpr double progressAtOnceS = 0;

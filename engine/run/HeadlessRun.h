@@ -1,6 +1,6 @@
 #pragma once
-// `firn run`: a scene simulated headless, writing stats.csv, PLY frames and, if asked, pictures, the snow's surface
-// as meshes and VDB caches.
+// `firn run`: a scene simulated headless, writing stats.csv, PLY frames, bodies.csv where objects move and, if asked,
+// pictures, the snow's surface and the moving objects as meshes, and VDB caches.
 #include <filesystem>
 #include <iosfwd>
 #include <cstdint>
@@ -27,7 +27,7 @@ struct RunOptions {
   // (SimulationSession::pictureRenderMode).
   std::optional<render::RenderMode> renderMode;
   bool domainBox = false;          // outline the domain's box in the pictures
-  bool writeMesh = false;          // the snow's surface as frame_NNNN_surface.ply
+  bool writeMesh = false;          // the snow's surface as frame_NNNN_surface.ply, each moving object as <object>_NNNN.ply
   bool writeVdb = false;           // the snow as frame_NNNN.vdb: density and a level set of its surface
   std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg
   int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
@@ -44,8 +44,8 @@ struct RunSummary {
   std::string renderer;
 };
 
-// Frame N is the state at N / frame_rate; frame 0 is the initial state. A resumed run writes stats.csv and the
-// frames from the checkpoint's frame on. Throws InputError (bad scene or
+// Frame N is the state at N / frame_rate; frame 0 is the initial state. A resumed run writes stats.csv, bodies.csv
+// and the frames from the checkpoint's frame on. Throws InputError (bad scene or
 // output), SimulationError (unstable: the frames written so far stay on disk) or NoOpenGLError.
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log);
 

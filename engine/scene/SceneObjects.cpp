@@ -129,4 +129,23 @@ ObjectPose initialBodyPose(const RigidBody& body) {
   return pose;
 }
 
+bool isFinite(const ObjectPose& pose) {
+  const auto finite = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const glm::dquat& q = pose.orientation;
+  return finite(pose.positionM) && std::isfinite(q.w) && finite(glm::dvec3(q.x, q.y, q.z)) &&
+         finite(pose.velocityMPerS) && finite(pose.angularVelocityRadPerS);
+}
+
+glm::dvec3 worldPoint(const ObjectPose& pose, const glm::dvec3& pointM) {
+  return pose.positionM + pose.orientation * pointM;
+}
+
+voxelizer::TriangleMesh posedMesh(const voxelizer::TriangleMesh& meshM, const ObjectPose& pose) {
+  voxelizer::TriangleMesh mesh;
+  mesh.vertices.reserve(meshM.vertices.size());
+  for (const glm::dvec3& vertexM : meshM.vertices) mesh.vertices.push_back(worldPoint(pose, vertexM));
+  mesh.triangles = meshM.triangles;
+  return mesh;
+}
+
 }  // namespace firn

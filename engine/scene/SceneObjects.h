@@ -1,6 +1,7 @@
 #pragma once
 // The solid objects of a scene as an artist sees them and a DCC replays them: each collider (analytic or mesh) and
-// each rigid body as a triangle mesh in its own frame, and where that frame is at a time (docs/output.md, bodies.csv).
+// each rigid body as a triangle mesh in its own frame, and where that frame is at a time (docs/command-line.md,
+// Outputs: bodies.csv and Object meshes).
 #include <string>
 #include <vector>
 
@@ -41,5 +42,15 @@ ObjectPose colliderObjectPose(const Collider& collider, double timeS);
 
 // A rigid body's frame at t = 0, as the scene places it.
 ObjectPose initialBodyPose(const RigidBody& body);
+
+// Whether every number of the pose is finite (no NaN, no infinity): a pose that is not stops a run (exit 3).
+bool isFinite(const ObjectPose& pose);
+
+// Where the pose puts a point of its object's frame: positionM + orientation · pointM.
+glm::dvec3 worldPoint(const ObjectPose& pose, const glm::dvec3& pointM);
+
+// An object's mesh (SceneObject::meshM) where the pose puts it: each vertex through worldPoint, the triangles as
+// they are, so vertex i of every frame's mesh is the same point of the object.
+voxelizer::TriangleMesh posedMesh(const voxelizer::TriangleMesh& meshM, const ObjectPose& pose);
 
 }  // namespace firn
