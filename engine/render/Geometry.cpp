@@ -15,9 +15,6 @@ namespace firn::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// UV sphere resolution: smooth at the sizes colliders take on screen.
-constexpr int kSphereSlices = 48;
-constexpr int kSphereStacks = 24;
 // A ground normal must be within ~25° of +y (cos 25° ≈ 0.9) for the key light to fall steeply enough on it.
 constexpr double kMinGroundNormalY = 0.9;
 
@@ -91,43 +88,45 @@ std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad) {
   return vertices;
 }
 
-std::vector<SurfaceVertex> sphereTriangles(const glm::vec3& centerM, float radiusM) {
-  auto vertex = [&](int slice, int stack) {
-    const double azimuth = 2 * kPi * slice / kSphereSlices;
-    const double polar = kPi * stack / kSphereStacks;  // 0 at +y
-    const glm::vec3 normal(static_cast<float>(std::sin(polar) * std::cos(azimuth)), static_cast<float>(std::cos(polar)),
-                           static_cast<float>(-std::sin(polar) * std::sin(azimuth)));
-    return SurfaceVertex{centerM + radiusM * normal, normal};
-  };
-  std::vector<SurfaceVertex> vertices;
-  vertices.reserve(std::size_t(kSphereSlices) * kSphereStacks * 6);
-  for (int stack = 0; stack < kSphereStacks; ++stack) {
-    for (int slice = 0; slice < kSphereSlices; ++slice) {
-      const SurfaceVertex a = vertex(slice, stack), b = vertex(slice, stack + 1);
-      const SurfaceVertex c = vertex(slice + 1, stack + 1), d = vertex(slice + 1, stack);
-      // Counter-clockwise from outside; the triangles at the poles are degenerate on one side, and harmless.
-      for (const SurfaceVertex& v : {a, b, c, a, c, d}) vertices.push_back(v);
-    }
+std::vector<SurfaceVertex> meshTriangles(const voxelizer::TriangleMesh& meshM) {
+  // A face's cross product: its normal, with a length of twice its area, which weights it in the corners' means.
+  std::vector<glm::dvec3> faceAreaNormals;
+  faceAreaNormals.reserve(meshM.triangles.size());
+  for (const glm::uvec3& triangle : meshM.triangles) {
+    const glm::dvec3 a = meshM.vertices[triangle.x], b = meshM.vertices[triangle.y], c = meshM.vertices[triangle.z];
+    faceAreaNormals.push_back(glm::cross(b - a, c - a));
   }
-  return vertices;
-}
+  // The faces at each vertex, as one list cut into runs (offsets), so a corner looks at its neighbours only.
+  std::vector<std::size_t> firstFace(meshM.vertices.size() + 1, 0);
+  for (const glm::uvec3& triangle : meshM.triangles) {
+    for (int corner = 0; corner < 3; ++corner) ++firstFace[triangle[corner] + 1];
+  }
+  for (std::size_t vertex = 0; vertex < meshM.vertices.size(); ++vertex) firstFace[vertex + 1] += firstFace[vertex];
+  std::vector<std::size_t> facesAtVertex(firstFace.back());
+  std::vector<std::size_t> filled(firstFace.begin(), firstFace.end() - 1);
+  for (std::size_t face = 0; face < meshM.triangles.size(); ++face) {
+    for (int corner = 0; corner < 3; ++corner) facesAtVertex[filled[meshM.triangles[face][corner]]++] = face;
+  }
 
-std::vector<SurfaceVertex> boxTriangles(const glm::vec3& minM, const glm::vec3& maxM) {
+  const double minCosine = std::cos(kCreaseAngleDeg * kPi / 180);
   std::vector<SurfaceVertex> vertices;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      glm::vec3 normal(0.0f);
-      normal[axis] = side == 0 ? -1.0f : 1.0f;
-      // Tangents u, v with u × v = normal, so the corners below run counter-clockwise seen from outside.
-      glm::vec3 u(0.0f), v(0.0f);
-      u[(axis + 1) % 3] = 1.0f;
-      v[(axis + 2) % 3] = 1.0f;
-      if (side == 0) std::swap(u, v);
-      const glm::vec3 centreM = 0.5f * (minM + maxM) + normal * 0.5f * (maxM - minM);
-      const glm::vec3 halfU = 0.5f * u * (maxM - minM), halfV = 0.5f * v * (maxM - minM);
-      const glm::vec3 corners[4] = {centreM - halfU - halfV, centreM + halfU - halfV, centreM + halfU + halfV,
-                                    centreM - halfU + halfV};
-      for (int index : {0, 1, 2, 0, 2, 3}) vertices.push_back({corners[index], normal});
+  vertices.reserve(3 * meshM.triangles.size());
+  for (std::size_t face = 0; face < meshM.triangles.size(); ++face) {
+    const double faceLength = glm::length(faceAreaNormals[face]);
+    const glm::dvec3 faceNormal = faceLength > 0 ? faceAreaNormals[face] / faceLength : glm::dvec3(0.0);
+    for (int corner = 0; corner < 3; ++corner) {
+      const unsigned vertex = meshM.triangles[face][corner];
+      glm::dvec3 sum = faceAreaNormals[face];
+      for (std::size_t i = firstFace[vertex]; i < firstFace[vertex + 1]; ++i) {
+        const std::size_t other = facesAtVertex[i];
+        const double otherLength = glm::length(faceAreaNormals[other]);
+        if (other == face || otherLength == 0) continue;
+        if (glm::dot(faceNormal, faceAreaNormals[other]) >= minCosine * otherLength) sum += faceAreaNormals[other];
+      }
+      const double sumLength = glm::length(sum);
+      // A degenerate face (no area, no neighbours within the crease angle) covers no pixels; any unit normal does.
+      const glm::dvec3 normal = sumLength > 0 ? sum / sumLength : glm::dvec3(0, 1, 0);
+      vertices.push_back({glm::vec3(meshM.vertices[vertex]), glm::vec3(normal)});
     }
   }
   return vertices;
@@ -215,8 +214,15 @@ Bounds usedRegion(const Scene& scene) {
       }
       continue;
     }
-    glm::dvec3 minM = collider.shape == ColliderShape::Sphere ? collider.centerM - collider.radiusM : collider.minM;
-    glm::dvec3 maxM = collider.shape == ColliderShape::Sphere ? collider.centerM + collider.radiusM : collider.maxM;
+    glm::dvec3 minM = collider.minM, maxM = collider.maxM;
+    if (collider.shape == ColliderShape::Sphere) {
+      minM = collider.centerM - collider.radiusM;
+      maxM = collider.centerM + collider.radiusM;
+    } else if (collider.shape == ColliderShape::Mesh) {
+      const voxelizer::Bounds meshBounds = voxelizer::bounds(*collider.mesh);
+      minM = meshBounds.minM;
+      maxM = meshBounds.maxM;
+    }
     if (!collider.keyframes.empty()) {
       // Wherever its keyframes take it, turned any way: within its reach of the pivot's positions.
       const double reachM = colliderReachM(scene, collider);

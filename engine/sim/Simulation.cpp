@@ -319,4 +319,9 @@ std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
   return poses;
 }
 
+// Placeholder for the lead's rigid-body branch, which replaces it with the GPU update: this branch only declares it.
+void Simulation::launchRigidBody(std::size_t, const ObjectPose&) {
+  throw std::logic_error("launchRigidBody: not implemented in this branch");
+}
+
 }  // namespace firn

@@ -103,6 +103,9 @@ class Simulation {
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
+  // Sets parked rigid body `index` (Scene::rigidBodies, RigidBody::parked) going from the start of the next step at
+  // `pose`: its position, orientation, velocity and angular velocity. A restart parks it again.
+  void launchRigidBody(std::size_t index, const ObjectPose& pose);
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;

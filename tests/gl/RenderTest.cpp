@@ -92,9 +92,9 @@ Image renderFrame(Renderer& renderer, const Simulation* simulation, const Camera
   firn::gl::Framebuffer target(kImageSize);
   target.bind();
   if (simulation != nullptr) {
-    renderer.draw(simulation->particleView(), camera, kImageSize, mode, snowSurface);
+    renderer.draw(simulation->particleView(), simulation->rigidBodyPoses(), camera, kImageSize, mode, snowSurface);
   } else {
-    renderer.draw(firn::ParticleView{}, camera, kImageSize, mode);
+    renderer.draw(firn::ParticleView{}, {}, camera, kImageSize, mode);
   }
   Image image{kImageSize.x, kImageSize.y, target.readColorRgba8()};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
@@ -454,7 +454,7 @@ TEST_F(RenderTest, WritePngRoundTripsPixels) {
   const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   firn::render::OffscreenRenderer offscreen(scene, {96, 64});
-  const Image image = offscreen.render(simulation.particleView(), cameraBelowBox(), ColorMode::Material);
+  const Image image = offscreen.render(simulation.particleView(), {}, cameraBelowBox(), ColorMode::Material);
   ASSERT_EQ(image.rgba.size(), std::size_t(96 * 64 * 4));
 
   const std::filesystem::path directory =
