@@ -88,7 +88,8 @@ std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad) {
   return vertices;
 }
 
-std::vector<SurfaceVertex> meshTriangles(const voxelizer::TriangleMesh& meshM) {
+std::vector<SurfaceVertex> objectTriangles(const SceneObject& object) {
+  const auto& meshM = object.meshM;
   // A face's cross product: its normal, with a length of twice its area, which weights it in the corners' means.
   std::vector<glm::dvec3> faceAreaNormals;
   faceAreaNormals.reserve(meshM.triangles.size());

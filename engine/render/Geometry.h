@@ -7,7 +7,7 @@
 #include <glm/vec3.hpp>
 
 #include "scene/Scene.h"
-#include "voxelizer/Mesh.h"
+#include "scene/SceneObjects.h"
 
 namespace firn::render {
 
@@ -52,11 +52,11 @@ Ground findGround(const Scene& scene);
 
 // Two triangles, counter-clockwise seen from the plane's normal side.
 std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad);
-// A mesh's triangles (SceneObjects' meshes: a sphere's, a box's, a file's), three corners each, in its winding. Each
-// corner's normal is the area-weighted mean of the faces at that vertex that turn from this face by less than
-// kCreaseAngleDeg, so that a tessellated sphere shades round while a box's or a model's sharp edges stay sharp;
-// the normals point to the side the winding makes the front (the renderer lights back faces from behind).
-std::vector<SurfaceVertex> meshTriangles(const voxelizer::TriangleMesh& meshM);
+// An object's mesh (SceneObjects.h: a sphere's, a box's, a file's) in its own frame, three corners per triangle, in
+// its winding. Each corner's normal is the area-weighted mean of the faces at that vertex that turn from this face by
+// less than kCreaseAngleDeg, so that a tessellated sphere shades round while a box's or a model's sharp edges stay
+// sharp; the normals point to the side the winding makes the front (the renderer lights back faces from behind).
+std::vector<SurfaceVertex> objectTriangles(const SceneObject& object);
 constexpr double kCreaseAngleDeg = 40;
 // The 12 edges of a box as 24 line end points.
 std::vector<glm::vec3> boxEdges(const glm::vec3& minM, const glm::vec3& maxM);

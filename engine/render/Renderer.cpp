@@ -139,12 +139,12 @@ void Renderer::buildGeometry(const Scene& scene) {
   }
   for (const SceneObject& object : sceneObjects(scene)) {
     if (object.kind == ObjectKind::RigidBody) {
-      add(meshTriangles(object.meshM), {0, 0, kRigidBodyAlbedoSrgb, -1, object.index, 0.0f, 0.0f, false, false});
+      add(objectTriangles(object), {0, 0, kRigidBodyAlbedoSrgb, -1, object.index, 0.0f, 0.0f, false, false});
       continue;
     }
     const Collider& collider = scene.colliders[std::size_t(object.index)];
     if (collider.shape != ColliderShape::Plane) {
-      add(meshTriangles(object.meshM), {0, 0, kColliderAlbedoSrgb, object.index, -1, 0.0f, 0.0f, false, false});
+      add(objectTriangles(object), {0, 0, kColliderAlbedoSrgb, object.index, -1, 0.0f, 0.0f, false, false});
       continue;
     }
     // A plane keeps its own quad, whose coordinates carry the checkerboard and the fade, moved into the collider's
