@@ -209,8 +209,8 @@ class Viewer {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
-                "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, O throw a ball, "
-                "F reframe, Q quit\n",
+                "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, "
+                "O throw a ball, F reframe, Q quit\n",
                 scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str());
   }
 

@@ -179,7 +179,8 @@ bool Renderer::isPosed(const SurfaceDraw& surface, const std::vector<ObjectPose>
   return surface.bodyIndex < 0 || std::size_t(surface.bodyIndex) < bodyPoses.size();
 }
 
-glm::mat4 Renderer::surfacePose(const SurfaceDraw& surface, double timeS, const std::vector<ObjectPose>& bodyPoses) const {
+glm::mat4 Renderer::surfacePose(const SurfaceDraw& surface, double timeS,
+                                const std::vector<ObjectPose>& bodyPoses) const {
   ObjectPose pose;
   if (surface.bodyIndex >= 0) {
     pose = bodyPoses[std::size_t(surface.bodyIndex)];
@@ -364,7 +365,8 @@ void Renderer::drawDomainEdges(const FrameView& view) {
 OffscreenRenderer::OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx) : renderer_(scene), target_(sizePx) {}
 
 Image OffscreenRenderer::render(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses,
-                                const Camera& camera, ColorMode mode, const surface::SurfaceReconstruction* snowSurface) {
+                                const Camera& camera, ColorMode mode,
+                                const surface::SurfaceReconstruction* snowSurface) {
   const GLuint previousTarget = gl::Framebuffer::boundForDrawing();
   GLint previousViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, previousViewport);

@@ -460,7 +460,8 @@ TEST_F(RenderTest, MeshColliderAndPosedRigidBodyAreDrawnWithShadows) {
   const glm::dvec3 cubeMinM(0.15, 0.1, 0.45), cubeMaxM(0.3, 0.25, 0.6);
   auto cube = std::make_shared<firn::voxelizer::TriangleMesh>();
   for (int corner = 0; corner < 8; ++corner) {
-    cube->vertices.push_back(glm::mix(cubeMinM, cubeMaxM, glm::dvec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1)));
+    const glm::dvec3 upper(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+    cube->vertices.push_back(glm::mix(cubeMinM, cubeMaxM, upper));
   }
   // Outward, counter-clockwise from outside: −x, +x, −y, +y, −z, +z.
   const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
@@ -573,7 +574,8 @@ TEST_F(RenderTest, SnowSurfaceIsShadedByABodyAboveIt) {
   Simulation simulation(scene, seeds, gl());
   Renderer renderer(scene);
   firn::surface::SurfaceReconstruction surface(scene, seeds, gl());
-  surface.reconstruct(simulation.particleView(), renderer.particleColors(simulation.particleView(), ColorMode::Material));
+  const firn::ParticleView particles = simulation.particleView();
+  surface.reconstruct(particles, renderer.particleColors(particles, ColorMode::Material));
   Camera camera;
   camera.positionM = {0.5f, 1.2f, 1.5f};
   camera.targetM = {0.5f, 0.2f, 0.5f};
