@@ -1,8 +1,10 @@
 #include "render/Geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
@@ -17,6 +19,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // A ground normal must be within ~25° of +y (cos 25° ≈ 0.9) for the key light to fall steeply enough on it.
 constexpr double kMinGroundNormalY = 0.9;
+// Vertices closer than this fraction of a mesh's reach from its origin are one point for smoothing normals: far
+// above double rounding (1e-16), far below any feature a picture shows.
+constexpr double kWeldFraction = 1e-9;
 
 Bounds domainBounds(const Scene& scene) { return {scene.domainMinM(), scene.domainMaxM()}; }
 
@@ -97,16 +102,29 @@ std::vector<SurfaceVertex> objectTriangles(const SceneObject& object) {
     const glm::dvec3 a = meshM.vertices[triangle.x], b = meshM.vertices[triangle.y], c = meshM.vertices[triangle.z];
     faceAreaNormals.push_back(glm::cross(b - a, c - a));
   }
-  // The faces at each vertex, as one list cut into runs (offsets), so a corner looks at its neighbours only.
-  std::vector<std::size_t> firstFace(meshM.vertices.size() + 1, 0);
-  for (const glm::uvec3& triangle : meshM.triangles) {
-    for (int corner = 0; corner < 3; ++corner) ++firstFace[triangle[corner] + 1];
+  // Vertices at the same place are one point of the surface: a sphere's poles and a file's seams (where its
+  // texture coordinates or normals split a vertex) repeat a position under several indices, equal to within
+  // rounding (sin π is 1.2e-16, not 0). Positions are compared on a grid of kWeldFraction of the mesh's reach.
+  double reachM = 0;
+  for (const glm::dvec3& positionM : meshM.vertices) reachM = std::max(reachM, glm::length(positionM));
+  const double weldM = reachM > 0 ? kWeldFraction * reachM : 1.0;
+  std::vector<unsigned> point(meshM.vertices.size());
+  std::map<std::array<long long, 3>, unsigned> pointAt;
+  for (std::size_t vertex = 0; vertex < meshM.vertices.size(); ++vertex) {
+    const glm::dvec3 cell = glm::round(meshM.vertices[vertex] / weldM);
+    const std::array<long long, 3> key{(long long)cell.x, (long long)cell.y, (long long)cell.z};
+    point[vertex] = pointAt.try_emplace(key, unsigned(pointAt.size())).first->second;
   }
-  for (std::size_t vertex = 0; vertex < meshM.vertices.size(); ++vertex) firstFace[vertex + 1] += firstFace[vertex];
-  std::vector<std::size_t> facesAtVertex(firstFace.back());
+  // The faces at each point, as one list cut into runs (offsets), so a corner looks at its neighbours only.
+  std::vector<std::size_t> firstFace(pointAt.size() + 1, 0);
+  for (const glm::uvec3& triangle : meshM.triangles) {
+    for (int corner = 0; corner < 3; ++corner) ++firstFace[point[triangle[corner]] + 1];
+  }
+  for (std::size_t i = 0; i < pointAt.size(); ++i) firstFace[i + 1] += firstFace[i];
+  std::vector<std::size_t> facesAtPoint(firstFace.back());
   std::vector<std::size_t> filled(firstFace.begin(), firstFace.end() - 1);
   for (std::size_t face = 0; face < meshM.triangles.size(); ++face) {
-    for (int corner = 0; corner < 3; ++corner) facesAtVertex[filled[meshM.triangles[face][corner]]++] = face;
+    for (int corner = 0; corner < 3; ++corner) facesAtPoint[filled[point[meshM.triangles[face][corner]]]++] = face;
   }
 
   const double minCosine = std::cos(kCreaseAngleDeg * kPi / 180);
@@ -118,8 +136,8 @@ std::vector<SurfaceVertex> objectTriangles(const SceneObject& object) {
     for (int corner = 0; corner < 3; ++corner) {
       const unsigned vertex = meshM.triangles[face][corner];
       glm::dvec3 sum = faceAreaNormals[face];
-      for (std::size_t i = firstFace[vertex]; i < firstFace[vertex + 1]; ++i) {
-        const std::size_t other = facesAtVertex[i];
+      for (std::size_t i = firstFace[point[vertex]]; i < firstFace[point[vertex] + 1]; ++i) {
+        const std::size_t other = facesAtPoint[i];
         const double otherLength = glm::length(faceAreaNormals[other]);
         if (other == face || otherLength == 0) continue;
         if (glm::dot(faceNormal, faceAreaNormals[other]) >= minCosine * otherLength) sum += faceAreaNormals[other];

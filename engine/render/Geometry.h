@@ -53,9 +53,10 @@ Ground findGround(const Scene& scene);
 // Two triangles, counter-clockwise seen from the plane's normal side.
 std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad);
 // An object's mesh (SceneObjects.h: a sphere's, a box's, a file's) in its own frame, three corners per triangle, in
-// its winding. Each corner's normal is the area-weighted mean of the faces at that vertex that turn from this face by
-// less than kCreaseAngleDeg, so that a tessellated sphere shades round while a box's or a model's sharp edges stay
-// sharp; the normals point to the side the winding makes the front (the renderer lights back faces from behind).
+// its winding. Each corner's normal is the area-weighted mean of the faces at that point (vertices at the same place
+// count as one) that turn from this face by less than kCreaseAngleDeg, so that a tessellated sphere shades round
+// while a box's or a model's sharp edges stay sharp; the normals point to the side the winding makes the front (the
+// renderer lights back faces from behind).
 std::vector<SurfaceVertex> objectTriangles(const SceneObject& object);
 constexpr double kCreaseAngleDeg = 40;
 // The 12 edges of a box as 24 line end points.

@@ -606,7 +606,8 @@ TEST_F(RenderTest, WritePngRoundTripsPixels) {
   const Scene scene = sceneFromJson("[" + box("[0.4, 0.5, 0.4]", "[0.6, 0.7, 0.6]") + "]");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   firn::render::OffscreenRenderer offscreen(scene, {96, 64});
-  const Image image = offscreen.render(simulation.particleView(), {}, cameraBelowBox(), ColorMode::Material);
+  const Image image = offscreen.render(simulation.particleView(), simulation.rigidBodyPoses(), cameraBelowBox(),
+                                       ColorMode::Material);
   ASSERT_EQ(image.rgba.size(), std::size_t(96 * 64 * 4));
 
   const std::filesystem::path directory =
