@@ -17,6 +17,7 @@
 #include <GLFW/glfw3.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "Error.h"
@@ -43,6 +44,10 @@ constexpr double kMinSpeed = 1.0 / 64, kMaxSpeed = 4.0;
 constexpr double kSnowballRadiusCells = 4.0;
 constexpr double kSnowballSpeedMPerS = 8.0;
 constexpr int kSnowballCapacity = 8;
+// Rigid balls thrown from the camera (key O) as snowballs are: the same size and speed; ice's density, so that a ball
+// ploughs into snow several times lighter; and how many spare balls wait parked in the simulation's table of bodies.
+constexpr double kRigidBallDensityKgPerM3 = 917;
+constexpr std::size_t kRigidBallCapacity = 4;
 
 // The snowball T throws: a sphere of the first body's material and particles per cell, at the domain's centre.
 // A points body's particles per cell, (cell_size / the cloud's spacing)³, can be any number: the snowball takes
@@ -56,6 +61,27 @@ Body snowballBody(const Scene& scene) {
   body.materialIndex = scene.bodies.front().materialIndex;
   body.particlesPerCell = std::min(scene.bodies.front().particlesPerCell, maxSampledParticlesPerCell);
   return body;
+}
+
+// A spare rigid ball, parked at the domain's centre until thrown (RigidBody::parked, Simulation::launchRigidBody): a
+// sphere of the snowball's radius, its mass and inertia those of a uniform ball, I = 2/5 m r².
+RigidBody spareBall(const Scene& scene) {
+  RigidBody ball;
+  ball.shape = RigidShape::Sphere;
+  ball.radiusM = kSnowballRadiusCells * scene.grid.cellSizeM;
+  ball.centerM = scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
+  ball.volumeM3 = 4.0 / 3.0 * glm::pi<double>() * ball.radiusM * ball.radiusM * ball.radiusM;
+  ball.massKg = kRigidBallDensityKgPerM3 * ball.volumeM3;
+  ball.centerOfMassM = ball.centerM;
+  ball.inertiaKgM2 = glm::dmat3(0.4 * ball.massKg * ball.radiusM * ball.radiusM);
+  ball.parked = true;
+  return ball;
+}
+
+// The scene the viewer simulates: the file's, with the spare balls after its own rigid bodies.
+Scene withSpareBalls(Scene scene) {
+  scene.rigidBodies.insert(scene.rigidBodies.end(), kRigidBallCapacity, spareBall(scene));
+  return scene;
 }
 
 std::string& lastGlfwError() {
@@ -163,9 +189,10 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
 class Viewer {
  public:
   Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
-      : scene_(scene), options_(options), window_(window), snowballTemplate_(sampleSnowball()),
-        session_(scene, gl, sessionOptions(scene, options, snowballTemplate_.size()), std::cerr), renderer_(scene),
-        orbit_(render::defaultCamera(scene, float(options.widthPx) / float(options.heightPx)), scene),
+      : scene_(withSpareBalls(scene)), firstSpareBall_(scene.rigidBodies.size()), options_(options), window_(window),
+        snowballTemplate_(sampleSnowball()),
+        session_(scene_, gl, sessionOptions(scene_, options, snowballTemplate_.size()), std::cerr), renderer_(scene_),
+        orbit_(render::defaultCamera(scene_, float(options.widthPx) / float(options.heightPx)), scene_),
         accumulator_(scene.time.dtS, 1), colorMode_(options.colorMode),
         renderMode_(session_.pictureRenderMode(options.renderMode)) {
     // The surface is made (and reported) with the rest of the start.
@@ -182,7 +209,8 @@ class Viewer {
       static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
     });
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
-                "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, F reframe, Q quit\n",
+                "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, "
+                "O throw a ball, F reframe, Q quit\n",
                 scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str());
   }
 
@@ -204,7 +232,8 @@ class Viewer {
       // A minimised window has no pixels to draw into.
       if (framebufferPx.x > 0 && framebufferPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        renderer_.draw(simulation().particleView(), orbit_.camera(), framebufferPx, colorMode_, currentSurface());
+        renderer_.draw(simulation().particleView(), shownBodyPoses(), orbit_.camera(), framebufferPx, colorMode_,
+                       currentSurface());
       }
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
@@ -241,8 +270,16 @@ class Viewer {
 
   Simulation& simulation() { return session_.simulation(); }
 
+  // The rigid bodies to draw: the scene's and the balls thrown so far, not the spares still parked.
+  std::vector<ObjectPose> shownBodyPoses() {
+    std::vector<ObjectPose> poses = simulation().rigidBodyPoses();
+    poses.resize(std::min(poses.size(), firstSpareBall_ + ballsThrown_));
+    return poses;
+  }
+
   void resetSimulation() {
-    session_.restart();
+    session_.restart();  // parks the thrown balls again
+    ballsThrown_ = 0;
     accumulator_.reset();
     unstable_ = false;
     surfaceIsCurrent_ = false;
@@ -334,6 +371,7 @@ class Viewer {
       case GLFW_KEY_V: switchRenderMode(); break;
       case GLFW_KEY_B: renderer_.setDomainEdges(!renderer_.domainEdges()); break;
       case GLFW_KEY_T: throwSnowball(); break;
+      case GLFW_KEY_O: throwRigidBall(); break;
       case GLFW_KEY_F: orbit_ = OrbitCamera(render::defaultCamera(scene_, aspect()), scene_); break;
       default: break;
     }
@@ -376,36 +414,63 @@ class Viewer {
     return particles;
   }
 
-  // Throws a snowball along the view direction from where the view ray enters the domain (or from the
-  // camera, if it is inside), kept clear of the walls.
-  void throwSnowball() {
-    if (simulation().particleCount() + snowballTemplate_.size() > simulation().particleCapacity()) {
-      std::fprintf(stderr, "firn view: no room for another snowball (%d thrown; press R to reset)\n", kSnowballCapacity);
-      return;
-    }
+  // Where a thrown ball starts and how fast it goes: along the view direction from where the view ray enters the
+  // domain (or from the camera, if it is inside), kept clear of the walls; nothing if the domain is too small for it.
+  struct Throw {
+    glm::vec3 centerM;
+    glm::vec3 velocityMPerS;
+  };
+  std::optional<Throw> aimThrow() const {
     const render::Camera camera = orbit_.camera();
     const glm::vec3 forward = glm::normalize(camera.targetM - camera.positionM);
     const float clearanceM = float((kSnowballRadiusCells + 1) * scene_.grid.cellSizeM);
     const glm::vec3 lowM = glm::vec3(scene_.grid.interiorMinM()) + clearanceM;
     const glm::vec3 highM = glm::vec3(scene_.grid.interiorMaxM()) - clearanceM;
-    if (glm::any(glm::greaterThan(lowM, highM))) return;  // the domain is too small for a snowball
+    if (glm::any(glm::greaterThan(lowM, highM))) return std::nullopt;
     const std::optional<float> entry = rayEntersBox(camera.positionM, forward, lowM, highM);
     const glm::vec3 centerM = glm::clamp(entry ? camera.positionM + *entry * forward : camera.targetM, lowM, highM);
     // At most a third of a cell per step, well inside the CFL bound the watchdog enforces.
     const float speedMPerS = float(std::min(kSnowballSpeedMPerS, scene_.grid.cellSizeM / scene_.time.dtS / 3));
+    return Throw{centerM, speedMPerS * forward};
+  }
+
+  void throwSnowball() {
+    if (simulation().particleCount() + snowballTemplate_.size() > simulation().particleCapacity()) {
+      std::fprintf(stderr, "firn view: no room for another snowball (%d thrown; press R to reset)\n", kSnowballCapacity);
+      return;
+    }
+    const std::optional<Throw> aim = aimThrow();
+    if (!aim) return;
     // The fixed-point scale allows no particle heavier than the scene's heaviest (a points body may bring
     // lighter particles than ρ s³): such a snowball is made lighter instead.
     const float maxMassKg = float(simulation().fixedPoint().referenceMassKg);
     std::vector<ParticleSeed> particles = snowballTemplate_;
     for (ParticleSeed& particle : particles) {
-      particle.positionM += centerM;
-      particle.velocityMPerS = speedMPerS * forward;
+      particle.positionM += aim->centerM;
+      particle.velocityMPerS = aim->velocityMPerS;
       particle.massKg = std::min(particle.massKg, maxMassKg);
     }
     simulation().addParticles(particles);
   }
 
-  const Scene& scene_;
+  // Sets the next parked ball going, as a snowball is thrown, unturned and not spinning.
+  void throwRigidBall() {
+    if (ballsThrown_ == kRigidBallCapacity) {
+      std::fprintf(stderr, "firn view: no ball left to throw (%zu thrown; press R to reset)\n", kRigidBallCapacity);
+      return;
+    }
+    const std::optional<Throw> aim = aimThrow();
+    if (!aim) return;
+    ObjectPose pose;
+    pose.positionM = aim->centerM;
+    pose.velocityMPerS = aim->velocityMPerS;
+    simulation().launchRigidBody(firstSpareBall_ + ballsThrown_, pose);
+    ++ballsThrown_;
+  }
+
+  const Scene scene_;                // the file's, with the spare balls (withSpareBalls)
+  const std::size_t firstSpareBall_;  // the spare balls' first index in scene_.rigidBodies
+  std::size_t ballsThrown_ = 0;
   const ViewOptions& options_;
   GLFWwindow* window_;
   std::vector<ParticleSeed> snowballTemplate_;

@@ -1,8 +1,10 @@
 #include "render/Geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
@@ -15,11 +17,11 @@ namespace firn::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// UV sphere resolution: smooth at the sizes colliders take on screen.
-constexpr int kSphereSlices = 48;
-constexpr int kSphereStacks = 24;
 // A ground normal must be within ~25° of +y (cos 25° ≈ 0.9) for the key light to fall steeply enough on it.
 constexpr double kMinGroundNormalY = 0.9;
+// Vertices closer than this fraction of a mesh's reach from its origin are one point for smoothing normals: far
+// above double rounding (1e-16), far below any feature a picture shows.
+constexpr double kWeldFraction = 1e-9;
 
 Bounds domainBounds(const Scene& scene) { return {scene.domainMinM(), scene.domainMaxM()}; }
 
@@ -91,43 +93,59 @@ std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad) {
   return vertices;
 }
 
-std::vector<SurfaceVertex> sphereTriangles(const glm::vec3& centerM, float radiusM) {
-  auto vertex = [&](int slice, int stack) {
-    const double azimuth = 2 * kPi * slice / kSphereSlices;
-    const double polar = kPi * stack / kSphereStacks;  // 0 at +y
-    const glm::vec3 normal(static_cast<float>(std::sin(polar) * std::cos(azimuth)), static_cast<float>(std::cos(polar)),
-                           static_cast<float>(-std::sin(polar) * std::sin(azimuth)));
-    return SurfaceVertex{centerM + radiusM * normal, normal};
-  };
-  std::vector<SurfaceVertex> vertices;
-  vertices.reserve(std::size_t(kSphereSlices) * kSphereStacks * 6);
-  for (int stack = 0; stack < kSphereStacks; ++stack) {
-    for (int slice = 0; slice < kSphereSlices; ++slice) {
-      const SurfaceVertex a = vertex(slice, stack), b = vertex(slice, stack + 1);
-      const SurfaceVertex c = vertex(slice + 1, stack + 1), d = vertex(slice + 1, stack);
-      // Counter-clockwise from outside; the triangles at the poles are degenerate on one side, and harmless.
-      for (const SurfaceVertex& v : {a, b, c, a, c, d}) vertices.push_back(v);
-    }
+std::vector<SurfaceVertex> objectTriangles(const SceneObject& object) {
+  const auto& meshM = object.meshM;
+  // A face's cross product: its normal, with a length of twice its area, which weights it in the corners' means.
+  std::vector<glm::dvec3> faceAreaNormals;
+  faceAreaNormals.reserve(meshM.triangles.size());
+  for (const glm::uvec3& triangle : meshM.triangles) {
+    const glm::dvec3 a = meshM.vertices[triangle.x], b = meshM.vertices[triangle.y], c = meshM.vertices[triangle.z];
+    faceAreaNormals.push_back(glm::cross(b - a, c - a));
   }
-  return vertices;
-}
+  // Vertices at the same place are one point of the surface: a sphere's poles and a file's seams (where its
+  // texture coordinates or normals split a vertex) repeat a position under several indices, equal to within
+  // rounding (sin π is 1.2e-16, not 0). Positions are compared on a grid of kWeldFraction of the mesh's reach.
+  double reachM = 0;
+  for (const glm::dvec3& positionM : meshM.vertices) reachM = std::max(reachM, glm::length(positionM));
+  const double weldM = reachM > 0 ? kWeldFraction * reachM : 1.0;
+  std::vector<unsigned> point(meshM.vertices.size());
+  std::map<std::array<long long, 3>, unsigned> pointAt;
+  for (std::size_t vertex = 0; vertex < meshM.vertices.size(); ++vertex) {
+    const glm::dvec3 cell = glm::round(meshM.vertices[vertex] / weldM);
+    const std::array<long long, 3> key{(long long)cell.x, (long long)cell.y, (long long)cell.z};
+    point[vertex] = pointAt.try_emplace(key, unsigned(pointAt.size())).first->second;
+  }
+  // The faces at each point, as one list cut into runs (offsets), so a corner looks at its neighbours only.
+  std::vector<std::size_t> firstFace(pointAt.size() + 1, 0);
+  for (const glm::uvec3& triangle : meshM.triangles) {
+    for (int corner = 0; corner < 3; ++corner) ++firstFace[point[triangle[corner]] + 1];
+  }
+  for (std::size_t i = 0; i < pointAt.size(); ++i) firstFace[i + 1] += firstFace[i];
+  std::vector<std::size_t> facesAtPoint(firstFace.back());
+  std::vector<std::size_t> filled(firstFace.begin(), firstFace.end() - 1);
+  for (std::size_t face = 0; face < meshM.triangles.size(); ++face) {
+    for (int corner = 0; corner < 3; ++corner) facesAtPoint[filled[point[meshM.triangles[face][corner]]]++] = face;
+  }
 
-std::vector<SurfaceVertex> boxTriangles(const glm::vec3& minM, const glm::vec3& maxM) {
+  const double minCosine = std::cos(kCreaseAngleDeg * kPi / 180);
   std::vector<SurfaceVertex> vertices;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      glm::vec3 normal(0.0f);
-      normal[axis] = side == 0 ? -1.0f : 1.0f;
-      // Tangents u, v with u × v = normal, so the corners below run counter-clockwise seen from outside.
-      glm::vec3 u(0.0f), v(0.0f);
-      u[(axis + 1) % 3] = 1.0f;
-      v[(axis + 2) % 3] = 1.0f;
-      if (side == 0) std::swap(u, v);
-      const glm::vec3 centreM = 0.5f * (minM + maxM) + normal * 0.5f * (maxM - minM);
-      const glm::vec3 halfU = 0.5f * u * (maxM - minM), halfV = 0.5f * v * (maxM - minM);
-      const glm::vec3 corners[4] = {centreM - halfU - halfV, centreM + halfU - halfV, centreM + halfU + halfV,
-                                    centreM - halfU + halfV};
-      for (int index : {0, 1, 2, 0, 2, 3}) vertices.push_back({corners[index], normal});
+  vertices.reserve(3 * meshM.triangles.size());
+  for (std::size_t face = 0; face < meshM.triangles.size(); ++face) {
+    const double faceLength = glm::length(faceAreaNormals[face]);
+    const glm::dvec3 faceNormal = faceLength > 0 ? faceAreaNormals[face] / faceLength : glm::dvec3(0.0);
+    for (int corner = 0; corner < 3; ++corner) {
+      const unsigned vertex = meshM.triangles[face][corner];
+      glm::dvec3 sum = faceAreaNormals[face];
+      for (std::size_t i = firstFace[point[vertex]]; i < firstFace[point[vertex] + 1]; ++i) {
+        const std::size_t other = facesAtPoint[i];
+        const double otherLength = glm::length(faceAreaNormals[other]);
+        if (other == face || otherLength == 0) continue;
+        if (glm::dot(faceNormal, faceAreaNormals[other]) >= minCosine * otherLength) sum += faceAreaNormals[other];
+      }
+      const double sumLength = glm::length(sum);
+      // A degenerate face (no area, no neighbours within the crease angle) covers no pixels; any unit normal does.
+      const glm::dvec3 normal = sumLength > 0 ? sum / sumLength : glm::dvec3(0, 1, 0);
+      vertices.push_back({glm::vec3(meshM.vertices[vertex]), glm::vec3(normal)});
     }
   }
   return vertices;
@@ -215,8 +233,15 @@ Bounds usedRegion(const Scene& scene) {
       }
       continue;
     }
-    glm::dvec3 minM = collider.shape == ColliderShape::Sphere ? collider.centerM - collider.radiusM : collider.minM;
-    glm::dvec3 maxM = collider.shape == ColliderShape::Sphere ? collider.centerM + collider.radiusM : collider.maxM;
+    glm::dvec3 minM = collider.minM, maxM = collider.maxM;
+    if (collider.shape == ColliderShape::Sphere) {
+      minM = collider.centerM - collider.radiusM;
+      maxM = collider.centerM + collider.radiusM;
+    } else if (collider.shape == ColliderShape::Mesh) {
+      const voxelizer::Bounds meshBounds = voxelizer::bounds(*collider.mesh);
+      minM = meshBounds.minM;
+      maxM = meshBounds.maxM;
+    }
     if (!collider.keyframes.empty()) {
       // Wherever its keyframes take it, turned any way: within its reach of the pivot's positions.
       const double reachM = colliderReachM(scene, collider);

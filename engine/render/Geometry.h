@@ -1,16 +1,17 @@
 #pragma once
-// What the renderer draws besides particles, as plain data: collider meshes, the planes' finite quads, the
-// ground, the domain's edges, and the extents the camera frames. No GL here.
+// What the renderer draws besides particles, as plain data: the colliders' and rigid bodies' meshes with their
+// normals, the planes' finite quads, the ground, the domain's edges, and the extents the camera frames. No GL here.
 #include <vector>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "scene/Scene.h"
+#include "scene/SceneObjects.h"
 
 namespace firn::render {
 
-// Vertex of a collider surface (shaders/render/surface.vert).
+// Vertex of a collider's or rigid body's surface (shaders/render/surface.vert).
 struct SurfaceVertex {
   glm::vec3 positionM;
   glm::vec3 normal;
@@ -49,10 +50,15 @@ struct Ground {
 };
 Ground findGround(const Scene& scene);
 
-// Triangles, counter-clockwise seen from outside (the plane's normal side).
+// Two triangles, counter-clockwise seen from the plane's normal side.
 std::vector<SurfaceVertex> quadTriangles(const PlaneQuad& quad);
-std::vector<SurfaceVertex> sphereTriangles(const glm::vec3& centerM, float radiusM);
-std::vector<SurfaceVertex> boxTriangles(const glm::vec3& minM, const glm::vec3& maxM);
+// An object's mesh (SceneObjects.h: a sphere's, a box's, a file's) in its own frame, three corners per triangle, in
+// its winding. Each corner's normal is the area-weighted mean of the faces at that point (vertices at the same place
+// count as one) that turn from this face by less than kCreaseAngleDeg, so that a tessellated sphere shades round
+// while a box's or a model's sharp edges stay sharp; the normals point to the side the winding makes the front (the
+// renderer lights back faces from behind).
+std::vector<SurfaceVertex> objectTriangles(const SceneObject& object);
+constexpr double kCreaseAngleDeg = 40;
 // The 12 edges of a box as 24 line end points.
 std::vector<glm::vec3> boxEdges(const glm::vec3& minM, const glm::vec3& maxM);
 
@@ -62,8 +68,8 @@ float checkerCellM(const Scene& scene);
 
 // The region a default camera frames: the snow and what it touches, not the empty domain. That is each body's
 // bounds swept along its free flight x₀ + v t + ½ g t² over the scene's frames, clamped to the domain's interior
-// where the walls stop it (a first guess at where the snow goes, computed without simulating); the sphere and box
-// colliders that sweep reaches; and the ground under it, the sweep's corners dropped onto each plane collider it
+// where the walls stop it (a first guess at where the snow goes, computed without simulating); the sphere, box and
+// mesh colliders that sweep reaches; and the ground under it, the sweep's corners dropped onto each plane collider it
 // reaches.
 // Without bodies, the whole domain.
 Bounds usedRegion(const Scene& scene);

@@ -26,7 +26,8 @@ const glm::vec3 kMaterialPaletteSrgb[] = {{0.93f, 0.96f, 1.00f}, {1.00f, 0.88f, 
                                           {0.97f, 0.79f, 0.86f}, {0.78f, 0.85f, 1.00f}, {0.98f, 0.95f, 0.72f}};
 const glm::vec3 kGroundAlbedoSrgb{0.60f, 0.56f, 0.50f};
 const glm::vec3 kPlaneAlbedoSrgb{0.56f, 0.55f, 0.53f};
-const glm::vec3 kColliderAlbedoSrgb{0.60f, 0.45f, 0.36f};
+const glm::vec3 kColliderAlbedoSrgb{0.60f, 0.45f, 0.36f};     // terracotta
+const glm::vec3 kRigidBodyAlbedoSrgb{0.85f, 0.66f, 0.22f};    // ochre: a body the snow moves, told from the colliders
 const glm::vec4 kDomainEdgeColor{0.86f, 0.90f, 1.00f, 0.35f};  // sRGB, alpha
 
 // Ground-shadow texels: about half the finest particle spacing, so a contact shadow keeps the particles'
@@ -116,6 +117,8 @@ void Renderer::buildPrograms() {
   snowSurfaceProgram_ = gl::Program::graphics(library, "render/snow_surface.vert", "render/snow_surface.frag", options);
   snowShadowMapProgram_ =
       gl::Program::graphics(library, "render/snow_shadow_map.vert", "render/snow_shadow_map.frag", options);
+  objectShadowMapProgram_ =
+      gl::Program::graphics(library, "render/object_shadow_map.vert", "render/snow_shadow_map.frag", options);
   snowGroundShadowProgram_ =
       gl::Program::graphics(library, "render/snow_ground_shadow.vert", "render/collider_shadow.frag", options);
   particleColorPass_ = gl::ComputePass(library, "render/particle_colors.comp", options);
@@ -132,29 +135,26 @@ void Renderer::buildGeometry(const Scene& scene) {
   const float checkerM = checkerCellM(scene);
   const float fadeM = ground_.quad.halfSizeM;
   if (ground_.colliderIndex < 0) {
-    add(quadTriangles(ground_.quad), {0, 0, kGroundAlbedoSrgb, -1, checkerM, fadeM, true, false});
+    add(quadTriangles(ground_.quad), {0, 0, kGroundAlbedoSrgb, -1, -1, checkerM, fadeM, true, true});
   }
-  for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
-    const Collider& collider = scene.colliders[i];
-    const int index = static_cast<int>(i);
-    switch (collider.shape) {
-      case ColliderShape::Plane: {
-        const bool isGround = static_cast<int>(i) == ground_.colliderIndex;
-        if (!isGround && !planeCutsDomain(scene, collider.pointM, collider.normal)) break;
-        const PlaneQuad quad = isGround ? ground_.quad : planeQuad(scene, collider.pointM, collider.normal);
-        add(quadTriangles(quad), {0, 0, isGround ? kGroundAlbedoSrgb : kPlaneAlbedoSrgb, index, checkerM,
-                                  quad.halfSizeM, isGround, false});
-        break;
-      }
-      case ColliderShape::Sphere:
-        add(sphereTriangles(glm::vec3(collider.centerM), static_cast<float>(collider.radiusM)),
-            {0, 0, kColliderAlbedoSrgb, index, 0.0f, 0.0f, false, true});
-        break;
-      case ColliderShape::Box:
-        add(boxTriangles(glm::vec3(collider.minM), glm::vec3(collider.maxM)),
-            {0, 0, kColliderAlbedoSrgb, index, 0.0f, 0.0f, false, true});
-        break;
+  for (const SceneObject& object : sceneObjects(scene)) {
+    if (object.kind == ObjectKind::RigidBody) {
+      add(objectTriangles(object), {0, 0, kRigidBodyAlbedoSrgb, -1, object.index, 0.0f, 0.0f, false, false});
+      continue;
     }
+    const Collider& collider = scene.colliders[std::size_t(object.index)];
+    if (collider.shape != ColliderShape::Plane) {
+      add(objectTriangles(object), {0, 0, kColliderAlbedoSrgb, object.index, -1, 0.0f, 0.0f, false, false});
+      continue;
+    }
+    // A plane keeps its own quad, whose coordinates carry the checkerboard and the fade, moved into the collider's
+    // frame (origin at the pivot) like the other objects' meshes.
+    const bool isGround = object.index == ground_.colliderIndex;
+    if (!isGround && !planeCutsDomain(scene, collider.pointM, collider.normal)) continue;
+    PlaneQuad quad = isGround ? ground_.quad : planeQuad(scene, collider.pointM, collider.normal);
+    quad.centerM = glm::vec3(glm::dvec3(quad.centerM) - collider.pivotM);
+    add(quadTriangles(quad), {0, 0, isGround ? kGroundAlbedoSrgb : kPlaneAlbedoSrgb, object.index, -1, checkerM,
+                              quad.halfSizeM, isGround, true});
   }
   surfaceVertices_ = gl::Buffer::fromVector(vertices);
   surfaceArray_.setFloatAttribute(0, surfaceVertices_, 3, sizeof(SurfaceVertex), offsetof(SurfaceVertex, positionM));
@@ -175,13 +175,24 @@ PlaneQuad Renderer::groundAt(double timeS) const {
   return quad;
 }
 
-glm::mat4 Renderer::surfacePose(const SurfaceDraw& surface, double timeS) const {
-  if (surface.colliderIndex < 0) return glm::mat4(1.0f);
-  // x = c(t) + R(t) (x_rest − pivot) (docs/algorithm.md eq. 31), in double before the one rounding to float.
-  const Collider& collider = colliders_[std::size_t(surface.colliderIndex)];
-  const RigidPose pose = colliderPose(collider, timeS);
-  glm::dmat4 matrix = glm::dmat4(glm::mat3_cast(pose.rotation));
-  matrix[3] = glm::dvec4(pose.pivotM - glm::dmat3(matrix) * collider.pivotM, 1.0);
+bool Renderer::isPosed(const SurfaceDraw& surface, const std::vector<ObjectPose>& bodyPoses) {
+  return surface.bodyIndex < 0 || std::size_t(surface.bodyIndex) < bodyPoses.size();
+}
+
+glm::mat4 Renderer::surfacePose(const SurfaceDraw& surface, double timeS,
+                                const std::vector<ObjectPose>& bodyPoses) const {
+  ObjectPose pose;
+  if (surface.bodyIndex >= 0) {
+    pose = bodyPoses[std::size_t(surface.bodyIndex)];
+  } else if (surface.colliderIndex >= 0) {
+    pose = colliderObjectPose(colliders_[std::size_t(surface.colliderIndex)], timeS);
+  } else {
+    return glm::mat4(1.0f);  // the ground without a collider, built where it lies
+  }
+  // x = position + orientation · p (SceneObjects.h; for a collider docs/algorithm.md eq. 31 with p = x_rest − pivot),
+  // in double before the one rounding to float.
+  glm::dmat4 matrix = glm::dmat4(glm::mat3_cast(pose.orientation));
+  matrix[3] = glm::dvec4(pose.positionM, 1.0);
   return glm::mat4(matrix);
 }
 
@@ -200,8 +211,8 @@ void Renderer::setGround(const gl::Program& program, const PlaneQuad& ground) co
   program.set("groundHalfSizeM", ground.halfSizeM);
 }
 
-void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
-                    const surface::SurfaceReconstruction* snowSurface) {
+void Renderer::draw(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses, const Camera& camera,
+                    glm::ivec2 viewportPx, ColorMode mode, const surface::SurfaceReconstruction* snowSurface) {
   if (viewportPx.x <= 0 || viewportPx.y <= 0) return;  // a minimised window
   const std::size_t particleCount = particles.count;
   const double timeS = particles.timeS;
@@ -211,10 +222,10 @@ void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::iv
   // The particles were last written by compute passes; vertex shaders read them as storage buffers.
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   const PlaneQuad ground = groundAt(timeS);
-  castGroundShadow(snowSurface != nullptr ? 0 : particleCount, timeS, ground);
+  castGroundShadow(snowSurface != nullptr ? 0 : particleCount, timeS, bodyPoses, ground);
   if (snowSurface != nullptr) {
     castSnowGroundShadow(*snowSurface, ground);
-    renderSnowShadowMap(*snowSurface);
+    renderSnowShadowMap(*snowSurface, timeS, bodyPoses);
   }
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
@@ -225,7 +236,7 @@ void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::iv
   const float aspect = float(viewportPx.x) / float(viewportPx.y);
   const FrameView view{camera.view(), camera.projection(aspect), glm::vec2(viewportPx), camera.positionM};
   drawSky(view);
-  drawSurfaces(view, timeS, ground);
+  drawSurfaces(view, timeS, bodyPoses, ground);
   if (snowSurface != nullptr) {
     drawSnowSurface(view, *snowSurface);
   } else {
@@ -243,8 +254,9 @@ void Renderer::draw(const ParticleView& particles, const Camera& camera, glm::iv
   gl::checkPass("render");
 }
 
-// The ground-shadow texture: optical depth of the key light's shadow, summed over particles and colliders.
-void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const PlaneQuad& ground) {
+// The ground-shadow texture: optical depth of the key light's shadow, summed over particles, colliders and bodies.
+void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const std::vector<ObjectPose>& bodyPoses,
+                                const PlaneQuad& ground) {
   groundShadow_.bind();
   const glm::ivec2 texels = groundShadow_.size();
   glViewport(0, 0, texels.x, texels.y);
@@ -270,8 +282,8 @@ void Renderer::castGroundShadow(std::size_t particleCount, double timeS, const P
   setGround(colliderShadowProgram_, ground);
   surfaceArray_.bind();
   for (const SurfaceDraw& surface : surfaces_) {
-    if (!surface.castsShadow) continue;
-    colliderShadowProgram_.set("poseMatrix", surfacePose(surface, timeS));
+    if (surface.isPlane || !isPosed(surface, bodyPoses)) continue;
+    colliderShadowProgram_.set("poseMatrix", surfacePose(surface, timeS, bodyPoses));
     glDrawArrays(GL_TRIANGLES, surface.firstVertex, surface.vertexCount);
   }
   glDisable(GL_BLEND);
@@ -285,11 +297,10 @@ void Renderer::drawSky(const FrameView& view) {
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void Renderer::drawSurfaces(const FrameView& view, double timeS, const PlaneQuad& ground) {
+void Renderer::drawSurfaces(const FrameView& view, double timeS, const std::vector<ObjectPose>& bodyPoses,
+                            const PlaneQuad& ground) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  // Planes are seen from their free side only: from behind one, the camera looks through it.
-  glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   surfaceProgram_.use();
   setView(surfaceProgram_, view);
@@ -299,7 +310,15 @@ void Renderer::drawSurfaces(const FrameView& view, double timeS, const PlaneQuad
   groundShadow_.color().bind(kGroundShadowTextureUnit);
   surfaceArray_.bind();
   for (const SurfaceDraw& surface : surfaces_) {
-    surfaceProgram_.set("poseMatrix", surfacePose(surface, timeS));
+    if (!isPosed(surface, bodyPoses)) continue;
+    // Planes are seen from their free side only: from behind one, the camera looks through it. A mesh is drawn from
+    // both sides, since a file's triangles may wind either way, and lit on the side seen (surface.frag).
+    if (surface.isPlane) {
+      glEnable(GL_CULL_FACE);
+    } else {
+      glDisable(GL_CULL_FACE);
+    }
+    surfaceProgram_.set("poseMatrix", surfacePose(surface, timeS, bodyPoses));
     surfaceProgram_.set("albedoSrgb", surface.albedoSrgb);
     surfaceProgram_.set("checkerCellM", surface.checkerCellM);
     surfaceProgram_.set("fadeHalfSizeM", surface.fadeHalfSizeM);
@@ -345,13 +364,14 @@ void Renderer::drawDomainEdges(const FrameView& view) {
 
 OffscreenRenderer::OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx) : renderer_(scene), target_(sizePx) {}
 
-Image OffscreenRenderer::render(const ParticleView& particles, const Camera& camera, ColorMode mode,
+Image OffscreenRenderer::render(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses,
+                                const Camera& camera, ColorMode mode,
                                 const surface::SurfaceReconstruction* snowSurface) {
   const GLuint previousTarget = gl::Framebuffer::boundForDrawing();
   GLint previousViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, previousViewport);
   target_.bind();
-  renderer_.draw(particles, camera, size(), mode, snowSurface);
+  renderer_.draw(particles, bodyPoses, camera, size(), mode, snowSurface);
   Image image{size().x, size().y, target_.readColorRgba8()};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, previousTarget);
   glViewport(previousViewport[0], previousViewport[1], previousViewport[2], previousViewport[3]);

@@ -1,8 +1,8 @@
 #pragma once
 // The renderer (engine/render, docs/architecture.md): particles drawn in place from the simulation's buffers as
 // lit sphere impostors, or the snow's reconstructed surface drawn from the GPU's mesh (SnowSurface.cpp); the
-// colliders, the ground with the snow's soft shadow, the domain's edges on request; and offscreen capture into an
-// Image.
+// colliders and rigid bodies as lit meshes (scene/SceneObjects.h), the ground with the snow's and their shadows, the
+// domain's edges on request; and offscreen capture into an Image.
 #include <cstddef>
 #include <iterator>
 #include <vector>
@@ -21,6 +21,7 @@
 #include "render/Geometry.h"
 #include "render/Image.h"
 #include "scene/Scene.h"
+#include "scene/SceneObjects.h"
 #include "surface/SurfaceReconstruction.h"
 
 namespace firn::render {
@@ -44,19 +45,20 @@ const char* renderModeName(RenderMode mode);  // "particles", "surface"
 
 class Renderer {
  public:
-  // Builds the programs (from the embedded shaders, for this scene's materials) and the collider geometry.
-  // Needs a current OpenGL 4.3 context.
+  // Builds the programs (from the embedded shaders, for this scene's materials) and the meshes of its colliders and
+  // rigid bodies. Needs a current OpenGL 4.3 context.
   explicit Renderer(const Scene& scene);
 
   // Draws into the currently bound draw framebuffer, which needs a depth buffer, over the viewport
-  // (0, 0)–viewportPx: sky, colliders where they are at the particles' time, the ground with its shadow, the
-  // particles read in place from their buffers, and the domain's edges if setDomainEdges(true). Colours are written
-  // sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves blending, culling, depth test and point size off. With
-  // `snowSurface` (reconstructed from these particles, with particleColors' colours for `mode`) the snow is drawn as
-  // that surface instead of its particles. A view of no particles (ParticleView{}) draws the scene without them at
-  // t = 0.
-  void draw(const ParticleView& particles, const Camera& camera, glm::ivec2 viewportPx, ColorMode mode,
-            const surface::SurfaceReconstruction* snowSurface = nullptr);
+  // (0, 0)–viewportPx: sky, colliders where they are at the particles' time, rigid body i at bodyPoses[i]
+  // (Simulation::rigidBodyPoses()), the ground with its shadow, the particles read in place from their buffers, and
+  // the domain's edges if setDomainEdges(true). Bodies past the end of bodyPoses are not drawn (the viewer's spare
+  // balls before they are thrown). Colours are written sRGB-encoded (leave GL_FRAMEBUFFER_SRGB off). Leaves
+  // blending, culling, depth test and point size off. With `snowSurface` (reconstructed from these particles, with
+  // particleColors' colours for `mode`) the snow is drawn as that surface instead of its particles. A view of no
+  // particles (ParticleView{}) draws the scene without them at t = 0.
+  void draw(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses, const Camera& camera,
+            glm::ivec2 viewportPx, ColorMode mode, const surface::SurfaceReconstruction* snowSurface = nullptr);
 
   // Whether draw() outlines the domain's box (off by default: the pictures show the snow, not the box).
   void setDomainEdges(bool shown) { domainEdges_ = shown; }
@@ -72,15 +74,18 @@ class Renderer {
   const gl::Buffer* particleColors(const ParticleView& particles, ColorMode mode);
 
  private:
+  // A mesh built in its object's frame (SceneObjects.h; the ground without a collider, in the world's), moved there
+  // each frame by its collider's pose or its body's.
   struct SurfaceDraw {
     GLint firstVertex;
     GLsizei vertexCount;
     glm::vec3 albedoSrgb;
-    int colliderIndex;    // whose motion moves it; −1: the ground drawn where the scene has none
+    int colliderIndex;    // whose motion moves it; −1: not a collider's
+    int bodyIndex;        // whose pose moves it; −1: not a rigid body's
     float checkerCellM;   // planes
     float fadeHalfSizeM;  // planes
     bool isGround;
-    bool castsShadow;     // spheres and boxes
+    bool isPlane;         // seen from its free side only; casts no shadow (it would cover the ground)
   };
   struct FrameView {
     glm::mat4 view;
@@ -94,15 +99,18 @@ class Renderer {
   PlaneQuad groundAt(double timeS) const;
   void setView(const gl::Program& program, const FrameView& view) const;
   void setGround(const gl::Program& program, const PlaneQuad& ground) const;
-  void castGroundShadow(std::size_t particleCount, double timeS, const PlaneQuad& ground);
+  void castGroundShadow(std::size_t particleCount, double timeS, const std::vector<ObjectPose>& bodyPoses,
+                        const PlaneQuad& ground);
   void drawSky(const FrameView& view);
-  void drawSurfaces(const FrameView& view, double timeS, const PlaneQuad& ground);
+  void drawSurfaces(const FrameView& view, double timeS, const std::vector<ObjectPose>& bodyPoses,
+                    const PlaneQuad& ground);
   void drawParticles(const FrameView& view, std::size_t particleCount, ColorMode mode);
   void drawDomainEdges(const FrameView& view);
   void setAppearance(const gl::Program& program, ColorMode mode) const;
   // The snow's surface (SnowSurface.cpp): its shadow on the ground, its shadow map, and the surface itself.
   void castSnowGroundShadow(const surface::SurfaceReconstruction& snowSurface, const PlaneQuad& ground);
-  void renderSnowShadowMap(const surface::SurfaceReconstruction& snowSurface);
+  void renderSnowShadowMap(const surface::SurfaceReconstruction& snowSurface, double timeS,
+                           const std::vector<ObjectPose>& bodyPoses);
   void drawSnowSurface(const FrameView& view, const surface::SurfaceReconstruction& snowSurface);
   void drawSnowTriangles(const surface::SurfaceReconstruction& snowSurface);
   void setShadowBox(const gl::Program& program, const surface::SurfaceReconstruction& snowSurface) const;
@@ -115,6 +123,7 @@ class Renderer {
   gl::Program lineProgram_;
   gl::Program snowSurfaceProgram_;
   gl::Program snowShadowMapProgram_;
+  gl::Program objectShadowMapProgram_;
   gl::Program snowGroundShadowProgram_;
   gl::ComputePass particleColorPass_;  // render/particle_colors.comp
   gl::PassTimer particleColorTimer_;   // not switched on: ComputePass dispatches through one
@@ -129,8 +138,10 @@ class Renderer {
   GLsizei edgeVertexCount_ = 0;
   bool domainEdges_ = false;
 
-  // The rigid motion that carries a surface's mesh, built at rest, to where its collider is at timeS.
-  glm::mat4 surfacePose(const SurfaceDraw& surface, double timeS) const;
+  // Whether draw() shows the surface: a rigid body's only with a pose.
+  static bool isPosed(const SurfaceDraw& surface, const std::vector<ObjectPose>& bodyPoses);
+  // The rigid motion that carries a surface's mesh from its object's frame to where the object is at timeS.
+  glm::mat4 surfacePose(const SurfaceDraw& surface, double timeS, const std::vector<ObjectPose>& bodyPoses) const;
 
   std::vector<Collider> colliders_;  // the scene's, whose poses move the surfaces
   Ground ground_;
@@ -150,9 +161,9 @@ class OffscreenRenderer {
  public:
   OffscreenRenderer(const Scene& scene, glm::ivec2 sizePx);
   // One picture of the simulation's current state; leaves the bound framebuffer and viewport as they were.
-  // With `snowSurface`, the snow as that surface (Renderer::draw).
-  Image render(const ParticleView& particles, const Camera& camera, ColorMode mode,
-               const surface::SurfaceReconstruction* snowSurface = nullptr);
+  // The rigid bodies at bodyPoses; with `snowSurface`, the snow as that surface (Renderer::draw).
+  Image render(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses, const Camera& camera,
+               ColorMode mode, const surface::SurfaceReconstruction* snowSurface = nullptr);
   const gl::Buffer* particleColors(const ParticleView& particles, ColorMode mode) {
     return renderer_.particleColors(particles, mode);
   }

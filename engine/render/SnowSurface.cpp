@@ -1,6 +1,7 @@
 // The renderer's snow surface (Renderer.h, RenderMode::Surface): the mesh the reconstruction left on the GPU
 // (engine/surface), drawn with an indexed draw whose vertex shaders read the vertices in place; its shadow on the
-// ground, as the colliders cast theirs; and its shadow on itself, through a shadow map of the key light.
+// ground, as the colliders cast theirs; and the shadows on it of itself, the colliders and the rigid bodies, through
+// a shadow map of the key light.
 #include <algorithm>
 #include <cmath>
 
@@ -70,7 +71,8 @@ void Renderer::castSnowGroundShadow(const surface::SurfaceReconstruction& snowSu
   glDisable(GL_BLEND);
 }
 
-void Renderer::renderSnowShadowMap(const surface::SurfaceReconstruction& snowSurface) {
+void Renderer::renderSnowShadowMap(const surface::SurfaceReconstruction& snowSurface, double timeS,
+                                   const std::vector<ObjectPose>& bodyPoses) {
   if (!snowShadowMap_) snowShadowMap_ = gl::Framebuffer(glm::ivec2(kShadowMapTexels), GL_R32F, true);
   snowShadowMap_.bind();
   glViewport(0, 0, kShadowMapTexels, kShadowMapTexels);
@@ -85,6 +87,19 @@ void Renderer::renderSnowShadowMap(const surface::SurfaceReconstruction& snowSur
   snowShadowMapProgram_.use();
   setShadowBox(snowShadowMapProgram_, snowSurface);
   drawSnowTriangles(snowSurface);
+
+  // The colliders' and bodies' meshes shade the snow too. The map's box is the snow's: depth clamping keeps an object
+  // nearer the light than the box, at the box's near side, rather than clipping it away.
+  glEnable(GL_DEPTH_CLAMP);
+  objectShadowMapProgram_.use();
+  setShadowBox(objectShadowMapProgram_, snowSurface);
+  surfaceArray_.bind();
+  for (const SurfaceDraw& surface : surfaces_) {
+    if (surface.isPlane || !isPosed(surface, bodyPoses)) continue;
+    objectShadowMapProgram_.set("poseMatrix", surfacePose(surface, timeS, bodyPoses));
+    glDrawArrays(GL_TRIANGLES, surface.firstVertex, surface.vertexCount);
+  }
+  glDisable(GL_DEPTH_CLAMP);
 }
 
 void Renderer::drawSnowSurface(const FrameView& view, const surface::SurfaceReconstruction& snowSurface) {

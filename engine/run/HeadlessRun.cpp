@@ -293,8 +293,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     }
     if (pictures) {
       render::writePng(options.outputDir / numberedFileName("frame", frame, ".png"),
-                       pictures->render(simulation.particleView(), camera, options.colorMode,
-                                        surfacePictures ? snowSurface : nullptr));
+                       pictures->render(simulation.particleView(), simulation.rigidBodyPoses(), camera,
+                                        options.colorMode, surfacePictures ? snowSurface : nullptr));
     }
   };
 

@@ -246,6 +246,9 @@ struct RigidBody {
   double volumeM3 = 0;
   glm::dvec3 centerOfMassM{0.0};
   glm::dmat3 inertiaKgM2{0.0};
+  // A spare body that waits outside the simulation (no gravity, no contacts, no snow) until
+  // Simulation::launchRigidBody sets it going: the viewer's balls to throw (key O). Never read from a scene file.
+  bool parked = false;
 };
 
 // How the snow's surface is reconstructed from the particles (docs/surfaces.md): for `--render surface`, `--mesh`

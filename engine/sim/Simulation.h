@@ -104,7 +104,8 @@ class Simulation {
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
-  // Puts rigid body `index` (a parked one, Scene.h) into the simulation at `pose`, from the next step on.
+  // Sets parked rigid body `index` (Scene::rigidBodies, RigidBody::parked) going from the start of the next step at
+  // `pose`: its position, orientation, velocity and angular velocity. A restart parks it again.
   void launchRigidBody(std::size_t index, const ObjectPose& pose);
   // How long the scene's distance fields took to bake (s).
   double colliderFieldsBakeSeconds() const { return colliderFields_.bakeSeconds; }

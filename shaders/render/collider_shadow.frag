@@ -1,5 +1,6 @@
 #version 430 core
-// A collider is opaque: its shadow has the optical depth of a fully dark one (e^−8 of the key light left).
+// A collider or rigid body is opaque: its shadow has the optical depth of a fully dark one (e^−8 of the key light
+// left).
 out float opticalDepth;
 
 void main() { opticalDepth = 8.0; }

@@ -1,7 +1,7 @@
 #version 430 core
-// Lit collider surfaces. Planes carry a checkerboard fixed to the plane, so that a moving plane is seen to
-// move, and fade into the sky towards the edges of their finite quad; the ground also receives the key
-// light's shadow from the ground-shadow texture.
+// Lit collider and rigid-body surfaces. Planes carry a checkerboard fixed to the plane, so that a moving plane is
+// seen to move, and fade into the sky towards the edges of their finite quad; the ground also receives the key
+// light's shadow from the ground-shadow texture. Meshes are drawn from both sides, lit on the side seen.
 #include "render/lighting.glsl"
 #include "render/view.glsl"
 #include "render/ground.glsl"
@@ -33,7 +33,8 @@ float filteredChecker(vec2 coordinates) {
 }
 
 void main() {
-  vec3 normal = normalize(worldNormal);
+  // A back face is seen only where a mesh's winding faces inward (planes' back faces are culled).
+  vec3 normal = normalize(gl_FrontFacing ? worldNormal : -worldNormal);
   vec3 toEye = normalize(cameraPositionM - worldPositionM);
   vec3 albedo = linearFromSrgb(albedoSrgb);
   if (checkerCellM > 0.0) albedo *= 1.0 + CHECKER_CONTRAST * filteredChecker(surfaceCoordinatesM / checkerCellM);

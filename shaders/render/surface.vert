@@ -1,12 +1,13 @@
 #version 430 core
-// Collider surfaces: plane quads, sphere and box meshes, built at rest and moved by their collider's rigid motion.
+// Collider and rigid-body surfaces: plane quads and the objects' meshes (scene/SceneObjects.h), built in their
+// object's frame and moved by its pose at this frame's time.
 #include "render/view.glsl"
 
 layout(location = 0) in vec3 positionM;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in vec2 planeCoordinatesM;  // planes: position in the quad's own frame from its centre
 
-uniform mat4 poseMatrix;  // the rigid motion from rest to this frame's time
+uniform mat4 poseMatrix;  // the object's frame at this frame's time
 
 out vec3 worldPositionM;
 out vec3 worldNormal;
