@@ -238,8 +238,6 @@ struct RigidBody {
   glm::dvec3 angularVelocityRadPerS{0.0};
   double friction = 0.3;        // Coulomb μ against the snow, the colliders and the walls
   Boundary boundary = Boundary::Separate;
-  // Out of the simulation until launched (Simulation::launchRigidBody): the viewer's spare balls, thrown by a key.
-  bool parked = false;
   // From the shape and "mass" or "density" (the loader fills them): the mass, the volume, where the centre of mass
   // is at t = 0, and the inertia tensor about it along the body's own axes.
   double massKg = 0;

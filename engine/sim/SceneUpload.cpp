@@ -203,6 +203,7 @@ ColliderEscape escapeColliders(const GridSpec& grid, const std::vector<gpu::Coll
   for (int pass = 0; pass < passes; ++pass) {
     inside = false;
     for (std::size_t c = 0; c < colliders.size(); ++c) {
+      if (colliders[c].shapeBoundary.w == 0) continue;  // a parked body, out of the simulation
       glm::vec3 normal;
       const float distanceM = gpu::colliderDistance(colliders[c], fieldSamples, escape.positionM, timeS, normal);
       if (!(distanceM < 0)) continue;
