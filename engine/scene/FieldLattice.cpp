@@ -16,6 +16,11 @@ FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& g
   return lattice;
 }
 
+voxelizer::DistanceField bakeField(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution) {
+  const FieldLattice lattice = fieldLattice(mesh, grid, resolution);
+  return voxelizer::bakeDistanceField(mesh, lattice.spacingM, lattice.marginM);
+}
+
 std::vector<FieldLattice> fieldLattices(const Scene& scene) {
   std::vector<FieldLattice> lattices;
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {

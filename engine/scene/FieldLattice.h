@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "scene/Scene.h"
+#include "voxelizer/DistanceField.h"
 #include "voxelizer/Mesh.h"
 
 namespace firn {
@@ -32,6 +33,9 @@ struct FieldLattice {
 // samples per axis, in doubles (that one takes a rounding's slack off a whole number of steps, so this may count one
 // sample more per axis: the budget's side).
 FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution);
+
+// The field of `mesh` baked on its lattice (voxelizer/DistanceField.h), for the simulation's upload.
+voxelizer::DistanceField bakeField(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution);
 
 // Every mesh collider's field, then every mesh rigid body's, in the scene's order.
 std::vector<FieldLattice> fieldLattices(const Scene& scene);

@@ -16,7 +16,6 @@
 #include "io/Checkpoint.h"
 #include "scene/ColliderMotion.h"
 #include "scene/FieldLattice.h"
-#include "voxelizer/DistanceField.h"
 
 namespace firn {
 
@@ -31,8 +30,7 @@ int boundaryCode(Boundary boundary) {
 // Bakes `mesh`'s field for the grid at its resolution, appends its samples and says where they lie from `pivotM`.
 ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::TriangleMesh& mesh, double resolution,
                                   const GridSpec& grid, const glm::dvec3& pivotM) {
-  const FieldLattice lattice = fieldLattice(mesh, grid, resolution);
-  voxelizer::DistanceField field = voxelizer::bakeDistanceField(mesh, lattice.spacingM, lattice.marginM);
+  voxelizer::DistanceField field = bakeField(mesh, grid, resolution);
   ColliderFields::Field placed;
   placed.first = static_cast<int>(samples.size());
   placed.samples = field.samples;

@@ -19,7 +19,7 @@ layout(binding = FIRN_TEXTURE_UNIT_COLLIDER_FIELDS) uniform samplerBuffer collid
 
 // A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at time
 // timeS: x is taken into the frame of the shape at rest (eq. 33) and measured there — an analytic shape by eq. 27, a
-// mesh by its distance field (eq. 28) — and the normal turned back into the world.
+// mesh by its distance field (eq. 34) — and the normal turned back into the world.
 float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
   vec3 fromPivot = colliderRestPoint(c, x, timeS);
   vec3 restNormal;

@@ -131,7 +131,7 @@ FIRN_FUNCTION int fieldSampleIndex(ColliderParams c, ivec3 latticePoint) {
 }
 
 // φ inside a lattice cell by trilinear interpolation of its corners (corner k at x = k & 1, y = (k >> 1) & 1,
-// z = k >> 2), and the direction of its gradient there — the outward normal (eq. 28): the interpolant's exact
+// z = k >> 2), and the direction of its gradient there — the outward normal (eq. 34): the interpolant's exact
 // gradient, so a probe's normal is continuous within a cell and points away from the nearer surface.
 FIRN_FUNCTION float cellDistance(float corners[8], vec3 fraction, vec3 outsideM, FIRN_OUT(vec3) restNormal) {
   vec3 f = fraction;
