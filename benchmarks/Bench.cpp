@@ -97,6 +97,7 @@ std::string runExperiments(BenchRun& run) {
   if (run.wanted("tradeoff")) measureTradeoff(run);
   if (run.wanted("stiff")) measureStiff(run);
   if (!run.options().thesisCloud.empty() && run.wanted("thesis")) measureThesis(run);
+  if (!run.options().thesisCloud.empty() && run.wanted("objects")) measureObjects(run);
   if (run.wanted("surface")) measureSurface(run);
   const double minutes = std::chrono::duration<double>(Clock::now() - start).count() / 60;
   std::string summary = "firn bench (" + sizeName(run.options().size) + ") on " + run.renderer() + ", " +
@@ -112,7 +113,7 @@ std::string runExperiments(BenchRun& run) {
 
 const std::vector<std::string>& tableNames() {
   static const std::vector<std::string> names = {"particles", "grid", "domain", "passes", "p2g_atomics", "tradeoff",
-                                                    "stiff", "thesis", "surface"};
+                                                    "stiff", "thesis", "surface", "objects"};
   return names;
 }
 
@@ -131,10 +132,14 @@ std::string runBench(const BenchOptions& options, std::ostream& log) {
   if (!options.thesisCloud.empty() && !std::filesystem::is_regular_file(options.thesisCloud)) {
     throw InputError("--thesis-cloud: " + options.thesisCloud.string() + ": no such file");
   }
-  if (options.thesisCloud.empty() &&
-      std::find(options.tables.begin(), options.tables.end(), "thesis") != options.tables.end()) {
-    throw InputError("--only thesis: the thesis table needs --thesis-cloud FILE, the bunny of the Snow thesis 2015 "
-                     "implementation as a point cloud (one x,y,z per line, or a PLY), which Firn does not ship. "
+  for (const char* bunnyTable : {"thesis", "objects"}) {
+    if (!options.thesisCloud.empty() ||
+        std::find(options.tables.begin(), options.tables.end(), bunnyTable) == options.tables.end()) {
+      continue;
+    }
+    throw InputError(std::string("--only ") + bunnyTable + ": the " + bunnyTable +
+                     " table needs --thesis-cloud FILE, the bunny of the Snow thesis 2015 implementation as a point "
+                     "cloud (one x,y,z per line, or a PLY), which Firn does not ship. "
                      "`firn voxelize assets/meshes/bunny.obj --scale 0.01557 --translate 0,0.033,0 --spacing 0.002 "
                      "--out thesis_bunny.ply` makes a comparable one, 91,599 particles against its 91,897 "
                      "(benchmarks/README.md, the thesis table)");

@@ -14,5 +14,6 @@ void measureTradeoff(BenchRun& run);    // tradeoff.csv (TradeoffExperiment.cpp)
 void measureStiff(BenchRun& run);       // stiff.csv (StiffExperiment.cpp)
 void measureThesis(BenchRun& run);      // thesis.csv (ThesisExperiment.cpp)
 void measureSurface(BenchRun& run);     // surface.csv (SurfaceExperiment.cpp)
+void measureObjects(BenchRun& run);     // objects.csv (ObjectsExperiment.cpp)
 
 }  // namespace firn::bench

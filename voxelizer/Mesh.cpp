@@ -311,4 +311,30 @@ std::string whyNotFillable(const TriangleMesh& mesh, const MeshSurface& surface,
   return "";
 }
 
+TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments) {
+  constexpr double pi = 3.14159265358979323846;
+  TriangleMesh mesh;
+  mesh.vertices.emplace_back(0, 0, radiusM);
+  for (unsigned ring = 1; ring < rings; ++ring) {
+    const double polarRad = pi * ring / rings;
+    for (unsigned segment = 0; segment < segments; ++segment) {
+      const double azimuthRad = 2 * pi * segment / segments;
+      mesh.vertices.push_back(radiusM * glm::dvec3(std::sin(polarRad) * std::cos(azimuthRad),
+                                                   std::sin(polarRad) * std::sin(azimuthRad), std::cos(polarRad)));
+    }
+  }
+  mesh.vertices.emplace_back(0, 0, -radiusM);
+  const auto southPole = static_cast<unsigned>(mesh.vertices.size() - 1);
+  auto vertex = [&](unsigned ring, unsigned segment) { return 1 + (ring - 1) * segments + segment % segments; };
+  for (unsigned segment = 0; segment < segments; ++segment) {
+    mesh.triangles.emplace_back(0, vertex(1, segment), vertex(1, segment + 1));
+    for (unsigned ring = 1; ring + 1 < rings; ++ring) {
+      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment), vertex(ring + 1, segment + 1));
+      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment + 1), vertex(ring, segment + 1));
+    }
+    mesh.triangles.emplace_back(vertex(rings - 1, segment), southPole, vertex(rings - 1, segment + 1));
+  }
+  return mesh;
+}
+
 }  // namespace firn::voxelizer

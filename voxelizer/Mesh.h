@@ -52,6 +52,11 @@ struct Transform {
 glm::dmat3 rotationMatrix(const glm::dvec3& rotateDeg);
 TriangleMesh transformed(const TriangleMesh& mesh, const Transform& transform);
 
+// A UV sphere about the origin: rings of constant latitude between the poles (on ±z), every vertex on the sphere
+// (so the polyhedron lies inside it), faces counter-clockwise seen from outside; 2 · segments · (rings − 1)
+// triangles. For the engine's sphere shapes, the benchmarks and the tests.
+TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments);
+
 struct Bounds {
   glm::dvec3 minM;
   glm::dvec3 maxM;

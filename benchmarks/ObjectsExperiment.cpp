@@ -1,0 +1,141 @@
+// objects.csv: what objects in the snow cost per step, on the bunny of the Snow thesis 2015 implementation
+// (--thesis-cloud; cubic kernel, fixed point, explicit, in free fall): with no object, with an analytic box collider,
+// with the same box as a 12-triangle mesh collider, with a 100,000-triangle sphere mesh collider of the box's size,
+// and with a rigid box of that size; each against the analytic box, with the mesh's distance field's bake time.
+// The objects sit on the ground below the bunny: every active node of every step probes them all the same (a
+// collider's cost is its test at each node and particle, not its contact), and the bunny's free fall keeps the
+// steps alike from one configuration to the next.
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+
+#include "Experiments.h"
+#include "sim/SceneUpload.h"
+#include "voxelizer/Mesh.h"
+
+namespace firn::bench {
+
+namespace {
+
+// The 100,000-triangle mesh the target names: a UV sphere of 250 rings of 201 segments, 2 · 201 · 249
+// = 100,098 triangles.
+constexpr unsigned kFineRings = 250, kFineSegments = 201;
+
+struct ObjectCase {
+  std::string object;
+  std::size_t triangles = 0;
+};
+
+// The box the objects share: 2 m wide, 1 m tall, centred under the bunny on the floor of its domain.
+Scene withObject(Scene scene, const std::string& object) {
+  const glm::dvec3 bunnyLowM = scene.bodies.front().boundsMinM(), bunnyHighM = scene.bodies.front().boundsMaxM();
+  const glm::dvec3 centerM(0.5 * (bunnyLowM.x + bunnyHighM.x), scene.grid.interiorMinM().y + 0.5,
+                           0.5 * (bunnyLowM.z + bunnyHighM.z));
+  const glm::dvec3 halfM(1.0, 0.5, 1.0);
+  if (object == "none") return scene;
+  if (object == "rigid box") {
+    RigidBody body;
+    body.shape = RigidShape::Box;
+    body.centerM = body.centerOfMassM = centerM;
+    body.halfExtentsM = halfM;
+    body.volumeM3 = 8 * halfM.x * halfM.y * halfM.z;
+    body.massKg = 2000 * body.volumeM3;
+    const glm::dvec3 size = 2.0 * halfM;
+    body.inertiaKgM2 = glm::dmat3(body.massKg / 12 * (size.y * size.y + size.z * size.z), 0, 0, 0,
+                                  body.massKg / 12 * (size.x * size.x + size.z * size.z), 0, 0, 0,
+                                  body.massKg / 12 * (size.x * size.x + size.y * size.y));
+    scene.rigidBodies.push_back(body);
+    return scene;
+  }
+  Collider collider;
+  collider.friction = 0.3;
+  collider.pivotM = centerM;
+  if (object == "analytic box") {
+    collider.shape = ColliderShape::Box;
+    collider.minM = centerM - halfM;
+    collider.maxM = centerM + halfM;
+  } else {
+    collider.shape = ColliderShape::Mesh;
+    voxelizer::Transform placement;
+    placement.translateM = centerM;
+    voxelizer::TriangleMesh mesh;
+    if (object == "mesh box") {
+      for (int corner = 0; corner < 8; ++corner) {
+        mesh.vertices.push_back(halfM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+      }
+      const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+      for (const auto& face : faces) {
+        mesh.triangles.emplace_back(face[0], face[1], face[2]);
+        mesh.triangles.emplace_back(face[0], face[2], face[3]);
+      }
+    } else {
+      // The sphere inscribed in the box's 2 m width, flattened to its height.
+      mesh = voxelizer::uvSphere(1.0, kFineRings, kFineSegments);
+      for (glm::dvec3& vertex : mesh.vertices) vertex *= halfM;
+    }
+    collider.mesh = std::make_shared<const voxelizer::TriangleMesh>(voxelizer::transformed(mesh, placement));
+  }
+  scene.colliders.push_back(collider);
+  return scene;
+}
+
+}  // namespace
+
+void measureObjects(BenchRun& run) {
+  CsvTable table({"object", "triangles", "particles", "dt_s", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
+                  "ratio_to_analytic_box", "bake_s", "field_samples", "status", "renderer"});
+  const BenchOptions& options = run.options();
+  const std::vector<ObjectCase> cases = {{"none", 0},
+                                         {"analytic box", 0},
+                                         {"mesh box", 12},
+                                         {"mesh sphere", 2 * kFineSegments * (kFineRings - 1)},
+                                         {"rigid box", 0}};
+  std::vector<Configuration> configurations;
+  std::vector<double> bakeSeconds(cases.size(), 0);
+  std::vector<std::size_t> fieldSamples(cases.size(), 0);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string object = cases[i].object;
+    configurations.push_back({"thesis bunny with " + object, [&options, object] {
+                                return withObject(thesisCloudScene(options.thesisCloud, options.thesisDtS, "fixed",
+                                                                   "cubic", "explicit"),
+                                                  object);
+                              }});
+    // The bake, timed alone (the simulation bakes once, before its first step).
+    const auto start = std::chrono::steady_clock::now();
+    const ColliderFields fields = bakeColliderFields(configurations.back().makeScene());
+    bakeSeconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fieldSamples[i] = fields.samples.size();
+  }
+  const std::vector<Timed> timed = run.timeConfigurations(configurations);
+  const double boxMs = timed[1].status == "ok" ? timed[1].timing.medianMs : 0;
+  for (std::size_t i = 0; i < timed.size(); ++i) {
+    CsvTable::Row& row = table.addRow();
+    row.setText("object", cases[i].object)
+        .setCount("triangles", std::int64_t(cases[i].triangles))
+        .setCount("particles", std::int64_t(timed[i].particles))
+        .set("dt_s", options.thesisDtS)
+        .setText("status", timed[i].status)
+        .setText("renderer", run.renderer());
+    if (cases[i].triangles > 0) row.set("bake_s", bakeSeconds[i]).setCount("field_samples", std::int64_t(fieldSamples[i]));
+    if (timed[i].status != "ok") continue;
+    const double msPerStep = timed[i].timing.medianMs;
+    row.setCount("steps", timed[i].timing.stepsPerRepeat)
+        .setCount("repeats", timed[i].timing.repeats)
+        .set("ms_per_step", msPerStep)
+        .set("ms_min", timed[i].timing.minMs)
+        .set("ms_max", timed[i].timing.maxMs);
+    if (boxMs > 0) row.set("ratio_to_analytic_box", msPerStep / boxMs);
+    std::string summary = "thesis bunny with " + cases[i].object + ": " + fixed(msPerStep, 1) + " ms per step";
+    if (boxMs > 0) summary += ", " + fixed(msPerStep / boxMs, 3) + "x the analytic box's";
+    if (cases[i].triangles > 0) {
+      summary += "; " + grouped(cases[i].triangles) + " triangles baked in " + fixed(bakeSeconds[i], 2) + " s";
+    }
+    run.addSummary(summary);
+  }
+  run.write(table, "objects");
+}
+
+}  // namespace firn::bench
