@@ -265,13 +265,17 @@ std::size_t blocksReached(const Scene& scene, const std::vector<ParticleSeed>& s
 }
 
 std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,
-                               const std::vector<ParticleSeed>& seeds) {
+                               const ColliderFields& fields, const std::vector<ParticleSeed>& seeds) {
   const glm::ivec3 gridNodes = scene.grid.cells + 1;
   std::uint64_t hash = fingerprint(&gridNodes, sizeof gridNodes);
   for (const double value : {scene.grid.cellSizeM, scene.time.dtS, double(particleCapacity)}) {
     hash = fingerprint(&value, sizeof value, hash);
   }
   hash = fingerprint(table.entries.data(), table.entries.size() * sizeof(gpu::MaterialParams), hash);
+  // The colliders and rigid bodies as they start (every member a vec4: no padding), and the fields they read.
+  const std::vector<gpu::ColliderParams> colliders = buildColliderTable(scene, fields, 0);
+  hash = fingerprint(colliders.data(), colliders.size() * sizeof(gpu::ColliderParams), hash);
+  hash = fingerprint(fields.samples.data(), fields.samples.size() * sizeof(float), hash);
   for (const ParticleSeed& seed : seeds) {
     hash = fingerprint(&seed.positionM, sizeof seed.positionM, hash);
     hash = fingerprint(&seed.velocityMPerS, sizeof seed.velocityMPerS, hash);

@@ -92,9 +92,10 @@ ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, 
 // pool starts (sim/GpuState.h).
 std::size_t blocksReached(const Scene& scene, const std::vector<ParticleSeed>& seeds);
 
-// What a checkpoint must match: the grid, the step, the capacity, the material table and every seed, field by
-// field (ParticleSeed has padding, whose bytes are not defined).
+// What a checkpoint must match: the grid, the step, the capacity, the material table, the colliders and rigid bodies
+// as they start with their distance fields, and every seed, field by field (ParticleSeed has padding, whose bytes
+// are not defined).
 std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,
-                               const std::vector<ParticleSeed>& seeds);
+                               const ColliderFields& fields, const std::vector<ParticleSeed>& seeds);
 
 }  // namespace firn

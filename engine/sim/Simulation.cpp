@@ -79,7 +79,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
       gl_(gl),
-      sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, seeds)),
+      sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, colliderFields_, seeds)),
       keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
                                       [](const Collider& c) { return !c.keyframes.empty(); })) {
   const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
