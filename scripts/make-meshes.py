@@ -5,6 +5,10 @@ snowman.obj  three overlapping spheres and a carrot nose, each a separate closed
              left in, as a modeller would leave them, and the generalized winding number fills their union.
              Metres, base on y = 0, 1.0 m tall, facing +z.
 torus.obj    a ring torus, R = 0.3 m, r = 0.1 m, about the y axis (volume 2π²Rr² = 0.0592 m³).
+boulder.obj  a rock: an icosahedron subdivided three times (1,280 faces), its radius about 1 varied by four fixed
+             waves and flattened to 0.8 in y; closed, wound outward (a rigid body's mass needs a closed mesh).
+plough.obj   a plough blade: two thin slabs meeting in a V, point along +x, 1 long, 0.6 wide at the back, 0.3
+             tall; two closed boxes overlapping at the point, whose union the winding number fills.
 """
 import math
 import os
@@ -84,6 +88,58 @@ def add_torus(mesh, major, minor, rings=64, segments=32):
             mesh.faces.append((a, d, b))
 
 
+def add_boulder(mesh, subdivisions=3):
+    """A subdivided icosahedron with its radius varied by fixed waves: outward, closed."""
+    t = (1 + 5 ** 0.5) / 2
+    points = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+              (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    unit = lambda p: tuple(c / math.sqrt(sum(x * x for x in p)) for c in p)
+    points = [unit(p) for p in points]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+             (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+             (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    for _ in range(subdivisions):
+        middles = {}
+
+        def middle(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in middles:
+                points.append(unit(tuple((points[a][i] + points[b][i]) / 2 for i in range(3))))
+                middles[key] = len(points) - 1
+            return middles[key]
+
+        finer = []
+        for a, b, c in faces:
+            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
+            finer += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = finer
+    # (direction, frequency, phase, amplitude): low-frequency bumps, fixed so the file never changes.
+    waves = [((0.8, 0.3, -0.5), 2.1, 0.5, 0.09), ((-0.2, 0.9, 0.4), 3.3, 1.7, 0.06),
+             ((0.5, -0.4, 0.77), 5.2, 0.3, 0.035), ((0.1, 0.2, -0.97), 1.3, 2.2, 0.08)]
+    first = len(mesh.vertices) + 1
+    for p in points:
+        radius = 1.0
+        for direction, frequency, phase, amplitude in waves:
+            norm = math.sqrt(sum(x * x for x in direction))
+            radius += amplitude * math.sin(frequency * sum(p[i] * direction[i] / norm for i in range(3)) * math.pi + phase)
+        mesh.vertex((p[0] * radius, p[1] * radius * 0.8, p[2] * radius))
+    mesh.faces += [(first + a, first + b, first + c) for a, b, c in faces]
+
+
+def add_box(mesh, center, half, yaw):
+    """A box of these half extents turned by `yaw` about y, two outward triangles per face."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    corners = []
+    for k in range(8):
+        x = half[0] * (1 if k & 1 else -1)
+        y = half[1] * (1 if k & 2 else -1)
+        z = half[2] * (1 if k & 4 else -1)
+        corners.append(mesh.vertex((center[0] + c * x + s * z, center[1] + y, center[2] - s * x + c * z)))
+    for q in [(0, 4, 6, 2), (1, 3, 7, 5), (0, 1, 5, 4), (2, 6, 7, 3), (0, 2, 3, 1), (4, 5, 7, 6)]:
+        mesh.faces.append((corners[q[0]], corners[q[1]], corners[q[2]]))
+        mesh.faces.append((corners[q[0]], corners[q[2]], corners[q[3]]))
+
+
 def main():
     snowman = Mesh()
     add_sphere(snowman, (0, 0.25, 0), 0.25)
@@ -95,6 +151,16 @@ def main():
     torus = Mesh()
     add_torus(torus, 0.3, 0.1)
     torus.write("torus.obj", ["A ring torus about the y axis, R = 0.3 m, r = 0.1 m (volume 0.0592 m^3)."])
+    boulder = Mesh()
+    add_boulder(boulder)
+    boulder.write("boulder.obj", ["A boulder for assets/scenes/boulder_bank.json: a subdivided icosahedron, radius",
+                                  "about 1 varied by fixed waves, flattened to 0.8 in y; closed, wound outward."])
+    plough = Mesh()
+    arm = math.hypot(1.0, 0.3)
+    for side in (1, -1):
+        add_box(plough, (0.5, 0.15, side * 0.15), (arm / 2 + 0.03, 0.15, 0.03), side * math.atan2(0.3, 1.0))
+    plough.write("plough.obj", ["A plough blade for assets/scenes/plough.json: two slabs in a V, point along +x,",
+                                "1 long, 0.6 wide, 0.3 tall; two closed boxes overlapping at the point."])
 
 
 if __name__ == "__main__":
