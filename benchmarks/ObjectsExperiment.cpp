@@ -63,14 +63,7 @@ Scene withObject(Scene scene, const std::string& object) {
     placement.translateM = centerM;
     voxelizer::TriangleMesh mesh;
     if (object == "mesh box") {
-      for (int corner = 0; corner < 8; ++corner) {
-        mesh.vertices.push_back(halfM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
-      }
-      const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-      for (const auto& face : faces) {
-        mesh.triangles.emplace_back(face[0], face[1], face[2]);
-        mesh.triangles.emplace_back(face[0], face[2], face[3]);
-      }
+      mesh = voxelizer::boxMesh(-halfM, halfM);
     } else {
       // The sphere inscribed in the box's 2 m width, flattened to its height.
       mesh = voxelizer::uvSphere(1.0, kFineRings, kFineSegments);

@@ -337,4 +337,18 @@ TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments) {
   return mesh;
 }
 
+TriangleMesh boxMesh(const glm::dvec3& minM, const glm::dvec3& maxM) {
+  TriangleMesh mesh;
+  for (int corner = 0; corner < 8; ++corner) {
+    mesh.vertices.emplace_back(corner & 1 ? maxM.x : minM.x, corner & 2 ? maxM.y : minM.y, corner & 4 ? maxM.z : minM.z);
+  }
+  // Faces −x, +x, −y, +y, −z, +z as corner quads wound counter-clockwise from outside.
+  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& face : faces) {
+    mesh.triangles.emplace_back(face[0], face[1], face[2]);
+    mesh.triangles.emplace_back(face[0], face[2], face[3]);
+  }
+  return mesh;
+}
+
 }  // namespace firn::voxelizer

@@ -57,6 +57,9 @@ TriangleMesh transformed(const TriangleMesh& mesh, const Transform& transform);
 // triangles. For the engine's sphere shapes, the benchmarks and the tests.
 TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments);
 
+// The box from minM to maxM: two triangles per face, counter-clockwise seen from outside.
+TriangleMesh boxMesh(const glm::dvec3& minM, const glm::dvec3& maxM);
+
 struct Bounds {
   glm::dvec3 minM;
   glm::dvec3 maxM;

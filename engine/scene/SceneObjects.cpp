@@ -14,20 +14,8 @@ namespace {
 // A sphere fine enough that its facets stay within 0.2 % of the radius (48 segments round, 24 rings).
 voxelizer::TriangleMesh sphereMesh(double radiusM) { return voxelizer::uvSphere(radiusM, 24, 48); }
 
-// A box of these half extents about the origin, two outward triangles per face.
-voxelizer::TriangleMesh boxMesh(const glm::dvec3& halfExtentsM) {
-  voxelizer::TriangleMesh mesh;
-  for (int corner = 0; corner < 8; ++corner) {
-    mesh.vertices.push_back(halfExtentsM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
-  }
-  // Faces −x, +x, −y, +y, −z, +z as corner quads wound counter-clockwise from outside.
-  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& face : faces) {
-    mesh.triangles.emplace_back(face[0], face[1], face[2]);
-    mesh.triangles.emplace_back(face[0], face[2], face[3]);
-  }
-  return mesh;
-}
+// A box of these half extents about the origin.
+voxelizer::TriangleMesh boxMesh(const glm::dvec3& halfExtentsM) { return voxelizer::boxMesh(-halfExtentsM, halfExtentsM); }
 
 // A square across the domain in the plane through the origin with this normal, facing it.
 voxelizer::TriangleMesh planeMesh(const glm::dvec3& normal, double halfSizeM) {

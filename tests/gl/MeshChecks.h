@@ -2,16 +2,33 @@
 // What the surface tests measure of a triangle mesh: whether it is closed and consistently oriented, the volume
 // it encloses, and its connected components.
 #include <cstdint>
+#include <istream>
 #include <map>
 #include <numeric>
 #include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 
 #include "io/SurfaceMesh.h"
 
 namespace firn::test {
+
+// The faces of a binary PLY written by Firn (io/SurfaceMesh.h: a uchar count, 3, then three uint32 corners each),
+// read from `in` after the vertices, appended to `indices`; nothing may follow them.
+inline void readPlyTriangles(std::istream& in, std::size_t faces, std::vector<std::uint32_t>& indices) {
+  for (std::size_t f = 0; f < faces; ++f) {
+    unsigned char count = 0;
+    in.read(reinterpret_cast<char*>(&count), 1);
+    EXPECT_EQ(count, 3);
+    std::uint32_t corners[3];
+    in.read(reinterpret_cast<char*>(corners), sizeof corners);
+    indices.insert(indices.end(), corners, corners + 3);
+  }
+  EXPECT_TRUE(in.good());
+  EXPECT_EQ(in.peek(), std::char_traits<char>::eof()) << "nothing after the faces";
+}
 
 // Closed and consistently oriented: every directed edge of a triangle appears exactly once and its reverse exactly
 // once, so every edge is shared by exactly two triangles, which run along it in opposite directions. Returns the

@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include "Cli.h"
+#include "MeshChecks.h"
 #include "scene/Scene.h"
 #include "scene/SceneObjects.h"
 #include "voxelizer/Mesh.h"
@@ -124,16 +125,7 @@ ObjectMesh readObjectPly(const fs::path& path, const std::string& comment) {
     in.read(reinterpret_cast<char*>(xyz), sizeof xyz);
     mesh.verticesM.emplace_back(xyz[0], xyz[1], xyz[2]);
   }
-  for (std::size_t f = 0; f < faces; ++f) {
-    unsigned char count = 0;
-    in.read(reinterpret_cast<char*>(&count), 1);
-    EXPECT_EQ(count, 3);
-    std::uint32_t corners[3];
-    in.read(reinterpret_cast<char*>(corners), sizeof corners);
-    mesh.indices.insert(mesh.indices.end(), corners, corners + 3);
-  }
-  EXPECT_TRUE(in.good());
-  EXPECT_EQ(in.peek(), std::char_traits<char>::eof()) << "nothing after the faces";
+  firn::test::readPlyTriangles(in, faces, mesh.indices);
   return mesh;
 }
 

@@ -72,16 +72,7 @@ firn::SurfaceMesh readSurfacePly(const fs::path& path) {
     mesh.normals.emplace_back(values[3], values[4], values[5]);
     mesh.velocitiesMPerS.emplace_back(values[6], values[7], values[8]);
   }
-  for (std::size_t f = 0; f < faces; ++f) {
-    unsigned char count = 0;
-    in.read(reinterpret_cast<char*>(&count), 1);
-    EXPECT_EQ(count, 3);
-    std::uint32_t corners[3];
-    in.read(reinterpret_cast<char*>(corners), sizeof corners);
-    mesh.indices.insert(mesh.indices.end(), corners, corners + 3);
-  }
-  EXPECT_TRUE(in.good());
-  EXPECT_EQ(in.peek(), std::char_traits<char>::eof()) << "nothing after the faces";
+  firn::test::readPlyTriangles(in, faces, mesh.indices);
   return mesh;
 }
 

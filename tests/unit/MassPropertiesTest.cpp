@@ -18,46 +18,6 @@ constexpr double pi = 3.14159265358979323846;
 // Boxes are sums of a dozen exactly placed triangles' terms: their rounding is a few ε of the largest term.
 constexpr double kExactRelative = 1e-12;
 
-// A box from minM to maxM, two triangles per face, counter-clockwise seen from outside.
-TriangleMesh boxMesh(const glm::dvec3& minM, const glm::dvec3& maxM) {
-  TriangleMesh mesh;
-  for (int corner = 0; corner < 8; ++corner) {
-    mesh.vertices.emplace_back(corner & 1 ? maxM.x : minM.x, corner & 2 ? maxM.y : minM.y, corner & 4 ? maxM.z : minM.z);
-  }
-  const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& face : faces) {
-    mesh.triangles.emplace_back(face[0], face[1], face[2]);
-    mesh.triangles.emplace_back(face[0], face[2], face[3]);
-  }
-  return mesh;
-}
-
-// Rings of constant latitude between the poles, every vertex on the sphere, faces counter-clockwise from outside.
-TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments) {
-  TriangleMesh mesh;
-  mesh.vertices.emplace_back(0, 0, radiusM);
-  for (unsigned ring = 1; ring < rings; ++ring) {
-    const double polarRad = pi * ring / rings;
-    for (unsigned segment = 0; segment < segments; ++segment) {
-      const double azimuthRad = 2 * pi * segment / segments;
-      mesh.vertices.push_back(radiusM * glm::dvec3(std::sin(polarRad) * std::cos(azimuthRad),
-                                                   std::sin(polarRad) * std::sin(azimuthRad), std::cos(polarRad)));
-    }
-  }
-  mesh.vertices.emplace_back(0, 0, -radiusM);
-  const auto southPole = static_cast<unsigned>(mesh.vertices.size() - 1);
-  const auto vertex = [&](unsigned ring, unsigned segment) { return 1 + (ring - 1) * segments + segment % segments; };
-  for (unsigned segment = 0; segment < segments; ++segment) {
-    mesh.triangles.emplace_back(0, vertex(1, segment), vertex(1, segment + 1));
-    for (unsigned ring = 1; ring + 1 < rings; ++ring) {
-      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment), vertex(ring + 1, segment + 1));
-      mesh.triangles.emplace_back(vertex(ring, segment), vertex(ring + 1, segment + 1), vertex(ring, segment + 1));
-    }
-    mesh.triangles.emplace_back(southPole, vertex(rings - 1, segment + 1), vertex(rings - 1, segment));
-  }
-  return mesh;
-}
-
 void expectNear(const glm::dvec3& actual, const glm::dvec3& expected, double tolerance) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(actual[i], expected[i], tolerance) << "component " << i;
 }
