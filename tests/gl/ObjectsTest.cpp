@@ -65,7 +65,7 @@ glm::dvec3 snowMomentum(const firn::ParticleSnapshot& s) {
 // region of each face, and trilinear interpolation reproduces linear functions), so where the snow meets it — the
 // top face, off the grid's nodes — both give the nodes the same φ and normal up to float rounding of the field's
 // samples and their interpolation, a few units of 2⁻²⁴ m. After 1 s (1,000 steps) of landing and settling, every
-// particle is where the analytic box puts it within 1e-3 h: rounding differences that tip a node's φ sign alone
+// particle is where the analytic box puts it within 1e-3 h (measured: the same bytes): rounding differences that tip a node's φ sign alone
 // would move particles by far more (a node's response changes its velocity by up to |v|, 0.3 h per step here).
 TEST_F(ObjectsTest, AClosedCubeMeshColliderGivesTheSnowOfTheAnalyticBox) {
   const std::filesystem::path folder = firn::test::freshDirectory("cube_collider");
@@ -219,6 +219,39 @@ TEST_F(ObjectsTest, ASettledBoxOnSnowIsCarriedByIt) {
               snowImpulseY, weightImpulse, end.positionM.y);
   EXPECT_NEAR(snowImpulseY / weightImpulse, 1.0, 0.02);
   EXPECT_GT(end.positionM.y, 0.22) << "the box must rest on the snow, not sink through it";
+}
+
+// A parked body (the viewer's spare balls) waits where it is, meeting nothing and moving the snow not at all (the
+// snow's bytes are those of the scene without it), until launched; from then on it flies: launched at v₀ = 2 m/s
+// upward, after n = 100 steps of Δt = 1 ms symplectic Euler (v first, then x) has it risen
+// Σ_k (v₀ − k g Δt) Δt = v₀ t − g (t² + t Δt) / 2 = 0.150460 m, to float rounding of the position (1e-6 m).
+TEST_F(ObjectsTest, AParkedBodyWaitsUntilLaunched) {
+  Scene scene = firn::parseScene(R"({
+    "grid": { "origin": [0, 0, 0], "cells": [16, 16, 16], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 10, "frames": 2 },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": [0.3, 0.1, 0.3], "max": [0.5, 0.2, 0.5], "material": "snow" } ],
+    "rigid_bodies": [ { "shape": "sphere", "center": [0.4, 0.15, 0.4], "radius": 0.04, "density": 900 } ]
+  })", "parked ball");
+  scene.rigidBodies[0].parked = true;  // inside the snow: it must not move it
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  simulation.advanceTo(0.05);
+  // The GPU holds it in float.
+  EXPECT_EQ(glm::vec3(simulation.rigidBodyPoses()[0].positionM),
+            glm::vec3(firn::initialBodyPose(scene.rigidBodies[0]).positionM));
+  Scene alone = scene;
+  alone.rigidBodies.clear();
+  Simulation withoutBall(alone, firn::sampleBodies(alone), gl());
+  withoutBall.advanceTo(0.05);
+  EXPECT_TRUE(firn::test::sameBytes(simulation.snapshot(), withoutBall.snapshot()));
+  firn::ObjectPose launch;
+  launch.positionM = {0.4, 0.4, 0.4};
+  launch.velocityMPerS = {0, 2, 0};
+  simulation.launchRigidBody(0, launch);
+  simulation.advanceTo(0.15);
+  const double risenM = simulation.rigidBodyPoses()[0].positionM.y - 0.4;
+  std::printf("the launched ball rose %.5g m in 0.1 s\n", risenM);
+  EXPECT_NEAR(risenM, 2 * 0.1 - 9.81 * (0.1 * 0.1 + 0.1 * 1e-3) / 2, 1e-5);
 }
 
 // A run with rigid bodies is bit for bit the same twice, and resumed from a checkpoint taken mid-run (which holds the
