@@ -65,8 +65,9 @@ glm::dvec3 snowMomentum(const firn::ParticleSnapshot& s) {
 // region of each face, and trilinear interpolation reproduces linear functions), so where the snow meets it — the
 // top face, off the grid's nodes — both give the nodes the same φ and normal up to float rounding of the field's
 // samples and their interpolation, a few units of 2⁻²⁴ m. After 1 s (1,000 steps) of landing and settling, every
-// particle is where the analytic box puts it within 1e-3 h (measured: the same bytes): rounding differences that tip a node's φ sign alone
-// would move particles by far more (a node's response changes its velocity by up to |v|, 0.3 h per step here).
+// particle is where the analytic box puts it within 1e-3 h (measured on llvmpipe: the same bytes): rounding
+// differences that tipped a node's φ sign would move particles by far more (a node's response changes its velocity
+// by up to |v|, 0.3 h per step here).
 TEST_F(ObjectsTest, AClosedCubeMeshColliderGivesTheSnowOfTheAnalyticBox) {
   const std::filesystem::path folder = firn::test::freshDirectory("cube_collider");
   const glm::dvec3 boxMinM(0.31, 0.2, 0.31), boxMaxM(0.83, 0.41, 0.83);
