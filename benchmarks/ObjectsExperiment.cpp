@@ -112,7 +112,9 @@ void measureObjects(BenchRun& run) {
         .set("dt_s", options.thesisDtS)
         .setText("status", timed[i].status)
         .setText("renderer", run.renderer());
-    if (cases[i].triangles > 0) row.set("bake_s", bakeSeconds[i]).setCount("field_samples", std::int64_t(fieldSamples[i]));
+    if (cases[i].triangles > 0) {
+      row.set("bake_s", bakeSeconds[i]).setCount("field_samples", std::int64_t(fieldSamples[i]));
+    }
     if (timed[i].status != "ok") continue;
     const double msPerStep = timed[i].timing.medianMs;
     row.setCount("steps", timed[i].timing.stepsPerRepeat)

@@ -15,7 +15,9 @@ namespace {
 voxelizer::TriangleMesh sphereMesh(double radiusM) { return voxelizer::uvSphere(radiusM, 24, 48); }
 
 // A box of these half extents about the origin.
-voxelizer::TriangleMesh boxMesh(const glm::dvec3& halfExtentsM) { return voxelizer::boxMesh(-halfExtentsM, halfExtentsM); }
+voxelizer::TriangleMesh boxMesh(const glm::dvec3& halfExtentsM) {
+  return voxelizer::boxMesh(-halfExtentsM, halfExtentsM);
+}
 
 // A square across the domain in the plane through the origin with this normal, facing it.
 voxelizer::TriangleMesh planeMesh(const glm::dvec3& normal, double halfSizeM) {
@@ -41,7 +43,8 @@ voxelizer::TriangleMesh colliderMesh(const Scene& scene, const Collider& collide
     }
     case ColliderShape::Sphere: return shifted(sphereMesh(collider.radiusM), collider.pivotM - collider.centerM);
     case ColliderShape::Box:
-      return shifted(boxMesh(0.5 * (collider.maxM - collider.minM)), collider.pivotM - 0.5 * (collider.minM + collider.maxM));
+      return shifted(boxMesh(0.5 * (collider.maxM - collider.minM)),
+                     collider.pivotM - 0.5 * (collider.minM + collider.maxM));
     case ColliderShape::Mesh: return shifted(*collider.mesh, collider.pivotM);
   }
   return {};
@@ -89,7 +92,9 @@ ObjectPose colliderObjectPose(const Collider& collider, double timeS) {
 ObjectPose initialBodyPose(const RigidBody& body) {
   ObjectPose pose;
   pose.positionM = body.centerOfMassM;
-  if (body.shape == RigidShape::Box) pose.orientation = glm::normalize(glm::quat_cast(voxelizer::rotationMatrix(body.rotateDeg)));
+  if (body.shape == RigidShape::Box) {
+    pose.orientation = glm::normalize(glm::quat_cast(voxelizer::rotationMatrix(body.rotateDeg)));
+  }
   pose.velocityMPerS = body.velocityMPerS;
   pose.angularVelocityRadPerS = body.angularVelocityRadPerS;
   return pose;

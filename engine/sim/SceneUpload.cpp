@@ -54,7 +54,8 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
     case RigidShape::Box: {
       std::vector<glm::dvec3> corners;
       for (int corner = 0; corner < 8; ++corner) {
-        corners.push_back(body.halfExtentsM * glm::dvec3(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1));
+        const glm::dvec3 signs(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1);
+        corners.push_back(body.halfExtentsM * signs);
       }
       return corners;
     }
@@ -70,7 +71,9 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
     const glm::dvec3 direction(ring * std::cos(goldenAngle * k), y, ring * std::sin(goldenAngle * k));
     std::size_t farthest = 0;
     for (std::size_t v = 1; v < body.mesh->vertices.size(); ++v) {
-      if (glm::dot(body.mesh->vertices[v], direction) > glm::dot(body.mesh->vertices[farthest], direction)) farthest = v;
+      if (glm::dot(body.mesh->vertices[v], direction) > glm::dot(body.mesh->vertices[farthest], direction)) {
+        farthest = v;
+      }
     }
     if (std::find(chosen.begin(), chosen.end(), farthest) == chosen.end()) chosen.push_back(farthest);
   }
@@ -134,13 +137,15 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
   entry.angularMomentum =
       glm::vec4(glm::vec3(turn * body.inertiaKgM2 * glm::transpose(turn) * pose.angularVelocityRadPerS), 0);
   const glm::dmat3 inverseInertia = glm::inverse(body.inertiaKgM2);
-  for (int column = 0; column < 3; ++column) entry.inverseInertia[column] = glm::vec4(glm::vec3(inverseInertia[column]), 0);
+  for (int column = 0; column < 3; ++column) {
+    entry.inverseInertia[column] = glm::vec4(glm::vec3(inverseInertia[column]), 0);
+  }
   return entry;
 }
 
 std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS) {
-  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(scene.colliders.size() + scene.rigidBodies.size(), 1),
-                                             gpu::ColliderParams{});
+  const std::size_t entries = scene.colliders.size() + scene.rigidBodies.size();
+  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(entries, 1), gpu::ColliderParams{});
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     gpu::ColliderParams& out = colliders[i];
@@ -232,8 +237,10 @@ ParticleRecords particleRecords(const Scene& scene, const MaterialTable& table, 
   records.plastic.reserve(seeds.size());
   for (const ParticleSeed& seed : seeds) {
     const Material& material = scene.materials.at(std::size_t(seed.materialIndex));
-    const glm::vec3 positionM = hasColliders && seed.bodyIndex >= 0 ? escapeColliders(scene.grid, colliders(seed.releaseTimeS), fields.samples, seed).positionM
-                                                                    : seed.positionM;
+    const glm::vec3 positionM =
+        hasColliders && seed.bodyIndex >= 0
+            ? escapeColliders(scene.grid, colliders(seed.releaseTimeS), fields.samples, seed).positionM
+            : seed.positionM;
     records.positionMass.emplace_back(positionM, seed.massKg);
     records.velocityVolume.emplace_back(seed.velocityMPerS, float(seed.massKg / material.densityKgPerM3));
     // Particles added while running (bodyIndex −1) use their material's own entry.

@@ -337,7 +337,8 @@ std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
 void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
   RigidBody body = scene_.rigidBodies.at(index);
   body.parked = false;
-  state_.writeColliders({rigidBodyEntry(body, colliderFields_, index, pose, timeS_)}, scene_.colliders.size() + index);
+  state_.writeColliders({rigidBodyEntry(body, colliderFields_, index, pose, timeS_)},
+                        scene_.colliders.size() + index);
 }
 
 }  // namespace firn

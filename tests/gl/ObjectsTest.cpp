@@ -127,7 +127,8 @@ TEST_F(ObjectsTest, SnowPouredOnTheBunnyNeverSinksIntoIt) {
   std::size_t touching = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
     glm::vec3 normal;
-    const float distanceM = firn::gpu::colliderDistance(table[1], fields.samples, glm::vec3(s.positionMass[i]), 1.0f, normal);
+    const float distanceM =
+        firn::gpu::colliderDistance(table[1], fields.samples, glm::vec3(s.positionMass[i]), 1.0f, normal);
     deepestM = std::max(deepestM, -double(distanceM));
     if (distanceM < cellM) ++touching;
   }
