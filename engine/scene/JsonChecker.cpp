@@ -25,11 +25,6 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
   return previousRow[b.size()];
 }
 
-std::string notYetSupported(const std::string& what, const std::string& supported) {
-  return what + " part of the scene format but not supported by this build yet" +
-         (supported.empty() ? "" : " (supported: " + supported + ")");
-}
-
 // nlohmann keeps the last of two equal keys in an object; a scene that sets a key twice almost always has a
 // stale copy, so it is reported instead. Tracks the key path while parsing to say where.
 class DuplicateKeyCheck {
@@ -225,11 +220,7 @@ std::string Value::string() const {
   return json_.get<std::string>();
 }
 
-void Value::failChoice(const std::vector<std::string>& supported, Names later) const {
-  const std::string text = json_.get<std::string>();
-  for (const char* name : later) {
-    if (text == name) fail(notYetSupported("\"" + text + "\" is", joinNames(supported)));
-  }
+void Value::failChoice(const std::vector<std::string>& supported) const {
   std::vector<std::string> quoted;
   for (const std::string& name : supported) quoted.push_back("\"" + name + "\"");
   fail("must be one of " + joinNames(quoted) + " (got " + describeValue(json_) + ")");
@@ -267,11 +258,10 @@ std::optional<Value> Object::optional(const std::string& key) const {
   return value_.member(key);
 }
 
-void Object::checkKeys(const std::vector<std::string>& allowed, Names later, const std::string& what) const {
+void Object::checkKeys(const std::vector<std::string>& allowed, const std::string& what) const {
   for (const auto& member : value_.json().items()) {
     const std::string& key = member.key();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-    if (std::find(later.begin(), later.end(), key) != later.end()) fail(key, notYetSupported("this key is", ""));
     std::string suggestion;
     std::size_t closestDistance = 3;  // further than two edits is a different word, not a typo
     for (const std::string& candidate : allowed) {

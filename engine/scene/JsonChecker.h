@@ -54,7 +54,6 @@ struct Interval {
 
 template <class Enum>
 using Choices = std::initializer_list<std::pair<const char*, Enum>>;
-using Names = std::initializer_list<const char*>;
 
 // One JSON value and the key path that leads to it; reads it as a checked number, string, enum or vector.
 class Value {
@@ -80,20 +79,19 @@ class Value {
   glm::dvec3 vec3() const;
   glm::ivec3 ivec3(int low, int high) const;
 
-  // `later` names values the scene format defines but this build does not implement yet.
   template <class Enum>
-  Enum choice(Choices<Enum> choices, Names later = {}) const {
+  Enum choice(Choices<Enum> choices) const {
     const std::string text = string();
     std::vector<std::string> supported;
     for (const auto& [name, value] : choices) {
       if (text == name) return value;
       supported.push_back(name);
     }
-    failChoice(supported, later);
+    failChoice(supported);
   }
 
  private:
-  [[noreturn]] void failChoice(const std::vector<std::string>& supported, Names later) const;
+  [[noreturn]] void failChoice(const std::vector<std::string>& supported) const;
 
   const Json& json_;
   std::string path_;
@@ -129,14 +127,13 @@ class Object {
     return has(key) ? value_.member(key).vec3() : fallback;
   }
   template <class Enum>
-  Enum choice(const std::string& key, Enum fallback, Choices<Enum> choices, Names later = {}) const {
-    return has(key) ? value_.member(key).template choice<Enum>(choices, later) : fallback;
+  Enum choice(const std::string& key, Enum fallback, Choices<Enum> choices) const {
+    return has(key) ? value_.member(key).template choice<Enum>(choices) : fallback;
   }
 
   // Unknown keys are errors (docs/scene-format.md), so that a misspelt key cannot silently fall back to a
-  // default. `later` names keys the scene format defines but this build does not implement yet; `what` says
-  // which kind of object this is, since the allowed keys depend on it ("a sphere body").
-  void checkKeys(const std::vector<std::string>& allowed, Names later, const std::string& what) const;
+  // default. `what` says which kind of object this is, since the allowed keys depend on it ("a sphere body").
+  void checkKeys(const std::vector<std::string>& allowed, const std::string& what) const;
 
  private:
   Value value_;

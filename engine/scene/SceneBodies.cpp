@@ -156,24 +156,22 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
   const auto readFile = [&] { result.resolvedPath = readFilePath(body, sceneFolder, result.path); };
   switch (result.shape) {
     case BodyShape::Sphere:
-      body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), {}, "a sphere body");
+      body.checkKeys(keysWith({"center", "radius", "particles_per_cell", "sampler"}), "a sphere body");
       result.centerM = body.vec3("center");
       result.radiusM = body.number("radius", Interval::greaterThan(0));
       break;
     case BodyShape::Box:
-      body.checkKeys(keysWith({"min", "max", "particles_per_cell", "sampler"}), {}, "a box body");
+      body.checkKeys(keysWith({"min", "max", "particles_per_cell", "sampler"}), "a box body");
       result.minM = body.vec3("min");
       result.maxM = body.vec3("max");
       checkBoxCorners(body, result.minM, result.maxM);
       break;
     case BodyShape::Mesh:
-      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particles_per_cell", "sampler"}), {},
-                     "a mesh body");
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particles_per_cell", "sampler"}), "a mesh body");
       readFile();
       break;
     case BodyShape::Points:
-      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particle_mass"}), {},
-                     "a points body");
+      body.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "particle_mass"}), "a points body");
       readFile();
       break;
   }

@@ -31,7 +31,7 @@ std::vector<ColliderKeyframe> readKeyframes(const Value& keyframes) {
   std::vector<ColliderKeyframe> result;
   for (std::size_t i = 0; i < keyframes.json().size(); ++i) {
     const Object keyframe(keyframes.element(i));
-    keyframe.checkKeys({"time_s", "translate", "rotate_deg"}, {}, "a collider keyframe");
+    keyframe.checkKeys({"time_s", "translate", "rotate_deg"}, "a collider keyframe");
     ColliderKeyframe& key = result.emplace_back();
     key.timeS = keyframe.number("time_s", Interval::atLeast(0));
     if (i > 0 && !(key.timeS > result[i - 1].timeS)) {
@@ -67,7 +67,7 @@ Collider readCollider(const Object& collider, const GridSpec& grid, const std::f
   };
   switch (result.shape) {
     case ColliderShape::Plane: {
-      collider.checkKeys(keysWith({"type", "point", "normal"}), {}, "a plane collider");
+      collider.checkKeys(keysWith({"type", "point", "normal"}), "a plane collider");
       result.pointM = collider.vec3("point");
       const glm::dvec3 normal = collider.vec3("normal");
       const double largestComponent = std::max({std::abs(normal.x), std::abs(normal.y), std::abs(normal.z)});
@@ -78,21 +78,20 @@ Collider readCollider(const Object& collider, const GridSpec& grid, const std::f
       break;
     }
     case ColliderShape::Sphere:
-      collider.checkKeys(keysWith({"type", "center", "radius"}), {}, "a sphere collider");
+      collider.checkKeys(keysWith({"type", "center", "radius"}), "a sphere collider");
       result.centerM = collider.vec3("center");
       result.radiusM = collider.number("radius", Interval::greaterThan(0));
       result.pivotM = result.centerM;
       break;
     case ColliderShape::Box:
-      collider.checkKeys(keysWith({"type", "min", "max"}), {}, "a box collider");
+      collider.checkKeys(keysWith({"type", "min", "max"}), "a box collider");
       result.minM = collider.vec3("min");
       result.maxM = collider.vec3("max");
       checkBoxCorners(collider, result.minM, result.maxM);
       result.pivotM = 0.5 * (result.minM + result.maxM);
       break;
     case ColliderShape::Mesh: {
-      collider.checkKeys(keysWith({"type", "path", "scale", "rotate_deg", "translate", "resolution"}), {},
-                         "a mesh collider");
+      collider.checkKeys(keysWith({"type", "path", "scale", "rotate_deg", "translate", "resolution"}), "a mesh collider");
       result.fieldResolution = collider.number("resolution", result.fieldResolution, fieldResolutionAllowed());
       PlacedMesh placed = readPlacedMesh(collider, sceneFolder, grid.cellSizeM / result.fieldResolution);
       result.path = std::move(placed.path);

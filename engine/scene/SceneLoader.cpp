@@ -22,7 +22,7 @@ using json::describeValue;
 namespace {
 
 GridSpec readGrid(const Object& grid) {
-  grid.checkKeys({"origin", "cells", "cell_size"}, {}, "\"grid\"");
+  grid.checkKeys({"origin", "cells", "cell_size"}, "\"grid\"");
   GridSpec spec;
   spec.originM = grid.vec3("origin", spec.originM);
   // Fewer than 8 cells leaves at most 4 interior cells between the walls; 1024³ cells is already 10⁹ nodes.
@@ -44,7 +44,7 @@ GridSpec readGrid(const Object& grid) {
 }
 
 TimeSpec readTime(const Object& time) {
-  time.checkKeys({"dt", "frame_rate", "frames", "adaptive", "cfl"}, {}, "\"time\"");
+  time.checkKeys({"dt", "frame_rate", "frames", "adaptive", "cfl"}, "\"time\"");
   TimeSpec spec;
   spec.frameRateHz = time.number("frame_rate", spec.frameRateHz, Interval::greaterThan(0));
   const double frameDurationS = 1.0 / spec.frameRateHz;
@@ -85,8 +85,7 @@ TimeSpec readTime(const Object& time) {
 
 SolverSpec readSolver(const Object& solver) {
   solver.checkKeys({"kernel", "transfer", "flip_ratio", "atomics", "particle_volume", "integrator", "implicit_ratio",
-                    "tolerance", "max_iterations"},
-                   {}, "\"solver\"");
+                    "tolerance", "max_iterations"}, "\"solver\"");
   SolverSpec spec;
   spec.kernel = solver.choice<Kernel>("kernel", spec.kernel, {{"quadratic", Kernel::Quadratic}, {"cubic", Kernel::Cubic}});
   spec.transfer =
@@ -123,7 +122,7 @@ void requireHessians(const Object& solver, const std::vector<Material>& material
 }
 
 CameraSpec readCamera(const Object& camera) {
-  camera.checkKeys({"position", "target", "fov_deg"}, {}, "\"camera\"");
+  camera.checkKeys({"position", "target", "fov_deg"}, "\"camera\"");
   CameraSpec spec;
   spec.positionM = camera.vec3("position");
   spec.targetM = camera.vec3("target");
@@ -136,9 +135,7 @@ CameraSpec readCamera(const Object& camera) {
 Scene readScene(const Object& root, const std::filesystem::path& sceneFolder) {
   root.checkKeys(
       {"name", "description", "grid", "time", "gravity", "solver", "materials", "bodies", "colliders",
-       "rigid_bodies", "camera", "surface"},
-      {},
-      "a scene");
+       "rigid_bodies", "camera", "surface"}, "a scene");
   Scene scene;
   scene.name = root.string("name", scene.name);
   scene.description = root.string("description", scene.description);

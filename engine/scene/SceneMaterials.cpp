@@ -24,8 +24,7 @@ const Material* findPreset(const std::string& name) {
 // Snow: a preset supplies every number and explicit keys override it; without one, all are required.
 void readSnow(const Object& material, Material& result) {
   material.checkKeys({"model", "preset", "youngs_modulus", "poisson_ratio", "density", "critical_compression",
-                      "critical_stretch", "hardening"},
-                     {}, "a snow material");
+                      "critical_stretch", "hardening"}, "a snow material");
   const bool hasPreset = material.has("preset");
   if (hasPreset) {
     const Value presetName = material.required("preset");
@@ -63,8 +62,7 @@ void readElasticConstants(const Object& material, Material& result) {
 // Sand: a constant friction angle, or Klár 2016's hardening [h0, h1, h2, h3] (degrees, degrees, 1, degrees)
 // with h0 > h3 ≥ 0 and h1, h2 ≥ 0 (Blažević 2022 §4.4.2); φ must stay below 90°, where the cone is a plane.
 void readDruckerPrager(const Object& material, Material& result) {
-  material.checkKeys({"model", "youngs_modulus", "poisson_ratio", "density", "friction_angle_deg", "hardening"}, {},
-                     "a drucker_prager material");
+  material.checkKeys({"model", "youngs_modulus", "poisson_ratio", "density", "friction_angle_deg", "hardening"}, "a drucker_prager material");
   readElasticConstants(material, result);
   if (const auto hardening = material.optional("hardening")) {
     if (material.has("friction_angle_deg")) {
@@ -98,12 +96,12 @@ Material readMaterial(const Object& material, const std::string& name) {
     case MaterialModel::Snow: readSnow(material, result); break;
     case MaterialModel::FixedCorotated:
     case MaterialModel::NeoHookean:
-      material.checkKeys({"model", "youngs_modulus", "poisson_ratio", "density"}, {},
+      material.checkKeys({"model", "youngs_modulus", "poisson_ratio", "density"},
                          result.model == MaterialModel::NeoHookean ? "a neo_hookean material" : "a fixed_corotated material");
       readElasticConstants(material, result);
       break;
     case MaterialModel::Water:
-      material.checkKeys({"model", "density", "bulk_modulus", "gamma", "viscosity"}, {}, "a water material");
+      material.checkKeys({"model", "density", "bulk_modulus", "gamma", "viscosity"}, "a water material");
       result.densityKgPerM3 = material.number("density", Interval::greaterThan(0));
       result.bulkModulusPa = material.number("bulk_modulus", Interval::greaterThan(0));
       // γ ≥ 1: the pressure must stiffen as water compresses (Blažević 2022 uses γ = 4 to 7).

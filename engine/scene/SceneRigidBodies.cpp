@@ -121,12 +121,12 @@ RigidBody readRigidBody(const Object& object, const GridSpec& grid, const std::f
   };
   switch (body.shape) {
     case RigidShape::Sphere:
-      object.checkKeys(keysWith({"center", "radius"}), {}, "a sphere rigid body");
+      object.checkKeys(keysWith({"center", "radius"}), "a sphere rigid body");
       body.centerM = object.vec3("center");
       body.radiusM = object.number("radius", Interval::greaterThan(0));
       break;
     case RigidShape::Box: {
-      object.checkKeys(keysWith({"center", "size", "rotate_deg"}), {}, "a box rigid body");
+      object.checkKeys(keysWith({"center", "size", "rotate_deg"}), "a box rigid body");
       body.centerM = object.vec3("center");
       const glm::dvec3 sizeM = object.vec3("size");
       if (!glm::all(glm::greaterThan(sizeM, glm::dvec3(0.0)))) {
@@ -137,7 +137,7 @@ RigidBody readRigidBody(const Object& object, const GridSpec& grid, const std::f
       break;
     }
     case RigidShape::Mesh: {
-      object.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "resolution"}), {}, "a mesh rigid body");
+      object.checkKeys(keysWith({"path", "scale", "rotate_deg", "translate", "resolution"}), "a mesh rigid body");
       body.fieldResolution = object.number("resolution", body.fieldResolution, fieldResolutionAllowed());
       PlacedMesh placed = readPlacedMesh(object, sceneFolder, grid.cellSizeM / body.fieldResolution);
       body.path = std::move(placed.path);

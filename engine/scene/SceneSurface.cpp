@@ -7,7 +7,7 @@ namespace firn::scenefile {
 using json::Interval;
 
 SurfaceSpec readSurface(const json::Object& surface) {
-  surface.checkKeys({"resolution", "smoothing", "iso"}, {}, "\"surface\"");
+  surface.checkKeys({"resolution", "smoothing", "iso"}, "\"surface\"");
   SurfaceSpec spec;
   // Coarser than the simulation's cells loses what it resolves; beyond 8 the grid holds 512 nodes per cell.
   spec.resolution = surface.number("resolution", spec.resolution, Interval::closed(1, 8));
