@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/constants.hpp>
 
+#include "Error.h"
 #include "GlTest.h"
 #include "gpu/GpuFunctions.h"
 #include "scene/Scene.h"
@@ -254,6 +255,26 @@ TEST_F(ObjectsTest, AParkedBodyWaitsUntilLaunched) {
   const double risenM = simulation.rigidBodyPoses()[0].positionM.y - 0.4;
   std::printf("the launched ball rose %.5g m in 0.1 s\n", risenM);
   EXPECT_NEAR(risenM, 2 * 0.1 - 9.81 * (0.1 * 0.1 + 0.1 * 1e-3) / 2, 1e-5);
+}
+
+// Rigid bodies take the explicit grid update's node impulses (eq. 35): a semi-implicit scene with one is refused as
+// bad input naming the section and the way out, before any step.
+TEST_F(ObjectsTest, RigidBodiesWithTheSemiImplicitStepAreRefused) {
+  const Scene scene = firn::parseScene(R"({
+    "grid": { "origin": [0, 0, 0], "cells": [16, 16, 16], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 10, "frames": 1 },
+    "solver": { "integrator": "semi_implicit" },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "box", "min": [0.3, 0.1, 0.3], "max": [0.5, 0.2, 0.5], "material": "snow" } ],
+    "rigid_bodies": [ { "shape": "sphere", "center": [0.4, 0.4, 0.4], "radius": 0.04, "density": 900 } ]
+  })", "semi-implicit ball");
+  try {
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    FAIL() << "a semi-implicit scene with a rigid body ran";
+  } catch (const firn::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("rigid_bodies"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("explicit"), std::string::npos) << error.what();
+  }
 }
 
 // A run with rigid bodies is bit for bit the same twice, and resumed from a checkpoint taken mid-run (which holds the
