@@ -10,9 +10,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/mat3x3.hpp>
-
 #include "Experiments.h"
+#include "scene/SceneObjects.h"
 #include "sim/SceneUpload.h"
 #include "voxelizer/Mesh.h"
 
@@ -39,14 +38,9 @@ Scene withObject(Scene scene, const std::string& object) {
   if (object == "rigid box") {
     RigidBody body;
     body.shape = RigidShape::Box;
-    body.centerM = body.centerOfMassM = centerM;
+    body.centerM = centerM;
     body.halfExtentsM = halfM;
-    body.volumeM3 = 8 * halfM.x * halfM.y * halfM.z;
-    body.massKg = 2000 * body.volumeM3;
-    const glm::dvec3 size = 2.0 * halfM;
-    body.inertiaKgM2 = glm::dmat3(body.massKg / 12 * (size.y * size.y + size.z * size.z), 0, 0, 0,
-                                  body.massKg / 12 * (size.x * size.x + size.z * size.z), 0, 0, 0,
-                                  body.massKg / 12 * (size.x * size.x + size.y * size.y));
+    setUniformDensity(body, shapeMassProperties(body), 2000);
     scene.rigidBodies.push_back(body);
     return scene;
   }

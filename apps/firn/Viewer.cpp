@@ -17,7 +17,6 @@
 #include <GLFW/glfw3.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <glm/gtc/constants.hpp>
 #include <glm/trigonometric.hpp>
 
 #include "Error.h"
@@ -64,16 +63,13 @@ Body snowballBody(const Scene& scene) {
 }
 
 // A spare rigid ball, parked at the domain's centre until thrown (RigidBody::parked, Simulation::launchRigidBody): a
-// sphere of the snowball's radius, its mass and inertia those of a uniform ball, I = 2/5 m r².
+// uniform sphere of the snowball's radius.
 RigidBody spareBall(const Scene& scene) {
   RigidBody ball;
   ball.shape = RigidShape::Sphere;
   ball.radiusM = kSnowballRadiusCells * scene.grid.cellSizeM;
   ball.centerM = scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
-  ball.volumeM3 = 4.0 / 3.0 * glm::pi<double>() * ball.radiusM * ball.radiusM * ball.radiusM;
-  ball.massKg = kRigidBallDensityKgPerM3 * ball.volumeM3;
-  ball.centerOfMassM = ball.centerM;
-  ball.inertiaKgM2 = glm::dmat3(0.4 * ball.massKg * ball.radiusM * ball.radiusM);
+  setUniformDensity(ball, shapeMassProperties(ball), kRigidBallDensityKgPerM3);
   ball.parked = true;
   return ball;
 }

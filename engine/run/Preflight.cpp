@@ -40,10 +40,10 @@ const char* colliderName(ColliderShape shape) {
 // Particles that start inside a collider are moved out to its surface as they are uploaded (escapeColliders):
 // says how many and how deep, per body and collider; refuses a body that would be moved out whole (it would
 // become a sheet on the collider's surface) or particles that cannot be moved out.
-void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
+void reportBodiesInColliders(const Scene& scene, const std::vector<ParticleSeed>& particles,
+                             const ColliderFields& fields, PreflightReport& report) {
   if (scene.colliders.empty() && scene.rigidBodies.empty()) return;
   // The table holds the colliders, then the rigid bodies: snow that starts inside a body is moved out of it alike.
-  const ColliderFields fields = bakeColliderFields(scene);
   ColliderTableAt colliders(scene, fields);
   const std::size_t solids = scene.colliders.size() + scene.rigidBodies.size();
   const auto solidName = [&](std::size_t c) {
@@ -246,6 +246,11 @@ std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<Partic
 }  // namespace
 
 PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles, std::optional<int> lastFrame) {
+  return preflight(scene, particles, lastFrame, bakeColliderFields(scene));
+}
+
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles, std::optional<int> lastFrame,
+                          const ColliderFields& colliderFields) {
   PreflightReport report;
   const double h = scene.grid.cellSizeM;
   const double dt = scene.time.dtS;
@@ -338,7 +343,7 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
   noteObjects(scene, report);
   noteEmitters(scene, particles, lastFrame, report);
   warnAboutSheets(scene, particles, report);
-  reportBodiesInColliders(scene, particles, report);
+  reportBodiesInColliders(scene, particles, colliderFields, report);
   return report;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scene/Scene.h"
+#include "sim/SceneUpload.h"
 
 namespace firn {
 
@@ -27,5 +28,9 @@ struct PreflightReport {
 // `lastFrame`, also says which emitters would not finish within it.
 PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles,
                           std::optional<int> lastFrame = std::nullopt);
+// The same with the scene's distance fields baked already (sim/SceneUpload.h): a session bakes them once for the
+// pre-flight and its simulations.
+PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& particles, std::optional<int> lastFrame,
+                          const ColliderFields& colliderFields);
 
 }  // namespace firn

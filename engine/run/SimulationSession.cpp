@@ -36,9 +36,10 @@ std::vector<ParticleSeed> sampleShowingProgress(const Scene& scene, const gl::Co
 SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options,
                                      std::ostream& log)
     : scene_(scene), gl_(gl), messagePrefix_(options.messagePrefix), log_(log),
-      seeds_(sampleShowingProgress(scene, gl, options)), particleCapacity_(seeds_.size() + options.addedParticleCapacity) {
+      seeds_(sampleShowingProgress(scene, gl, options)), particleCapacity_(seeds_.size() + options.addedParticleCapacity),
+      colliderFields_(bakeColliderFields(scene)) {
   // Before any simulation: a scene that cannot run says so at once (exit 2).
-  const PreflightReport report = preflight(scene, seeds_, options.lastFrame);
+  const PreflightReport report = preflight(scene, seeds_, options.lastFrame, colliderFields_);
   // Surface settings that do not suit the particles are bad input before the GPU's buffers are made.
   if (options.withSurface) surface::checkKernelRange(scene, seeds_);
   restart();
@@ -55,7 +56,7 @@ SimulationSession::~SimulationSession() = default;
 
 void SimulationSession::restart() {
   simulation_.reset();
-  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, particleCapacity_);
+  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, colliderFields_, particleCapacity_);
 }
 
 surface::SurfaceReconstruction& SimulationSession::surface() {

@@ -13,6 +13,7 @@
 
 #include "gl/Context.h"
 #include "scene/Scene.h"
+#include "sim/SceneUpload.h"
 
 namespace firn {
 
@@ -64,6 +65,7 @@ class SimulationSession {
   std::ostream& log_;
   std::vector<ParticleSeed> seeds_;
   std::size_t particleCapacity_;
+  ColliderFields colliderFields_;  // baked once, for the pre-flight and every restart
   std::unique_ptr<Simulation> simulation_;
   std::unique_ptr<surface::SurfaceReconstruction> surface_;
 };

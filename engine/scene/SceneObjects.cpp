@@ -89,6 +89,42 @@ ObjectPose colliderObjectPose(const Collider& collider, double timeS) {
   return {pose.pivotM, pose.rotation, pose.velocityMPerS, pose.angularVelocityRadPerS};
 }
 
+voxelizer::MassProperties shapeMassProperties(const RigidBody& body) {
+  voxelizer::MassProperties shape;
+  switch (body.shape) {
+    case RigidShape::Sphere: {
+      const double r = body.radiusM;
+      shape.volumeM3 = 4.0 / 3.0 * glm::pi<double>() * r * r * r;
+      shape.centroidM = body.centerM;
+      shape.inertiaPerDensityM5 = glm::dmat3(2.0 / 5.0 * shape.volumeM3 * r * r);  // 2/5 m r²
+      break;
+    }
+    case RigidShape::Box: {
+      const glm::dvec3 edgesM = 2.0 * body.halfExtentsM;
+      const glm::dvec3 squared = edgesM * edgesM;
+      shape.volumeM3 = edgesM.x * edgesM.y * edgesM.z;
+      shape.centroidM = body.centerM;
+      // m/12 diag(b² + c², a² + c², a² + b²), in the box's own axes.
+      shape.inertiaPerDensityM5[0][0] = shape.volumeM3 / 12 * (squared.y + squared.z);
+      shape.inertiaPerDensityM5[1][1] = shape.volumeM3 / 12 * (squared.x + squared.z);
+      shape.inertiaPerDensityM5[2][2] = shape.volumeM3 / 12 * (squared.x + squared.y);
+      break;
+    }
+    case RigidShape::Mesh:
+      // Measured as placed: the body's own axes are the world's at t = 0 (Scene.h, RigidBody).
+      shape = voxelizer::massProperties(*body.mesh);
+      break;
+  }
+  return shape;
+}
+
+void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3) {
+  body.volumeM3 = shape.volumeM3;
+  body.centerOfMassM = shape.centroidM;
+  body.massKg = densityKgPerM3 * shape.volumeM3;
+  body.inertiaKgM2 = densityKgPerM3 * shape.inertiaPerDensityM5;
+}
+
 ObjectPose initialBodyPose(const RigidBody& body) {
   ObjectPose pose;
   pose.positionM = body.centerOfMassM;

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "scene/Scene.h"
+#include "voxelizer/MassProperties.h"
 #include "voxelizer/Mesh.h"
 
 namespace firn {
@@ -42,6 +43,14 @@ ObjectPose colliderObjectPose(const Collider& collider, double timeS);
 
 // A rigid body's frame at t = 0, as the scene places it.
 ObjectPose initialBodyPose(const RigidBody& body);
+
+// A rigid body's volume (m³), centre of mass (world, t = 0) and inertia of unit density about it along its own axes:
+// a sphere's and a box's in closed form, a mesh's from its volume integrals (voxelizer::massProperties, which throws
+// MeshError for a mesh that encloses no definite volume).
+voxelizer::MassProperties shapeMassProperties(const RigidBody& body);
+
+// Fills the body's volume, centre of mass, mass and inertia for a uniform density, from its shape's `shape`.
+void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3);
 
 // Whether every number of the pose is finite (no NaN, no infinity): a pose that is not stops a run (exit 3).
 bool isFinite(const ObjectPose& pose);

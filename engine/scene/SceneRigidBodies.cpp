@@ -10,13 +10,12 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <glm/gtc/constants.hpp>
 #include <glm/matrix.hpp>
 #include <glm/vector_relational.hpp>
 
 #include "io/Text.h"
+#include "scene/SceneObjects.h"
 #include "scene/SceneSections.h"
-#include "voxelizer/MassProperties.h"
 
 namespace firn::scenefile {
 
@@ -47,38 +46,13 @@ voxelizer::Bounds boundingBox(const RigidBody& body) {
   return {body.centerM, body.centerM};
 }
 
-// The volume (m³), centre of mass (world, t = 0) and inertia of unit density about it along the body's own axes.
-voxelizer::MassProperties shapeMassProperties(const Object& object, const RigidBody& body) {
-  voxelizer::MassProperties shape;
-  switch (body.shape) {
-    case RigidShape::Sphere: {
-      const double r = body.radiusM;
-      shape.volumeM3 = 4.0 / 3.0 * glm::pi<double>() * r * r * r;
-      shape.centroidM = body.centerM;
-      shape.inertiaPerDensityM5 = glm::dmat3(2.0 / 5.0 * shape.volumeM3 * r * r);  // 2/5 m r²
-      break;
-    }
-    case RigidShape::Box: {
-      const glm::dvec3 edgesM = 2.0 * body.halfExtentsM;
-      const glm::dvec3 squared = edgesM * edgesM;
-      shape.volumeM3 = edgesM.x * edgesM.y * edgesM.z;
-      shape.centroidM = body.centerM;
-      // m/12 diag(b² + c², a² + c², a² + b²), in the box's own axes.
-      shape.inertiaPerDensityM5[0][0] = shape.volumeM3 / 12 * (squared.y + squared.z);
-      shape.inertiaPerDensityM5[1][1] = shape.volumeM3 / 12 * (squared.x + squared.z);
-      shape.inertiaPerDensityM5[2][2] = shape.volumeM3 / 12 * (squared.x + squared.y);
-      break;
-    }
-    case RigidShape::Mesh:
-      // Measured as placed: the body's own axes are the world's at t = 0 (Scene.h, RigidBody).
-      try {
-        shape = voxelizer::massProperties(*body.mesh);
-      } catch (const voxelizer::MeshError& error) {
-        object.fail("path", body.resolvedPath.string() + ": " + error.what() + " (a rigid body needs a closed mesh)");
-      }
-      break;
+// The shape's mass properties (SceneObjects.h); a mesh that encloses no definite volume fails at "path".
+voxelizer::MassProperties readShapeMassProperties(const Object& object, const RigidBody& body) {
+  try {
+    return shapeMassProperties(body);
+  } catch (const voxelizer::MeshError& error) {
+    object.fail("path", body.resolvedPath.string() + ": " + error.what() + " (a rigid body needs a closed mesh)");
   }
-  return shape;
 }
 
 // Exactly one of "mass" and "density" gives the mass; the other follows from the volume. The mass and the inertia's
@@ -89,13 +63,10 @@ void readMass(const Object& object, RigidBody& body, const voxelizer::MassProper
                 object.has("mass") ? "a rigid body takes \"mass\" or \"density\", not both (remove one)"
                                    : "required key is missing: a rigid body needs \"mass\" (kg) or \"density\" (kg/m³)");
   }
-  body.volumeM3 = shape.volumeM3;
-  body.centerOfMassM = shape.centroidM;
   const std::string key = object.has("mass") ? "mass" : "density";
-  const double densityKgPerM3 = object.has("mass") ? object.number("mass", Interval::greaterThan(0)) / body.volumeM3
+  const double densityKgPerM3 = object.has("mass") ? object.number("mass", Interval::greaterThan(0)) / shape.volumeM3
                                                    : object.number("density", Interval::greaterThan(0));
-  body.massKg = densityKgPerM3 * body.volumeM3;
-  body.inertiaKgM2 = densityKgPerM3 * shape.inertiaPerDensityM5;
+  setUniformDensity(body, shape, densityKgPerM3);
   const auto isNormalFloat = [](double value) {
     return value >= double(std::numeric_limits<float>::min()) && value <= double(std::numeric_limits<float>::max());
   };
@@ -149,7 +120,7 @@ RigidBody readRigidBody(const Object& object, const GridSpec& grid, const std::f
       break;
     }
   }
-  readMass(object, body, shapeMassProperties(object, body));
+  readMass(object, body, readShapeMassProperties(object, body));
   body.velocityMPerS = object.vec3("velocity", body.velocityMPerS);
   body.angularVelocityRadPerS = object.vec3("angular_velocity", body.angularVelocityRadPerS);
   body.friction = object.number("friction", body.friction, Interval::atLeast(0));

@@ -1,7 +1,6 @@
 #include "sim/SceneUpload.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <unordered_set>
 
@@ -83,7 +82,6 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
 }
 
 ColliderFields bakeColliderFields(const Scene& scene) {
-  const auto start = std::chrono::steady_clock::now();
   ColliderFields fields;
   fields.colliders.resize(scene.colliders.size());
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
@@ -104,7 +102,6 @@ ColliderFields bakeColliderFields(const Scene& scene) {
       fields.samples.insert(fields.samples.end(), {float(probe.x), float(probe.y), float(probe.z)});
     }
   }
-  fields.bakeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return fields;
 }
 
@@ -143,9 +140,8 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
   return entry;
 }
 
-std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS) {
-  const std::size_t entries = scene.colliders.size() + scene.rigidBodies.size();
-  std::vector<gpu::ColliderParams> colliders(std::max<std::size_t>(entries, 1), gpu::ColliderParams{});
+std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const ColliderFields& fields, double timeS) {
+  std::vector<gpu::ColliderParams> colliders(scene.colliders.size(), gpu::ColliderParams{});
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     gpu::ColliderParams& out = colliders[i];
@@ -176,11 +172,17 @@ std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const Co
     out.shapeBoundary.y = boundaryCode(c.boundary);
     out.shapeBoundary.w = 1;
   }
+  return colliders;
+}
+
+std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS) {
+  std::vector<gpu::ColliderParams> table = colliderEntries(scene, fields, timeS);
   for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b) {
     const RigidBody& body = scene.rigidBodies[b];
-    colliders[scene.colliders.size() + b] = rigidBodyEntry(body, fields, b, initialBodyPose(body), 0);
+    table.push_back(rigidBodyEntry(body, fields, b, initialBodyPose(body), 0));
   }
-  return colliders;
+  if (table.empty()) table.emplace_back();  // a zeroed entry, so that the binding is always a valid buffer
+  return table;
 }
 
 const std::vector<gpu::ColliderParams>& ColliderTableAt::operator()(double timeS) {

@@ -28,7 +28,6 @@ struct ColliderFields {
   std::vector<Field> colliders;           // per scene collider
   std::vector<Field> bodies;              // per rigid body
   std::vector<glm::ivec2> bodyProbes;     // per rigid body: its first float, and its probes (3 floats each)
-  double bakeSeconds = 0;                 // how long the fields took to bake
 };
 ColliderFields bakeColliderFields(const Scene& scene);
 
@@ -38,9 +37,12 @@ ColliderFields bakeColliderFields(const Scene& scene);
 constexpr int kMeshProbeDirections = 128;
 std::vector<glm::dvec3> bodyProbes(const RigidBody& body);
 
-// One entry per collider, then one per rigid body at its initial state; at least one (zeroed) so the binding is always
-// a valid buffer. Each collider has its pose at the start of the segment of its motion that holds `timeS`
+// One entry per collider, each with its pose at the start of the segment of its motion that holds `timeS`
 // (colliderPose): the GPU advances it rigidly from there.
+std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const ColliderFields& fields, double timeS);
+
+// The whole table: colliderEntries, then one entry per rigid body at its initial state; at least one (zeroed) so the
+// binding is always a valid buffer.
 std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS);
 
 // A rigid body's entry in the collider table with its frame at `pose` (SceneObjects.h).

@@ -6,6 +6,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -66,10 +67,15 @@ constexpr int kBlockPoolRetries = 3;
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
                        std::size_t particleCapacity, MaterialPrograms programs, std::size_t blockCapacity)
+    : Simulation(scene, seeds, gl, bakeColliderFields(scene), particleCapacity, programs, blockCapacity) {}
+
+Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
+                       ColliderFields colliderFields, std::size_t particleCapacity, MaterialPrograms programs,
+                       std::size_t blockCapacity)
     : scene_(requireParticles(scene, seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
-      colliderFields_(bakeColliderFields(scene_)),
+      colliderFields_(std::move(colliderFields)),
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
                                       blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
                                       needsDeformationGradient(scene_, programs)),
@@ -148,11 +154,7 @@ void Simulation::step(double dtS) {
   releaseDueParticles();
   // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
   // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).
-  if (keyframedColliders_) {
-    std::vector<gpu::ColliderParams> table = buildColliderTable(scene_, colliderFields_, timeS_);
-    table.resize(scene_.colliders.size());
-    state_.writeColliders(table);
-  }
+  if (keyframedColliders_) state_.writeColliders(colliderEntries(scene_, colliderFields_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);

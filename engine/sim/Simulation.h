@@ -66,6 +66,11 @@ class Simulation {
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
              std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels,
              std::size_t blockCapacity = 0);
+  // The same with the scene's distance fields baked already (bakeColliderFields), as a session keeps them from its
+  // pre-flight through every restart.
+  Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
+             ColliderFields colliderFields, std::size_t particleCapacity = 0,
+             MaterialPrograms programs = MaterialPrograms::SceneModels, std::size_t blockCapacity = 0);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
   // density that gave the first particles their volumes is not theirs to share), and grows the grid's pool if
@@ -107,8 +112,6 @@ class Simulation {
   // Sets parked rigid body `index` (Scene::rigidBodies, RigidBody::parked) going from the start of the next step at
   // `pose`: its position, orientation, velocity and angular velocity. A restart parks it again.
   void launchRigidBody(std::size_t index, const ObjectPose& pose);
-  // How long the scene's distance fields took to bake (s).
-  double colliderFieldsBakeSeconds() const { return colliderFields_.bakeSeconds; }
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;
