@@ -131,16 +131,14 @@ std::vector<SceneObject> movingObjects(const Scene& scene) {
   return objects;
 }
 
-// Each moving object's frame at the simulation's time: a collider's from its motion, a rigid body's as the
-// simulation holds it (read back from the GPU, only when the scene has bodies).
+// Each moving object's frame at `timeS`: a collider's from its motion, a rigid body's from `bodyPoses` (the
+// simulation's, read back once per frame).
 std::vector<ObjectPose> objectPoses(const Scene& scene, const std::vector<SceneObject>& objects,
-                                    const Simulation& simulation) {
-  std::vector<ObjectPose> bodyPoses;
-  if (!scene.rigidBodies.empty()) bodyPoses = simulation.rigidBodyPoses();
+                                    const std::vector<ObjectPose>& bodyPoses, double timeS) {
   std::vector<ObjectPose> poses;
   for (const SceneObject& object : objects) {
     poses.push_back(object.kind == ObjectKind::Collider
-                        ? colliderObjectPose(scene.colliders[std::size_t(object.index)], simulation.timeS())
+                        ? colliderObjectPose(scene.colliders[std::size_t(object.index)], timeS)
                         : bodyPoses.at(std::size_t(object.index)));
   }
   return poses;
@@ -236,7 +234,9 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   const std::vector<SceneObject> objects = movingObjects(scene);
   std::optional<BodiesCsvWriter> bodies;  // with stats, when the scene has moving objects
   auto writeFrame = [&](int frame, std::uint64_t steps, double wallMs) {
-    const std::vector<ObjectPose> poses = objectPoses(scene, objects, simulation);
+    // The bodies' poses, one readback (none without bodies), for bodies.csv, the object meshes and the picture.
+    const std::vector<ObjectPose> bodyPoses = simulation.rigidBodyPoses();
+    const std::vector<ObjectPose> poses = objectPoses(scene, objects, bodyPoses, simulation.timeS());
     requireFinitePoses(objects, poses, frame, simulation.timeS());
     const ParticleSnapshot particles = simulation.snapshot();
     FrameStats row = measureFrame(particles, scene.grid);
@@ -293,7 +293,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     }
     if (pictures) {
       render::writePng(options.outputDir / numberedFileName("frame", frame, ".png"),
-                       pictures->render(simulation.particleView(), simulation.rigidBodyPoses(), camera,
+                       pictures->render(simulation.particleView(), bodyPoses, camera,
                                         options.colorMode, surfacePictures ? snowSurface : nullptr));
     }
   };
