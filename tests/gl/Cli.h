@@ -18,7 +18,7 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-// `environment` is prepended to the command line ("FIRN_EGL_DEVICE=99", or a wrapper such as xvfb-run).
+// `environment` is prepended to the command line ("FIRN_EGL_DEVICE=99", or a wrapper such as kOnXvfb).
 inline Result runFirn(const std::string& arguments, const std::string& environment = "") {
   const std::string command = environment + " " + FIRN_EXECUTABLE + " " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
@@ -29,6 +29,10 @@ inline Result runFirn(const std::string& arguments, const std::string& environme
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
+
+// The wrapper that runs a command on a virtual X server (xvfb-run) and exits with the command's own status, for the
+// viewer's tests: tests/support/on-xvfb.sh says why xvfb-run's own status will not do.
+inline const std::string kOnXvfb = FIRN_SOURCE_DIR "/tests/support/on-xvfb.sh";
 
 inline std::filesystem::path writeScene(const std::filesystem::path& directory, const std::string& name,
                                         const std::string& json) {

@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
+using firn::test::kOnXvfb;
 using firn::test::onPath;
 using firn::test::Result;
 using firn::test::runFirn;
@@ -201,18 +202,17 @@ TEST(Pictures, Mp4WithoutFfmpegSaysSoBeforeRunning) {
 }
 
 // docs/platform.md, The viewer under Xvfb: `xvfb-run -a -s "-screen 0 1280x720x24" firn view …` is how the viewer is
-// tested.
+// tested (through tests/support/on-xvfb.sh, which keeps firn's exit status).
 TEST(Viewer, RunsUnderXvfbAndWritesANonBlankScreenshot) {
   if (!onPath("xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (scripts/setup.sh installs the xvfb package)";
   const fs::path folder = freshDirectory("view");
   const fs::path scene = writeScene(folder, "ball.json", kBallScene);
   const fs::path screenshot = folder / "view.png";
-  const std::string xvfb = "xvfb-run -a -s '-screen 0 1280x720x24'";
   for (const std::string render : {"--render particles", "" /* the surface */}) {
     SCOPED_TRACE(render);
     const Result result = runFirn("view " + scene.string() + " " + render +
                                       " --frames 10 --width 320 --height 240 --screenshot " + screenshot.string(),
-                                  xvfb);
+                                  kOnXvfb);
     ASSERT_EQ(result.exitCode, 0) << result.output;
     EXPECT_NE(result.output.find("10 frames"), std::string::npos) << result.output;
     const Picture picture = readPicture(screenshot);
@@ -232,7 +232,7 @@ TEST(Viewer, ThrownSnowballAddsItsParticles) {
   const fs::path scene = writeScene(folder, "ball.json", kBallScene);
   const auto finalParticles = [&](const std::string& extra) {
     const Result result = runFirn("view " + scene.string() + " --frames 4 --width 160 --height 120 " + extra,
-                                  "xvfb-run -a -s '-screen 0 1280x720x24'");
+                                  kOnXvfb);
     EXPECT_EQ(result.exitCode, 0) << result.output;
     const std::size_t end = result.output.rfind(" particles");
     const std::size_t start = result.output.rfind(' ', end - 1);

@@ -14,12 +14,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
+using firn::test::kOnXvfb;
 using firn::test::onPath;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
-
-const char* const kXvfb = "xvfb-run -a -s '-screen 0 1280x720x24'";
 
 const char* const kBallScene = R"({
   "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
@@ -42,7 +41,7 @@ Result runScene(const fs::path& scene, const fs::path& folder) {
 }
 
 Result viewScene(const fs::path& scene) {
-  return runFirn("view " + scene.string() + " --frames 1 --width 160 --height 120", kXvfb);
+  return runFirn("view " + scene.string() + " --frames 1 --width 160 --height 120", kOnXvfb);
 }
 
 // The opening line up to the frames and the renderer (a window's context names its renderer as it likes), then
