@@ -45,6 +45,27 @@ void setField(gpu::ColliderParams& entry, const ColliderFields::Field& field) {
   entry.fieldOrigin = glm::vec4(glm::vec3(field.originFromPivotM), float(field.spacingM));
 }
 
+// The radius of the sphere about an entry's pivot that holds its whole shape at rest (for a mesh, its field's
+// lattice, beyond which φ only grows), for colliderWithinReach (common/colliders.glsl); a plane has none (−1). It is
+// 10⁻⁴ larger than exact, far beyond the float rounding of the point's turn into the rest frame, so a point it
+// leaves out has φ > 0 and the reach changes no result.
+float shapeReachM(const gpu::ColliderParams& entry) {
+  double reachM = 0;
+  switch (entry.shapeBoundary.x) {
+    case gpu::SHAPE_PLANE: return -1.0f;
+    case gpu::SHAPE_SPHERE: reachM = glm::length(glm::dvec3(entry.shapeA)) + entry.shapeA.w; break;
+    case gpu::SHAPE_BOX: reachM = glm::length(glm::dvec3(entry.shapeA)) + glm::length(glm::dvec3(entry.shapeB)); break;
+    case gpu::SHAPE_MESH: {
+      const glm::dvec3 lowM(entry.fieldOrigin);
+      const glm::dvec3 highM = lowM + double(entry.fieldOrigin.w) * (glm::dvec3(glm::ivec3(entry.field.y, entry.field.z,
+                                                                                            entry.field.w)) - 1.0);
+      reachM = glm::length(glm::max(glm::abs(lowM), glm::abs(highM)));
+      break;
+    }
+  }
+  return float(reachM * (1.0 + 1e-4));
+}
+
 }  // namespace
 
 std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
@@ -123,7 +144,7 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
   entry.rotation = glm::vec4(float(pose.orientation.x), float(pose.orientation.y), float(pose.orientation.z),
                              float(pose.orientation.w));
   entry.velocityFriction = glm::vec4(glm::vec3(pose.velocityMPerS), float(body.friction));
-  entry.angularVelocity = glm::vec4(glm::vec3(pose.angularVelocityRadPerS), 0);
+  entry.angularVelocity = glm::vec4(glm::vec3(pose.angularVelocityRadPerS), shapeReachM(entry));
   entry.shapeBoundary.y = boundaryCode(body.boundary);
   entry.shapeBoundary.z = 1;
   entry.shapeBoundary.w = body.parked ? 0 : 1;
@@ -168,7 +189,7 @@ std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const Colli
     out.rotation = glm::vec4(float(segment.rotation.x), float(segment.rotation.y), float(segment.rotation.z),
                              float(segment.rotation.w));
     out.velocityFriction = glm::vec4(glm::vec3(segment.velocityMPerS), float(c.friction));
-    out.angularVelocity = glm::vec4(glm::vec3(segment.angularVelocityRadPerS), 0);
+    out.angularVelocity = glm::vec4(glm::vec3(segment.angularVelocityRadPerS), shapeReachM(out));
     out.shapeBoundary.y = boundaryCode(c.boundary);
     out.shapeBoundary.w = 1;
   }

@@ -67,6 +67,18 @@ void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
 }
 #endif
 
+// Whether the collider of entry i may hold x at timeS: it takes part (a parked body does not) and x lies within its
+// reach, the sphere about its pivot that holds its whole shape (ColliderParams.angularVelocity.w). Most nodes and
+// particles lie beyond every collider's reach: this reads three vec4s of the entry, where the distance reads it all
+// and turns x twice by quaternions (a mesh also reads eight samples).
+bool colliderWithinReach(uint i, vec3 x, float timeS) {
+  if (colliders[i].shapeBoundary.w == 0) return false;
+  vec4 pivotTime = colliders[i].pivotTime;
+  vec3 fromPivot = x - (pivotTime.xyz + colliders[i].velocityFriction.xyz * (timeS - pivotTime.w));
+  float reachM = colliders[i].angularVelocity.w;
+  return reachM < 0.0 || dot(fromPivot, fromPivot) <= reachM * reachM;
+}
+
 // Velocity after meeting a boundary whose surface moves at boundaryVelocity (Stomakhin 2013 §8):
 // sticky takes the boundary's velocity; slip removes the normal part of the relative velocity; separate
 // does so only when approaching. Coulomb friction μ shortens the tangential part by μ·|v_n|.
@@ -89,9 +101,9 @@ vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction
 vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg) {
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
+    if (!colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;
-    if (c.shapeBoundary.w == 0) continue;  // a parked body
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
       vec3 response = boundaryResponse(v, normal, colliderVelocity(c, probe, timeS), c.velocityFriction.w,
                                        c.shapeBoundary.y);
@@ -120,9 +132,10 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
   approachMPerS = 0.0;
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
+    if (!colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;
-    if (c.shapeBoundary.w == 0 || colliderDistance(c, probe, timeS, normal) > 0.0) continue;
+    if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
     int boundary = c.shapeBoundary.y;
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     float normalSpeed = dot(v - boundaryVelocity, normal);
@@ -150,9 +163,10 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constrain
   int code = int(constraint.w);
   if ((code & CONSTRAINT_NORMAL) == 0 || (code & CONSTRAINT_FIXED) != 0) return v;  // no collider's normal, or all held
   for (uint i = 0u; i < colliderCount; ++i) {
+    if (!colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;
-    if (c.shapeBoundary.w == 0 || colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
+    if (colliderDistance(c, probe, timeS, normal) > 0.0 || normal != constraint.xyz) continue;
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     vec3 tangential = v - boundaryVelocity;
     float tangentialSpeed = length(tangential);

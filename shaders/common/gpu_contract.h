@@ -176,7 +176,8 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 //   pivotTime         xyz where the pivot is (m) at the time w (s)
 //   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)
 //   velocityFriction  xyz the pivot's velocity v (m/s), w Coulomb's μ
-//   angularVelocity   xyz ω (rad/s), about the pivot
+//   angularVelocity   xyz ω (rad/s), about the pivot; w the reach (m): the radius of a sphere about the pivot that
+//                     holds the whole shape (a mesh's field lattice), or −1 for a plane (colliderWithinReach)
 //   shapeBoundary     x SHAPE_*, y BOUNDARY_*, z: a rigid body's entry 1, else 0; w: a body that takes part 1, a
 //                     parked one (the viewer's spare balls, out of the domain until thrown) 0
 //   field             SHAPE_MESH: x the first of its samples in the field buffer, yzw the samples per axis

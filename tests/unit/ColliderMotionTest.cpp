@@ -2,6 +2,7 @@
 // keyframe's at its time, interpolated linearly and by slerp between, held before the first and after the last;
 // v and ω are constant over a segment; every new key is validated with its key path.
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include <glm/gtc/constants.hpp>
@@ -12,6 +13,7 @@
 #include "scene/ColliderMotion.h"
 #include "gpu/GpuFunctions.h"
 #include "scene/Scene.h"
+#include "scene/SceneObjects.h"
 #include "sim/SceneUpload.h"
 #include "voxelizer/Mesh.h"
 
@@ -134,6 +136,78 @@ TEST(ColliderMotion, TheGpuTableAdvancedToAKeyframeIsAtIt) {
   EXPECT_NEAR(velocity.x, 0.8, 1e-6);
   EXPECT_NEAR(velocity.y, 0.0, 1e-6);
   EXPECT_NEAR(velocity.z, 0.1 * 2 * glm::pi<double>(), 1e-5);
+}
+
+// The reach (ColliderParams.angularVelocity.w) lets the shaders skip a collider at a point beyond it, so it must hold
+// every point of the solid, at every time of the motion: the keyframed box (turning), a sphere turned about a pivot
+// outside it, a mesh turned about a pivot off its centre (its field's lattice holds it), and a box and a mesh body. Probed on a
+// 2 cm lattice through the colliders at four times. A plane has no reach (−1). The reach of the sphere is its exact
+// one, |c − pivot| + r, plus the 1e-4 the host adds: tolerance 1e-6 m of float rounding.
+TEST(ColliderMotion, EveryPointInsideAColliderLiesWithinItsReach) {
+  Scene scene;
+  scene.grid.cells = glm::ivec3(40);
+  scene.grid.cellSizeM = 0.05;
+  scene.colliders = {paddle()};
+  Collider ball;
+  ball.shape = ColliderShape::Sphere;
+  ball.centerM = {1.0, 0.5, 1.0};
+  ball.radiusM = 0.2;
+  ball.pivotM = {0.6, 0.5, 1.0};
+  ball.keyframes = {{0.0, {0, 0, 0}, {0, 0, 0}}, {0.5, {0.1, 0, 0}, {0, 120, 0}}};
+  scene.colliders.push_back(ball);
+  Collider floor;
+  floor.shape = ColliderShape::Plane;
+  scene.colliders.push_back(floor);
+  Collider mesh;
+  mesh.shape = ColliderShape::Mesh;
+  mesh.mesh = std::make_shared<voxelizer::TriangleMesh>(voxelizer::boxMesh({1.2, 0.2, 0.3}, {1.6, 0.5, 0.9}));
+  mesh.pivotM = {1.3, 0.35, 0.6};
+  mesh.keyframes = {{0.0, {0, 0, 0}, {0, 0, 0}}, {0.5, {0.1, 0, 0}, {0, 30, 10}}};
+  scene.colliders.push_back(mesh);
+  RigidBody box;
+  box.shape = RigidShape::Box;
+  box.halfExtentsM = {0.2, 0.1, 0.3};
+  box.centerOfMassM = {0.5, 1.2, 0.5};
+  box.angularVelocityRadPerS = {1, 2, 0};
+  RigidBody meshBody;
+  meshBody.shape = RigidShape::Mesh;
+  meshBody.mesh = std::make_shared<voxelizer::TriangleMesh>(voxelizer::boxMesh({1.0, 1.0, 1.0}, {1.3, 1.5, 1.2}));
+  meshBody.centerOfMassM = {1.15, 1.25, 1.1};
+  for (RigidBody* body : {&box, &meshBody}) {
+    setUniformDensity(*body, shapeMassProperties(*body), 500);
+    scene.rigidBodies.push_back(*body);
+  }
+  const ColliderFields fields = bakeColliderFields(scene);
+  const std::vector<gpu::ColliderParams> table = buildColliderTable(scene, fields, 0.0);
+  EXPECT_EQ(table[2].angularVelocity.w, -1.0f);
+  EXPECT_NEAR(table[1].angularVelocity.w, 0.6 * (1 + 1e-4), 1e-6);
+  std::vector<int> inside(table.size(), 0);
+  for (const double timeS : {0.0, 0.1, 0.3, 0.45}) {
+    const std::vector<gpu::ColliderParams> atTime = buildColliderTable(scene, fields, timeS);
+    for (std::size_t entry = 0; entry < atTime.size(); ++entry) {
+      if (entry == 2) continue;
+      const gpu::ColliderParams& c = atTime[entry];
+      const glm::vec3 pivot = gpu::colliderPivot(c, float(timeS));
+      for (int i = 0; i < 100; ++i) {
+        for (int j = 0; j < 100; ++j) {
+          for (int k = 0; k < 100; ++k) {
+            const glm::vec3 x = glm::vec3(i, j, k) * 0.02f;
+            glm::vec3 normal;
+            if (gpu::colliderDistance(c, fields.samples, x, float(timeS), normal) > 0.0f) continue;
+            ++inside[entry];
+            const glm::vec3 fromPivot = x - pivot;
+            ASSERT_LE(glm::dot(fromPivot, fromPivot), c.angularVelocity.w * c.angularVelocity.w)
+                << "entry " << entry << " at " << timeS << " s, x = (" << x.x << ", " << x.y << ", " << x.z << ")";
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t entry = 0; entry < table.size(); ++entry) {
+    if (entry != 2) {
+      EXPECT_GT(inside[entry], 100) << "entry " << entry << ": too few points probed inside";
+    }
+  }
 }
 
 // A scene with one collider, for the validation tests.
