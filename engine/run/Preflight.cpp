@@ -17,6 +17,7 @@
 #include "io/Text.h"
 #include "scene/ColliderMotion.h"
 #include "scene/FieldLattice.h"
+#include "scene/SceneObjects.h"
 #include "scene/Sampling.h"
 #include "sim/FixedPoint.h"
 #include "sim/SceneUpload.h"
@@ -228,6 +229,28 @@ std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<Partic
                           colliderName(scene.colliders[std::size_t(fastestCollider)].shape) + " moving at " +
                           format("%.3g m/s", colliderMPerS) + ": the snow it meets takes its speed)",
                       name + motion, "slow " + name + motion});
+  }
+  int fastestRigidBody = -1;
+  double rigidBodyMPerS = 0;
+  for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b) {
+    // The explicit coupling meets a body at the nodes and particles it reaches each step: one that crosses more than
+    // a cell per step passes through snow, and its contact probes through thin colliders.
+    const RigidBody& body = scene.rigidBodies[b];
+    const double speed = glm::length(body.velocityMPerS) + glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body);
+    if (speed > rigidBodyMPerS) {
+      rigidBodyMPerS = speed;
+      fastestRigidBody = int(b);
+    }
+  }
+  if (fastestRigidBody >= 0) {
+    const std::string name = "rigid_bodies[" + std::to_string(fastestRigidBody) + "]";
+    const RigidBody& body = scene.rigidBodies[std::size_t(fastestRigidBody)];
+    const bool spinning = glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body) > glm::length(body.velocityMPerS);
+    const std::string key = name + (spinning ? ".angular_velocity" : ".velocity");
+    bounds.push_back({h / rigidBodyMPerS,
+                      "the CFL bound h / |v| = " + seconds(h / rigidBodyMPerS) + " of " + name + " (its surface moves at " +
+                          format("%.3g m/s", rigidBodyMPerS) + " at the start)",
+                      key, "slow " + key});
   }
   const double gravity = glm::length(scene.gravityMPerS2);
   if (gravity > 0) {

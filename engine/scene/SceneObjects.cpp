@@ -1,5 +1,6 @@
 #include "scene/SceneObjects.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -116,6 +117,19 @@ voxelizer::MassProperties shapeMassProperties(const RigidBody& body) {
       break;
   }
   return shape;
+}
+
+double rigidBodyReachM(const RigidBody& body) {
+  switch (body.shape) {
+    case RigidShape::Sphere: return body.radiusM;
+    case RigidShape::Box: return glm::length(body.halfExtentsM);
+    case RigidShape::Mesh: {
+      double reachM = 0;
+      for (const glm::dvec3& vertex : body.mesh->vertices) reachM = std::max(reachM, glm::length(vertex - body.centerOfMassM));
+      return reachM;
+    }
+  }
+  return 0;
 }
 
 void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3) {

@@ -49,6 +49,10 @@ ObjectPose initialBodyPose(const RigidBody& body);
 // MeshError for a mesh that encloses no definite volume).
 voxelizer::MassProperties shapeMassProperties(const RigidBody& body);
 
+// The farthest point of a rigid body's surface from its centre of mass (m): how far ω reaches (|v| + |ω| r is the
+// fastest any point of it moves).
+double rigidBodyReachM(const RigidBody& body);
+
 // Fills the body's volume, centre of mass, mass and inertia for a uniform density, from its shape's `shape`.
 void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3);
 

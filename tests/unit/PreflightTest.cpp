@@ -71,6 +71,38 @@ TEST(Preflight, FastBodyIsHeldToTheCflBound) {
   EXPECT_TRUE(contains(report.warnings, "exceeds the CFL bound h / |v| = 0.0005 s"));
 }
 
+// A rigid sphere of radius 0.1 m thrown at 30 m/s and spinning at 400 rad/s: its surface moves at up to 30 + 400 · 0.1
+// = 70 m/s, so h / |v| = 0.05 / 70 = 7.14e-4 s binds dt = 1e-3 s (a warning); spun at 4,000 rad/s instead, 430 m/s
+// bind it to 1.16e-4 s, more than 4 times below dt, and the refusal names the key that spins it.
+TEST(Preflight, FastRigidBodyIsHeldToTheCflBoundOfItsSurface) {
+  const auto withBall = [](const std::string& angularVelocity) {
+    Scene scene = sceneWith("1e-3", kBall);
+    RigidBody ball;
+    ball.shape = RigidShape::Sphere;
+    ball.centerM = ball.centerOfMassM = {0.3, 0.9, 0.3};
+    ball.radiusM = 0.1;
+    ball.velocityMPerS = {30, 0, 0};
+    ball.angularVelocityRadPerS = {0, 0, std::stod(angularVelocity)};
+    scene.rigidBodies.push_back(ball);
+    return scene;
+  };
+  const Scene spinning = withBall("400");
+  const PreflightReport report = preflight(spinning, sampleBodies(spinning));
+  EXPECT_NEAR(report.stableDtS, 0.05 / 70.0, 1e-12);
+  EXPECT_TRUE(contains(report.warnings, "exceeds the CFL bound h / |v| = 0.000714 s of rigid_bodies[0] (its surface "
+                                        "moves at 70 m/s at the start)"))
+      << (report.warnings.empty() ? "" : report.warnings[0]);
+  const Scene fast = withBall("4000");
+  try {
+    preflight(fast, sampleBodies(fast));
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("times the CFL bound h / |v| = 0.000116 s of rigid_bodies[0]"), std::string::npos) << message;
+    EXPECT_NE(message.find("or slow rigid_bodies[0].angular_velocity"), std::string::npos) << message;
+  }
+}
+
 TEST(Preflight, BodyStartingInsideAColliderIsReported) {
   const Scene scene = sceneWith("1e-3", kBall,
                                 R"([ { "type": "plane", "point": [0, 0.6, 0], "normal": [0, 1, 0] },
