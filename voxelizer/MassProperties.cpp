@@ -49,6 +49,14 @@ MassProperties massProperties(const TriangleMesh& mesh) {
     throw MeshError("the mesh is open (" + std::to_string(surface.boundaryEdges) +
                     " edges border holes), so it encloses no definite volume, centre of mass or inertia; close it");
   }
+  // The integrals below count each triangle by the way it faces: one wound against its neighbours subtracts what
+  // it should add, and the mass would be silently wrong.
+  if (surface.misorientedEdges > 0) {
+    throw MeshError("the mesh's faces are not consistently oriented (" + std::to_string(surface.misorientedEdges) +
+                    " edges join triangles wound opposite ways), so its volume integrals are not its solid's mass, "
+                    "centre of mass or inertia; orient its faces consistently (in Blender: Mesh > Normals > Recalculate "
+                    "Outside)");
+  }
   // The integrals are taken about the centre of the mesh's box, not the file's origin: a mesh placed far from the
   // origin would otherwise lose its digits to cancellation in x², xy and the parallel-axis shift back.
   const Bounds box = bounds(mesh);

@@ -241,7 +241,9 @@ MeshSurface measureSurface(const TriangleMesh& mesh) {
     const bool same = i > 0 && mesh.vertices[byPosition[i]] == mesh.vertices[byPosition[i - 1]];
     weld[byPosition[i]] = same ? weld[byPosition[i - 1]] : byPosition[i];
   }
-  // An edge of a closed surface is shared by an even number of triangles (two, for a manifold).
+  // An edge of a closed surface is shared by an even number of triangles (two, for a manifold); of a consistently
+  // oriented one, by as many triangles that run along it one way as the other. Each edge is held as its two welded
+  // vertices in order, and the lowest bit says which way the triangle ran.
   std::vector<std::uint64_t> edges;
   edges.reserve(3 * mesh.triangles.size());
   double largestAreaM2 = -1;
@@ -249,7 +251,7 @@ MeshSurface measureSurface(const TriangleMesh& mesh) {
   for (const glm::uvec3& triangle : mesh.triangles) {
     for (int corner = 0; corner < 3; ++corner) {
       const std::uint64_t a = weld[triangle[corner]], b = weld[triangle[(corner + 1) % 3]];
-      if (a != b) edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+      if (a != b) edges.push_back((std::min(a, b) << 32 | std::max(a, b)) << 1 | (a < b ? 1 : 0));
     }
     const glm::dvec3& a = mesh.vertices[triangle.x];
     const glm::dvec3 areaNormal = glm::cross(mesh.vertices[triangle.y] - a, mesh.vertices[triangle.z] - a);
@@ -263,8 +265,14 @@ MeshSurface measureSurface(const TriangleMesh& mesh) {
   }
   std::sort(edges.begin(), edges.end());
   for (std::size_t first = 0, next = 0; first < edges.size(); first = next) {
-    while (next < edges.size() && edges[next] == edges[first]) ++next;
-    if ((next - first) % 2 == 1) ++surface.boundaryEdges;
+    std::size_t forward = 0;
+    for (; next < edges.size() && edges[next] >> 1 == edges[first] >> 1; ++next) forward += edges[next] & 1;
+    const std::size_t uses = next - first;
+    if (uses % 2 == 1) {
+      ++surface.boundaryEdges;
+    } else if (2 * forward != uses) {
+      ++surface.misorientedEdges;
+    }
   }
   // With every triangle of zero area there is no plane, and the mesh is as flat as can be.
   if (planeNormal != glm::dvec3(0.0)) {
@@ -303,8 +311,8 @@ std::string whyNotFillable(const TriangleMesh& mesh, const MeshSurface& surface,
   if (surface.thicknessM <= flatThicknessM) {
     char text[256];
     std::snprintf(text, sizeof text,
-                  "the mesh is flat (its vertices lie within %.3g m of one plane), so it encloses no volume to fill; a "
-                  "body needs a closed surface",
+                  "the mesh is flat (its vertices lie within %.3g m of one plane), so it encloses no volume: a body, a "
+                  "mesh collider and a rigid body each need a solid; give the sheet a thickness",
                   surface.thicknessM);
     return text;
   }

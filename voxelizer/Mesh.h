@@ -80,6 +80,9 @@ struct MeshSurface {
   // Edges (of vertices welded by position) that one triangle, or an odd number, uses: they border holes. 0 for a
   // closed mesh.
   std::size_t boundaryEdges = 0;
+  // Edges that an even number of triangles share, but not as many running along it one way as the other: triangles
+  // on either side of it face opposite ways (their winding disagrees). 0 for a consistently oriented closed mesh.
+  std::size_t misorientedEdges = 0;
   // The farthest any vertex lies from the plane of the largest triangle: 0 (to rounding) for a flat mesh.
   double thicknessM = 0;
   bool open() const { return boundaryEdges > 0; }

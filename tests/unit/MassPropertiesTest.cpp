@@ -121,6 +121,27 @@ TEST(MassProperties, OpenMeshIsRefused) {
   }
 }
 
+// One face of a cube turned inward (its two triangles wound the other way): closed, but the four edges around that face
+// join triangles that face opposite ways, and the divergence theorem would subtract the face's part of the volume
+// (about the cube's centre each face adds a sixth: a cube of volume 1 would measure 2/3). Refused, naming the count.
+TEST(MassProperties, InconsistentlyOrientedMeshIsRefused) {
+  TriangleMesh box = boxMesh(glm::dvec3(0.0), glm::dvec3(1.0));
+  for (std::size_t t = box.triangles.size() - 2; t < box.triangles.size(); ++t) {
+    std::swap(box.triangles[t].y, box.triangles[t].z);
+  }
+  EXPECT_EQ(measureSurface(box).boundaryEdges, 0u);
+  EXPECT_EQ(measureSurface(box).misorientedEdges, 4u);
+  EXPECT_EQ(measureSurface(boxMesh(glm::dvec3(0.0), glm::dvec3(1.0))).misorientedEdges, 0u);
+  try {
+    massProperties(box);
+    FAIL() << "an inconsistently oriented mesh was measured";
+  } catch (const MeshError& error) {
+    EXPECT_NE(std::string(error.what()).find("not consistently oriented (4 edges join triangles wound opposite ways)"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(MassProperties, MeshEnclosingNoVolumeIsRefused) {
   // A square and the same square facing the other way: closed, and flat.
   TriangleMesh flat;
