@@ -204,14 +204,11 @@ struct Collider {
   std::vector<ColliderKeyframe> keyframes;  // its poses at increasing times; empty: it moves at velocityMPerS
   double friction = 0;            // Coulomb μ
   Boundary boundary = Boundary::Slip;
-  // Mesh colliders: the file (as the scene names it, and resolved against the scene's folder) and its placement at
-  // rest, as mesh bodies' (p' = translate + R · (scale · p)); the placed mesh, loaded with the scene; and the
-  // samples of its signed distance field per grid cell and axis (spacing cell_size / fieldResolution).
+  // Mesh colliders: the file (as the scene names it, and resolved against the scene's folder); the mesh placed at
+  // rest as mesh bodies are (p' = translate + R · (scale · p)), loaded with the scene; and the samples of its signed
+  // distance field per grid cell and axis (spacing cell_size / fieldResolution).
   std::string path;
   std::filesystem::path resolvedPath;
-  double scale = 1;
-  glm::dvec3 rotateDeg{0.0};
-  glm::dvec3 translateM{0.0};
   std::shared_ptr<const voxelizer::TriangleMesh> mesh;
   double fieldResolution = 2;
 };
@@ -226,12 +223,9 @@ struct RigidBody {
   double radiusM = 0;           // sphere
   glm::dvec3 halfExtentsM{0.0}; // box, along its own axes
   glm::dvec3 rotateDeg{0.0};    // box: its turn at t = 0 (R = R_z R_y R_x)
-  // Mesh: the file and its placement, as mesh colliders'; the placed mesh, in world coordinates at t = 0.
+  // Mesh: the file, and the mesh placed as mesh colliders' are, in world coordinates at t = 0.
   std::string path;
   std::filesystem::path resolvedPath;
-  double scale = 1;
-  glm::dvec3 meshRotateDeg{0.0};
-  glm::dvec3 translateM{0.0};
   std::shared_ptr<const voxelizer::TriangleMesh> mesh;
   double fieldResolution = 2;   // mesh: its distance field's samples per grid cell and axis
   glm::dvec3 velocityMPerS{0.0};

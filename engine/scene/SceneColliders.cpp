@@ -96,9 +96,6 @@ Collider readCollider(const Object& collider, const GridSpec& grid, const std::f
       PlacedMesh placed = readPlacedMesh(collider, sceneFolder, grid.cellSizeM / result.fieldResolution);
       result.path = std::move(placed.path);
       result.resolvedPath = std::move(placed.resolvedPath);
-      result.scale = placed.placement.scale;
-      result.rotateDeg = placed.placement.rotateDeg;
-      result.translateM = placed.placement.translateM;
       const voxelizer::Bounds box = voxelizer::bounds(*placed.mesh);
       result.mesh = std::move(placed.mesh);
       result.pivotM = 0.5 * (box.minM + box.maxM);

@@ -113,9 +113,6 @@ RigidBody readRigidBody(const Object& object, const GridSpec& grid, const std::f
       PlacedMesh placed = readPlacedMesh(object, sceneFolder, grid.cellSizeM / body.fieldResolution);
       body.path = std::move(placed.path);
       body.resolvedPath = std::move(placed.resolvedPath);
-      body.scale = placed.placement.scale;
-      body.meshRotateDeg = placed.placement.rotateDeg;
-      body.translateM = placed.placement.translateM;
       body.mesh = std::move(placed.mesh);
       break;
     }

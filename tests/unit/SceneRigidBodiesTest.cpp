@@ -15,6 +15,7 @@
 #include "scene/FieldLattice.h"
 #include "scene/Scene.h"
 #include "support/TestFiles.h"
+#include "voxelizer/Mesh.h"
 
 namespace firn {
 namespace {
@@ -106,7 +107,6 @@ TEST_F(SceneRigidBodies, MeshColliderIsLoadedPlacedAndItsFieldSized) {
   EXPECT_EQ(cube.shape, ColliderShape::Mesh);
   EXPECT_EQ(cube.path, "meshes/cube.obj");
   EXPECT_EQ(cube.resolvedPath, folder_ / "meshes/cube.obj");
-  EXPECT_DOUBLE_EQ(cube.scale, 0.21);
   EXPECT_DOUBLE_EQ(cube.fieldResolution, 2.5);
   EXPECT_DOUBLE_EQ(cube.friction, 0.4);
   EXPECT_EQ(cube.boundary, Boundary::Sticky);
@@ -117,7 +117,11 @@ TEST_F(SceneRigidBodies, MeshColliderIsLoadedPlacedAndItsFieldSized) {
 
   const Collider& turned = parsed.colliders[1];
   EXPECT_DOUBLE_EQ(turned.fieldResolution, 2);  // the default
-  expectNear(turned.rotateDeg, glm::dvec3(0, 45, 0), 0);
+  // The unit cube scaled to 0.1 m, turned 45° about y, then moved by (0.2, 0.2, 0.2): its box is 0.1 √2 m wide in x
+  // and z, centred 0.05 √2 m along x from the moved origin corner. Rounding of the turn: a few units of 2⁻⁵².
+  const voxelizer::Bounds turnedBox = voxelizer::bounds(*turned.mesh);
+  expectNear(turnedBox.maxM - turnedBox.minM, glm::dvec3(0.1 * std::sqrt(2.0), 0.1, 0.1 * std::sqrt(2.0)), 1e-15);
+  expectNear(0.5 * (turnedBox.minM + turnedBox.maxM), glm::dvec3(0.2 + 0.05 * std::sqrt(2.0), 0.25, 0.2), 1e-15);
   expectNear(turned.pivotM, glm::dvec3(0.0), 0);
   expectNear(turned.velocityMPerS, glm::dvec3(0, 0, 1), 0);
 
