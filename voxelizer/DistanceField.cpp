@@ -570,6 +570,10 @@ std::vector<std::uint8_t> classifyInside(const ClosestTriangles& field, const Wi
 
 }  // namespace
 
+glm::dvec3 distanceFieldSamples(const Bounds& meshBox, double spacingM, double marginM) {
+  return glm::ceil((meshBox.maxM - meshBox.minM + 2 * marginM) / spacingM * (1 - latticeRoundingSlack)) + 1.0;
+}
+
 DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, double marginM) {
   if (!(std::isfinite(spacingM) && spacingM > 0)) {
     throw MeshError("distance field: the spacing must be positive and finite, not " + std::to_string(spacingM));
@@ -583,16 +587,15 @@ DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, doubl
   DistanceField field;
   field.originM = meshBox.minM - marginM;
   field.spacingM = spacingM;
+  const glm::dvec3 samples = distanceFieldSamples(meshBox, spacingM, marginM);
   double sampleCount = 1;
   for (int axis = 0; axis < 3; ++axis) {
-    const double steps =
-        std::ceil((meshBox.maxM[axis] - meshBox.minM[axis] + 2 * marginM) / spacingM * (1 - latticeRoundingSlack));
-    if (!(steps + 1 <= double(std::numeric_limits<int>::max()))) {
+    if (!(samples[axis] <= double(std::numeric_limits<int>::max()))) {
       throw MeshError("distance field: more than 2^31 samples along an axis at a spacing of " +
                       std::to_string(spacingM) + " m");
     }
-    field.samples[axis] = int(steps) + 1;
-    sampleCount *= steps + 1;
+    field.samples[axis] = int(samples[axis]);
+    sampleCount *= samples[axis];
   }
   // Sample and triangle indices are std::size_t; the distances' vector must be able to hold them.
   if (!(sampleCount <= double(std::vector<float>().max_size()))) {

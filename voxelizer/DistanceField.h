@@ -24,6 +24,10 @@ struct DistanceField {
   }
 };
 
+// Samples per axis of the lattice below, ⌈(extent + 2 marginM) / spacingM⌉ + 1 (less a rounding's slack off a whole
+// number of steps), as doubles: a wild scene's count can be reported before anything is refused.
+glm::dvec3 distanceFieldSamples(const Bounds& meshBox, double spacingM, double marginM);
+
 // The lattice bakeDistanceField samples: the mesh's box grown by marginM on every side, in whole steps of spacingM
 // from its low corner (so the scene can count a field's memory before baking it).
 DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, double marginM);

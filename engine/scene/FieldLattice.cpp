@@ -12,7 +12,7 @@ FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& g
   lattice.spacingM = grid.cellSizeM / resolution;
   lattice.marginM = kFieldMarginCells * grid.cellSizeM;
   const voxelizer::Bounds box = voxelizer::bounds(mesh);
-  lattice.samples = glm::ceil((box.maxM - box.minM + 2 * lattice.marginM) / lattice.spacingM) + 1.0;
+  lattice.samples = voxelizer::distanceFieldSamples(box, lattice.spacingM, lattice.marginM);
   return lattice;
 }
 

@@ -29,9 +29,7 @@ struct FieldLattice {
   double bytes() const { return 4 * sampleCount(); }  // one 32-bit float per sample
 };
 
-// voxelizer::distanceFieldLattice(bounds(mesh), spacingM, marginM)'s size, ⌈(extent + 2 margin) / spacing⌉ + 1
-// samples per axis, in doubles (that one takes a rounding's slack off a whole number of steps, so this may count one
-// sample more per axis: the budget's side).
+// The size of the lattice the mesh's field is baked on (voxelizer::distanceFieldSamples), counted before baking.
 FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& grid, double resolution);
 
 // The field of `mesh` baked on its lattice (voxelizer/DistanceField.h), for the simulation's upload.

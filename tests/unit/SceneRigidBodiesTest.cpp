@@ -134,6 +134,12 @@ TEST_F(SceneRigidBodies, MeshColliderIsLoadedPlacedAndItsFieldSized) {
   EXPECT_DOUBLE_EQ(fields[0].marginM, 0.06);
   expectNear(fields[0].samples, glm::dvec3(43), 0);
   EXPECT_DOUBLE_EQ(fields[0].bytes(), 4.0 * 43 * 43 * 43);
+  // What the budget counts is what is baked, to the sample.
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Collider& collider = parsed.colliders[i];
+    const voxelizer::DistanceField baked = bakeField(*collider.mesh, parsed.grid, collider.fieldResolution);
+    expectNear(glm::dvec3(baked.samples), fields[i].samples, 0);
+  }
 }
 
 TEST_F(SceneRigidBodies, RigidBodiesTakeTheirMassAndInertiaFromTheShape) {
