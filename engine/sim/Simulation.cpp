@@ -13,6 +13,7 @@
 #include "Error.h"
 #include "gpu/Materials.h"
 #include "io/Text.h"
+#include "scene/SceneObjects.h"
 
 namespace firn {
 
@@ -34,12 +35,18 @@ std::vector<ParticleSeed> splitByRelease(const std::vector<ParticleSeed>& partic
 }
 
 // Before the first step the fastest signal is the seeds' fastest speed plus the stiffest material's wave speed
-// (semi-implicit steps: the speed alone, as g2p.comp reports it).
+// (semi-implicit steps: the speed alone, as g2p.comp reports it), or a rigid body's fastest surface point,
+// |v| + |ω| r, as integrate_bodies.comp reports it.
 double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleSeed>& seeds) {
   const double fastestWaveMPerS = scene.solver.semiImplicit() ? 0.0 : stiffestBody(scene).waveSpeedMPerS;
   double fastestMPerS = 0;
   for (const ParticleSeed& seed : seeds) {
     fastestMPerS = std::max(fastestMPerS, double(glm::length(seed.velocityMPerS)) + fastestWaveMPerS);
+  }
+  for (const RigidBody& body : scene.rigidBodies) {
+    if (body.parked) continue;
+    fastestMPerS = std::max(fastestMPerS, glm::length(body.velocityMPerS) +
+                                              glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body));
   }
   return fastestMPerS;
 }

@@ -4,10 +4,12 @@
 // gravity, then its contacts with the scene's colliders and the domain walls (eq. 36), and moves: symplectic Euler,
 // v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Its entry's pose, velocities and sums are
 // rewritten for the next step.
-// Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries.
+// Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, and with adaptive steps
+// the watchdog's fastest speed.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
+#include "common/watchdog.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -135,4 +137,9 @@ void main() {
   colliders[i].impulseHigh = ivec4(0);
   colliders[i].angularLow = uvec4(0u);
   colliders[i].angularHigh = ivec4(0);
+#ifdef FIRN_ADAPTIVE_DT
+  // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest point
+  // moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.angularVelocity.w).
+  reportSpeed(length(v) + length(colliders[i].angularVelocity.xyz) * colliders[i].angularVelocity.w);
+#endif
 }

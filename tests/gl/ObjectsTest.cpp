@@ -196,6 +196,29 @@ TEST_F(ObjectsTest, SnowAndARigidSphereConserveTheirTotalMomentum) {
   EXPECT_LT(glm::length(after - before), 1e-4 * glm::length(before));
 }
 
+// Adaptive steps follow a rigid body as they follow the particles: a sphere of 10 cm radius moving at 20 m/s and
+// spinning at 200 rad/s has surface points at 20 + 200 · 0.1 = 40 m/s, so each step is cfl · h / 40 = 0.4 · 0.05 /
+// 40 = 5e-4 s and 0.02 s takes 40 steps (41 where the last two share what is left). The snow, at rest and away from
+// it, would allow 0.4 · 0.05 / 19.7 ≈ 1e-3 s (time.dt): 20 steps.
+TEST_F(ObjectsTest, AdaptiveStepsFollowTheFastestRigidBody) {
+  const Scene scene = firn::parseScene(R"({
+    "grid": { "cells": [32, 16, 16], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 1, "adaptive": true },
+    "gravity": [0, 0, 0],
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "sphere", "center": [1.3, 0.4, 0.4], "radius": 0.1, "material": "snow" } ],
+    "rigid_bodies": [ { "shape": "sphere", "center": [0.3, 0.4, 0.4], "radius": 0.1, "density": 500,
+                        "velocity": [20, 0, 0], "angular_velocity": [0, 0, 200] } ]
+  })", "adaptive_body");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const int steps = simulation.advanceTo(0.02);
+  simulation.checkWatchdog();
+  EXPECT_GE(steps, 40);
+  EXPECT_LE(steps, 41);
+  EXPECT_EQ(simulation.timeS(), 0.02);
+  EXPECT_NEAR(simulation.rigidBodyPoses()[0].positionM.x, 0.3 + 20 * 0.02, 1e-5);  // it flew freely
+}
+
 // A rigid box (20 × 10 × 20 cm, density 300: 1.2 kg) set on a bed of snow settles onto it. Once settled, the snow
 // carries its weight: the snow's push on the box over a window, its momentum change less gravity's, M (V₂ − V₁) −
 // M g T, equals −M g T within 2% (what the issue asks; the box's velocity at rest is a few mm/s of rocking, which
