@@ -23,15 +23,10 @@ namespace firn::scenefile {
 using json::Interval;
 using json::Object;
 using json::Value;
-using json::describePoint;
 using json::describeValue;
 using json::joinNames;
 
 namespace {
-
-std::string describeBox(const glm::dvec3& minM, const glm::dvec3& maxM) {
-  return describePoint(minM) + " to " + describePoint(maxM) + " m";
-}
 
 int readMaterialReference(const Object& body, const std::vector<Material>& materials) {
   const Value reference = body.required("material");
@@ -210,17 +205,20 @@ Body readBody(const Object& body, const GridSpec& grid, const std::vector<Materi
 
   checkParticleMasses(body, result, grid, materials[std::size_t(result.materialIndex)]);
 
-  // Particles must start clear of the wall cells, where the grid update zeroes the velocity.
+  checkInsideInterior(body, "body", result.boundsMinM(), result.boundsMaxM(), grid);
+  return result;
+}
+
+void checkInsideInterior(const Object& object, const std::string& what, const glm::dvec3& minM,
+                         const glm::dvec3& maxM, const GridSpec& grid) {
   const glm::dvec3 interiorMinM = grid.interiorMinM();
   const glm::dvec3 interiorMaxM = grid.interiorMaxM();
-  if (!glm::all(glm::greaterThanEqual(result.boundsMinM(), interiorMinM)) ||
-      !glm::all(glm::lessThanEqual(result.boundsMaxM(), interiorMaxM))) {
-    body.value().fail("the body reaches outside the simulation interior: its bounding box is " +
-                      describeBox(result.boundsMinM(), result.boundsMaxM()) + ", the interior (the grid less " +
-                      std::to_string(GridSpec::wallCells) + " wall cells on each side) is " +
-                      describeBox(interiorMinM, interiorMaxM));
+  if (!glm::all(glm::greaterThanEqual(minM, interiorMinM)) || !glm::all(glm::lessThanEqual(maxM, interiorMaxM))) {
+    object.value().fail("the " + what + " reaches outside the simulation interior: its bounding box is " +
+                        describeBox(minM, maxM) + ", the interior (the grid less " +
+                        std::to_string(GridSpec::wallCells) + " wall cells on each side) is " +
+                        describeBox(interiorMinM, interiorMaxM));
   }
-  return result;
 }
 
 }  // namespace firn::scenefile

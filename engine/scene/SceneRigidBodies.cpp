@@ -26,10 +26,6 @@ using json::describePoint;
 
 namespace {
 
-std::string describeBox(const glm::dvec3& minM, const glm::dvec3& maxM) {
-  return describePoint(minM) + " to " + describePoint(maxM) + " m";
-}
-
 // The box around the body at t = 0.
 voxelizer::Bounds boundingBox(const RigidBody& body) {
   switch (body.shape) {
@@ -124,15 +120,8 @@ RigidBody readRigidBody(const Object& object, const GridSpec& grid, const std::f
   body.boundary = object.choice<Boundary>(
       "boundary", body.boundary, {{"sticky", Boundary::Sticky}, {"slip", Boundary::Slip}, {"separate", Boundary::Separate}});
 
-  // As bodies of snow: clear of the wall cells, where the grid update zeroes the velocity.
   const voxelizer::Bounds box = boundingBox(body);
-  const glm::dvec3 interiorMinM = grid.interiorMinM(), interiorMaxM = grid.interiorMaxM();
-  if (!glm::all(glm::greaterThanEqual(box.minM, interiorMinM)) || !glm::all(glm::lessThanEqual(box.maxM, interiorMaxM))) {
-    object.value().fail("the rigid body reaches outside the simulation interior: its bounding box is " +
-                        describeBox(box.minM, box.maxM) + ", the interior (the grid less " +
-                        std::to_string(GridSpec::wallCells) + " wall cells on each side) is " +
-                        describeBox(interiorMinM, interiorMaxM));
-  }
+  checkInsideInterior(object, "rigid body", box.minM, box.maxM, grid);
   return body;
 }
 

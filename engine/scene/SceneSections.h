@@ -52,6 +52,17 @@ inline json::Interval fieldResolutionAllowed() { return json::Interval::closed(0
 // "surface": the reconstruction of the snow's surface (SceneSurface.cpp).
 SurfaceSpec readSurface(const json::Object& surface);
 
+// "[x, y, z] to [x, y, z] m", for messages.
+inline std::string describeBox(const glm::dvec3& minM, const glm::dvec3& maxM) {
+  return json::describePoint(minM) + " to " + json::describePoint(maxM) + " m";
+}
+
+// Bodies of snow and rigid bodies alike start clear of the wall cells, where the grid update zeroes the velocity:
+// fails at `object` ("the <what> reaches outside the simulation interior", with both boxes) if [minM, maxM] does not
+// lie in the grid's interior (SceneBodies.cpp).
+void checkInsideInterior(const json::Object& object, const std::string& what, const glm::dvec3& minM,
+                         const glm::dvec3& maxM, const GridSpec& grid);
+
 // Box bodies and box colliders alike.
 inline void checkBoxCorners(const json::Object& box, const glm::dvec3& minM, const glm::dvec3& maxM) {
   if (!glm::all(glm::lessThan(minM, maxM))) {

@@ -66,6 +66,16 @@ float shapeReachM(const gpu::ColliderParams& entry) {
   return float(reachM * (1.0 + 1e-4));
 }
 
+// An entry's rigid motion from timeS on (pivot, turn, v, ω; colliderDistance advances it) and its friction; the
+// shape must be set first, for the reach that shares ω's vec4.
+void setMotion(gpu::ColliderParams& entry, const glm::dvec3& pivotM, const glm::dquat& rotation,
+               const glm::dvec3& velocityMPerS, const glm::dvec3& angularVelocityRadPerS, double friction, double timeS) {
+  entry.pivotTime = glm::vec4(glm::vec3(pivotM), float(timeS));
+  entry.rotation = glm::vec4(float(rotation.x), float(rotation.y), float(rotation.z), float(rotation.w));
+  entry.velocityFriction = glm::vec4(glm::vec3(velocityMPerS), float(friction));
+  entry.angularVelocity = glm::vec4(glm::vec3(angularVelocityRadPerS), shapeReachM(entry));
+}
+
 }  // namespace
 
 std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
@@ -140,11 +150,8 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
       break;
     case RigidShape::Mesh: setField(entry, fields.bodies.at(index)); break;
   }
-  entry.pivotTime = glm::vec4(glm::vec3(pose.positionM), float(timeS));
-  entry.rotation = glm::vec4(float(pose.orientation.x), float(pose.orientation.y), float(pose.orientation.z),
-                             float(pose.orientation.w));
-  entry.velocityFriction = glm::vec4(glm::vec3(pose.velocityMPerS), float(body.friction));
-  entry.angularVelocity = glm::vec4(glm::vec3(pose.angularVelocityRadPerS), shapeReachM(entry));
+  setMotion(entry, pose.positionM, pose.orientation, pose.velocityMPerS, pose.angularVelocityRadPerS, body.friction,
+            timeS);
   entry.shapeBoundary.y = boundaryCode(body.boundary);
   entry.shapeBoundary.z = 1;
   entry.shapeBoundary.w = body.parked ? 0 : 1;
@@ -185,11 +192,8 @@ std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const Colli
       case ColliderShape::Mesh: setField(out, fields.colliders.at(i)); break;
     }
     const RigidPose segment = colliderPose(c, colliderPose(c, timeS).segmentStartS);
-    out.pivotTime = glm::vec4(glm::vec3(segment.pivotM), float(segment.segmentStartS));
-    out.rotation = glm::vec4(float(segment.rotation.x), float(segment.rotation.y), float(segment.rotation.z),
-                             float(segment.rotation.w));
-    out.velocityFriction = glm::vec4(glm::vec3(segment.velocityMPerS), float(c.friction));
-    out.angularVelocity = glm::vec4(glm::vec3(segment.angularVelocityRadPerS), shapeReachM(out));
+    setMotion(out, segment.pivotM, segment.rotation, segment.velocityMPerS, segment.angularVelocityRadPerS,
+              c.friction, segment.segmentStartS);
     out.shapeBoundary.y = boundaryCode(c.boundary);
     out.shapeBoundary.w = 1;
   }
