@@ -42,12 +42,14 @@ voxelizer::Bounds boundingBox(const RigidBody& body) {
   return {body.centerM, body.centerM};
 }
 
-// The shape's mass properties (SceneObjects.h); a mesh that encloses no definite volume fails at "path".
+// The shape's mass properties (SceneObjects.h); a mesh that encloses no definite volume, or whose faces disagree on
+// which way is out, fails at "path".
 voxelizer::MassProperties readShapeMassProperties(const Object& object, const RigidBody& body) {
   try {
     return shapeMassProperties(body);
   } catch (const voxelizer::MeshError& error) {
-    object.fail("path", body.resolvedPath.string() + ": " + error.what() + " (a rigid body needs a closed mesh)");
+    object.fail("path", body.resolvedPath.string() + ": " + error.what() +
+                            " (a rigid body needs a closed, consistently oriented mesh)");
   }
 }
 
