@@ -69,6 +69,9 @@ void Buffer::copyFrom(const Buffer& source, std::size_t bytes) {
 void Buffer::zero() {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
   glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  // NVIDIA's driver (580, H100) lands the clear after a glBufferSubData issued right after it, so an upload into a
+  // fresh buffer was lost (docs/platform.md): wait for the clear. Buffers are cleared when allocated, not per step.
+  glFinish();
 }
 
 GLuint Buffer::release() {
