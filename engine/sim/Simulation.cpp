@@ -112,6 +112,10 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     }
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
+  // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
+  // its first step with particles.
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
+  pipeline_.chooseTransferShape(state_, particleCount_);
 }
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
@@ -163,6 +167,7 @@ void Simulation::step(double dtS) {
   // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).
   if (keyframedColliders_) state_.writeColliders(colliderEntries(scene_, colliderFields_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
+  pipeline_.chooseTransferShape(state_, particleCount_);  // once, at the first step with particles
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);
   timeS_ += dtS;

@@ -127,6 +127,8 @@ class Simulation {
   // Emitters' particles still to come.
   std::size_t pendingParticleCount() const { return pendingParticles_.size() - nextPending_; }
   const FixedPointScale& fixedPoint() const { return fixedPoint_; }
+  // P2G's shape and the times that chose it; none until the run has had particles (sim/TransferShape.h).
+  const std::optional<TransferShapeChoice>& transferShapeChoice() const { return pipeline_.transferShapeChoice(); }
   const Scene& scene() const { return scene_; }
 
   // GPU time per pass from GL_TIME_ELAPSED queries, summed over the steps since timing was switched on.

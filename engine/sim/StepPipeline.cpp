@@ -1,6 +1,8 @@
 #include "sim/StepPipeline.h"
 
 #include <algorithm>
+#include <chrono>
+#include <limits>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -100,7 +102,17 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
-  particleToGrid_ = gl::ComputePass(library, "sim/p2g.comp", options);
+  const std::optional<TransferShape> forced = forcedTransferShape(scene);
+  for (const TransferShape& shape : forced ? std::vector<TransferShape>{*forced} : transferShapes(scene)) {
+    if (shape.kind == TransferShape::Kind::Tiles) {
+      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g.comp", options, "p2g"));
+    } else {
+      gl::ShaderOptions blockOptions = options;
+      blockOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
+      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "p2g"));
+    }
+  }
+  if (particleToGrid_.size() == 1) transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, bool(forced), {}};
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
@@ -111,11 +123,60 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
 }
 
-void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
-  const gl::BufferBindings& buffers = state.bindings();
-  state.grid().sortParticles(particles, buffers, timer);
-  particleToGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), buffers, timer);
+namespace {
+
+// P2G in `shape`: tiles take the transfers' dispatch, blocks a work group per active block.
+void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
+                       gl::PassTimer& timer) {
+  const std::size_t dispatch = shape.kind == TransferShape::Kind::Tiles ? offsetof(gpu::BlockTableHeader, tileDispatch)
+                                                                        : offsetof(gpu::BlockTableHeader, blockDispatch);
+  pass.runIndirect(state.grid().blockTable(), dispatch, state.bindings(), timer);
   glMemoryBarrier(kStorage);
+}
+
+// Timed rounds of every shape, after one round untimed (a driver may build its code at the first dispatch).
+constexpr int kTransferShapeRounds = 3;
+
+}  // namespace
+
+void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
+  state.grid().sortParticles(particles, state.bindings(), timer);
+  const auto& [shape, pass] = particleToGrid_.front();
+  runParticleToGrid(shape, pass, state, timer);
+}
+
+void StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
+  if (transferChoice_ || particles == 0) return;
+  // The fastest of each shape's timed rounds: a shared machine's noise only ever adds time.
+  std::vector<double> fastestMs(particleToGrid_.size(), std::numeric_limits<double>::infinity());
+  gl::PassTimer untimed;
+  for (int round = 0; round <= kTransferShapeRounds; ++round) {
+    for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
+      // Each P2G adds to the sums the sort has just emptied (release_blocks.comp), so every round ends as one
+      // transferToGrid would.
+      state.grid().sortParticles(particles, state.bindings(), untimed);
+      glFinish();
+      const auto start = std::chrono::steady_clock::now();
+      runParticleToGrid(particleToGrid_[i].first, particleToGrid_[i].second, state, untimed);
+      glFinish();
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      if (round > 0) fastestMs[i] = std::min(fastestMs[i], ms);
+    }
+  }
+  TransferShapeChoice choice;
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
+    choice.msPerTransfer.emplace_back(particleToGrid_[i].first, fastestMs[i]);
+    if (fastestMs[i] < fastestMs[best]) best = i;
+  }
+  choice.shape = particleToGrid_[best].first;
+  // The chosen shape runs last, so that the grid is its own transfer's (the same sums either way).
+  state.grid().sortParticles(particles, state.bindings(), untimed);
+  runParticleToGrid(particleToGrid_[best].first, particleToGrid_[best].second, state, untimed);
+  auto chosen = std::move(particleToGrid_[best]);
+  particleToGrid_.clear();
+  particleToGrid_.push_back(std::move(chosen));
+  transferChoice_ = std::move(choice);
 }
 
 SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "gl/ComputePass.h"
 #include "gl/Context.h"
@@ -15,6 +17,7 @@
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
+#include "sim/TransferShape.h"
 
 namespace firn {
 
@@ -39,8 +42,14 @@ class StepPipeline {
   StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl);
 
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
-  // to grid.
+  // to grid in the chosen shape.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
+  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, keeps the fastest
+  // and frees the others; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) it only records it. Leaves
+  // the grid as transferToGrid does. Needs particles to time: a run without any yet chooses at its first.
+  void chooseTransferShape(GpuState& state, std::size_t particles);
+  // The choice, once made.
+  const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
   // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
   // particle, the rigid bodies. Returns how the solve ended (explicit steps: no iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
@@ -51,7 +60,9 @@ class StepPipeline {
 
  private:
   int maxWorkGroupsX_ = 65535;
-  gl::ComputePass particleToGrid_;
+  // P2G in each shape still in the running: all of the scene's before the choice, the chosen one after it.
+  std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
+  std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;

@@ -1,0 +1,76 @@
+#include "sim/TransferShape.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "Error.h"
+
+namespace firn {
+
+namespace {
+
+constexpr int kBlockGroupSizes[] = {64, 128, 256};
+constexpr const char* kVariable = "FIRN_TRANSFER_SHAPE";
+
+std::string milliseconds(double ms) {
+  char text[32];
+  std::snprintf(text, sizeof text, ms < 10 ? "%.3g ms" : "%.1f ms", ms);
+  return text;
+}
+
+// Every shape, in the order a choice lists them.
+std::vector<TransferShape> everyShape() {
+  std::vector<TransferShape> shapes = {{TransferShape::Kind::Tiles, 0}};
+  for (const int size : kBlockGroupSizes) shapes.push_back({TransferShape::Kind::Blocks, size});
+  return shapes;
+}
+
+}  // namespace
+
+std::string transferShapeName(const TransferShape& shape) {
+  return shape.kind == TransferShape::Kind::Tiles ? "tiles" : "blocks-" + std::to_string(shape.groupSize);
+}
+
+std::vector<TransferShape> transferShapes(const Scene& scene) {
+  if (scene.solver.atomics == Atomics::FixedPoint) return everyShape();
+  return {{TransferShape::Kind::Tiles, 0}};
+}
+
+std::optional<TransferShape> forcedTransferShape(const Scene& scene) {
+  const char* value = std::getenv(kVariable);
+  if (value == nullptr || *value == '\0') return std::nullopt;  // unset or empty: measure
+  std::string names;
+  for (const TransferShape& shape : everyShape()) names += (names.empty() ? "" : ", ") + transferShapeName(shape);
+  for (const TransferShape& shape : everyShape()) {
+    if (transferShapeName(shape) != value) continue;
+    const std::vector<TransferShape> possible = transferShapes(scene);
+    if (std::find(possible.begin(), possible.end(), shape) == possible.end()) {
+      throw InputError(std::string(kVariable) + "=" + value +
+                       ": blocks sum in fixed point only, and the scene's solver.atomics is \"float\"; use tiles");
+    }
+    return shape;
+  }
+  throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + value + "\")");
+}
+
+std::string TransferShapeChoice::describe() const {
+  const std::string name = transferShapeName(shape);
+  if (forced) return "P2G by " + name + ", as " + kVariable + " asks";
+  if (msPerTransfer.size() < 2) return "P2G by " + name + ", the only shape for this scene";
+  double chosenMs = 0;
+  const std::pair<TransferShape, double>* runnerUp = nullptr;
+  for (const auto& entry : msPerTransfer) {
+    if (entry.first == shape) {
+      chosenMs = entry.second;
+    } else if (runnerUp == nullptr || entry.second < runnerUp->second) {
+      runnerUp = &entry;
+    }
+  }
+  char ratio[32];
+  std::snprintf(ratio, sizeof ratio, "%.2f", runnerUp->second / std::max(chosenMs, 1e-9));
+  return "P2G by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
+         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on this scene)";
+}
+
+}  // namespace firn

@@ -1,0 +1,47 @@
+#pragma once
+// The shape of particle to grid (docs/numerics.md, "Transfer shapes"). Both shapes add the same quantized
+// contributions and integer sums do not depend on the order, so they write the same bytes; which one runs is chosen
+// by timing both on the run's own scene and device, never by the scene file.
+//   tiles   an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp): built for
+//           CPU renderers, which run an invocation's private arrays as vector registers
+//   blocks  a work group per block, an invocation per particle, the block's region summed in shared memory
+//           (p2g_block.comp), in groups of 64, 128 or 256 invocations: built for GPUs
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/Scene.h"
+
+namespace firn {
+
+struct TransferShape {
+  enum class Kind { Tiles, Blocks };
+  Kind kind = Kind::Tiles;
+  int groupSize = 0;  // blocks: invocations per work group
+
+  bool operator==(const TransferShape& other) const { return kind == other.kind && groupSize == other.groupSize; }
+};
+
+// "tiles", "blocks-64", "blocks-128", "blocks-256": the names FIRN_TRANSFER_SHAPE takes and the tables print.
+std::string transferShapeName(const TransferShape& shape);
+
+// The shapes a scene's P2G can take: tiles, and with fixed-point sums blocks of each group size (float sums depend
+// on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
+std::vector<TransferShape> transferShapes(const Scene& scene);
+
+// The shape FIRN_TRANSFER_SHAPE forces (for benchmarks and tests), or none when it is unset. Throws InputError for a
+// name that is not a shape, or blocks for a scene with float sums.
+std::optional<TransferShape> forcedTransferShape(const Scene& scene);
+
+// The shape a run takes, and the P2G times that chose it (ms; empty when forced or when there was no choice).
+struct TransferShapeChoice {
+  TransferShape shape;
+  bool forced = false;
+  std::vector<std::pair<TransferShape, double>> msPerTransfer;
+
+  // One line for a run's header and stats.csv: "P2G by blocks-128, 3.1x faster than tiles (0.71 ms against
+  // 2.2 ms on this scene's first particles)".
+  std::string describe() const;
+};
+
+}  // namespace firn
