@@ -1,0 +1,147 @@
+// P2G's two shapes (sim/TransferShape.h): tiles and blocks add the same quantized contributions, and integer sums do
+// not depend on the order, so every shape must write the same bytes; a run picks the fastest by timing them.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "Error.h"
+#include "GlTest.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
+#include "sim/TransferShape.h"
+
+namespace {
+
+using firn::Scene;
+using firn::Simulation;
+using firn::TransferShape;
+
+// FIRN_TRANSFER_SHAPE set for the simulations made while it lives.
+class ForcedShape {
+ public:
+  explicit ForcedShape(const std::string& name) { setenv("FIRN_TRANSFER_SHAPE", name.c_str(), 1); }
+  ~ForcedShape() { unsetenv("FIRN_TRANSFER_SHAPE"); }
+  ForcedShape(const ForcedShape&) = delete;
+  ForcedShape& operator=(const ForcedShape&) = delete;
+};
+
+Scene assetScene(const std::string& name) { return firn::loadScene(std::string(FIRN_SOURCE_DIR) + "/assets/scenes/" + name); }
+
+// What a run in one shape leaves: the grid of its first transfer (nondimensional integer sums, exact in double) and
+// the particles after `steps` steps.
+struct ShapeRun {
+  std::vector<firn::GridNodeSums> grid;
+  firn::ParticleSnapshot particles;
+};
+
+ShapeRun runInShape(const Scene& scene, const std::string& shape, int steps) {
+  const ForcedShape forced(shape);
+  Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  EXPECT_EQ(firn::transferShapeName(simulation.transferShapeChoice()->shape), shape);
+  ShapeRun run;
+  run.grid = simulation.readGridAfterTransfer();
+  for (int step = 0; step < steps; ++step) simulation.step(scene.time.dtS);
+  simulation.checkWatchdog();
+  run.particles = simulation.snapshot();
+  return run;
+}
+
+bool sameGrid(const std::vector<firn::GridNodeSums>& a, const std::vector<firn::GridNodeSums>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].node != b[i].node || a[i].massKg != b[i].massKg || a[i].momentumKgMPerS != b[i].momentumKgMPerS) return false;
+  }
+  return true;
+}
+
+// Every shape against tiles, on scenes that between them take each kernel, transfer, material model, collider kind,
+// rigid bodies, emitters, adaptive steps and the semi-implicit solve: the first transfer's node sums and the
+// particles after 12 steps, to the bit. Scenes are cut to at most 6,000 particles' worth of steps by taking few
+// steps; the bytes either agree or they do not.
+TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
+  std::vector<std::pair<std::string, Scene>> scenes;
+  for (const char* name : {"snowball_wall.json", "bunny_small.json", "mixed_materials.json", "sand_column.json",
+                           "water_dam_break.json", "elastic_bodies.json", "plough.json", "paddle_drum.json",
+                           "boulder_bank.json", "snow_stream.json"}) {
+    scenes.emplace_back(name, assetScene(name));
+  }
+  Scene semiImplicit = assetScene("snowball_wall.json");
+  semiImplicit.solver.integrator = firn::Integrator::SemiImplicit;
+  semiImplicit.time.dtS = 1e-3;
+  scenes.emplace_back("snowball_wall.json, semi-implicit", semiImplicit);
+  Scene cubicFlip = assetScene("bunny_small.json");
+  cubicFlip.solver.kernel = firn::Kernel::Cubic;
+  cubicFlip.solver.transfer = firn::Transfer::PicFlip;
+  scenes.emplace_back("bunny_small.json, cubic PIC/FLIP", cubicFlip);
+
+  for (const auto& [name, scene] : scenes) {
+    const std::vector<TransferShape> shapes = firn::transferShapes(scene);
+    ASSERT_EQ(shapes.size(), 4u) << name << ": fixed-point scenes take tiles and three block sizes";
+    const ShapeRun tiles = runInShape(scene, "tiles", 12);
+    ASSERT_FALSE(tiles.grid.empty()) << name;
+    for (std::size_t i = 1; i < shapes.size(); ++i) {
+      const std::string shape = firn::transferShapeName(shapes[i]);
+      const ShapeRun other = runInShape(scene, shape, 12);
+      EXPECT_TRUE(sameGrid(tiles.grid, other.grid)) << name << ": the first transfer's node sums by " << shape;
+      EXPECT_TRUE(firn::test::sameBytes(tiles.particles, other.particles)) << name << ": particles after 12 steps by " << shape;
+    }
+  }
+}
+
+// Unforced, a run times every shape on its first particles and keeps the fastest it measured.
+TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
+  const Scene scene = firn::defaultScene();
+  unsetenv("FIRN_TRANSFER_SHAPE");
+  Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
+  ASSERT_TRUE(choice.has_value());
+  EXPECT_FALSE(choice->forced);
+  ASSERT_EQ(choice->msPerTransfer.size(), 4u);
+  double chosenMs = -1;
+  for (const auto& [shape, ms] : choice->msPerTransfer) {
+    EXPECT_GT(ms, 0.0) << firn::transferShapeName(shape);
+    if (shape == choice->shape) chosenMs = ms;
+  }
+  for (const auto& [shape, ms] : choice->msPerTransfer) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
+  EXPECT_NE(choice->describe().find("faster than"), std::string::npos) << choice->describe();
+}
+
+// A scene whose particles all come from an emitter has none to time at first: it chooses at its first step with
+// particles. Float sums depend on their order, so a float scene keeps the tiles and blocks are refused for it.
+TEST(TransferShape, EmittersChooseAtTheirFirstParticlesAndFloatSumsKeepTiles) {
+  const Scene stream = assetScene("snow_stream.json");
+  unsetenv("FIRN_TRANSFER_SHAPE");
+  Simulation simulation(stream, firn::sampleBodies(stream), firn::test::glContext().info());
+  for (int step = 0; step < 200 && !simulation.transferShapeChoice(); ++step) simulation.step(stream.time.dtS);
+  ASSERT_TRUE(simulation.transferShapeChoice().has_value());
+  EXPECT_EQ(simulation.transferShapeChoice()->msPerTransfer.size(), 4u);
+
+  Scene floatSums = firn::defaultScene();
+  floatSums.solver.atomics = firn::Atomics::Float;
+  ASSERT_EQ(firn::transferShapes(floatSums).size(), 1u);
+  EXPECT_EQ(firn::transferShapes(floatSums)[0].kind, TransferShape::Kind::Tiles);
+  const ForcedShape blocks("blocks-128");
+  try {
+    (void)firn::forcedTransferShape(floatSums);
+    FAIL() << "blocks were accepted for float sums";
+  } catch (const firn::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("FIRN_TRANSFER_SHAPE=blocks-128"), std::string::npos) << error.what();
+  }
+}
+
+TEST(TransferShape, AnUnknownShapeIsBadInputNamingTheVariable) {
+  const ForcedShape wrong("warps");
+  try {
+    (void)firn::forcedTransferShape(firn::defaultScene());
+    FAIL() << "\"warps\" was accepted";
+  } catch (const firn::InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("FIRN_TRANSFER_SHAPE"), std::string::npos) << message;
+    EXPECT_NE(message.find("blocks-256"), std::string::npos) << message;
+    EXPECT_NE(message.find("\"warps\""), std::string::npos) << message;
+  }
+}
+
+}  // namespace
