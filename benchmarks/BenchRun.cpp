@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "Error.h"
 #include "sim/Simulation.h"
+#include "sim/TransferShape.h"
 
 namespace firn::bench {
 
@@ -68,8 +70,27 @@ std::int64_t nodeCount(const glm::ivec3& cells) {
   return std::int64_t(cells.x + 1) * std::int64_t(cells.y + 1) * std::int64_t(cells.z + 1);
 }
 
+ScopedTransferShape::ScopedTransferShape(const std::string& shape) {
+  if (!shape.empty()) setenv("FIRN_TRANSFER_SHAPE", shape.c_str(), 1);
+}
+ScopedTransferShape::~ScopedTransferShape() { unsetenv("FIRN_TRANSFER_SHAPE"); }
+
+std::string chosenTransferShape(const Simulation& simulation) {
+  const std::optional<TransferShapeChoice>& choice = simulation.transferShapeChoice();
+  return choice ? transferShapeName(choice->shape) : std::string();
+}
+
+std::vector<SumSeries> BenchRun::sumSeries() const {
+  std::vector<SumSeries> series;
+  for (const std::string& atomics : atomics_) {
+    series.push_back({atomics, "tiles"});
+    if (atomics == "fixed") series.push_back({atomics, "blocks"});
+  }
+  return series;
+}
+
 void setTiming(CsvTable::Row& row, const Timed& timed) {
-  row.setText("status", timed.status);
+  row.setText("status", timed.status).setText("transfer_shape", timed.transferShape);
   if (timed.status != "ok") return;
   row.setCount("active_nodes", timed.activeNodes)
       .setCount("steps", timed.timing.stepsPerRepeat)
@@ -134,7 +155,10 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       const Scene scene = configurations[i].makeScene();
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
       results[i].particles = seeds.size();
+      results[i].transferShape = configurations[i].transferShape;
+      const ScopedTransferShape shape(configurations[i].transferShape);
       simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
+      if (!chosenTransferShape(*simulations.back()).empty()) results[i].transferShape = chosenTransferShape(*simulations.back());
       built.push_back(simulations.back().get());
       builtIndex.push_back(i);
       progress(configurations[i].label + ": " + grouped(seeds.size()) + " particles, " + nodeDims(scene.grid.cells) +

@@ -53,6 +53,7 @@ std::int64_t nodeCount(const glm::ivec3& cells);
 // fit the domain or the driver's buffers).
 struct Timed {
   std::string status = "ok";
+  std::string transferShape;  // the P2G shape it ran (sim/TransferShape.h): "tiles", "blocks-128", …
   StepTiming timing;
   std::size_t particles = 0;
   std::int64_t activeNodes = 0;
@@ -60,14 +61,36 @@ struct Timed {
   SolverSummary solves;  // semi-implicit scenes: the solves of the warm-up and timed steps
 };
 
-// A timed row's status and, when it was timed, the columns active_nodes, steps, repeats, ms_per_step, ms_min,
-// ms_max, steps_per_s and gpu_ms_per_step.
+// A timed row's status and transfer_shape and, when it was timed, the columns active_nodes, steps, repeats,
+// ms_per_step, ms_min, ms_max, steps_per_s and gpu_ms_per_step.
 void setTiming(CsvTable::Row& row, const Timed& timed);
 
 struct Configuration {
   std::string label;
   std::function<Scene()> makeScene;
+  // The P2G shapes its simulation times (FIRN_TRANSFER_SHAPE: "tiles", "blocks"); empty: every shape, as a run.
+  std::string transferShape;
 };
+
+// A series of a table: how P2G sums, and in which shape. Fixed point is timed in both shapes, tiles and blocks (the
+// group size timed as a run times it); float sums take tiles only (sim/TransferShape.h).
+struct SumSeries {
+  std::string atomics;        // "fixed", "float"
+  std::string transferShape;  // "tiles", "blocks"
+  std::string label() const { return atomics + " " + transferShape; }
+};
+
+// FIRN_TRANSFER_SHAPE for the simulations made while it lives ("": left unset).
+class ScopedTransferShape {
+ public:
+  explicit ScopedTransferShape(const std::string& shape);
+  ~ScopedTransferShape();
+  ScopedTransferShape(const ScopedTransferShape&) = delete;
+  ScopedTransferShape& operator=(const ScopedTransferShape&) = delete;
+};
+
+// The shape a simulation chose, by name ("" before it has had particles).
+std::string chosenTransferShape(const Simulation& simulation);
 
 class BenchRun {
  public:
@@ -81,6 +104,8 @@ class BenchRun {
   const std::string& renderer() const { return context_.info().renderer; }
   // The series of the particle, grid, passes and thesis tables: BenchOptions::atomics, or its default here.
   const std::vector<std::string>& atomicsSeries() const { return atomics_; }
+  // The atomics series, fixed point once per P2G shape: the series of the particles, grid, passes and thesis tables.
+  std::vector<SumSeries> sumSeries() const;
   const BunnyScenes& bunnies() const { return bunnies_.value(); }
   // The thesis's smallest configuration: the reference scene of the grid, passes and P2G tables.
   BunnySetup referenceBunny() const;

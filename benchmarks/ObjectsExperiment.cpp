@@ -72,7 +72,7 @@ Scene withObject(Scene scene, const std::string& object) {
 }  // namespace
 
 void measureObjects(BenchRun& run) {
-  CsvTable table({"object", "triangles", "particles", "dt_s", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
+  CsvTable table({"object", "triangles", "transfer_shape", "particles", "dt_s", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
                   "ratio_to_analytic_box", "bake_s", "field_samples", "status", "renderer"});
   const BenchOptions& options = run.options();
   const std::vector<ObjectCase> cases = {{"none", 0},
@@ -89,7 +89,8 @@ void measureObjects(BenchRun& run) {
                                 return withObject(thesisCloudScene(options.thesisCloud, options.thesisDtS, "fixed",
                                                                    "cubic", "explicit"),
                                                   object);
-                              }});
+                              },
+                              ""});  // P2G's shape as a run chooses it
     // The bake, timed alone (the simulation bakes once, before its first step).
     const auto start = std::chrono::steady_clock::now();
     const ColliderFields fields = bakeColliderFields(configurations.back().makeScene());
@@ -102,6 +103,7 @@ void measureObjects(BenchRun& run) {
     CsvTable::Row& row = table.addRow();
     row.setText("object", cases[i].object)
         .setCount("triangles", std::int64_t(cases[i].triangles))
+        .setText("transfer_shape", timed[i].transferShape)
         .setCount("particles", std::int64_t(timed[i].particles))
         .set("dt_s", options.thesisDtS)
         .setText("status", timed[i].status)

@@ -20,14 +20,15 @@ constexpr glm::dvec3 kP2GAngularVelocityRadPerS{0.0, 2.0, 0.0};
 }  // namespace
 
 void measureP2GAtomics(BenchRun& run) {
-  CsvTable table({"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
+  CsvTable table({"atomics", "transfer_shape", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                   "momentum_max_rel_error", "momentum_rms_rel_error", "mass_max_error_units",
                   "momentum_max_error_units", "fraction_bits", "resolution_units", "max_contributions", "nodes",
                   "particles", "status", "renderer"});
   std::string summary;
-  for (const std::string atomics : {"fixed", "float"}) {
+  for (const SumSeries& sums : {SumSeries{"fixed", "tiles"}, SumSeries{"fixed", "blocks"}, SumSeries{"float", "tiles"}}) {
+    const std::string& atomics = sums.atomics;
     CsvTable::Row& row = table.addRow();
-    row.setText("atomics", atomics).setText("renderer", run.renderer());
+    row.setText("atomics", atomics).setText("transfer_shape", sums.transferShape).setText("renderer", run.renderer());
     try {
       BunnySetup setup = run.referenceBunny();
       setup.atomics = atomics;
@@ -35,7 +36,9 @@ void measureP2GAtomics(BenchRun& run) {
       setup.angularVelocityRadPerS = kP2GAngularVelocityRadPerS;
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+      const ScopedTransferShape forced(sums.transferShape);
       Simulation simulation(scene, seeds, run.gl());
+      row.setText("transfer_shape", chosenTransferShape(simulation));
       const FixedPointScale& scale = simulation.fixedPoint();
       const ReferenceGrid reference = referenceParticleToGrid(scene, scale, simulation.snapshot());
       const SumErrorSummary errors =
@@ -63,7 +66,7 @@ void measureP2GAtomics(BenchRun& run) {
           .setCount("particles", std::int64_t(seeds.size()))
           .setText("status", "ok");
       if (atomics == "fixed") row.setCount("fraction_bits", scale.fractionBits).set("resolution_units", scale.resolution());
-      const std::string line = atomics + ": P2G " + fixed(p2g.wallMs, 2) + " ms, relative error max/RMS mass " +
+      const std::string line = atomics + " by " + chosenTransferShape(simulation) + ": P2G " + fixed(p2g.wallMs, 2) + " ms, relative error max/RMS mass " +
                                formatNumber(errors.massMaxRelative) + "/" + formatNumber(errors.massRmsRelative) +
                                ", momentum " + formatNumber(errors.momentumMaxRelative) + "/" +
                                formatNumber(errors.momentumRmsRelative);
@@ -71,10 +74,10 @@ void measureP2GAtomics(BenchRun& run) {
       summary += (summary.empty() ? "" : "; ") + line;
     } catch (const SimulationError& error) {
       row.setText("status", "unstable");
-      run.progress("p2g atomics, " + atomics + ": unstable: " + error.what());
+      run.progress("p2g atomics, " + sums.label() + ": unstable: " + error.what());
     } catch (const InputError& error) {
       row.setText("status", run.inputErrorStatus(atomics));
-      run.progress("p2g atomics, " + atomics + ": " + error.what());
+      run.progress("p2g atomics, " + sums.label() + ": " + error.what());
     }
   }
   run.write(table, "p2g_atomics");

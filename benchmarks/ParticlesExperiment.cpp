@@ -38,7 +38,7 @@ double logLogSlope(const std::vector<std::pair<double, double>>& points) {
 }  // namespace
 
 void measureParticles(BenchRun& run) {
-  CsvTable table({"series", "atomics", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell",
+  CsvTable table({"series", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell",
                   "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
                   "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
   const Sizes& sizes = run.sizes();
@@ -46,11 +46,13 @@ void measureParticles(BenchRun& run) {
   const double smallestScale = bunnies.scaleFor(sizes.smallestParticles, kSmallestParticlesPerCell);
   std::vector<std::string> series;
   std::vector<BunnySetup> setups;
-  for (const std::string& atomics : run.atomicsSeries()) {
+  std::vector<std::string> shapes;  // each setup's P2G shape (SumSeries::transferShape)
+  for (const SumSeries& sums : run.sumSeries()) {
     for (const std::string name : {"unscaled", "scaled"}) {
       for (const double unscaledPerCell : sizes.unscaledParticlesPerCell) {
         BunnySetup setup;
-        setup.atomics = atomics;
+        setup.atomics = sums.atomics;
+        shapes.push_back(sums.transferShape);
         setup.gridCells = sizes.particleGridCells;
         if (name == "unscaled") {
           setup.scale = smallestScale;
@@ -66,18 +68,19 @@ void measureParticles(BenchRun& run) {
   }
   std::vector<Configuration> configurations;
   for (std::size_t i = 0; i < setups.size(); ++i) {
-    configurations.push_back({"particles, " + setups[i].atomics + " atomics, " + series[i] + ", " +
+    configurations.push_back({"particles, " + setups[i].atomics + " atomics, " + shapes[i] + ", " + series[i] + ", " +
                                   fixed(setups[i].particlesPerCell, 0) + " per cell, bunny scale " +
                                   fixed(setups[i].scale, 3),
-                              [&, i] { return bunnies.scene(setups[i]); }});
+                              [&, i] { return bunnies.scene(setups[i]); }, shapes[i]});
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   std::string exponents;
-  for (const std::string& atomics : run.atomicsSeries()) {
+  for (const SumSeries& sums : run.sumSeries()) {
+    const std::string& atomics = sums.atomics;
     for (const std::string name : {"unscaled", "scaled"}) {
       std::vector<std::pair<double, double>> points;
       for (std::size_t i = 0; i < setups.size(); ++i) {
-        if (series[i] != name || setups[i].atomics != atomics) continue;
+        if (series[i] != name || setups[i].atomics != atomics || shapes[i] != sums.transferShape) continue;
         const glm::ivec3 cells(setups[i].gridCells);
         CsvTable::Row& row = table.addRow();
         row.setText("series", name)
@@ -95,7 +98,7 @@ void measureParticles(BenchRun& run) {
       if (points.size() >= 2) {
         const std::vector<std::pair<double, double>> largest(
             points.end() - std::ptrdiff_t(std::min(points.size(), kExponentFitSizes)), points.end());
-        exponents += (exponents.empty() ? "" : ", ") + name + " " + atomics + " " + fixed(logLogSlope(largest), 3) +
+        exponents += (exponents.empty() ? "" : ", ") + name + " " + sums.label() + " " + fixed(logLogSlope(largest), 3) +
                      " (" + grouped(std::uint64_t(largest.front().first)) + "–" +
                      grouped(std::uint64_t(largest.back().first)) + " particles)";
       }

@@ -1,5 +1,6 @@
 // passes.csv: each pass of a step timed alone (GL_TIME_ELAPSED and wall time to glFinish) on the reference
-// bunny, once per atomics, with its share of the step. The summary gives each pass's share and their sum.
+// bunny, once per series of sums (atomics and P2G shape), with its share of the step. The summary gives each pass's
+// share and their sum.
 #include "Error.h"
 #include "Experiments.h"
 #include "sim/Simulation.h"
@@ -8,14 +9,17 @@ namespace firn::bench {
 
 void measurePasses(BenchRun& run) {
   CsvTable table(
-      {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step", "particles", "renderer"});
-  for (const std::string& atomics : run.atomicsSeries()) {
+      {"atomics", "transfer_shape", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step", "particles", "renderer"});
+  for (const SumSeries& sums : run.sumSeries()) {
+    const std::string& atomics = sums.atomics;
     try {
       BunnySetup setup = run.referenceBunny();
       setup.atomics = atomics;
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+      const ScopedTransferShape forced(sums.transferShape);
       Simulation simulation(scene, seeds, run.gl());
+      const std::string shape = chosenTransferShape(simulation);
       const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
       double totalWallMs = 0, totalGpuMs = 0;
       for (const PassTiming& timing : timings) {
@@ -26,6 +30,7 @@ void measurePasses(BenchRun& run) {
       for (const PassTiming& timing : timings) {
         table.addRow()
             .setText("atomics", atomics)
+            .setText("transfer_shape", shape)
             .setText("pass", timing.pass)
             .set("gpu_ms", timing.gpuMs)
             .set("wall_ms", timing.wallMs)
@@ -38,7 +43,7 @@ void measurePasses(BenchRun& run) {
       }
       run.progress("passes: " + shares);
       run.addSummary("passes (" + grouped(seeds.size()) + " particles, cubic, PIC/FLIP, " + atomics +
-                     " atomics), wall time per step, each pass timed alone: " + shares + "; sum " +
+                     " atomics, P2G by " + shape + "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
     } catch (const SimulationError& error) {
       run.progress(std::string("passes: unstable: ") + error.what());

@@ -20,7 +20,7 @@ constexpr double kThesisDtS = 1e-3;
 }  // namespace
 
 void measureThesis(BenchRun& run) {
-  CsvTable table({"kernel", "atomics", "integrator", "particles", "grid_dims", "dt_s", "steps", "repeats",
+  CsvTable table({"kernel", "atomics", "transfer_shape", "integrator", "particles", "grid_dims", "dt_s", "steps", "repeats",
                   "ms_per_step", "ms_min", "ms_max", "ms_per_simulated_second", "mean_iterations",
                   "thesis_ms_per_step", "thesis_dt_s", "speedup_per_step", "speedup_per_simulated_second", "status",
                   "renderer"});
@@ -28,20 +28,24 @@ void measureThesis(BenchRun& run) {
   struct ThesisCase {
     std::string kernel, atomics, integrator;
     double dtS = 0;
+    std::string transferShape;
   };
   std::vector<ThesisCase> cases;
-  for (const std::string& atomics : run.atomicsSeries()) {
-    cases.push_back({"cubic", atomics, "explicit", options.thesisDtS});
+  for (const SumSeries& series : run.sumSeries()) {
+    cases.push_back({"cubic", series.atomics, "explicit", options.thesisDtS, series.transferShape});
   }
-  cases.push_back({"quadratic", "fixed", "explicit", options.thesisDtS});
-  cases.push_back({"cubic", "fixed", "semi_implicit", kThesisDtS});
+  for (const std::string shape : {"tiles", "blocks"}) {
+    cases.push_back({"quadratic", "fixed", "explicit", options.thesisDtS, shape});
+    cases.push_back({"cubic", "fixed", "semi_implicit", kThesisDtS, shape});
+  }
   std::vector<Configuration> configurations;
   for (const ThesisCase& c : cases) {
-    configurations.push_back({"thesis bunny, " + c.kernel + ", " + c.atomics + " atomics, " + c.integrator + ", dt " +
-                                  formatNumber(c.dtS) + " s",
+    configurations.push_back({"thesis bunny, " + c.kernel + ", " + c.atomics + " atomics, " + c.transferShape + ", " +
+                                  c.integrator + ", dt " + formatNumber(c.dtS) + " s",
                               [&options, c] {
                                 return thesisCloudScene(options.thesisCloud, c.dtS, c.atomics, c.kernel, c.integrator);
-                              }});
+                              },
+                              c.transferShape});
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   for (std::size_t i = 0; i < timed.size(); ++i) {
@@ -49,6 +53,7 @@ void measureThesis(BenchRun& run) {
     const ThesisCase& c = cases[i];
     row.setText("kernel", c.kernel)
         .setText("atomics", c.atomics)
+        .setText("transfer_shape", timed[i].transferShape)
         .setText("integrator", c.integrator)
         .setCount("particles", std::int64_t(timed[i].particles))
         .setText("grid_dims", nodeDims(glm::ivec3(kThesisGridCells)))
@@ -78,7 +83,7 @@ void measureThesis(BenchRun& run) {
       iterations = " (" + fixed(meanIterations, 1) + " iterations per step)";
     }
     run.addSummary("thesis bunny (" + grouped(timed[i].particles) + " particles, " + c.kernel + ", " + c.atomics +
-                   " atomics, " + c.integrator + ", dt " + formatNumber(c.dtS) + " s): " + fixed(msPerStep, 1) +
+                   " atomics, P2G by " + timed[i].transferShape + ", " + c.integrator + ", dt " + formatNumber(c.dtS) + " s): " + fixed(msPerStep, 1) +
                    " ms per step" + iterations + ", " + fixed(speedupPerStep, 2) +
                    "x faster than the thesis's 546 ms per step; per simulated second " +
                    fixed(speedupPerSimulatedSecond, 2) + "x (the thesis steps 1e-3 s)");
