@@ -102,8 +102,8 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
-  const std::optional<TransferShape> forced = forcedTransferShape(scene);
-  for (const TransferShape& shape : forced ? std::vector<TransferShape>{*forced} : transferShapes(scene)) {
+  const TransferShapeCandidates candidates = transferShapeCandidates(scene);
+  for (const TransferShape& shape : candidates.shapes) {
     if (shape.kind == TransferShape::Kind::Tiles) {
       particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g.comp", options, "p2g"));
     } else {
@@ -112,7 +112,8 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
       particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "p2g"));
     }
   }
-  if (particleToGrid_.size() == 1) transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, bool(forced), {}};
+  transferShapeForced_ = candidates.forced;
+  if (particleToGrid_.size() == 1) transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, candidates.forced, {}};
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
@@ -164,6 +165,7 @@ void StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     }
   }
   TransferShapeChoice choice;
+  choice.forced = transferShapeForced_;
   std::size_t best = 0;
   for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
     choice.msPerTransfer.emplace_back(particleToGrid_[i].first, fastestMs[i]);

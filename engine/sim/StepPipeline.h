@@ -62,6 +62,7 @@ class StepPipeline {
   int maxWorkGroupsX_ = 65535;
   // P2G in each shape still in the running: all of the scene's before the choice, the chosen one after it.
   std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
+  bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;

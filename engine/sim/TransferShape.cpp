@@ -37,27 +37,30 @@ std::vector<TransferShape> transferShapes(const Scene& scene) {
   return {{TransferShape::Kind::Tiles, 0}};
 }
 
-std::optional<TransferShape> forcedTransferShape(const Scene& scene) {
+TransferShapeCandidates transferShapeCandidates(const Scene& scene) {
   const char* value = std::getenv(kVariable);
-  if (value == nullptr || *value == '\0') return std::nullopt;  // unset or empty: measure
-  std::string names;
-  for (const TransferShape& shape : everyShape()) names += (names.empty() ? "" : ", ") + transferShapeName(shape);
+  if (value == nullptr || *value == '\0') return {transferShapes(scene), false};  // unset or empty: every shape
+  const std::string name = value;
+  std::vector<TransferShape> named;
+  std::string names = "tiles, blocks";
   for (const TransferShape& shape : everyShape()) {
-    if (transferShapeName(shape) != value) continue;
-    const std::vector<TransferShape> possible = transferShapes(scene);
-    if (std::find(possible.begin(), possible.end(), shape) == possible.end()) {
-      throw InputError(std::string(kVariable) + "=" + value +
-                       ": blocks sum in fixed point only, and the scene's solver.atomics is \"float\"; use tiles");
-    }
-    return shape;
+    if (shape.kind == TransferShape::Kind::Blocks) names += ", " + transferShapeName(shape);
+    const bool all = name == "blocks" && shape.kind == TransferShape::Kind::Blocks;
+    if (all || transferShapeName(shape) == name) named.push_back(shape);
   }
-  throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + value + "\")");
+  if (named.empty()) throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + name + "\")");
+  const std::vector<TransferShape> possible = transferShapes(scene);
+  if (std::find(possible.begin(), possible.end(), named.front()) == possible.end()) {
+    throw InputError(std::string(kVariable) + "=" + name +
+                     ": blocks sum in fixed point only, and the scene's solver.atomics is \"float\"; use tiles");
+  }
+  return {named, true};
 }
 
 std::string TransferShapeChoice::describe() const {
   const std::string name = transferShapeName(shape);
-  if (forced) return "P2G by " + name + ", as " + kVariable + " asks";
-  if (msPerTransfer.size() < 2) return "P2G by " + name + ", the only shape for this scene";
+  const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();
+  if (msPerTransfer.size() < 2) return "P2G by " + name + (forced ? asked : ", the only shape for this scene");
   double chosenMs = 0;
   const std::pair<TransferShape, double>* runnerUp = nullptr;
   for (const auto& entry : msPerTransfer) {
@@ -70,7 +73,7 @@ std::string TransferShapeChoice::describe() const {
   char ratio[32];
   std::snprintf(ratio, sizeof ratio, "%.2f", runnerUp->second / std::max(chosenMs, 1e-9));
   return "P2G by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
-         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on this scene)";
+         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on this scene)" + asked;
 }
 
 }  // namespace firn

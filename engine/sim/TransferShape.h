@@ -29,14 +29,19 @@ std::string transferShapeName(const TransferShape& shape);
 // on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
 std::vector<TransferShape> transferShapes(const Scene& scene);
 
-// The shape FIRN_TRANSFER_SHAPE forces (for benchmarks and tests), or none when it is unset. Throws InputError for a
-// name that is not a shape, or blocks for a scene with float sums.
-std::optional<TransferShape> forcedTransferShape(const Scene& scene);
+// The shapes a run times before it keeps the fastest: every shape the scene can take, or those FIRN_TRANSFER_SHAPE
+// names (for benchmarks and tests): "tiles", "blocks" (each group size), or one of "blocks-64", "blocks-128",
+// "blocks-256". Throws InputError for another name, or for blocks with float sums.
+struct TransferShapeCandidates {
+  std::vector<TransferShape> shapes;
+  bool forced = false;  // FIRN_TRANSFER_SHAPE named them
+};
+TransferShapeCandidates transferShapeCandidates(const Scene& scene);
 
-// The shape a run takes, and the P2G times that chose it (ms; empty when forced or when there was no choice).
+// The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate).
 struct TransferShapeChoice {
   TransferShape shape;
-  bool forced = false;
+  bool forced = false;  // FIRN_TRANSFER_SHAPE named the candidates
   std::vector<std::pair<TransferShape, double>> msPerTransfer;
 
   // One line for a run's header and stats.csv: "P2G by blocks-128, 3.1x faster than tiles (0.71 ms against

@@ -90,7 +90,8 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   }
 }
 
-// Unforced, a run times every shape on its first particles and keeps the fastest it measured.
+// Unforced, a run times every shape on its first particles and keeps the fastest it measured; "blocks" times the
+// block sizes only.
 TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   const Scene scene = firn::defaultScene();
   unsetenv("FIRN_TRANSFER_SHAPE");
@@ -106,6 +107,16 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   }
   for (const auto& [shape, ms] : choice->msPerTransfer) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
   EXPECT_NE(choice->describe().find("faster than"), std::string::npos) << choice->describe();
+
+  // FIRN_TRANSFER_SHAPE=blocks times the block sizes alone (the benchmarks' blocks rows).
+  const ForcedShape blocks("blocks");
+  Simulation blocksOnly(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  const std::optional<firn::TransferShapeChoice>& blocksChoice = blocksOnly.transferShapeChoice();
+  ASSERT_TRUE(blocksChoice.has_value());
+  EXPECT_TRUE(blocksChoice->forced);
+  ASSERT_EQ(blocksChoice->msPerTransfer.size(), 3u);
+  for (const auto& [shape, ms] : blocksChoice->msPerTransfer) EXPECT_EQ(shape.kind, TransferShape::Kind::Blocks);
+  EXPECT_EQ(blocksChoice->shape.kind, TransferShape::Kind::Blocks);
 }
 
 // A scene whose particles all come from an emitter has none to time at first: it chooses at its first step with
@@ -124,7 +135,7 @@ TEST(TransferShape, EmittersChooseAtTheirFirstParticlesAndFloatSumsKeepTiles) {
   EXPECT_EQ(firn::transferShapes(floatSums)[0].kind, TransferShape::Kind::Tiles);
   const ForcedShape blocks("blocks-128");
   try {
-    (void)firn::forcedTransferShape(floatSums);
+    (void)firn::transferShapeCandidates(floatSums);
     FAIL() << "blocks were accepted for float sums";
   } catch (const firn::InputError& error) {
     EXPECT_NE(std::string(error.what()).find("FIRN_TRANSFER_SHAPE=blocks-128"), std::string::npos) << error.what();
@@ -134,7 +145,7 @@ TEST(TransferShape, EmittersChooseAtTheirFirstParticlesAndFloatSumsKeepTiles) {
 TEST(TransferShape, AnUnknownShapeIsBadInputNamingTheVariable) {
   const ForcedShape wrong("warps");
   try {
-    (void)firn::forcedTransferShape(firn::defaultScene());
+    (void)firn::transferShapeCandidates(firn::defaultScene());
     FAIL() << "\"warps\" was accepted";
   } catch (const firn::InputError& error) {
     const std::string message = error.what();
