@@ -40,7 +40,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
       for (const char* pass : {"sim/prepare_blocks.comp", "sim/release_blocks.comp", "sim/mark_blocks.comp",
                                "sim/count_blocks.comp", "sim/bin_count.comp", "sim/bin_scan.comp",
                                "sim/block_offsets.comp", "sim/bin_place.comp", "sim/order_tiles.comp", "sim/p2g.comp",
-                               "sim/update_grid.comp", "sim/compute_volumes.comp"}) {
+                               "sim/p2g_block.comp", "sim/update_grid.comp", "sim/compute_volumes.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, options)) << pass << " " << kernel << " " << transfer;
       }
       // G2P holds the material models: each alone (water without F), and all of them together.
