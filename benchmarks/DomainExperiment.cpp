@@ -46,7 +46,7 @@ void measureDomain(BenchRun& run) {
   for (const int cells : domainCells) {
     configurations.push_back({"domain, " + std::to_string(cells) + "³ cells",
                               [cells, particles] { return snowballInDomain(cells, particles); },
-                              ""});  // P2G's shape as a run chooses it
+                              ""});  // the transfers' shape as a run chooses it
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   std::vector<std::pair<int, double>> timedSizes;

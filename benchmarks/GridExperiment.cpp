@@ -1,6 +1,7 @@
 // grid.csv: time per step against grid size with the same particles (Snow thesis 2015 §5.2, fig. 11), once per
-// series of sums (atomics and P2G shape): the reference bunny sits in the domain's low corner, so every domain holds exactly the same
-// particles. The summary gives what the largest grid costs over the smallest (issue 7: at most 1.5x).
+// series of sums (atomics and transfer shape): the reference bunny sits in the domain's low corner, so every domain
+// holds exactly the same particles. The summary gives what the largest grid costs over the smallest (issue 7: at
+// most 1.5x).
 #include <utility>
 
 #include "Experiments.h"

@@ -90,7 +90,7 @@ void measureObjects(BenchRun& run) {
                                                                    "cubic", "explicit"),
                                                   object);
                               },
-                              ""});  // P2G's shape as a run chooses it
+                              ""});  // the transfers' shape as a run chooses it
     // The bake, timed alone (the simulation bakes once, before its first step).
     const auto start = std::chrono::steady_clock::now();
     const ColliderFields fields = bakeColliderFields(configurations.back().makeScene());

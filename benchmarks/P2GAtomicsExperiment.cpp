@@ -66,8 +66,9 @@ void measureP2GAtomics(BenchRun& run) {
           .setCount("particles", std::int64_t(seeds.size()))
           .setText("status", "ok");
       if (atomics == "fixed") row.setCount("fraction_bits", scale.fractionBits).set("resolution_units", scale.resolution());
-      const std::string line = atomics + " by " + chosenTransferShape(simulation) + ": P2G " + fixed(p2g.wallMs, 2) + " ms, relative error max/RMS mass " +
-                               formatNumber(errors.massMaxRelative) + "/" + formatNumber(errors.massRmsRelative) +
+      const std::string line = atomics + " by " + chosenTransferShape(simulation) + ": P2G " + fixed(p2g.wallMs, 2) +
+                               " ms, relative error max/RMS mass " + formatNumber(errors.massMaxRelative) + "/" +
+                               formatNumber(errors.massRmsRelative) +
                                ", momentum " + formatNumber(errors.momentumMaxRelative) + "/" +
                                formatNumber(errors.momentumRmsRelative);
       run.progress("p2g atomics, " + line);

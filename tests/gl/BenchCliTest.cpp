@@ -34,12 +34,13 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
 
   const std::map<std::string, std::vector<std::string>> leadingColumns = {
-      {"particles.csv", {"series", "atomics", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
-      {"grid.csv", {"atomics", "grid_cells", "grid_dims", "particles", "active_nodes"}},
-      {"domain.csv", {"grid_cells", "grid_dims", "particles", "active_blocks", "active_nodes", "pool_blocks", "pool_mib",
+      {"particles.csv",
+       {"series", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
+      {"grid.csv", {"atomics", "transfer_shape", "grid_cells", "grid_dims", "particles", "active_nodes"}},
+      {"domain.csv", {"grid_cells", "grid_dims", "transfer_shape", "particles", "active_blocks", "active_nodes", "pool_blocks", "pool_mib",
                       "block_map_mib"}},
-      {"passes.csv", {"atomics", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
-      {"p2g_atomics.csv", {"atomics", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
+      {"passes.csv", {"atomics", "transfer_shape", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
+      {"p2g_atomics.csv", {"atomics", "transfer_shape", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
       {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio",
                         "atomics", "dt_s", "dt_fraction", "particles_per_cell", "cell_size_m", "particles", "steps",
@@ -80,6 +81,18 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       double ms = 0;
       EXPECT_TRUE(isNumber(rows[r][time], ms) && ms > 0) << file << " row " << r;
     }
+  }
+  // The tables of the step time fixed point in both transfer shapes, tiles and blocks (sim/TransferShape.h).
+  for (const std::string file : {"particles.csv", "grid.csv", "passes.csv", "p2g_atomics.csv"}) {
+    const auto rows = readCsv(out / file);
+    const std::size_t atomics = file == "particles.csv" ? 1 : 0, shape = atomics + 1;  // particles.csv: series first
+    bool tiles = false, blocks = false;
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      if (rows[r][atomics] != "fixed") continue;
+      tiles = tiles || rows[r][shape] == "tiles";
+      blocks = blocks || rows[r][shape].rfind("blocks-", 0) == 0;
+    }
+    EXPECT_TRUE(tiles && blocks) << file << ": fixed point in tiles and in blocks";
   }
   for (const std::string file : {"machine.txt", "summary.txt"}) EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
   EXPECT_NE(result.output.find("particles: exponent"), std::string::npos) << result.output;
