@@ -158,7 +158,8 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       results[i].transferShape = configurations[i].transferShape;
       const ScopedTransferShape shape(configurations[i].transferShape);
       simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
-      if (!chosenTransferShape(*simulations.back()).empty()) results[i].transferShape = chosenTransferShape(*simulations.back());
+      const std::string chosen = chosenTransferShape(*simulations.back());
+      if (!chosen.empty()) results[i].transferShape = chosen;
       built.push_back(simulations.back().get());
       builtIndex.push_back(i);
       progress(configurations[i].label + ": " + grouped(seeds.size()) + " particles, " + nodeDims(scene.grid.cells) +

@@ -53,7 +53,7 @@ std::int64_t nodeCount(const glm::ivec3& cells);
 // fit the domain or the driver's buffers).
 struct Timed {
   std::string status = "ok";
-  std::string transferShape;  // the transfers' shape it ran (sim/TransferShape.h): "tiles", "blocks-128", …
+  std::string transferShape;  // the P2G shape it ran (sim/TransferShape.h): "tiles", "blocks-128", …
   StepTiming timing;
   std::size_t particles = 0;
   std::int64_t activeNodes = 0;
@@ -68,7 +68,7 @@ void setTiming(CsvTable::Row& row, const Timed& timed);
 struct Configuration {
   std::string label;
   std::function<Scene()> makeScene;
-  // The transfer shapes its simulation times (FIRN_TRANSFER_SHAPE: "tiles", "blocks"); empty: every shape, as a run.
+  // The P2G shapes its simulation times (FIRN_TRANSFER_SHAPE: "tiles", "blocks"); empty: every shape, as a run.
   std::string transferShape;
 };
 
@@ -104,7 +104,7 @@ class BenchRun {
   const std::string& renderer() const { return context_.info().renderer; }
   // The series of the particle, grid, passes and thesis tables: BenchOptions::atomics, or its default here.
   const std::vector<std::string>& atomicsSeries() const { return atomics_; }
-  // The atomics series, fixed point once per transfer shape: the series of the particles, grid, passes and thesis tables.
+  // The atomics series, fixed point once per P2G shape: the series of the particles, grid, passes and thesis tables.
   std::vector<SumSeries> sumSeries() const;
   const BunnyScenes& bunnies() const { return bunnies_.value(); }
   // The thesis's smallest configuration: the reference scene of the grid, passes and P2G tables.

@@ -37,16 +37,16 @@ Scene snowballInDomain(int cells, double particles) {
 }  // namespace
 
 void measureDomain(BenchRun& run) {
-  CsvTable table({"grid_cells", "grid_dims", "transfer_shape", "particles", "active_blocks", "active_nodes", "pool_blocks",
-                  "pool_mib", "block_map_mib", "steps", "repeats", "ms_per_step", "ms_min", "ms_max", "steps_per_s",
-                  "gpu_ms_per_step", "status", "renderer"});
+  CsvTable table({"grid_cells", "grid_dims", "transfer_shape", "particles", "active_blocks", "active_nodes",
+                  "pool_blocks", "pool_mib", "block_map_mib", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
+                  "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
   const std::vector<int>& domainCells = run.sizes().domainExperimentCells;
   const double particles = run.sizes().domainSnowballParticles;
   std::vector<Configuration> configurations;
   for (const int cells : domainCells) {
     configurations.push_back({"domain, " + std::to_string(cells) + "³ cells",
                               [cells, particles] { return snowballInDomain(cells, particles); },
-                              ""});  // the transfers' shape as a run chooses it
+                              ""});  // P2G's shape as a run chooses it
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   std::vector<std::pair<int, double>> timedSizes;

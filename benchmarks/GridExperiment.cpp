@@ -1,5 +1,5 @@
 // grid.csv: time per step against grid size with the same particles (Snow thesis 2015 §5.2, fig. 11), once per
-// series of sums (atomics and transfer shape): the reference bunny sits in the domain's low corner, so every domain
+// series of sums (atomics and P2G shape): the reference bunny sits in the domain's low corner, so every domain
 // holds exactly the same particles. The summary gives what the largest grid costs over the smallest (issue 7: at
 // most 1.5x).
 #include <utility>
@@ -9,8 +9,8 @@
 namespace firn::bench {
 
 void measureGrid(BenchRun& run) {
-  CsvTable table({"atomics", "transfer_shape", "grid_cells", "grid_dims", "particles", "active_nodes", "steps", "repeats",
-                  "ms_per_step", "ms_min", "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
+  CsvTable table({"atomics", "transfer_shape", "grid_cells", "grid_dims", "particles", "active_nodes", "steps",
+                  "repeats", "ms_per_step", "ms_min", "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
   const std::vector<SumSeries> sumSeries = run.sumSeries();
   const std::vector<int>& gridCells = run.sizes().gridExperimentCells;
   const BunnyScenes& bunnies = run.bunnies();

@@ -72,8 +72,8 @@ Scene withObject(Scene scene, const std::string& object) {
 }  // namespace
 
 void measureObjects(BenchRun& run) {
-  CsvTable table({"object", "triangles", "transfer_shape", "particles", "dt_s", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
-                  "ratio_to_analytic_box", "bake_s", "field_samples", "status", "renderer"});
+  CsvTable table({"object", "triangles", "transfer_shape", "particles", "dt_s", "steps", "repeats", "ms_per_step",
+                  "ms_min", "ms_max", "ratio_to_analytic_box", "bake_s", "field_samples", "status", "renderer"});
   const BenchOptions& options = run.options();
   const std::vector<ObjectCase> cases = {{"none", 0},
                                          {"analytic box", 0},
@@ -90,7 +90,7 @@ void measureObjects(BenchRun& run) {
                                                                    "cubic", "explicit"),
                                                   object);
                               },
-                              ""});  // the transfers' shape as a run chooses it
+                              ""});  // P2G's shape as a run chooses it
     // The bake, timed alone (the simulation bakes once, before its first step).
     const auto start = std::chrono::steady_clock::now();
     const ColliderFields fields = bakeColliderFields(configurations.back().makeScene());

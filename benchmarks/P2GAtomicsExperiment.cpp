@@ -25,7 +25,8 @@ void measureP2GAtomics(BenchRun& run) {
                   "momentum_max_error_units", "fraction_bits", "resolution_units", "max_contributions", "nodes",
                   "particles", "status", "renderer"});
   std::string summary;
-  for (const SumSeries& sums : {SumSeries{"fixed", "tiles"}, SumSeries{"fixed", "blocks"}, SumSeries{"float", "tiles"}}) {
+  for (const SumSeries& sums :
+       {SumSeries{"fixed", "tiles"}, SumSeries{"fixed", "blocks"}, SumSeries{"float", "tiles"}}) {
     const std::string& atomics = sums.atomics;
     CsvTable::Row& row = table.addRow();
     row.setText("atomics", atomics).setText("transfer_shape", sums.transferShape).setText("renderer", run.renderer());

@@ -46,7 +46,7 @@ void measureParticles(BenchRun& run) {
   const double smallestScale = bunnies.scaleFor(sizes.smallestParticles, kSmallestParticlesPerCell);
   std::vector<std::string> series;
   std::vector<BunnySetup> setups;
-  std::vector<std::string> shapes;  // each setup's transfer shape (SumSeries::transferShape)
+  std::vector<std::string> shapes;  // each setup's P2G shape (SumSeries::transferShape)
   for (const SumSeries& sums : run.sumSeries()) {
     for (const std::string name : {"unscaled", "scaled"}) {
       for (const double unscaledPerCell : sizes.unscaledParticlesPerCell) {

@@ -1,5 +1,5 @@
 // passes.csv: each pass of a step timed alone (GL_TIME_ELAPSED and wall time to glFinish) on the reference
-// bunny, once per series of sums (atomics and transfer shape), with its share of the step. The summary gives each
+// bunny, once per series of sums (atomics and P2G shape), with its share of the step. The summary gives each
 // pass's share and their sum.
 #include "Error.h"
 #include "Experiments.h"
@@ -43,7 +43,7 @@ void measurePasses(BenchRun& run) {
       }
       run.progress("passes: " + shares);
       run.addSummary("passes (" + grouped(seeds.size()) + " particles, cubic, PIC/FLIP, " + atomics +
-                     " atomics, transfers by " + shape + "), wall time per step, each pass timed alone: " + shares + "; sum " +
+                     " atomics, P2G by " + shape + "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
     } catch (const SimulationError& error) {
       run.progress(std::string("passes: unstable: ") + error.what());

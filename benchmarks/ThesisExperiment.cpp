@@ -83,7 +83,7 @@ void measureThesis(BenchRun& run) {
       iterations = " (" + fixed(meanIterations, 1) + " iterations per step)";
     }
     run.addSummary("thesis bunny (" + grouped(timed[i].particles) + " particles, " + c.kernel + ", " + c.atomics +
-                   " atomics, transfers by " + timed[i].transferShape + ", " + c.integrator + ", dt " +
+                   " atomics, P2G by " + timed[i].transferShape + ", " + c.integrator + ", dt " +
                    formatNumber(c.dtS) + " s): " + fixed(msPerStep, 1) + " ms per step" + iterations + ", " + fixed(speedupPerStep, 2) +
                    "x faster than the thesis's 546 ms per step; per simulated second " +
                    fixed(speedupPerSimulatedSecond, 2) + "x (the thesis steps 1e-3 s)");

@@ -245,7 +245,7 @@ int infoCommand() {
               "max shader storage block  %lld MiB\n",
               info.platform.c_str(), info.vendor.c_str(), info.renderer.c_str(), info.version.c_str(),
               info.hasFloatAtomics ? "yes" : "no", info.maxStorageBlockBytes / (1024 * 1024));
-  // The transfers' shape on this device, timed as a run times it, on the built-in scene (sim/TransferShape.h).
+  // P2G's shape on this device, timed as a run times it, on the built-in scene (sim/TransferShape.h).
   const firn::Scene scene = firn::defaultScene();
   const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
   const firn::Simulation simulation(scene, seeds, info);

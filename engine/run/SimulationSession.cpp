@@ -52,7 +52,7 @@ SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& 
   for (const std::string& warning : report.warnings) log << messagePrefix_ << ": warning: " << warning << "\n";
   const std::optional<TransferShapeChoice>& shape = simulation_->transferShapeChoice();
   log << messagePrefix_ << ": transfers: "
-      << (shape ? shape->describe() : std::string("their shape is timed at the first step with particles")) << "\n";
+      << (shape ? shape->describe() : std::string("P2G's shape is timed at the first step with particles")) << "\n";
 }
 
 SimulationSession::~SimulationSession() = default;

@@ -112,7 +112,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     }
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
-  // The transfers' shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
+  // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
   // its first step with particles.
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.chooseTransferShape(state_, particleCount_);

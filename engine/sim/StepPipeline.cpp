@@ -102,22 +102,21 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
-  // Both shapes' passes are timed under the tiles' names (sim/p2g.comp, sim/g2p.comp): one step, one P2G and one G2P.
+  // Both shapes of P2G are timed under one name, the tiles' (sim/p2g.comp): a step has one P2G.
   const TransferShapeCandidates candidates = transferShapeCandidates(scene);
   for (const TransferShape& shape : candidates.shapes) {
     if (shape.kind == TransferShape::Kind::Tiles) {
-      transfers_.push_back({shape, gl::ComputePass(library, "sim/p2g.comp", options),
-                            gl::ComputePass(library, "sim/g2p.comp", options)});
+      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g.comp", options));
     } else {
       gl::ShaderOptions blockOptions = options;
-      blockOptions.defines.emplace_back("FIRN_TRANSFER_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
-      transfers_.push_back({shape, gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "sim/p2g.comp"),
-                            gl::ComputePass(library, "sim/g2p_block.comp", blockOptions, "sim/g2p.comp")});
+      blockOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
+      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "sim/p2g.comp"));
     }
   }
   transferShapeForced_ = candidates.forced;
-  if (transfers_.size() == 1) transferChoice_ = TransferShapeChoice{transfers_[0].shape, candidates.forced, {}};
+  if (particleToGrid_.size() == 1) transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, candidates.forced, {}};
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
+  gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   if (!scene.rigidBodies.empty()) {
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
@@ -128,88 +127,58 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
 
 namespace {
 
-// The offset in the block table of a transfer's dispatch: tiles take the transfers' own, blocks a work group per
-// active block.
-std::size_t transferDispatch(const TransferShape& shape) {
-  return shape.kind == TransferShape::Kind::Tiles ? offsetof(gpu::BlockTableHeader, tileDispatch)
-                                                  : offsetof(gpu::BlockTableHeader, blockDispatch);
+// P2G in `shape`: tiles take the transfers' dispatch, blocks a work group per active block.
+void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
+                       gl::PassTimer& timer) {
+  const std::size_t dispatch = shape.kind == TransferShape::Kind::Tiles ? offsetof(gpu::BlockTableHeader, tileDispatch)
+                                                                        : offsetof(gpu::BlockTableHeader, blockDispatch);
+  pass.runIndirect(state.grid().blockTable(), dispatch, state.bindings(), timer);
+  glMemoryBarrier(kStorage);
 }
 
 // Timed rounds of every shape, after one round untimed (a driver may build its code at the first dispatch).
 constexpr int kTransferShapeRounds = 3;
 
-// Wall time of `work`, from glFinish to glFinish (ms).
-template <typename Work>
-double finishedMs(Work work) {
-  glFinish();
-  const auto start = std::chrono::steady_clock::now();
-  work();
-  glFinish();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
-void StepPipeline::particleToGrid(const Transfers& transfers, GpuState& state, std::size_t particles,
-                                  gl::PassTimer& timer) const {
-  state.grid().sortParticles(particles, state.bindings(), timer);
-  transfers.particleToGrid.runIndirect(state.grid().blockTable(), transferDispatch(transfers.shape), state.bindings(),
-                                       timer);
-  glMemoryBarrier(kStorage);
-}
-
-void StepPipeline::gridToParticle(const Transfers& transfers, GpuState& state, std::size_t particles,
-                                  gl::PassTimer& timer) const {
-  if (transfers.shape.kind == TransferShape::Kind::Tiles) {
-    transfers.gridToParticle.runOver(particles, maxWorkGroupsX_, state.bindings(), timer);
-  } else {
-    transfers.gridToParticle.runIndirect(state.grid().blockTable(), transferDispatch(transfers.shape),
-                                         state.bindings(), timer);
-  }
-  glMemoryBarrier(kStorage);
-}
-
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
-  particleToGrid(transfers_.front(), state, particles, timer);
+  state.grid().sortParticles(particles, state.bindings(), timer);
+  const auto& [shape, pass] = particleToGrid_.front();
+  runParticleToGrid(shape, pass, state, timer);
 }
 
 void StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   if (transferChoice_ || particles == 0) return;
-  // Each round is the transfers of a step from the same particles: P2G, then G2P from the grid update's velocities
-  // (no semi-implicit solve: it is the same in every shape). Only the transfers are timed, and the fastest round of
-  // each shape counts: a shared machine's noise only ever adds time.
-  std::vector<double> fastestMs(transfers_.size(), std::numeric_limits<double>::infinity());
+  // The fastest of each shape's timed rounds: a shared machine's noise only ever adds time.
+  std::vector<double> fastestMs(particleToGrid_.size(), std::numeric_limits<double>::infinity());
   gl::PassTimer untimed;
-  state.save();
   for (int round = 0; round <= kTransferShapeRounds; ++round) {
-    for (std::size_t i = 0; i < transfers_.size(); ++i) {
-      state.restore();
+    for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
+      // Each P2G adds to the sums the sort has just emptied (release_blocks.comp), so every round ends as one
+      // transferToGrid would.
       state.grid().sortParticles(particles, state.bindings(), untimed);
-      const Transfers& transfers = transfers_[i];
-      double ms = finishedMs([&] {
-        transfers.particleToGrid.runIndirect(state.grid().blockTable(), transferDispatch(transfers.shape),
-                                             state.bindings(), untimed);
-      });
-      glMemoryBarrier(kStorage);
-      updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
-                              state.bindings(), untimed);
-      glMemoryBarrier(kStorage);
-      ms += finishedMs([&] { gridToParticle(transfers, state, particles, untimed); });
+      glFinish();
+      const auto start = std::chrono::steady_clock::now();
+      runParticleToGrid(particleToGrid_[i].first, particleToGrid_[i].second, state, untimed);
+      glFinish();
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       if (round > 0) fastestMs[i] = std::min(fastestMs[i], ms);
     }
   }
-  state.restore();
   TransferShapeChoice choice;
   choice.forced = transferShapeForced_;
   std::size_t best = 0;
-  for (std::size_t i = 0; i < transfers_.size(); ++i) {
-    choice.msPerTransfer.emplace_back(transfers_[i].shape, fastestMs[i]);
+  for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
+    choice.msPerTransfer.emplace_back(particleToGrid_[i].first, fastestMs[i]);
     if (fastestMs[i] < fastestMs[best]) best = i;
   }
-  choice.shape = transfers_[best].shape;
-  Transfers chosen = std::move(transfers_[best]);
-  transfers_.clear();
-  transfers_.push_back(std::move(chosen));
+  choice.shape = particleToGrid_[best].first;
+  // The chosen shape runs last, so that the grid is its own transfer's (the same sums either way).
+  state.grid().sortParticles(particles, state.bindings(), untimed);
+  runParticleToGrid(particleToGrid_[best].first, particleToGrid_[best].second, state, untimed);
+  auto chosen = std::move(particleToGrid_[best]);
+  particleToGrid_.clear();
+  particleToGrid_.push_back(std::move(chosen));
   transferChoice_ = std::move(choice);
 }
 
@@ -221,7 +190,8 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   glMemoryBarrier(kStorage);
   SolveReport solve;
   if (implicitSolver_) solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
-  gridToParticle(transfers_.front(), state, particles, timer);
+  gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+  glMemoryBarrier(kStorage);
   if (rigidBodies_ > 0) {
     integrateBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
     glMemoryBarrier(kStorage);

@@ -44,10 +44,9 @@ class StepPipeline {
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
   // to grid in the chosen shape.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
-  // Times the transfers (P2G and G2P) in each shape this scene can take (sim/TransferShape.h) on the particles in
-  // `state`, keeps the fastest and frees the others; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) it
-  // only records it. The particles are put back as they were (GpuState::save, restore). Needs particles to time: a run
-  // without any yet chooses at its first.
+  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, keeps the fastest
+  // and frees the others; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) it only records it. Leaves
+  // the grid as transferToGrid does. Needs particles to time: a run without any yet chooses at its first.
   void chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
@@ -60,22 +59,13 @@ class StepPipeline {
   void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
 
  private:
-  // The transfers in one shape: P2G and G2P.
-  struct Transfers {
-    TransferShape shape;
-    gl::ComputePass particleToGrid;
-    gl::ComputePass gridToParticle;
-  };
-  // The sort into the grid's blocks, then P2G; and G2P: in `transfers`' shape.
-  void particleToGrid(const Transfers& transfers, GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
-  void gridToParticle(const Transfers& transfers, GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
-
   int maxWorkGroupsX_ = 65535;
-  // The transfers in each shape still in the running: all of the scene's before the choice, the chosen one after.
-  std::vector<Transfers> transfers_;
+  // P2G in each shape still in the running: all of the scene's before the choice, the chosen one after it.
+  std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;
+  gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
   gl::ComputePass integrateBodies_;  // scenes with rigid bodies
   std::size_t rigidBodies_ = 0;

@@ -60,7 +60,7 @@ TransferShapeCandidates transferShapeCandidates(const Scene& scene) {
 std::string TransferShapeChoice::describe() const {
   const std::string name = transferShapeName(shape);
   const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();
-  if (msPerTransfer.size() < 2) return "transfers by " + name + (forced ? asked : ", the only shape for this scene");
+  if (msPerTransfer.size() < 2) return "P2G by " + name + (forced ? asked : ", the only shape for this scene");
   double chosenMs = 0;
   const std::pair<TransferShape, double>* runnerUp = nullptr;
   for (const auto& entry : msPerTransfer) {
@@ -72,9 +72,8 @@ std::string TransferShapeChoice::describe() const {
   }
   char ratio[32];
   std::snprintf(ratio, sizeof ratio, "%.2f", runnerUp->second / std::max(chosenMs, 1e-9));
-  return "transfers by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) +
-         " (P2G and G2P " + milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) +
-         ", timed on this scene)" + asked;
+  return "P2G by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
+         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on this scene)" + asked;
 }
 
 }  // namespace firn

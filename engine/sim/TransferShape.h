@@ -1,14 +1,11 @@
 #pragma once
-// The shape of the transfers, P2G and G2P (docs/numerics.md, "Transfers"). Both shapes add the same quantized
-// contributions to the grid (integer sums do not depend on the order) and update each particle with the same code, so
-// they write the same bytes; which one runs is chosen by timing both on the run's own scene and device, never by the
-// scene file.
-//   tiles   P2G: an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp); G2P: an
-//           invocation per particle (g2p.comp). Built for CPU renderers, which run an invocation's private arrays as
-//           vector registers.
-//   blocks  a work group per block and an invocation per particle, the block's region in shared memory: P2G sums it
-//           there (p2g_block.comp), G2P reads it from there (g2p_block.comp); 64, 128 or 256 invocations per group.
-//           Built for GPUs.
+// The shape of particle to grid (docs/numerics.md, "Transfer shapes"). Both shapes add the same quantized
+// contributions and integer sums do not depend on the order, so they write the same bytes; which one runs is chosen
+// by timing both on the run's own scene and device, never by the scene file.
+//   tiles   an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp): built for
+//           CPU renderers, which run an invocation's private arrays as vector registers
+//   blocks  a work group per block, an invocation per particle, the block's region summed in shared memory
+//           (p2g_block.comp), in groups of 64, 128 or 256 invocations: built for GPUs
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,8 +25,8 @@ struct TransferShape {
 // "tiles", "blocks-64", "blocks-128", "blocks-256": the names FIRN_TRANSFER_SHAPE takes and the tables print.
 std::string transferShapeName(const TransferShape& shape);
 
-// The shapes a scene's transfers can take: tiles, and with fixed-point sums blocks of each group size (float sums
-// depend on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
+// The shapes a scene's P2G can take: tiles, and with fixed-point sums blocks of each group size (float sums depend
+// on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
 std::vector<TransferShape> transferShapes(const Scene& scene);
 
 // The shapes a run times before it keeps the fastest: every shape the scene can take, or those FIRN_TRANSFER_SHAPE
@@ -41,15 +38,14 @@ struct TransferShapeCandidates {
 };
 TransferShapeCandidates transferShapeCandidates(const Scene& scene);
 
-// The shape a run takes, and the times of its transfers (P2G and G2P, ms) that chose it; empty when there was one
-// candidate.
+// The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate).
 struct TransferShapeChoice {
   TransferShape shape;
   bool forced = false;  // FIRN_TRANSFER_SHAPE named the candidates
   std::vector<std::pair<TransferShape, double>> msPerTransfer;
 
-  // One line for a run's header and firn info: "transfers by blocks-128, 3.10x faster than tiles (P2G and G2P
-  // 0.71 ms against 2.2 ms, timed on this scene)".
+  // One line for a run's header and stats.csv: "P2G by blocks-128, 3.1x faster than tiles (0.71 ms against
+  // 2.2 ms on this scene's first particles)".
   std::string describe() const;
 };
 

@@ -150,16 +150,3 @@ int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + REG
 ivec3 regionOffset(int index) {
   return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % REGION_HEIGHT, index / (REGION_WIDTH * REGION_HEIGHT));
 }
-
-// A block's region: the nodes its particles' stencils reach (their base nodes lie in the block), BLOCK_REGION_WIDTH
-// per axis from the block's first node, indexed x, then y, then z. The transfers by blocks (p2g_block.comp,
-// g2p_block.comp) hold it in shared memory.
-const int BLOCK_REGION_WIDTH = BLOCK_WIDTH + KERNEL_WIDTH - 1;
-const int BLOCK_REGION_NODES = BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH;
-int blockRegionIndex(ivec3 offset) { return offset.x + BLOCK_REGION_WIDTH * (offset.y + BLOCK_REGION_WIDTH * offset.z); }
-ivec3 blockRegionOffset(int index) {
-  return ivec3(index % BLOCK_REGION_WIDTH, (index / BLOCK_REGION_WIDTH) % BLOCK_REGION_WIDTH,
-               index / (BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH));
-}
-// The first node of the block in `slot`.
-ivec3 blockFirstNode(uint slot) { return blockCoordinates(slots[slot].block) * BLOCK_WIDTH; }

@@ -96,11 +96,10 @@
 #define FIRN_BLOCK_GROUP_SIZE 64  // BLOCK_NODES
 #define FIRN_BLOCK_TILES 16       // BLOCK_TILES: order_tiles.comp takes a block's tiles
 #define FIRN_TILE_GROUP_SIZE 16
-// The transfers by blocks (p2g_block.comp, g2p_block.comp) run 64, 128 or 256 invocations per work group, as the
-// run's timing chose (engine/sim/TransferShape.h), given as a define; 256 where none is, the largest, for the checks
-// of every program.
-#ifndef FIRN_TRANSFER_BLOCK_GROUP_SIZE
-#define FIRN_TRANSFER_BLOCK_GROUP_SIZE 256
+// P2G by blocks (p2g_block.comp) runs 64, 128 or 256 invocations per work group, as the run's timing chose
+// (engine/sim/TransferShape.h), given as a define; 256 where none is, the largest, for the checks of every program.
+#ifndef FIRN_P2G_BLOCK_GROUP_SIZE
+#define FIRN_P2G_BLOCK_GROUP_SIZE 256
 #endif
 // Invocations of the single work group that sums the blocks' partial sums of a dot product (solver_reduce.comp).
 #define FIRN_REDUCTION_GROUP_SIZE 256

@@ -1,9 +1,12 @@
 #version 430 core
 // Grid to particle: one invocation per particle, in the sorted order (common/blocks.glsl), so that the invocations
-// side by side read the same nodes; each looks its stencil's nodes up in the blocks it reaches and updates its
-// particle (common/g2p_particle.glsl). The shape for CPU renderers; g2p_block.comp is the GPUs' (sim/TransferShape.h).
+// side by side read the same nodes. Gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient
+// from the blocks its stencil reaches, updates the particle's material (F or F_E, its scalar state, and the stress:
+// materials.glsl), collides the particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new
+// state is not finite keeps its old state and is reported, so no non-finite value ever reaches a buffer or an
+// output.
 // Reads: grid velocities, the block map, sortedParticles, particle state, materials, colliders.
-// Writes: the particles (common/g2p_particle.glsl).
+// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
 #ifdef FIRN_TRANSFER_APIC
 #define FIRN_WITHOUT_GRID_IMPULSE  // APIC reads no velocity before forces (common/grid.glsl)
 #endif
@@ -16,21 +19,94 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-// The stencil's nodes: the slots of the blocks it reaches, looked up once.
-#define StencilNodes StencilBlocks
-StencilNodes stencilNodes(ivec3 baseNode) { return stencilBlocks(baseNode); }
-vec3 stencilNodeVelocity(StencilNodes blocks, ivec3 k) {
-  int address = stencilNodeAddress(blocks, k);
-  return address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
-}
-#ifndef FIRN_TRANSFER_APIC
-vec3 stencilNodeVelocityBeforeForces(StencilNodes blocks, ivec3 k) {
-  int address = stencilNodeAddress(blocks, k);
-  return address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address));
-}
+void advanceParticle(uint p) {
+  vec3 x = positionMass[p].xyz;
+  vec3 previousVelocity = velocityVolume[p].xyz;
+  Stencil stencil = particleStencil(x);
+  StencilBlocks blocks = stencilBlocks(stencil.baseNode);
+
+  vec3 picVelocity = vec3(0.0);
+  mat3 velocityGradient = mat3(0.0);
+#ifdef FIRN_TRANSFER_APIC
+  mat3 affineMoment = mat3(0.0);  // B_p = Σ w v_i (x_i − x_p)ᵀ
+#else
+  vec3 flipIncrement = vec3(0.0);
+#endif
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    ivec3 k = stencilOffset(n);
+    ivec3 node = stencil.baseNode + k;
+    int address = stencilNodeAddress(blocks, k);
+    float w = stencilWeight(stencil, k);
+    // Every node a particle reaches has a block, unless the pool ran out (the host then redoes the frame).
+    vec3 vi = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
+    picVelocity += w * vi;
+    velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
+#ifdef FIRN_TRANSFER_APIC
+    affineMoment += w * outerProduct(vi, nodePosition(node) - x);
+#else
+    flipIncrement += w * (vi - (address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address))));
+#endif
+  }
+
+#ifdef FIRN_TRANSFER_APIC
+  vec3 velocity = picVelocity;
+  mat3 newAffine = affineMoment * apicInverseInertiaPerM2;  // C_p = B_p D_p⁻¹ (Jiang et al. 2015)
+#else
+  // v_p = α (v_p + Σ w Δv_i) + (1 − α) Σ w v_i (Snow thesis 2015 §3.4 step 8)
+  vec3 velocity = mix(picVelocity, previousVelocity + flipIncrement, flipRatio);
 #endif
 
-#include "common/g2p_particle.glsl"
+  ParticlePlasticState state = plasticState[p];
+#ifdef FIRN_HAS_DEFORMATION_GRADIENT
+  mat3 deformation = elasticDeformation[p];
+#else
+  mat3 deformation = mat3(1.0);
+#endif
+  MaterialUpdate material = updateMaterial(deformation, state, velocityGradient, dtS, materials[state.materialIndex]);
+
+  // Particle collisions at the predicted position, at the end of the step.
+  float endTimeS = timeS + dtS;
+  vec3 predicted = x + dtS * velocity;
+  velocity = collideWithColliders(predicted, velocity, endTimeS, positionMass[p].w);
+  velocity = collideWithDomainWalls(predicted, velocity, interiorMin(), interiorMax());
+  // Keep the stencil on the grid whatever happens: cubic needs x/h ∈ [1, nodes − 2).
+  vec3 newPosition = clamp(x + dtS * velocity, gridOriginM + cellSizeM,
+                           gridOriginM + (vec3(gridNodes) - 2.001) * cellSizeM);
+
+  bool finite = allFinite(newPosition) && allFinite(velocity) && allFinite(material.deformation) &&
+                allFinite(material.kirchhoffStress) && !isnan(material.state) && !isinf(material.state) &&
+                !isnan(material.volumeCorrection) && !isinf(material.volumeCorrection);
+#ifdef FIRN_TRANSFER_APIC
+  finite = finite && allFinite(newAffine);
+#endif
+  if (!finite) {
+    reportNonFinite(p);
+    return;
+  }
+  float cellsPerStep = length(velocity) * dtS / cellSizeM;
+  if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
+#if defined(FIRN_ADAPTIVE_DT) && defined(FIRN_SEMI_IMPLICIT)
+  // A semi-implicit step is not bounded by the elastic wave: the next step must keep the particle within a cell.
+  reportSpeed(length(velocity));
+#elif defined(FIRN_ADAPTIVE_DT)
+  // The next step must keep both the particle and the elastic wave through it within a cell (CFL on |v| + c).
+  reportSpeed(length(velocity) + waveSpeed(materials[state.materialIndex], material.state));
+#endif
+
+  positionMass[p].xyz = newPosition;
+  velocityVolume[p].xyz = velocity;
+#ifdef FIRN_HAS_DEFORMATION_GRADIENT
+  elasticDeformation[p] = material.deformation;
+#endif
+  kirchhoffStress[p] = material.kirchhoffStress;
+  plasticState[p].plasticJ = material.state;
+#ifdef FIRN_MATERIAL_DRUCKER_PRAGER
+  plasticState[p].volumeCorrection = material.volumeCorrection;  // only sand has one
+#endif
+#ifdef FIRN_TRANSFER_APIC
+  affine[p] = newAffine;
+#endif
+}
 
 void main() {
   uint i = invocationIndex();

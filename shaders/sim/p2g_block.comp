@@ -15,8 +15,10 @@
 #include "common/blocks.glsl"
 #include "common/scatter.glsl"
 
-layout(local_size_x = FIRN_TRANSFER_BLOCK_GROUP_SIZE) in;
+layout(local_size_x = FIRN_P2G_BLOCK_GROUP_SIZE) in;
 
+const int BLOCK_REGION_WIDTH = BLOCK_WIDTH + KERNEL_WIDTH - 1;
+const int BLOCK_REGION_NODES = BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH;
 #ifdef FIRN_GRID_IMPULSE
 const int REGION_CHANNELS = 7;  // momentum x, y, z, mass; impulse x, y, z
 #else
@@ -27,6 +29,14 @@ const int REGION_CHANNELS = 4;
 // whose partial sums overflowed (their sign bits, as p2g.comp's accumulators mark them).
 shared int regionSums[REGION_CHANNELS * BLOCK_REGION_NODES];
 shared int regionOverflow[REGION_CHANNELS];
+
+int blockRegionIndex(ivec3 offset) {
+  return offset.x + BLOCK_REGION_WIDTH * (offset.y + BLOCK_REGION_WIDTH * offset.z);
+}
+ivec3 blockRegionOffset(int index) {
+  return ivec3(index % BLOCK_REGION_WIDTH, (index / BLOCK_REGION_WIDTH) % BLOCK_REGION_WIDTH,
+               index / (BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH));
+}
 
 // Adds the quantized `values` to channels [firstChannel, firstChannel + channels) of region node i, and marks the
 // channels whose contribution was too large to quantize (`tooLarge`, from quantize) or whose partial sum overflowed.
@@ -42,14 +52,14 @@ void addToRegion(int i, int firstChannel, int channels, ivec4 values, ivec4 tooL
   }
 }
 
-void scatterParticle(uint p, ivec3 firstNode) {
+void scatterParticle(uint p, ivec3 blockFirstNode) {
   Contribution contribution = particleContribution(p);
   if (!contribution.finite) {
     reportNonFinite(p);
     return;
   }
   Stencil stencil = particleStencil(contribution.x);
-  ivec3 baseInRegion = stencil.baseNode - firstNode;
+  ivec3 baseInRegion = stencil.baseNode - blockFirstNode;
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     vec4 nodeMomentumMass;
@@ -73,31 +83,31 @@ void main() {
   uint slot = workGroupSlot();
   if (slot >= activeBlocks()) return;  // the whole group: no barrier is left waiting
   uint local = gl_LocalInvocationIndex;
-  for (uint i = local; i < uint(REGION_CHANNELS * BLOCK_REGION_NODES); i += uint(FIRN_TRANSFER_BLOCK_GROUP_SIZE)) {
+  for (uint i = local; i < uint(REGION_CHANNELS * BLOCK_REGION_NODES); i += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
     regionSums[i] = 0;
   }
   if (local < uint(REGION_CHANNELS)) regionOverflow[local] = 0;
   barrier();
 
-  ivec3 firstNode = blockFirstNode(slot);
+  ivec3 blockFirstNode = blockCoordinates(slots[slot].block) * BLOCK_WIDTH;
   uint first = slots[slot].firstParticle;
   uint count = slots[slot].particles;
-  for (uint j = local; j < count; j += uint(FIRN_TRANSFER_BLOCK_GROUP_SIZE)) {
-    scatterParticle(sortedParticles[first + j], firstNode);
+  for (uint j = local; j < count; j += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
+    scatterParticle(sortedParticles[first + j], blockFirstNode);
   }
   barrier();
 
   // An overflow is named at the block's first node: its particles' stencils reach a few nodes further.
   if (local == 0u) {
     ivec4 momentumMassOverflow = ivec4(regionOverflow[0], regionOverflow[1], regionOverflow[2], regionOverflow[3]);
-    reportAccumulatorOverflow(momentumMassOverflow, firstNode, MOMENTUM_MASS_CHANNELS);
+    reportAccumulatorOverflow(momentumMassOverflow, blockFirstNode, MOMENTUM_MASS_CHANNELS);
 #ifdef FIRN_GRID_IMPULSE
     ivec4 impulseOverflow = ivec4(regionOverflow[4], regionOverflow[5], regionOverflow[6], 0);
-    reportAccumulatorOverflow(impulseOverflow, firstNode, IMPULSE_CHANNELS);
+    reportAccumulatorOverflow(impulseOverflow, blockFirstNode, IMPULSE_CHANNELS);
 #endif
   }
-  StencilBlocks blocks = stencilBlocks(firstNode);
-  for (uint i = local; i < uint(BLOCK_REGION_NODES); i += uint(FIRN_TRANSFER_BLOCK_GROUP_SIZE)) {
+  StencilBlocks blocks = stencilBlocks(blockFirstNode);
+  for (uint i = local; i < uint(BLOCK_REGION_NODES); i += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
     int node = int(i);
     ivec4 momentumMass = ivec4(regionSums[node], regionSums[BLOCK_REGION_NODES + node],
                                regionSums[2 * BLOCK_REGION_NODES + node], regionSums[3 * BLOCK_REGION_NODES + node]);
@@ -111,9 +121,9 @@ void main() {
     ivec3 offset = blockRegionOffset(node);
     int address = stencilNodeAddress(blocks, offset);
     if (address < 0) continue;  // a block past the pool's capacity: the host sees the count and grows the pool
-    addToNode(uint(address), momentumMass, firstNode + offset);
+    addToNode(uint(address), momentumMass, blockFirstNode + offset);
 #ifdef FIRN_GRID_IMPULSE
-    addImpulseToNode(uint(address), impulse, firstNode + offset);
+    addImpulseToNode(uint(address), impulse, blockFirstNode + offset);
 #endif
   }
 }

@@ -82,7 +82,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       EXPECT_TRUE(isNumber(rows[r][time], ms) && ms > 0) << file << " row " << r;
     }
   }
-  // The tables of the step time fixed point in both transfer shapes, tiles and blocks (sim/TransferShape.h).
+  // The tables of the step time fixed point in both P2G shapes, tiles and blocks (sim/TransferShape.h).
   for (const std::string file : {"particles.csv", "grid.csv", "passes.csv", "p2g_atomics.csv"}) {
     const auto rows = readCsv(out / file);
     const std::size_t atomics = file == "particles.csv" ? 1 : 0, shape = atomics + 1;  // particles.csv: series first
