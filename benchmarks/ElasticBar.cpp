@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -102,6 +103,8 @@ BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& g
   result.kappa = strainWeightedVolume / strainWeightedTrueVolume;
   result.dtS = dtS;
   result.particles = rest.size();
+  const std::optional<TransferShapeChoice>& shape = simulation.transferShapeChoice();
+  if (shape) result.transferShape = transferShapeName(shape->shape);
   const int crossingsWanted = 2 * setup.periods;
   const int maxSteps = std::max(kBarMinimumSteps, int((setup.periods + 0.5) * barAnalyticPeriodS() / dtS));
   int crossings = 0;

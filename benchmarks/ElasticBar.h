@@ -64,6 +64,7 @@ struct BarVibration {
   double dtS = 0;
   std::size_t particles = 0;
   std::vector<double> stepWallMs;  // each step's wall time, dispatch to glFinish (the readbacks excluded)
+  std::string transferShape;       // the P2G shape the run chose (sim/TransferShape.h)
 };
 
 // Steps the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero

@@ -65,6 +65,7 @@ struct StiffRun {
   double timedMs = 0;  // the steps after the first (whose dispatches compile the programs), dispatch to glFinish
   SolverSummary solves;
   ParticleSnapshot end;
+  std::string transferShape;  // the P2G shape the run chose (sim/TransferShape.h)
 };
 
 StiffRun runStiff(const Scene& scene, int steps, const gl::ContextInfo& gl) {
@@ -74,6 +75,7 @@ StiffRun runStiff(const Scene& scene, int steps, const gl::ContextInfo& gl) {
   Simulation simulation(scene, sampleBodies(scene), gl, 0, MaterialPrograms::SceneModels,
                         std::size_t(domainBlocks.x) * std::size_t(domainBlocks.y) * std::size_t(domainBlocks.z));
   run.particles = simulation.particleCount();
+  run.transferShape = chosenTransferShape(simulation);
   try {
     auto start = std::chrono::steady_clock::now();
     for (int step = 1; step <= steps; ++step) {
@@ -121,7 +123,7 @@ void measureStiff(BenchRun& run) {
   CsvTable table({"configuration", "youngs_modulus_pa", "integrator", "dt_s", "dt_over_elastic_bound", "tolerance",
                   "max_iterations", "particles", "simulated_s", "steps", "ms_per_step", "ms_per_simulated_second",
                   "cost_over_explicit", "mean_iterations", "most_iterations", "largest_residual",
-                  "centre_of_mass_height_m", "rms_distance_from_explicit_m", "status", "renderer"});
+                  "centre_of_mass_height_m", "rms_distance_from_explicit_m", "transfer_shape", "status", "renderer"});
   const double simulatedS = run.sizes().stiffSimulatedS;
   std::vector<double> stiffnesses = {1e8};
   if (run.options().size != BenchSize::Tiny) stiffnesses.push_back(1e9);
@@ -150,6 +152,7 @@ void measureStiff(BenchRun& run) {
           .setCount("particles", std::int64_t(result.particles))
           .set("simulated_s", simulatedS)
           .setCount("steps", result.steps)
+          .setText("transfer_shape", result.transferShape)
           .setText("status", result.status)
           .setText("renderer", run.renderer());
       const double meanIterations =

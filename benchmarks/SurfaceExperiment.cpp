@@ -73,7 +73,7 @@ struct SurfaceCase {
 void measureSurface(BenchRun& run) {
   CsvTable table({"series", "particles", "resolution", "smoothing", "grid_nodes", "grid_mib", "vertices", "triangles",
                   "repeats", "surface_ms", "surface_ms_min", "surface_ms_max", "bounds_ms", "splat_ms", "mesh_ms",
-                  "ms_per_step", "steps_per_frame", "surface_share_of_frame", "status", "renderer"});
+                  "ms_per_step", "steps_per_frame", "surface_share_of_frame", "transfer_shape", "status", "renderer"});
   const Sizes& sizes = run.sizes();
   const BunnyScenes& bunnies = run.bunnies();
   constexpr double kParticlesPerCell = 8;
@@ -186,6 +186,7 @@ void measureSurface(BenchRun& run) {
         .set("ms_per_step", c->step.medianMs)
         .set("steps_per_frame", stepsPerFrame)
         .set("surface_share_of_frame", share)
+        .setText("transfer_shape", chosenTransferShape(*c->simulation))
         .setText("status", "ok");
     run.progress(c->label + ": surface " + fixed(surfaceMs, 1) + " ms (" + grouped(stats.triangles) +
                  " triangles), a step " + fixed(c->step.medianMs, 1) + " ms");

@@ -148,7 +148,7 @@ std::vector<const TradeoffResult*> paretoFront(const std::vector<TradeoffResult>
 
 void measureTradeoff(BenchRun& run) {
   CsvTable table({"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio", "atomics",
-                  "dt_s", "dt_fraction",
+                  "transfer_shape", "dt_s", "dt_fraction",
                   "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
                   "ms_per_simulated_second", "period_s", "error", "signed_error", "uncorrected_error",
                   "amplitude_retained", "solver_iterations", "kappa", "pareto", "status", "renderer"});
@@ -171,7 +171,9 @@ void measureTradeoff(BenchRun& run) {
     if (transfer != "apic") row.set("flip_ratio", setup.flipRatio);
     try {
       const BarVibration bar = measureBarVibration(setup, run.gl());
-      row.set("dt_s", bar.dtS).setCount("particles", std::int64_t(bar.particles));
+      row.set("dt_s", bar.dtS)
+          .setCount("particles", std::int64_t(bar.particles))
+          .setText("transfer_shape", bar.transferShape);
       const std::vector<double> timedMs(
           bar.stepWallMs.begin() + std::ptrdiff_t(std::min(kTradeoffWarmupSteps, bar.stepWallMs.size() - 1)),
           bar.stepWallMs.end());

@@ -43,7 +43,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
       {"p2g_atomics.csv", {"atomics", "transfer_shape", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
       {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio",
-                        "atomics", "dt_s", "dt_fraction", "particles_per_cell", "cell_size_m", "particles", "steps",
+                        "atomics", "transfer_shape", "dt_s", "dt_fraction", "particles_per_cell", "cell_size_m", "particles", "steps",
                         "ms_per_step", "ms_per_simulated_second", "period_s", "error"}},
       {"stiff.csv", {"configuration", "youngs_modulus_pa", "integrator", "dt_s", "dt_over_elastic_bound",
                      "tolerance", "max_iterations", "particles", "simulated_s", "steps", "ms_per_step",
