@@ -110,11 +110,14 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     } else {
       gl::ShaderOptions blockOptions = options;
       blockOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
-      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "sim/p2g.comp"));
+      particleToGrid_.emplace_back(shape,
+                                   gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "sim/p2g.comp"));
     }
   }
   transferShapeForced_ = candidates.forced;
-  if (particleToGrid_.size() == 1) transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, candidates.forced, {}};
+  if (particleToGrid_.size() == 1) {
+    transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, candidates.forced, {}};
+  }
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
@@ -130,8 +133,9 @@ namespace {
 // P2G in `shape`: tiles take the transfers' dispatch, blocks a work group per active block.
 void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
                        gl::PassTimer& timer) {
-  const std::size_t dispatch = shape.kind == TransferShape::Kind::Tiles ? offsetof(gpu::BlockTableHeader, tileDispatch)
-                                                                        : offsetof(gpu::BlockTableHeader, blockDispatch);
+  const std::size_t dispatch = shape.kind == TransferShape::Kind::Tiles
+                                   ? offsetof(gpu::BlockTableHeader, tileDispatch)
+                                   : offsetof(gpu::BlockTableHeader, blockDispatch);
   pass.runIndirect(state.grid().blockTable(), dispatch, state.bindings(), timer);
   glMemoryBarrier(kStorage);
 }

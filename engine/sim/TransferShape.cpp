@@ -48,7 +48,9 @@ TransferShapeCandidates transferShapeCandidates(const Scene& scene) {
     const bool all = name == "blocks" && shape.kind == TransferShape::Kind::Blocks;
     if (all || transferShapeName(shape) == name) named.push_back(shape);
   }
-  if (named.empty()) throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + name + "\")");
+  if (named.empty()) {
+    throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + name + "\")");
+  }
   const std::vector<TransferShape> possible = transferShapes(scene);
   if (std::find(possible.begin(), possible.end(), named.front()) == possible.end()) {
     throw InputError(std::string(kVariable) + "=" + name +

@@ -27,7 +27,9 @@ class ForcedShape {
   ForcedShape& operator=(const ForcedShape&) = delete;
 };
 
-Scene assetScene(const std::string& name) { return firn::loadScene(std::string(FIRN_SOURCE_DIR) + "/assets/scenes/" + name); }
+Scene assetScene(const std::string& name) {
+  return firn::loadScene(std::string(FIRN_SOURCE_DIR) + "/assets/scenes/" + name);
+}
 
 // What a run in one shape leaves: the grid of its first transfer (nondimensional integer sums, exact in double) and
 // the particles after `steps` steps.
@@ -51,15 +53,16 @@ ShapeRun runInShape(const Scene& scene, const std::string& shape, int steps) {
 bool sameGrid(const std::vector<firn::GridNodeSums>& a, const std::vector<firn::GridNodeSums>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].node != b[i].node || a[i].massKg != b[i].massKg || a[i].momentumKgMPerS != b[i].momentumKgMPerS) return false;
+    if (a[i].node != b[i].node || a[i].massKg != b[i].massKg || a[i].momentumKgMPerS != b[i].momentumKgMPerS) {
+      return false;
+    }
   }
   return true;
 }
 
 // Every shape against tiles, on scenes that between them take each kernel, transfer, material model, collider kind,
-// rigid bodies, emitters, adaptive steps and the semi-implicit solve: the first transfer's node sums and the
-// particles after 12 steps, to the bit. Scenes are cut to at most 6,000 particles' worth of steps by taking few
-// steps; the bytes either agree or they do not.
+// rigid bodies, emitters, the adaptive steps' momentum unit and the semi-implicit solve: the first transfer's node
+// sums and the particles after 12 steps, to the bit (integer sums either agree or they do not).
 TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"snowball_wall.json", "bunny_small.json", "mixed_materials.json", "sand_column.json",
@@ -71,6 +74,9 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   semiImplicit.solver.integrator = firn::Integrator::SemiImplicit;
   semiImplicit.time.dtS = 1e-3;
   scenes.emplace_back("snowball_wall.json, semi-implicit", semiImplicit);
+  Scene adaptive = assetScene("snowball_wall.json");
+  adaptive.time.adaptive = true;
+  scenes.emplace_back("snowball_wall.json, adaptive", adaptive);
   Scene cubicFlip = assetScene("bunny_small.json");
   cubicFlip.solver.kernel = firn::Kernel::Cubic;
   cubicFlip.solver.transfer = firn::Transfer::PicFlip;
@@ -85,7 +91,8 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
       const std::string shape = firn::transferShapeName(shapes[i]);
       const ShapeRun other = runInShape(scene, shape, 12);
       EXPECT_TRUE(sameGrid(tiles.grid, other.grid)) << name << ": the first transfer's node sums by " << shape;
-      EXPECT_TRUE(firn::test::sameBytes(tiles.particles, other.particles)) << name << ": particles after 12 steps by " << shape;
+      EXPECT_TRUE(firn::test::sameBytes(tiles.particles, other.particles))
+          << name << ": particles after 12 steps by " << shape;
     }
   }
 }
