@@ -113,7 +113,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
   // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
-  // its first step with particles.
+  // its first step with particles, and every run times the shapes again as its particles grow (Simulation::step).
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.chooseTransferShape(state_, particleCount_);
 }
@@ -167,7 +167,7 @@ void Simulation::step(double dtS) {
   // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).
   if (keyframedColliders_) state_.writeColliders(colliderEntries(scene_, colliderFields_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
-  pipeline_.chooseTransferShape(state_, particleCount_);  // once, at the first step with particles
+  pipeline_.chooseTransferShape(state_, particleCount_);  // at the first step with particles, and as they grow
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);
   timeS_ += dtS;
@@ -214,6 +214,7 @@ void Simulation::growBlockPoolTo(std::size_t neededBlocks) {
 
 int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
   saveState();
+  const std::size_t shapeTimedOn = transferShapeChoice() ? transferShapeChoice()->particles : 0;
   int poolRetries = 0;
   for (int attempt = 0;;) {
     blocksBeyondPool_ = 0;
@@ -231,6 +232,9 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
     try {
       checkWatchdog();
       stepping_.resetStepScale();
+      // P2G's shape, timed at the frame's first step with particles or again after the particles grew.
+      const std::optional<TransferShapeChoice>& shape = transferShapeChoice();
+      if (shape && shape->particles != shapeTimedOn) log << "\nfirn: transfers: " << shape->describe() << "\n";
       return steps;
     } catch (const SimulationError&) {
       if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) throw;

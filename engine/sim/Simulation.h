@@ -127,7 +127,7 @@ class Simulation {
   // Emitters' particles still to come.
   std::size_t pendingParticleCount() const { return pendingParticles_.size() - nextPending_; }
   const FixedPointScale& fixedPoint() const { return fixedPoint_; }
-  // P2G's shape and the times that chose it; none until the run has had particles (sim/TransferShape.h).
+  // P2G's shape and the times that chose it, last timed; none until the run has had particles (sim/TransferShape.h).
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return pipeline_.transferShapeChoice(); }
   const Scene& scene() const { return scene_; }
 

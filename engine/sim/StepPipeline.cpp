@@ -142,17 +142,20 @@ void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, 
 
 // Timed rounds of every shape, after one round untimed (a driver may build its code at the first dispatch).
 constexpr int kTransferShapeRounds = 3;
+// The shapes are timed again when the particles have grown this many times since they were last timed.
+constexpr std::size_t kTransferShapeRetimeGrowth = 4;
 
 }  // namespace
 
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
   state.grid().sortParticles(particles, state.bindings(), timer);
-  const auto& [shape, pass] = particleToGrid_.front();
+  const auto& [shape, pass] = particleToGrid_[chosen_];
   runParticleToGrid(shape, pass, state, timer);
 }
 
-void StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
-  if (transferChoice_ || particles == 0) return;
+bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
+  if (particles == 0 || particleToGrid_.size() == 1) return false;
+  if (transferChoice_ && particles < kTransferShapeRetimeGrowth * transferChoice_->particles) return false;
   // The fastest of each shape's timed rounds: a shared machine's noise only ever adds time.
   std::vector<double> fastestMs(particleToGrid_.size(), std::numeric_limits<double>::infinity());
   gl::PassTimer untimed;
@@ -177,13 +180,12 @@ void StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     if (fastestMs[i] < fastestMs[best]) best = i;
   }
   choice.shape = particleToGrid_[best].first;
+  choice.particles = particles;
+  chosen_ = best;
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums either way).
-  state.grid().sortParticles(particles, state.bindings(), untimed);
-  runParticleToGrid(particleToGrid_[best].first, particleToGrid_[best].second, state, untimed);
-  auto chosen = std::move(particleToGrid_[best]);
-  particleToGrid_.clear();
-  particleToGrid_.push_back(std::move(chosen));
+  transferToGrid(state, particles, untimed);
   transferChoice_ = std::move(choice);
+  return true;
 }
 
 SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {

@@ -44,10 +44,12 @@ class StepPipeline {
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
   // to grid in the chosen shape.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
-  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, keeps the fastest
-  // and frees the others; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) it only records it. Leaves
-  // the grid as transferToGrid does. Needs particles to time: a run without any yet chooses at its first.
-  void chooseTransferShape(GpuState& state, std::size_t particles);
+  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state` and runs the
+  // fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
+  // Times them once a run has particles (a scene of emitters: at its first), and again each time its particles have
+  // grown fourfold since (the faster shape can change with the count). Returns whether it timed them now. Leaves
+  // the grid as transferToGrid does.
+  bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
   // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
@@ -60,8 +62,9 @@ class StepPipeline {
 
  private:
   int maxWorkGroupsX_ = 65535;
-  // P2G in each shape still in the running: all of the scene's before the choice, the chosen one after it.
+  // P2G in each shape the scene can take (or FIRN_TRANSFER_SHAPE names), and the one that runs.
   std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
+  std::size_t chosen_ = 0;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;

@@ -75,7 +75,8 @@ std::string TransferShapeChoice::describe() const {
   char ratio[32];
   std::snprintf(ratio, sizeof ratio, "%.2f", runnerUp->second / std::max(chosenMs, 1e-9));
   return "P2G by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
-         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on this scene)" + asked;
+         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on " +
+         std::to_string(particles) + " particles)" + asked;
 }
 
 }  // namespace firn

@@ -126,15 +126,31 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   EXPECT_EQ(blocksChoice->shape.kind, TransferShape::Kind::Blocks);
 }
 
-// A scene whose particles all come from an emitter has none to time at first: it chooses at its first step with
-// particles. Float sums depend on their order, so a float scene keeps the tiles and blocks are refused for it.
-TEST(TransferShape, EmittersChooseAtTheirFirstParticlesAndFloatSumsKeepTiles) {
-  const Scene stream = assetScene("snow_stream.json");
+// A scene whose particles all come from an emitter has none to time at first: it times the shapes at its first step
+// with particles, and again each time they have grown fourfold, since the faster shape can change with the count.
+// Float sums depend on their order, so a float scene keeps the tiles and blocks are refused for it.
+TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTiles) {
+  const Scene stream = firn::parseScene(R"({
+    "grid": { "cells": [30, 40, 30], "cell_size": 0.02 },
+    "time": { "dt": 2e-4, "frame_rate": 30, "frames": 9 },
+    "materials": { "slush": { "preset": "slushy" } },
+    "bodies": [ { "shape": "box", "min": [0.25, 0.2, 0.25], "max": [0.35, 0.7, 0.35], "material": "slush",
+                  "velocity": [0, -2, 0], "start_frame": 1, "duration_frames": 8 } ] })",
+                                        "a column released over frames 1 to 9");
   unsetenv("FIRN_TRANSFER_SHAPE");
   Simulation simulation(stream, firn::sampleBodies(stream), firn::test::glContext().info());
-  for (int step = 0; step < 200 && !simulation.transferShapeChoice(); ++step) simulation.step(stream.time.dtS);
+  ASSERT_EQ(simulation.particleCount(), 0u) << "the column is released from frame 1 on, none at the start";
+  EXPECT_FALSE(simulation.transferShapeChoice().has_value());
+  int step = 0;
+  for (; step < 500 && !simulation.transferShapeChoice(); ++step) simulation.step(stream.time.dtS);
   ASSERT_TRUE(simulation.transferShapeChoice().has_value());
+  const std::size_t firstTimedOn = simulation.transferShapeChoice()->particles;
   EXPECT_EQ(simulation.transferShapeChoice()->msPerTransfer.size(), 4u);
+  EXPECT_GT(firstTimedOn, 0u);
+  for (; step < 1500 && simulation.particleCount() < 4 * firstTimedOn; ++step) simulation.step(stream.time.dtS);
+  ASSERT_GE(simulation.particleCount(), 4 * firstTimedOn) << "the column grows fourfold within its frames";
+  simulation.step(stream.time.dtS);
+  EXPECT_GE(simulation.transferShapeChoice()->particles, 4 * firstTimedOn) << "timed again after the growth";
 
   Scene floatSums = firn::defaultScene();
   floatSums.solver.atomics = firn::Atomics::Float;
