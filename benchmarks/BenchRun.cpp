@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 
 #include "Error.h"
@@ -69,11 +68,6 @@ std::string nodeDims(const glm::ivec3& cells) {
 std::int64_t nodeCount(const glm::ivec3& cells) {
   return std::int64_t(cells.x + 1) * std::int64_t(cells.y + 1) * std::int64_t(cells.z + 1);
 }
-
-ScopedTransferShape::ScopedTransferShape(const std::string& shape) {
-  if (!shape.empty()) setenv("FIRN_TRANSFER_SHAPE", shape.c_str(), 1);
-}
-ScopedTransferShape::~ScopedTransferShape() { unsetenv("FIRN_TRANSFER_SHAPE"); }
 
 std::string chosenTransferShape(const Simulation& simulation) {
   const std::optional<TransferShapeChoice>& choice = simulation.transferShapeChoice();
@@ -156,7 +150,7 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
       results[i].particles = seeds.size();
       results[i].transferShape = configurations[i].transferShape;
-      const ScopedTransferShape shape(configurations[i].transferShape);
+      const ForcedTransferShape shape(configurations[i].transferShape);
       simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
       const std::string chosen = chosenTransferShape(*simulations.back());
       if (!chosen.empty()) results[i].transferShape = chosen;

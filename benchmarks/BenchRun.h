@@ -80,15 +80,6 @@ struct SumSeries {
   std::string label() const { return atomics + " " + transferShape; }
 };
 
-// FIRN_TRANSFER_SHAPE for the simulations made while it lives ("": left unset).
-class ScopedTransferShape {
- public:
-  explicit ScopedTransferShape(const std::string& shape);
-  ~ScopedTransferShape();
-  ScopedTransferShape(const ScopedTransferShape&) = delete;
-  ScopedTransferShape& operator=(const ScopedTransferShape&) = delete;
-};
-
 // The shape a simulation chose, by name ("" before it has had particles).
 std::string chosenTransferShape(const Simulation& simulation);
 

@@ -37,7 +37,7 @@ void measureP2GAtomics(BenchRun& run) {
       setup.angularVelocityRadPerS = kP2GAngularVelocityRadPerS;
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-      const ScopedTransferShape forced(sums.transferShape);
+      const ForcedTransferShape forced(sums.transferShape);
       Simulation simulation(scene, seeds, run.gl());
       row.setText("transfer_shape", chosenTransferShape(simulation));
       const FixedPointScale& scale = simulation.fixedPoint();

@@ -17,7 +17,7 @@ void measurePasses(BenchRun& run) {
       setup.atomics = atomics;
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-      const ScopedTransferShape forced(sums.transferShape);
+      const ForcedTransferShape forced(sums.transferShape);
       Simulation simulation(scene, seeds, run.gl());
       const std::string shape = chosenTransferShape(simulation);
       const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);

@@ -235,8 +235,7 @@ std::vector<SpeedBound> speedBounds(const Scene& scene, const std::vector<Partic
   for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b) {
     // The explicit coupling meets a body at the nodes and particles it reaches each step: one that crosses more than
     // a cell per step passes through snow, and its contact probes through thin colliders.
-    const RigidBody& body = scene.rigidBodies[b];
-    const double speed = glm::length(body.velocityMPerS) + glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body);
+    const double speed = rigidBodySurfaceSpeedMPerS(scene.rigidBodies[b]);
     if (speed > rigidBodyMPerS) {
       rigidBodyMPerS = speed;
       fastestRigidBody = int(b);

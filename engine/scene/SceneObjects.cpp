@@ -132,6 +132,10 @@ double rigidBodyReachM(const RigidBody& body) {
   return 0;
 }
 
+double rigidBodySurfaceSpeedMPerS(const RigidBody& body) {
+  return glm::length(body.velocityMPerS) + glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body);
+}
+
 void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3) {
   body.volumeM3 = shape.volumeM3;
   body.centerOfMassM = shape.centroidM;

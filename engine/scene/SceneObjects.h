@@ -53,6 +53,9 @@ voxelizer::MassProperties shapeMassProperties(const RigidBody& body);
 // fastest any point of it moves).
 double rigidBodyReachM(const RigidBody& body);
 
+// The fastest any point of a rigid body's surface moves, |v| + |ω| r with r its reach (m/s).
+double rigidBodySurfaceSpeedMPerS(const RigidBody& body);
+
 // Fills the body's volume, centre of mass, mass and inertia for a uniform density, from its shape's `shape`.
 void setUniformDensity(RigidBody& body, const voxelizer::MassProperties& shape, double densityKgPerM3);
 

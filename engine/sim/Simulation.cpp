@@ -45,8 +45,7 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
   }
   for (const RigidBody& body : scene.rigidBodies) {
     if (body.parked) continue;
-    fastestMPerS = std::max(fastestMPerS, glm::length(body.velocityMPerS) +
-                                              glm::length(body.angularVelocityRadPerS) * rigidBodyReachM(body));
+    fastestMPerS = std::max(fastestMPerS, rigidBodySurfaceSpeedMPerS(body));
   }
   return fastestMPerS;
 }
@@ -99,10 +98,11 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   writeParticles(0, particles);
   particleCount_ = particles.size();
 
+  // The first step's uniforms, for the transfers below.
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   // Initial volumes (Stomakhin et al. 2013 §6 step 2): one P2G of mass, then V0 = m / max(ρ_grid, ρ), unless the
   // scene takes them from the materials' densities ρ alone (written above; docs/algorithm.md, Initial volumes).
   if (scene_.solver.particleVolume == ParticleVolume::GridDensity) {
-    state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
     pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     // A pool given too small for the first particles grows, and their grid is summed again.
     const BlockUsage usage = state_.blockUsage();
@@ -114,7 +114,6 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   }
   // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
   // its first step with particles, and every run times the shapes again as its particles grow (Simulation::step).
-  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.chooseTransferShape(state_, particleCount_);
 }
 

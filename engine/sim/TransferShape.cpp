@@ -59,6 +59,16 @@ TransferShapeCandidates transferShapeCandidates(const Scene& scene) {
   return {named, true};
 }
 
+ForcedTransferShape::ForcedTransferShape(const std::string& names) {
+  if (names.empty()) {
+    unsetenv(kVariable);
+  } else {
+    setenv(kVariable, names.c_str(), 1);
+  }
+}
+
+ForcedTransferShape::~ForcedTransferShape() { unsetenv(kVariable); }
+
 std::string TransferShapeChoice::describe() const {
   const std::string name = transferShapeName(shape);
   const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();

@@ -38,6 +38,16 @@ struct TransferShapeCandidates {
 };
 TransferShapeCandidates transferShapeCandidates(const Scene& scene);
 
+// FIRN_TRANSFER_SHAPE set to `names` for the simulations made while it lives ("": unset), then unset again: how
+// benchmarks and tests force shapes in-process.
+class ForcedTransferShape {
+ public:
+  explicit ForcedTransferShape(const std::string& names);
+  ~ForcedTransferShape();
+  ForcedTransferShape(const ForcedTransferShape&) = delete;
+  ForcedTransferShape& operator=(const ForcedTransferShape&) = delete;
+};
+
 // The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate).
 struct TransferShapeChoice {
   TransferShape shape;

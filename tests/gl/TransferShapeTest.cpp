@@ -2,7 +2,6 @@
 // not depend on the order, so every shape must write the same bytes; a run picks the fastest by timing them.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -18,15 +17,6 @@ using firn::Scene;
 using firn::Simulation;
 using firn::TransferShape;
 
-// FIRN_TRANSFER_SHAPE set for the simulations made while it lives.
-class ForcedShape {
- public:
-  explicit ForcedShape(const std::string& name) { setenv("FIRN_TRANSFER_SHAPE", name.c_str(), 1); }
-  ~ForcedShape() { unsetenv("FIRN_TRANSFER_SHAPE"); }
-  ForcedShape(const ForcedShape&) = delete;
-  ForcedShape& operator=(const ForcedShape&) = delete;
-};
-
 Scene assetScene(const std::string& name) {
   return firn::loadScene(std::string(FIRN_SOURCE_DIR) + "/assets/scenes/" + name);
 }
@@ -39,7 +29,7 @@ struct ShapeRun {
 };
 
 ShapeRun runInShape(const Scene& scene, const std::string& shape, int steps) {
-  const ForcedShape forced(shape);
+  const firn::ForcedTransferShape forced(shape);
   Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
   EXPECT_EQ(firn::transferShapeName(simulation.transferShapeChoice()->shape), shape);
   ShapeRun run;
@@ -101,7 +91,7 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
 // block sizes only.
 TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   const Scene scene = firn::defaultScene();
-  unsetenv("FIRN_TRANSFER_SHAPE");
+  const firn::ForcedTransferShape unforced("");
   Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
   const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
   ASSERT_TRUE(choice.has_value());
@@ -116,7 +106,7 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   EXPECT_NE(choice->describe().find("faster than"), std::string::npos) << choice->describe();
 
   // FIRN_TRANSFER_SHAPE=blocks times the block sizes alone (the benchmarks' blocks rows).
-  const ForcedShape blocks("blocks");
+  const firn::ForcedTransferShape blocks("blocks");
   Simulation blocksOnly(scene, firn::sampleBodies(scene), firn::test::glContext().info());
   const std::optional<firn::TransferShapeChoice>& blocksChoice = blocksOnly.transferShapeChoice();
   ASSERT_TRUE(blocksChoice.has_value());
@@ -137,7 +127,7 @@ TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTil
     "bodies": [ { "shape": "box", "min": [0.25, 0.2, 0.25], "max": [0.35, 0.7, 0.35], "material": "slush",
                   "velocity": [0, -2, 0], "start_frame": 1, "duration_frames": 8 } ] })",
                                         "a column released over frames 1 to 9");
-  unsetenv("FIRN_TRANSFER_SHAPE");
+  const firn::ForcedTransferShape unforced("");
   Simulation simulation(stream, firn::sampleBodies(stream), firn::test::glContext().info());
   ASSERT_EQ(simulation.particleCount(), 0u) << "the column is released from frame 1 on, none at the start";
   EXPECT_FALSE(simulation.transferShapeChoice().has_value());
@@ -156,7 +146,7 @@ TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTil
   floatSums.solver.atomics = firn::Atomics::Float;
   ASSERT_EQ(firn::transferShapes(floatSums).size(), 1u);
   EXPECT_EQ(firn::transferShapes(floatSums)[0].kind, TransferShape::Kind::Tiles);
-  const ForcedShape blocks("blocks-128");
+  const firn::ForcedTransferShape blocks("blocks-128");
   try {
     (void)firn::transferShapeCandidates(floatSums);
     FAIL() << "blocks were accepted for float sums";
@@ -166,7 +156,7 @@ TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTil
 }
 
 TEST(TransferShape, AnUnknownShapeIsBadInputNamingTheVariable) {
-  const ForcedShape wrong("warps");
+  const firn::ForcedTransferShape wrong("warps");
   try {
     (void)firn::transferShapeCandidates(firn::defaultScene());
     FAIL() << "\"warps\" was accepted";
