@@ -122,6 +122,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   if (!scene.rigidBodies.empty()) {
+    mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
     rigidBodies_ = scene.rigidBodies.size();
   }
@@ -192,6 +193,10 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
   transferToGrid(state, particles, timer);
+  if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
+    mirrorStress_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+    glMemoryBarrier(kStorage);
+  }
   updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   glMemoryBarrier(kStorage);
   SolveReport solve;

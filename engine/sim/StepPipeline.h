@@ -1,9 +1,10 @@
 #pragma once
 // The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
 // of the grid this step needs and the particles sorted into them (the block grid's own passes, sim/BlockGrid.h);
-// particle to grid; the grid update (forces, gravity, colliders, walls); grid to particle with the deformation
-// update, plasticity and advection; then the rigid bodies, pushed by the snow. The programs are built for the scene:
-// its kernel, transfer, atomics, colliders, rigid bodies and material models, and nothing else.
+// particle to grid, and the snow's stress mirrored into the rigid bodies; the grid update (forces, gravity,
+// colliders, walls); grid to particle with the deformation update, plasticity and advection; then the rigid bodies,
+// pushed by the snow. The programs are built for the scene: its kernel, transfer, atomics, colliders, rigid bodies
+// and material models, and nothing else.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -52,8 +53,8 @@ class StepPipeline {
   bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
-  // One whole step: transferToGrid, the grid update, the semi-implicit solve if the scene asks for one, grid to
-  // particle, the rigid bodies. Returns how the solve ended (explicit steps: no iterations).
+  // One whole step: transferToGrid, the bodies' mirrored stress, the grid update, the semi-implicit solve if the
+  // scene asks for one, grid to particle, the rigid bodies. Returns how the solve ended (explicit steps: no iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The semi-implicit solve, if the scene has one (tests reach its passes through it).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
@@ -70,6 +71,7 @@ class StepPipeline {
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
+  gl::ComputePass mirrorStress_;     // scenes with rigid bodies
   gl::ComputePass integrateBodies_;  // scenes with rigid bodies
   std::size_t rigidBodies_ = 0;
   std::optional<ImplicitSolver> implicitSolver_;

@@ -71,13 +71,15 @@ void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
 // reach, the sphere about its pivot that holds its whole shape (ColliderParams.angularVelocity.w). Most nodes and
 // particles lie beyond every collider's reach: this reads three vec4s of the entry, where the distance reads it all
 // and turns x twice by quaternions (a mesh also reads eight samples).
-bool colliderWithinReach(uint i, vec3 x, float timeS) {
+// `marginM` further: the points within that distance of its surface (0: of its solid).
+bool colliderWithinReach(uint i, vec3 x, float timeS, float marginM) {
   if (colliders[i].shapeBoundary.w == 0) return false;
   vec4 pivotTime = colliders[i].pivotTime;
   vec3 fromPivot = x - (pivotTime.xyz + colliders[i].velocityFriction.xyz * (timeS - pivotTime.w));
   float reachM = colliders[i].angularVelocity.w;
-  return reachM < 0.0 || dot(fromPivot, fromPivot) <= reachM * reachM;
+  return reachM < 0.0 || dot(fromPivot, fromPivot) <= (reachM + marginM) * (reachM + marginM);
 }
+bool colliderWithinReach(uint i, vec3 x, float timeS) { return colliderWithinReach(i, x, timeS, 0.0); }
 
 // Velocity after meeting a boundary whose surface moves at boundaryVelocity (Stomakhin 2013 §8):
 // sticky takes the boundary's velocity; slip removes the normal part of the relative velocity; separate

@@ -1,0 +1,64 @@
+#version 430 core
+// The stress at a rigid body's surface, mirrored into it (docs/algorithm.md, Rigid bodies, eq. 38): after P2G, an
+// invocation per particle. A particle within a kernel's reach of a body's surface (0 < φ < reach) has a mirror
+// image x' = x − 2 φ n inside the body, with its volume and its stress reflected across the surface, R τ R with
+// R = I − 2 n nᵀ. The image's contributions −Δt V0 R τ R ∇w_i(x') to the nodes outside the body that hold snow are
+// added to them as P2G adds its impulses, and their opposite goes to the body (pushRigidBody): the contributions of
+// an image sum to zero over its stencil (Σ_i ∇w_i = 0), so the ones inside the body, which are the body's, are that
+// opposite, and momentum is kept. Without the images the nodes a body holds see the kernel's transition
+// χ = Σ_{i held} w_i only where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
+// Reads: particle state, the block table and map, sortedParticles, the collider table. Writes: grid sums, the
+// bodies' entries' sums, the watchdog.
+#include "common/bindings.glsl"
+#include "common/kernel.glsl"
+#include "common/grid.glsl"
+#include "common/blocks.glsl"
+#include "common/colliders.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+// The image of particle p across body i's surface, whose signed distance at x is φ (0 < φ < the kernel's reach)
+// with outward normal n.
+void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
+  ColliderParams body = colliders[i];
+  vec3 image = x - 2.0 * distanceM * normal;
+  mat3 reflection = mat3(1.0) - 2.0 * outerProduct(normal, normal);
+  // Times −Δt V0 / (momentum unit): the impulse per ∇w, as P2G's (common/scatter.glsl).
+  mat3 impulseUnits = (-dtS * velocityVolume[p].w / momentumUnitKgMPerS) * (reflection * kirchhoffStress[p] * reflection);
+  Stencil stencil = particleStencil(image);
+  float particleU = particleDither(image);
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    ivec3 k = stencilOffset(n);
+    ivec3 node = stencil.baseNode + k;
+    if (any(lessThan(node, ivec3(0))) || any(greaterThanEqual(node, gridNodes))) continue;
+    vec3 nodeM = nodePosition(node);
+    vec3 nodeNormal;
+    if (colliderDistance(body, nodeM, timeS, nodeNormal) <= 0.0) continue;  // the body's own
+    int address = nodeAddress(node);
+    if (address < 0 || gridMomentumMass[address].w == 0) continue;  // no snow there: nothing to push
+    vec3 impulse = impulseUnits * stencilGradient(stencil, k);
+    ivec4 overflow = ivec4(0);
+    GridVector stored = quantize(vec4(impulse, 0.0), IMPULSE_CHANNELS, contributionDither(particleU, n), overflow);
+    reportAccumulatorOverflow(overflow, node, IMPULSE_CHANNELS);
+#ifdef FIRN_GRID_IMPULSE
+    addImpulseToNode(uint(address), stored.xyz, node);
+#else
+    addToNode(uint(address), GridVector(stored.xyz, 0), node);
+#endif
+    pushRigidBody(i, nodeM, timeS, storedToNondimensional(stored).xyz * momentumUnitKgMPerS);
+  }
+}
+
+void main() {
+  uint entry = invocationIndex();
+  if (entry >= sortedParticleCount()) return;
+  uint p = sortedParticles[entry];
+  vec3 x = positionMass[p].xyz;
+  float reachM = 0.5 * float(KERNEL_WIDTH) * cellSizeM;
+  for (uint i = 0u; i < colliderCount; ++i) {
+    if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, x, timeS, reachM)) continue;
+    vec3 normal;
+    float distanceM = colliderDistance(colliders[i], x, timeS, normal);
+    if (distanceM > 0.0 && distanceM < reachM) scatterImage(i, p, x, distanceM, normal);
+  }
+}
