@@ -54,7 +54,8 @@ class StepPipeline {
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
   // One whole step: transferToGrid, the bodies' mirrored stress, the grid update, the semi-implicit solve if the
-  // scene asks for one, grid to particle, the rigid bodies. Returns how the solve ended (explicit steps: no iterations).
+  // scene asks for one, grid to particle, the rigid bodies. Returns how the solve ended (explicit steps: no
+  // iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The semi-implicit solve, if the scene has one (tests reach its passes through it).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }

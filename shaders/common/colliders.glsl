@@ -17,13 +17,10 @@ layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer 
 layout(binding = FIRN_TEXTURE_UNIT_COLLIDER_FIELDS) uniform samplerBuffer colliderFields;
 #endif
 
-// A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at time
-// timeS: x is taken into the frame of the shape at rest (eq. 33) and measured there — an analytic shape by eq. 27, a
-// mesh by its distance field (eq. 34) — and the normal turned back into the world.
-float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
-  vec3 fromPivot = colliderRestPoint(c, x, timeS);
-  vec3 restNormal;
-  float distanceM;
+// A collider's signed distance φ (m, negative inside its solid) at a point of the frame of its shape at rest,
+// `fromPivot`, and the outward unit normal there in that frame: an analytic shape by eq. 27, a mesh by its distance
+// field (eq. 34).
+float colliderRestDistance(ColliderParams c, vec3 fromPivot, out vec3 restNormal) {
 #ifdef FIRN_HAS_COLLIDER_FIELDS
   if (c.shapeBoundary.x == SHAPE_MESH) {
     ivec3 cell;
@@ -39,31 +36,40 @@ float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
     corners[5] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 0, 1))).r;
     corners[6] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 1, 1))).r;
     corners[7] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 1, 1))).r;
-    distanceM = cellDistance(corners, fraction, outsideM, restNormal);
-  } else {
-    distanceM = shapeDistance(c, fromPivot, restNormal);
+    return cellDistance(corners, fraction, outsideM, restNormal);
   }
-#else
-  distanceM = shapeDistance(c, fromPivot, restNormal);
 #endif
+  return shapeDistance(c, fromPivot, restNormal);
+}
+
+// A collider's signed distance φ at x (m, negative inside its solid) and the outward unit normal there, at time
+// timeS: x is taken into the frame of the shape at rest (eq. 33) and measured there, and the normal turned back into
+// the world.
+float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
+  vec3 restNormal;
+  float distanceM = colliderRestDistance(c, colliderRestPoint(c, x, timeS), restNormal);
   normal = colliderWorldDirection(c, restNormal, timeS);
   return distanceM;
 }
 
 #ifdef FIRN_HAS_RIGID_BODIES
+// Adds an impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) to the sums of the body of entry i,
+// in 64-bit fixed point, so that the sums, like P2G's, do not depend on the order of the additions.
+void addToRigidBody(uint i, vec3 impulseKgMPerS, vec3 momentKgM2PerS) {
+  float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) / momentumUnitKgMPerS;
+  uvec4 low;
+  ivec4 high;
+  splitFixed64(vec4(round(impulseKgMPerS * unitsPerKgMPerS), 0.0), low, high);
+  FIRN_ADD_FIXED64(colliders[i].impulseLow, colliders[i].impulseHigh, low, high)
+  splitFixed64(vec4(round(momentKgM2PerS * (unitsPerKgMPerS / cellSizeM)), 0.0), low, high);
+  FIRN_ADD_FIXED64(colliders[i].angularLow, colliders[i].angularHigh, low, high)
+}
+
 // Newton's third law at a node or a particle at x (docs/algorithm.md, eq. 35): the body of entry i takes the
 // opposite of the impulse its response gave the snow there, and that impulse's moment about its centre of mass,
 // summed in 64-bit fixed point so that the sums, like P2G's, do not depend on the order of the additions.
 void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
-  float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) / momentumUnitKgMPerS;
-  vec3 impulse = -impulseOnSnowKgMPerS * unitsPerKgMPerS;
-  vec3 moment = cross(x - colliderPivot(colliders[i], timeS), -impulseOnSnowKgMPerS) * (unitsPerKgMPerS / cellSizeM);
-  uvec4 low;
-  ivec4 high;
-  splitFixed64(vec4(round(impulse), 0.0), low, high);
-  FIRN_ADD_FIXED64(colliders[i].impulseLow, colliders[i].impulseHigh, low, high)
-  splitFixed64(vec4(round(moment), 0.0), low, high);
-  FIRN_ADD_FIXED64(colliders[i].angularLow, colliders[i].angularHigh, low, high)
+  addToRigidBody(i, -impulseOnSnowKgMPerS, cross(x - colliderPivot(colliders[i], timeS), -impulseOnSnowKgMPerS));
 }
 #endif
 

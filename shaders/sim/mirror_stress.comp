@@ -3,7 +3,7 @@
 // invocation per particle. A particle within a kernel's reach of a body's surface (0 < φ < reach) has a mirror
 // image x' = x − 2 φ n inside the body, with its volume and its stress reflected across the surface, R τ R with
 // R = I − 2 n nᵀ. The image's contributions −Δt V0 R τ R ∇w_i(x') to the nodes outside the body that hold snow are
-// added to them as P2G adds its impulses, and their opposite goes to the body (pushRigidBody): the contributions of
+// added to them as P2G adds its impulses, and their opposite goes to the body (addToRigidBody): the contributions of
 // an image sum to zero over its stencil (Σ_i ∇w_i = 0), so the ones inside the body, which are the body's, are that
 // opposite, and momentum is kept. Without the images the nodes a body holds see the kernel's transition
 // χ = Σ_{i held} w_i only where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
@@ -27,13 +27,23 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   mat3 impulseUnits = (-dtS * velocityVolume[p].w / momentumUnitKgMPerS) * (reflection * kirchhoffStress[p] * reflection);
   Stencil stencil = particleStencil(image);
   float particleU = particleDither(image);
+  // The body's share, summed over the stencil here and added once: one pair of 64-bit sums per image, not per node.
+  vec3 pivotM = colliderPivot(body, timeS);
+  vec3 bodyImpulseKgMPerS = vec3(0.0), bodyMomentKgM2PerS = vec3(0.0);
+  // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
+  // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
+  vec3 baseM = nodePosition(stencil.baseNode);
+  vec3 restBase = colliderRestPoint(body, baseM, timeS);
+  mat3 restCells = mat3(colliderRestPoint(body, baseM + vec3(cellSizeM, 0.0, 0.0), timeS) - restBase,
+                        colliderRestPoint(body, baseM + vec3(0.0, cellSizeM, 0.0), timeS) - restBase,
+                        colliderRestPoint(body, baseM + vec3(0.0, 0.0, cellSizeM), timeS) - restBase);
   for (int n = 0; n < KERNEL_NODES; ++n) {
     ivec3 k = stencilOffset(n);
     ivec3 node = stencil.baseNode + k;
     if (any(lessThan(node, ivec3(0))) || any(greaterThanEqual(node, gridNodes))) continue;
     vec3 nodeM = nodePosition(node);
-    vec3 nodeNormal;
-    if (colliderDistance(body, nodeM, timeS, nodeNormal) <= 0.0) continue;  // the body's own
+    vec3 restNormal;
+    if (colliderRestDistance(body, restBase + restCells * vec3(k), restNormal) <= 0.0) continue;  // the body's own
     int address = nodeAddress(node);
     if (address < 0 || gridMomentumMass[address].w == 0) continue;  // no snow there: nothing to push
     vec3 impulse = impulseUnits * stencilGradient(stencil, k);
@@ -45,8 +55,11 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
 #else
     addToNode(uint(address), GridVector(stored.xyz, 0), node);
 #endif
-    pushRigidBody(i, nodeM, timeS, storedToNondimensional(stored).xyz * momentumUnitKgMPerS);
+    vec3 onBodyKgMPerS = -storedToNondimensional(stored).xyz * momentumUnitKgMPerS;
+    bodyImpulseKgMPerS += onBodyKgMPerS;
+    bodyMomentKgM2PerS += cross(nodeM - pivotM, onBodyKgMPerS);
   }
+  addToRigidBody(i, bodyImpulseKgMPerS, bodyMomentKgM2PerS);
 }
 
 void main() {
