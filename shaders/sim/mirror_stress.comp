@@ -24,12 +24,14 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   vec3 image = x - 2.0 * distanceM * normal;
   mat3 reflection = mat3(1.0) - 2.0 * outerProduct(normal, normal);
   // Times −Δt V0 / (momentum unit): the impulse per ∇w, as P2G's (common/scatter.glsl).
-  mat3 impulseUnits = (-dtS * velocityVolume[p].w / momentumUnitKgMPerS) * (reflection * kirchhoffStress[p] * reflection);
+  mat3 impulseUnits =
+      (-dtS * velocityVolume[p].w / momentumUnitKgMPerS) * (reflection * kirchhoffStress[p] * reflection);
   Stencil stencil = particleStencil(image);
   float particleU = particleDither(image);
   // The body's share, summed over the stencil here and added once: one pair of 64-bit sums per image, not per node.
   vec3 pivotM = colliderPivot(body, timeS);
-  vec3 bodyImpulseKgMPerS = vec3(0.0), bodyMomentKgM2PerS = vec3(0.0);
+  GridVector nodesTook = GridVector(0);  // in the nodes' units: the body takes exactly their opposite
+  vec3 bodyMomentKgM2PerS = vec3(0.0);
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
   vec3 baseM = nodePosition(stencil.baseNode);
@@ -55,11 +57,10 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
 #else
     addToNode(uint(address), GridVector(stored.xyz, 0), node);
 #endif
-    vec3 onBodyKgMPerS = -storedToNondimensional(stored).xyz * momentumUnitKgMPerS;
-    bodyImpulseKgMPerS += onBodyKgMPerS;
-    bodyMomentKgM2PerS += cross(nodeM - pivotM, onBodyKgMPerS);
+    nodesTook += stored;
+    bodyMomentKgM2PerS += cross(nodeM - pivotM, -storedToNondimensional(stored).xyz * momentumUnitKgMPerS);
   }
-  addToRigidBody(i, bodyImpulseKgMPerS, bodyMomentKgM2PerS);
+  addToRigidBody(i, -storedToNondimensional(nodesTook).xyz * momentumUnitKgMPerS, bodyMomentKgM2PerS);
 }
 
 void main() {
