@@ -14,6 +14,8 @@ namespace firn {
 namespace {
 
 constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
+// Before an indirect dispatch whose work groups a pass has just written.
+constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
 
 }  // namespace
 
@@ -122,6 +124,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   if (!scene.rigidBodies.empty()) {
+    listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
     rigidBodies_ = scene.rigidBodies.size();
@@ -194,7 +197,9 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const gl::Buffer& blockTable = state.grid().blockTable();
   transferToGrid(state, particles, timer);
   if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
-    mirrorStress_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+    listMirrored_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+    glMemoryBarrier(kStorageAndCommands);
+    mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
     glMemoryBarrier(kStorage);
   }
   updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);

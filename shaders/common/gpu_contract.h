@@ -61,7 +61,8 @@
 #define FIRN_BINDING_BLOCK_MAP 9            // uint per block of the domain: its slot in the pool + 1, or 0
 #define FIRN_BINDING_BINS 10                // uvec2 per base node of each active block: particles, first (in block)
 #define FIRN_BINDING_SORTED_PARTICLES 11    // uint per particle: particle indices, block after block, bin after bin
-#define FIRN_BINDING_PARTICLE_RANKS 12      // uint per particle: its place in its bin
+#define FIRN_BINDING_PARTICLE_RANKS 12      // uint per particle: its place in its bin; after the sort, the particles
+                                            // whose stress mirror_stress.comp mirrors into a rigid body
 #define FIRN_BINDING_TILE_ORDER 13          // uint per tile of the pool: the tiles holding particles, fullest first
 #define FIRN_GRID_BINDINGS_END 14
 // The scene's tables and the watchdog.
@@ -225,6 +226,8 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
 //   tileCounts       x: tiles holding particles this step, y: particles in the sorted order
 //   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
+//   mirrorDispatch   xyz: work groups of mirror_stress.comp, FIRN_PARTICLE_GROUP_SIZE invocations each; w: the
+//                    particles within a kernel's reach of a rigid body's surface (listed in particleRanks)
 //   tileBuckets      per bucket of fill: its tiles, then its first entry in the tile order, then its next free one
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \
   member(uvec4, blockCounts)                   \
@@ -233,6 +236,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
   member(uvec4, releaseDispatch)               \
   member(uvec4, tileCounts)                    \
   member(uvec4, tileDispatch)                  \
+  member(uvec4, mirrorDispatch)                \
   array(uint, tileBuckets, TILE_BUCKETS)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 

@@ -1,19 +1,22 @@
 #version 430 core
 // The stress at a rigid body's surface, mirrored into it (docs/algorithm.md, Rigid bodies, eq. 38): after P2G, an
-// invocation per particle. A particle within a kernel's reach of a body's surface (0 < φ < reach) has a mirror
-// image x' = x − 2 φ n inside the body, with its volume and its stress reflected across the surface, R τ R with
-// R = I − 2 n nᵀ. The image's contributions −Δt V0 R τ R ∇w_i(x') to the nodes outside the body that hold snow are
-// added to them as P2G adds its impulses, and their opposite goes to the body (addToRigidBody): the contributions of
-// an image sum to zero over its stencil (Σ_i ∇w_i = 0), so the ones inside the body, which are the body's, are that
-// opposite, and momentum is kept. Without the images the nodes a body holds see the kernel's transition
-// χ = Σ_{i held} w_i only where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
-// Reads: particle state, the block table and map, sortedParticles, the collider table. Writes: grid sums, the
-// bodies' entries' sums, the watchdog.
+// invocation per particle that list_mirrored.comp listed, those within a kernel's reach of a body's surface
+// (0 < φ < reach). Each has a mirror image x' = x − 2 φ n inside the body, with its volume and its stress reflected
+// across the surface, R τ R with R = I − 2 n nᵀ. The image's contributions −Δt V0 R τ R ∇w_i(x') to the nodes outside
+// the body that hold snow are added to them as P2G adds its impulses, and their opposite goes to the body
+// (addToRigidBody): the contributions of an image sum to zero over its stencil (Σ_i ∇w_i = 0), so the ones inside
+// the body, which are the body's, are that opposite, and momentum is kept exactly. (Adding the inside ones to their
+// nodes instead, for the grid update to pass on, would leave a slip or separating body's tangential share in nodes
+// of almost no mass.) Without the images the nodes a body holds see the kernel's transition χ = Σ_{i held} w_i only
+// where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
+// Reads: particle state, the block table and map, the list in particleRanks, the collider table. Writes: grid sums,
+// the bodies' entries' sums, the watchdog.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/colliders.glsl"
+#include "common/mirror.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -65,14 +68,13 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
 
 void main() {
   uint entry = invocationIndex();
-  if (entry >= sortedParticleCount()) return;
-  uint p = sortedParticles[entry];
+  if (entry >= mirrorDispatch.w) return;
+  uint p = particleRanks[entry];
   vec3 x = positionMass[p].xyz;
-  float reachM = 0.5 * float(KERNEL_WIDTH) * cellSizeM;
+  float reachM = mirrorReachM();
   for (uint i = 0u; i < colliderCount; ++i) {
-    if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, x, timeS, reachM)) continue;
     vec3 normal;
-    float distanceM = colliderDistance(colliders[i], x, timeS, normal);
+    float distanceM = mirroredDistance(i, x, reachM, normal);
     if (distanceM > 0.0 && distanceM < reachM) scatterImage(i, p, x, distanceM, normal);
   }
 }

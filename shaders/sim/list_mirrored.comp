@@ -1,0 +1,34 @@
+#version 430 core
+// Lists the particles whose stress mirror_stress.comp mirrors into a rigid body (common/mirror.glsl), after P2G: an
+// invocation per particle in the sorted order. The list takes particleRanks, which the sort no longer needs, and
+// sizes mirror_stress.comp's dispatch (mirrorDispatch, rows of 65,535 work groups). Only the listed particles then
+// run the images' scatter: a CPU renderer runs a branch's code for every lane of a vector once any lane takes it,
+// and the scatter of one particle in a bundle of eight cost as much as P2G over all of them.
+// Reads: positions, sortedParticles, the collider table. Writes: particleRanks, mirrorDispatch.
+#include "common/bindings.glsl"
+#include "common/kernel.glsl"
+#include "common/blocks.glsl"
+#include "common/colliders.glsl"
+#include "common/mirror.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void main() {
+  uint entry = invocationIndex();
+  if (entry >= sortedParticleCount()) return;
+  uint p = sortedParticles[entry];
+  vec3 x = positionMass[p].xyz;
+  float reachM = mirrorReachM();
+  bool mirrored = false;
+  for (uint i = 0u; i < colliderCount; ++i) {
+    vec3 normal;
+    float distanceM = mirroredDistance(i, x, reachM, normal);
+    mirrored = mirrored || (distanceM > 0.0 && distanceM < reachM);
+  }
+  if (!mirrored) return;
+  uint listed = atomicAdd(mirrorDispatch.w, 1u);
+  particleRanks[listed] = p;
+  uint groups = listed / uint(FIRN_PARTICLE_GROUP_SIZE) + 1u;
+  atomicMax(mirrorDispatch.x, min(groups, 65535u));
+  atomicMax(mirrorDispatch.y, (groups + 65534u) / 65535u);
+}
