@@ -2,8 +2,8 @@
 // Lists the particles whose stress mirror_stress.comp mirrors into a rigid body (common/mirror.glsl), after P2G: an
 // invocation per particle in the sorted order. The list takes particleRanks, which the sort no longer needs, and
 // sizes mirror_stress.comp's dispatch (mirrorDispatch, rows of 65,535 work groups). Only the listed particles then
-// run the images' scatter: a CPU renderer runs a branch's code for every lane of a vector once any lane takes it,
-// and the scatter of one particle in a bundle of eight cost as much as P2G over all of them.
+// run the images' scatter: on llvmpipe the scatter behind a branch cost most of a P2G over all particles even when
+// no particle took it (docs/platform.md, Timing on llvmpipe).
 // Reads: positions, sortedParticles, the collider table. Writes: particleRanks, mirrorDispatch.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
