@@ -14,6 +14,11 @@
 
 namespace firn::gl {
 
+// The barriers between the passes of a step: the storage a pass wrote, for the next pass's reads; and with the
+// command barrier too, where that pass's output sizes the next dispatch (glDispatchComputeIndirect).
+constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
+constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
+
 class ComputePass {
  public:
   ComputePass() = default;

@@ -8,10 +8,6 @@ namespace firn {
 
 namespace {
 
-constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
-// A pass whose output sizes the next dispatch (glDispatchComputeIndirect) also needs the command barrier.
-constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
-
 std::size_t nodeStorageBytes(std::size_t blocks) { return blocks * gpu::BLOCK_NODES * sizeof(glm::ivec4); }
 
 }  // namespace
@@ -63,22 +59,22 @@ BlockUsage BlockGrid::usage() const {
 void BlockGrid::sortParticles(std::size_t particles, const gl::BufferBindings& buffers, gl::PassTimer& timer) const {
   const gl::Buffer& table = blockTable_;
   prepareBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(kStorageAndCommands);
+  glMemoryBarrier(gl::kStorageAndCommands);
   releaseBlocks_.runIndirect(table, offsetof(gpu::BlockTableHeader, releaseDispatch), buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   countBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(kStorageAndCommands);
+  glMemoryBarrier(gl::kStorageAndCommands);
   binCount_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   blockOffsets_.runOnce(buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   binPlace_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-  glMemoryBarrier(kStorageAndCommands);
+  glMemoryBarrier(gl::kStorageAndCommands);
 }
 
 void BlockGrid::publish(gl::BufferBindings& bindings) const {

@@ -12,9 +12,6 @@ namespace firn {
 
 namespace {
 
-constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
-constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
-
 // The registers' components (gpu::SolverStatus): bits of solver_reduce.comp's reduceComponents.
 constexpr unsigned kProduct = 1;           // x: (z, A z)
 constexpr unsigned kDirectionProduct = 2;  // y: (A p, P⁻¹ A p), formed from (A z, P⁻¹ A z) and (A z, P⁻¹ A p') in w
@@ -51,14 +48,14 @@ void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int m
   const gl::BufferBindings& buffers = state.bindings();
   orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   prepare_.runOver(particles, maxWorkGroupsX, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
 }
 
 void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const {
   reduce_.set("reduceRegister", registerIndex)
       .set("reduceComponents", components)
       .runIndirect(state.solver()->status(), kReduceDispatch, state.bindings(), timer);
-  glMemoryBarrier(kStorageAndCommands);
+  glMemoryBarrier(gl::kStorageAndCommands);
 }
 
 SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
@@ -81,14 +78,14 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   begin_.runOnce(buffers, timer);
-  glMemoryBarrier(kStorageAndCommands);
+  glMemoryBarrier(gl::kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
   firstProduct_.runIndirect(status, kProductDispatch, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   residual_.runIndirect(status, kBlockDispatch, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   reduce(state, 0, kResidual | kReference, timer);
 
   // Where the GPU ended the solve (solver_reduce.comp): 1 + the register of the residual that met the tolerance.
@@ -96,19 +93,19 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
     product_.runIndirect(status, kProductDispatch, buffers, timer);
-    glMemoryBarrier(kStorage);
+    glMemoryBarrier(gl::kStorage);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
-    glMemoryBarrier(kStorage);
+    glMemoryBarrier(gl::kStorage);
     reduce(state, iteration, kProduct | kDirectionProduct, timer);
     step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
-    glMemoryBarrier(kStorage);
+    glMemoryBarrier(gl::kStorage);
     reduce(state, iteration + 1, kResidual, timer);
     if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.solver()->readEnd();
   }
   // Not ended: max_iterations were taken, and the last residual is the solve's.
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
   finish_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   return solved;
 }
 

@@ -11,14 +11,6 @@
 
 namespace firn {
 
-namespace {
-
-constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
-// Before an indirect dispatch whose work groups a pass has just written.
-constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
-
-}  // namespace
-
 gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms programs) {
   gl::ShaderOptions options;
   options.defines.emplace_back("FIRN_WALL_CELLS", std::to_string(GridSpec::wallCells));
@@ -141,7 +133,7 @@ void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, 
                                    ? offsetof(gpu::BlockTableHeader, tileDispatch)
                                    : offsetof(gpu::BlockTableHeader, blockDispatch);
   pass.runIndirect(state.grid().blockTable(), dispatch, state.bindings(), timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
 }
 
 // Timed rounds of every shape, after one round untimed (a driver may build its code at the first dispatch).
@@ -198,26 +190,26 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   transferToGrid(state, particles, timer);
   if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
     listMirrored_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-    glMemoryBarrier(kStorageAndCommands);
+    glMemoryBarrier(gl::kStorageAndCommands);
     mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
-    glMemoryBarrier(kStorage);
+    glMemoryBarrier(gl::kStorage);
   }
   updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   SolveReport solve;
   if (implicitSolver_) solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
   if (rigidBodies_ > 0) {
     integrateBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
-    glMemoryBarrier(kStorage);
+    glMemoryBarrier(gl::kStorage);
   }
   return solve;
 }
 
 void StepPipeline::computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
   computeVolumes_.runOver(particles, maxWorkGroupsX_, state.bindings(), timer);
-  glMemoryBarrier(kStorage);
+  glMemoryBarrier(gl::kStorage);
 }
 
 }  // namespace firn

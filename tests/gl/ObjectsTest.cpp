@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -340,22 +339,16 @@ TEST_F(ObjectsTest, RunsWithRigidBodiesAreBitwiseRepeatableAndResumable) {
   EXPECT_NE(first.rigidBodyPoses()[0].positionM, firn::initialBodyPose(scene.rigidBodies[0]).positionM);
 }
 
-}  // namespace
-
-namespace {
-
 // The volume of the part of a sphere of radius r centred at height c that lies below the level L (m³).
 double sphereVolumeBelow(double radiusM, double centerM, double levelM) {
   const double cap = std::clamp(levelM - (centerM - radiusM), 0.0, 2.0 * radiusM);
   return glm::pi<double>() * cap * cap * (3.0 * radiusM - cap) / 3.0;
 }
 
-}  // namespace
-
 // A sphere of density 500 (r = 5 cm, 4 cells) in water of density 1000 comes to rest floating. Archimedes puts it half
-// submerged; this coupling rests it deeper (docs/algorithm.md, Rigid bodies: the water's pressure next to the body
-// is not determined by the nodes that are not held, and the body reads it; measured on llvmpipe, quadratic APIC:
-// 73% at rest from 0.3 s on, cubic 70%). What the test holds is what the mirrored stress (eq. 38) changed: without
+// submerged; this coupling rests it deeper (docs/algorithm.md, Rigid bodies, the known limit: the water next to the
+// body is layered, and the water the kernel smears into its nodes weighs on it; measured on llvmpipe, quadratic
+// APIC: 73% at rest from 0.3 s on, cubic 70%). What the test holds is what the mirrored stress (eq. 38) changed: without
 // it the same sphere was 85% submerged at 0.5 s and still sinking at 5–8 mm/s, on its way to the bottom. Bounds:
 // submerged between 45% (Archimedes' 50% less the 5%) and 80%, and from 0.5 s to 0.8 s it moves less than
 // 1 mm (measured 0.2 mm, the bob of its settling; the sinking sphere moved 2.4 mm). The submerged part is the
@@ -394,3 +387,5 @@ TEST_F(ObjectsTest, ASphereOfHalfTheWatersDensityComesToRestFloating) {
   EXPECT_LT(submerged, 0.8);
   EXPECT_LT(std::abs(centerM - centerEarlyM), 1e-3);
 }
+
+}  // namespace
