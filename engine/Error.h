@@ -30,6 +30,12 @@ class SimulationError : public Error {
   explicit SimulationError(const std::string& message) : Error(ExitCode::Unstable, message) {}
 };
 
+// In a run over several processes (docs/distributed.md): another process stopped the run, and says why itself.
+class StoppedElsewhere : public Error {
+ public:
+  explicit StoppedElsewhere(const std::string& message) : Error(ExitCode::Unstable, message) {}
+};
+
 // No OpenGL 4.3 core context could be had, or a required entry point is missing; the message says what was found.
 class NoOpenGLError : public Error {
  public:

@@ -7,6 +7,7 @@ packages=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # EGL + OpenGL; Mesa's llvmpipe where there is no GPU
   libglew-dev libglfw3-dev libglm-dev libassimp-dev nlohmann-json3-dev libcli11-dev libstb-dev
   zlib1g-dev            # the checkpoints' CRC-32
+  libopenmpi-dev openmpi-bin  # runs over several processes (mpirun -np N firn run)
   libgtest-dev libbenchmark-dev
   assimp-testmodels     # the tests voxelize its hostile meshes (AMF/test9.amf: thin parts across a large box)
   glslang-tools         # the tests compile every shader with Khronos' reference front end, glslangValidator

@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -23,6 +24,8 @@
 #include "io/Ply.h"
 #include "io/Text.h"
 #include "io/Video.h"
+#include "mpi/MpiShare.h"
+#include "mpi/MpiWorld.h"
 #include "run/Budget.h"
 #include "run/HeadlessRun.h"
 #include "run/Progress.h"
@@ -37,8 +40,18 @@ firn::Scene sceneOrDefault(const std::string& scenePath) {
   return scenePath.empty() ? firn::defaultScene() : firn::loadScene(scenePath);
 }
 
-int runCommand(const std::string& scenePath, firn::RunOptions options) {
+// `firn run`; under mpirun with several ranks, each rank's share of the domain (docs/distributed.md): rank 0 logs
+// and writes, the others only simulate.
+int runCommand(const std::string& scenePath, firn::RunOptions options, const firn::mpi::MpiWorld* world,
+               int rebalanceEveryFrames) {
   const firn::Scene scene = sceneOrDefault(scenePath);
+  std::optional<firn::mpi::MpiShare> share;
+  std::ostream silent(nullptr);
+  if (world != nullptr && world->size() > 1) {
+    share.emplace(world->comm(), scene, rebalanceEveryFrames);
+    options.gpuOrdinal = world->localRank();
+  }
+  const bool writer = !share || share->writesOutput();
   // Said before the run, not after an hour of simulation.
   if (!options.videoPath.empty() && !firn::findFfmpeg()) {
     throw firn::InputError("--mp4: the ffmpeg program is not on the PATH (Debian: apt-get install ffmpeg); "
@@ -47,7 +60,17 @@ int runCommand(const std::string& scenePath, firn::RunOptions options) {
   if (!options.videoPath.empty()) firn::checkWritableFile(options.videoPath, "--mp4");
   options.showProgress = true;
   const std::string outputDir = options.outputDir.string();
-  const firn::RunSummary summary = firn::runHeadless(scene, options, std::cerr);
+  const firn::RunSummary summary = firn::runHeadless(scene, options, writer ? std::cerr : silent,
+                                                     share ? &*share : nullptr);
+  if (!writer) return 0;
+  if (share) {
+    const firn::mpi::ShareTraffic& traffic = share->traffic();
+    std::fprintf(stderr, "firn: %d processes, slabs of block layers %s (rank 0: %.1f KiB of grid sums sent per step, "
+                         "%.1f ms per step exchanging)\n",
+                 share->size(), share->slabs().describe().c_str(),
+                 traffic.steps > 0 ? double(traffic.haloBytes) / 1024.0 / double(traffic.steps) : 0.0,
+                 summary.steps > 0 ? 1e3 * traffic.exchangeS / double(summary.steps) : 0.0);
+  }
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
               summary.frames - summary.firstFrame + 1, summary.particles, static_cast<unsigned long long>(summary.steps),
               outputDir.c_str(), summary.wallS,
@@ -256,7 +279,26 @@ int infoCommand() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+// An error, said once: under mpirun by the rank it happened on, bad input (the same on every rank) by rank 0 alone,
+// and a run another rank stopped not at all (that rank says why). Returns the exit status.
+int reportError(const firn::Error& error, const firn::mpi::MpiWorld* world) {
+  if (world == nullptr || world->size() == 1) {
+    std::fprintf(stderr, "\nfirn: error: %s\n", error.what());
+    return static_cast<int>(error.code());
+  }
+  if (dynamic_cast<const firn::StoppedElsewhere*>(&error) != nullptr) {
+    // The rank that failed ends the run (MPI_Abort) once it has said why; this one waits for that.
+    std::this_thread::sleep_for(std::chrono::seconds(10));
+    return static_cast<int>(error.code());
+  }
+  const bool sameEverywhere = dynamic_cast<const firn::InputError*>(&error) != nullptr;
+  if (!sameEverywhere || world->rank() == 0) {
+    std::fprintf(stderr, "\nfirn: error (rank %d of %d): %s\n", world->rank(), world->size(), error.what());
+  }
+  return static_cast<int>(error.code());
+}
+
+int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   CLI::App app{"Firn: a GPU snow engine (Material Point Method, Stomakhin et al. 2013) on OpenGL 4.3 compute shaders"};
   app.require_subcommand(1);
 
@@ -315,6 +357,10 @@ int main(int argc, char** argv) {
   std::string resumePath;
   run->add_option("--resume", resumePath, "Continue from a checkpoint of this scene, bit for bit as if never interrupted")
       ->check(CLI::ExistingFile);
+  int rebalanceEveryFrames = 10;
+  run->add_option("--rebalance-every", rebalanceEveryFrames,
+                  "Under mpirun: redraw the ranks' slabs for their particle counts every K frames (0: never)")
+      ->check(firn::cli::inRange(0, 1000000))->capture_default_str();
 
   firn::ViewOptions viewOptions;
   std::string screenshotPath;
@@ -409,18 +455,24 @@ int main(int argc, char** argv) {
     // --help is a parse "error" that succeeds: CLI11 prints the help. Anything else is bad input, said as Firn's
     // other errors are.
     if (error.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(error);
-    std::fprintf(stderr, "firn: error: %s\nRun with --help for more information.\n", error.what());
+    if (world == nullptr || world->rank() == 0) {  // the same on every rank
+      std::fprintf(stderr, "firn: error: %s\nRun with --help for more information.\n", error.what());
+    }
     return static_cast<int>(firn::ExitCode::BadInput);
   }
 
   try {
+    if (world != nullptr && world->size() > 1 && !run->parsed()) {
+      throw firn::InputError("under mpirun only `firn run` runs over several processes; start other commands without "
+                             "it");
+    }
     if (run->parsed()) {
       runOptions.outputDir = outputDir;
       runOptions.writePly = !noPly;
       runOptions.videoPath = videoPath;
       runOptions.resumePath = resumePath;
       if (runRender->count() > 0) runOptions.renderMode = runRenderMode;
-      return runCommand(scenePath, runOptions);
+      return runCommand(scenePath, runOptions, world, rebalanceEveryFrames);
     }
     if (view->parsed()) {
       viewOptions.screenshotPath = screenshotPath;
@@ -438,10 +490,23 @@ int main(int argc, char** argv) {
     if (bench->parsed()) return benchCommand(benchOptions);
     return infoCommand();
   } catch (const firn::Error& error) {
-    std::fprintf(stderr, "\nfirn: error: %s\n", error.what());
-    return static_cast<int>(error.code());
+    return reportError(error, world);
   } catch (const std::exception& error) {
-    std::fprintf(stderr, "\nfirn: internal error: %s\n", error.what());
+    if (world != nullptr && world->size() > 1) {
+      std::fprintf(stderr, "\nfirn: internal error (rank %d of %d): %s\n", world->rank(), world->size(), error.what());
+    } else {
+      std::fprintf(stderr, "\nfirn: internal error: %s\n", error.what());
+    }
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  if (!firn::mpi::launchedByMpi()) return firnMain(argc, argv, nullptr);
+  // Started by mpirun: MPI first, before the GL context (mpi/MpiWorld.h). A rank that fails ends them all, so that
+  // none waits for it in an exchange.
+  firn::mpi::MpiWorld world(argc, argv);
+  const int status = firnMain(argc, argv, &world);
+  if (status != 0 && world.size() > 1) world.abort(status);
+  return status;
 }

@@ -3,6 +3,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -43,8 +44,8 @@ struct DisplayChoice {
   std::string platform;
 };
 
-// Returns the display of EGL device `index`, or of the first hardware device when index < 0.
-DisplayChoice deviceDisplay(int requestedIndex) {
+// Returns the display of EGL device `index`, or when index < 0 of hardware device `gpuOrdinal` modulo their number.
+DisplayChoice deviceDisplay(int requestedIndex, int gpuOrdinal) {
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!extensionListed(clientExtensions, "EGL_EXT_platform_device")) return {};
   auto queryDevices = eglFunction<PFNEGLQUERYDEVICESEXTPROC>("eglQueryDevicesEXT");
@@ -59,12 +60,18 @@ DisplayChoice deviceDisplay(int requestedIndex) {
     throw NoOpenGLError("FIRN_EGL_DEVICE=" + std::to_string(requestedIndex) + " but EGL lists only " +
                         std::to_string(count) + " device(s)");
   }
+  std::vector<int> candidates;
   for (int i = 0; i < count; ++i) {
     if (requestedIndex >= 0 && i != requestedIndex) continue;
     const char* deviceExtensions =
         queryDeviceString ? queryDeviceString(devices[static_cast<std::size_t>(i)], EGL_EXTENSIONS) : nullptr;
     // Mesa lists its software rasterizer as a device too; prefer real hardware unless asked for it.
     if (requestedIndex < 0 && extensionListed(deviceExtensions, "EGL_MESA_device_software")) continue;
+    candidates.push_back(i);
+  }
+  // From the ordinal's device on, the first that gives a display.
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const int i = candidates[(std::size_t(std::max(gpuOrdinal, 0)) + k) % candidates.size()];
     EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<std::size_t>(i)], nullptr);
     if (display != EGL_NO_DISPLAY) return {display, "EGL device " + std::to_string(i)};
   }
@@ -109,9 +116,9 @@ bool hasExtension(const char* name) {
   return false;
 }
 
-HeadlessContext::HeadlessContext() : egl_(std::make_unique<Egl>()) {
+HeadlessContext::HeadlessContext(int gpuOrdinal) : egl_(std::make_unique<Egl>()) {
   const int deviceIndex = requestedDeviceIndex();
-  DisplayChoice choice = deviceDisplay(deviceIndex);
+  DisplayChoice choice = deviceDisplay(deviceIndex, gpuOrdinal);
   if (choice.display == EGL_NO_DISPLAY && deviceIndex < 0) choice = surfacelessDisplay();
   if (choice.display == EGL_NO_DISPLAY && deviceIndex < 0) {
     choice = {eglGetDisplay(EGL_DEFAULT_DISPLAY), "EGL default display"};

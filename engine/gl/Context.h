@@ -26,8 +26,10 @@ struct ContextInfo {
 
 class HeadlessContext {
  public:
-  // Throws NoOpenGLError (exit 4) with what was found when no GL 4.3 core context can be made.
-  HeadlessContext();
+  // Throws NoOpenGLError (exit 4) with what was found when no GL 4.3 core context can be made. Without
+  // FIRN_EGL_DEVICE the context is made on the GPU `gpuOrdinal` (modulo their number) of those EGL lists: a rank of a
+  // run over MPI takes its place among the ranks on its machine.
+  explicit HeadlessContext(int gpuOrdinal = 0);
   ~HeadlessContext();
   HeadlessContext(const HeadlessContext&) = delete;
   HeadlessContext& operator=(const HeadlessContext&) = delete;

@@ -26,6 +26,7 @@
 #include "run/Progress.h"
 #include "run/SimulationSession.h"
 #include "scene/SceneObjects.h"
+#include "sim/DomainShare.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
 #include "voxelizer/Mesh.h"
@@ -123,6 +124,21 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
   return stats;
 }
 
+// What a run over several processes writes: stats.csv, bodies.csv and PLY frames. The outputs drawn from the
+// particles on the GPU (pictures, surfaces, VDB caches) and checkpoints are refused before anything runs.
+void requireDistributedOutputs(const RunOptions& options) {
+  const char* refused = options.writePng             ? "--png"
+                        : !options.videoPath.empty() ? "--mp4"
+                        : options.writeMesh          ? "--mesh"
+                        : options.writeVdb           ? "--vdb"
+                        : options.checkpointEvery > 0 ? "--checkpoint-every"
+                        : !options.resumePath.empty() ? "--resume"
+                                                      : nullptr;
+  if (refused == nullptr) return;
+  throw InputError(std::string(refused) + ": a run over several processes writes stats.csv, bodies.csv and PLY "
+                   "frames only; run without mpirun for pictures, surfaces, VDB caches and checkpoints");
+}
+
 // The objects bodies.csv and the object meshes follow: the rigid bodies and the colliders that move.
 std::vector<SceneObject> movingObjects(const Scene& scene) {
   std::vector<SceneObject> objects = sceneObjects(scene);
@@ -199,23 +215,27 @@ std::string progressText(int frame, int frames, double simulatedS, double stepsP
 
 }  // namespace
 
-RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log) {
+RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
   const auto runStart = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
+  if (share) requireDistributedOutputs(options);
+  const bool writer = share == nullptr || share->writesOutput();
   // Held to the end of the run: no other run writes here meanwhile.
-  const OutputFolderClaim outputFolder(options.outputDir);
+  std::optional<OutputFolderClaim> outputFolder;
+  if (writer) outputFolder.emplace(options.outputDir);
   // Read before the context is made: a damaged checkpoint is refused at once.
   std::optional<Checkpoint> checkpoint;
   if (!options.resumePath.empty()) checkpoint = readCheckpoint(options.resumePath);
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
-  gl::HeadlessContext context;
+  gl::HeadlessContext context(options.gpuOrdinal);
   const bool writePictures = options.writePng || !options.videoPath.empty();
   const bool caches = options.writeMesh || options.writeVdb;
   SessionOptions sessionOptions;
   sessionOptions.showProgress = options.showProgress;
   sessionOptions.lastFrame = frames;
   sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) || caches;
+  sessionOptions.share = share;
   SimulationSession session(scene, context.info(), sessionOptions, log);
   const bool surfacePictures =
       writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface;
@@ -238,13 +258,17 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const std::vector<ObjectPose> bodyPoses = simulation.rigidBodyPoses();
     const std::vector<ObjectPose> poses = objectPoses(scene, objects, bodyPoses, simulation.timeS());
     requireFinitePoses(objects, poses, frame, simulation.timeS());
-    const ParticleSnapshot particles = simulation.snapshot();
+    // A run over several processes gathers every share's particles into the order of one process's.
+    const ParticleSnapshot particles =
+        share ? share->gather(simulation.snapshot(), simulation.particleIds()) : simulation.snapshot();
+    const std::size_t activeBlocks = share ? share->activeBlocksInAll() : simulation.blockUsage().lastStep;
+    if (!writer) return;
     FrameStats row = measureFrame(particles, scene.grid);
     row.frame = frame;
     row.timeS = simulation.timeS();
     row.steps = steps;
     row.wallMs = wallMs;
-    row.activeBlocks = simulation.blockUsage().lastStep;
+    row.activeBlocks = activeBlocks;
     const SolverSummary solves = simulation.takeSolverSummary();
     row.solverIterations = solves.mostIterations;
     row.solverResidual = solves.largestResidual;
@@ -323,13 +347,13 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
       if (!objects.empty()) bodies.emplace(bodiesPath, firstFrame);
     }
   }
-  if (!stats) stats.emplace(statsPath);
-  if (!bodies && !objects.empty()) bodies.emplace(bodiesPath);
+  if (!stats && writer) stats.emplace(statsPath);
+  if (!bodies && !objects.empty() && writer) bodies.emplace(bodiesPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   // Each frame shows on a terminal; a log gets a line every few seconds.
   constexpr double progressAtOnceS = 0;
   std::optional<ProgressLine> progress;
-  if (options.showProgress) progress.emplace(stderr, progressAtOnceS);
+  if (options.showProgress && writer) progress.emplace(stderr, progressAtOnceS);
   for (int frame = firstFrame + 1; frame <= frames; ++frame) {
     const auto frameStart = Clock::now();
     const int steps = simulation.advanceFrame(frame / scene.time.frameRateHz, log);

@@ -14,6 +14,8 @@
 
 namespace firn {
 
+class DomainShare;
+
 struct RunOptions {
   std::optional<int> frames;       // overrides the scene's time.frames
   std::filesystem::path outputDir = "firn-out";
@@ -32,6 +34,7 @@ struct RunOptions {
   std::filesystem::path videoPath; // non-empty: assemble the PNG frames into this video with ffmpeg
   int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
   std::filesystem::path resumePath;  // non-empty: continue from this checkpoint (of the same scene)
+  int gpuOrdinal = 0;              // without FIRN_EGL_DEVICE, which of the machine's GPUs (gl::HeadlessContext)
 };
 
 struct RunSummary {
@@ -47,6 +50,8 @@ struct RunSummary {
 // Frame N is the state at N / frame_rate; frame 0 is the initial state. A resumed run writes stats.csv, bodies.csv
 // and the frames from the checkpoint's frame on. Throws InputError (bad scene or
 // output), SimulationError (unstable: the frames written so far stay on disk) or NoOpenGLError.
-RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log);
+// With a `share` this process simulates its part of the domain (sim/DomainShare.h) and every share calls it alike;
+// the share that writes the output writes the files a single process would, byte for byte.
+RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share = nullptr);
 
 }  // namespace firn

@@ -37,7 +37,7 @@ SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& 
                                      std::ostream& log)
     : scene_(scene), gl_(gl), messagePrefix_(options.messagePrefix), log_(log),
       seeds_(sampleShowingProgress(scene, gl, options)), particleCapacity_(seeds_.size() + options.addedParticleCapacity),
-      colliderFields_(bakeColliderFields(scene)) {
+      share_(options.share), colliderFields_(bakeColliderFields(scene)) {
   // Before any simulation: a scene that cannot run says so at once (exit 2).
   const PreflightReport report = preflight(scene, seeds_, options.lastFrame, colliderFields_);
   // Surface settings that do not suit the particles are bad input before the GPU's buffers are made.
@@ -59,7 +59,8 @@ SimulationSession::~SimulationSession() = default;
 
 void SimulationSession::restart() {
   simulation_.reset();
-  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, colliderFields_, particleCapacity_);
+  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, colliderFields_, particleCapacity_,
+                                             MaterialPrograms::SceneModels, 0, share_);
 }
 
 surface::SurfaceReconstruction& SimulationSession::surface() {

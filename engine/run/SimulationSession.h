@@ -17,6 +17,7 @@
 
 namespace firn {
 
+class DomainShare;
 class Simulation;
 namespace surface {
 class SurfaceReconstruction;
@@ -32,6 +33,7 @@ struct SessionOptions {
   bool withSurface = false;              // the surface's settings checked against the particles before simulating
   double reservedParticles = 0;          // the budget's room for particles added while running (an estimate)
   std::size_t addedParticleCapacity = 0; // the particle buffers' room for them, beyond the bodies' particles
+  DomainShare* share = nullptr;          // the part of the domain this process simulates (sim/DomainShare.h), or all
 };
 
 class SimulationSession {
@@ -65,6 +67,7 @@ class SimulationSession {
   std::ostream& log_;
   std::vector<ParticleSeed> seeds_;
   std::size_t particleCapacity_;
+  DomainShare* share_;
   ColliderFields colliderFields_;  // baked once, for the pre-flight and every restart
   std::unique_ptr<Simulation> simulation_;
   std::unique_ptr<surface::SurfaceReconstruction> surface_;

@@ -88,14 +88,51 @@ void BlockGrid::publish(gl::BufferBindings& bindings) const {
   bindings.storage(FIRN_BINDING_TILE_ORDER, tileOrder_);
 }
 
-std::vector<glm::ivec3> BlockGrid::activeNodes() const {
+std::vector<ActiveBlock> BlockGrid::activeBlocks() const {
   const std::size_t active = usage().lastStep;
   const std::vector<gpu::BlockSlot> slots =
       blockTable_.read<gpu::BlockSlot>(active, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
+  std::vector<ActiveBlock> blocks;
+  blocks.reserve(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) blocks.push_back({slots[i].block, static_cast<std::uint32_t>(i)});
+  return blocks;
+}
+
+std::vector<glm::ivec4> BlockGrid::readBlockSums(const std::vector<std::uint32_t>& slots) const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // P2G's atomics, before they are read back
+  const std::size_t blockBytes = gpu::BLOCK_NODES * sizeof(glm::ivec4);
+  std::vector<glm::ivec4> sums(slots.size() * sumsPerBlock());
+  glm::ivec4* out = sums.data();
+  for (const std::uint32_t slot : slots) {
+    momentumMass_.download(slot * blockBytes, blockBytes, out);
+    out += gpu::BLOCK_NODES;
+    if (withImpulse_) {
+      impulseSums_.download(slot * blockBytes, blockBytes, out);
+      out += gpu::BLOCK_NODES;
+    }
+  }
+  return sums;
+}
+
+void BlockGrid::writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums) {
+  const std::size_t blockBytes = gpu::BLOCK_NODES * sizeof(glm::ivec4);
+  const glm::ivec4* in = sums.data();
+  for (const std::uint32_t slot : slots) {
+    momentumMass_.upload(slot * blockBytes, blockBytes, in);
+    in += gpu::BLOCK_NODES;
+    if (withImpulse_) {
+      impulseSums_.upload(slot * blockBytes, blockBytes, in);
+      in += gpu::BLOCK_NODES;
+    }
+  }
+}
+
+std::vector<glm::ivec3> BlockGrid::activeNodes() const {
   const glm::ivec3 blocks = blocksPerAxis_;
   std::vector<glm::ivec3> nodes;
-  nodes.reserve(slots.size() * gpu::BLOCK_NODES);
-  for (const gpu::BlockSlot& slot : slots) {
+  const std::vector<ActiveBlock> active = activeBlocks();
+  nodes.reserve(active.size() * gpu::BLOCK_NODES);
+  for (const ActiveBlock& slot : active) {
     const int index = static_cast<int>(slot.block);
     const glm::ivec3 block(index % blocks.x, (index / blocks.x) % blocks.y, index / (blocks.x * blocks.y));
     for (int local = 0; local < gpu::BLOCK_NODES; ++local) {

@@ -6,6 +6,7 @@
 // bindings of the GPU contract (FIRN_GRID_BINDINGS_FIRST to _END), and the passes that rebuild them each step.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <tuple>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "gl/ComputePass.h"
 #include "gl/Context.h"
 #include "gl/ShaderLibrary.h"
+#include "gpu/GpuLayout.h"
 #include "sim/GpuStateLayout.h"
 
 namespace firn {
@@ -28,6 +30,13 @@ struct BlockUsage {
   std::size_t capacity = 0;
   std::size_t poolBytes = 0;   // the grid's pool: nodes, bins and the block table (the solver's vectors apart)
   std::size_t mapBytes = 0;    // the block map's: 4 bytes per block of the domain
+};
+
+// A block the last step's particles reached: its index in the domain's block map (x fastest, then y, then z) and its
+// slot in the pool.
+struct ActiveBlock {
+  std::uint32_t block = 0;
+  std::uint32_t slot = 0;
 };
 
 // One node of the grid as stored after P2G: its index per axis and its sums (fixed point or float bits).
@@ -71,6 +80,14 @@ class BlockGrid {
   std::vector<glm::ivec3> activeNodes() const;
   // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
   std::vector<StoredNode> readNodes() const;
+
+  // The last step's active blocks, in the order of their slots.
+  std::vector<ActiveBlock> activeBlocks() const;
+  // The sums P2G left at the nodes of the blocks in `slots`: per block its BLOCK_NODES momentum-mass sums, then (PIC/
+  // FLIP) its impulse sums, as stored (fixed point), and back.
+  std::size_t sumsPerBlock() const { return (withImpulse_ ? 2 : 1) * std::size_t(gpu::BLOCK_NODES); }
+  std::vector<glm::ivec4> readBlockSums(const std::vector<std::uint32_t>& slots) const;
+  void writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums);
 
  private:
   glm::ivec3 blocksPerAxis_;

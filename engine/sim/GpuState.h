@@ -37,6 +37,7 @@ class GpuState {
 
   ParticleBuffers& particles() { return particles_; }
   const ParticleBuffers& particles() const { return particles_; }
+  BlockGrid& grid() { return grid_; }
   const BlockGrid& grid() const { return grid_; }
   // The semi-implicit solve's state; null for an explicit scene.
   SolverState* solver() { return solver_ ? &*solver_ : nullptr; }

@@ -80,6 +80,10 @@ ParticleView ParticleBuffers::view(std::size_t count, double timeS) const {
   return ParticleView{&positionMass_, &velocityVolume_, &kirchhoffStress_, &plasticState_, count, timeS};
 }
 
+std::vector<glm::vec4> ParticleBuffers::positionsMasses(std::size_t count) const {
+  return positionMass_.read<glm::vec4>(count);
+}
+
 template <class Self>
 auto ParticleBuffers::stateBuffersOf(Self& self) {
   std::vector<decltype(&self.positionMass_)> buffers;

@@ -35,6 +35,8 @@ class ParticleBuffers {
   void writeVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
   ParticleSnapshot read(std::size_t count) const;
   glm::vec3 position(std::size_t particle) const;
+  // x (m) and mass (kg) of particles [0, count).
+  std::vector<glm::vec4> positionsMasses(std::size_t count) const;
 
   void publish(gl::BufferBindings& bindings) const;
   ParticleView view(std::size_t count, double timeS) const;

@@ -50,6 +50,16 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
   return fastestMPerS;
 }
 
+// The seeds a share starts with (all of them without one).
+std::vector<ParticleSeed> seedsOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds) {
+  if (share == nullptr) return seeds;
+  std::vector<ParticleSeed> own;
+  for (const ParticleSeed& seed : seeds) {
+    if (share->owns(seed.positionM)) own.push_back(seed);
+  }
+  return own;
+}
+
 // A pool of `wanted` blocks, or of as many as the driver's buffers hold if that is fewer but still the `needed`; a
 // pool that cannot hold what is needed is left for GpuState to refuse, with the sizes.
 std::size_t poolCapacity(const Scene& scene, std::size_t needed, std::size_t wanted, const gl::ContextInfo& gl) {
@@ -77,13 +87,14 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
                        ColliderFields colliderFields, std::size_t particleCapacity, MaterialPrograms programs,
-                       std::size_t blockCapacity)
+                       std::size_t blockCapacity, DomainShare* share)
     : scene_(requireParticles(scene, seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
       colliderFields_(std::move(colliderFields)),
       state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
-                                      blockCapacity > 0 ? blockCapacity : initialBlockCapacity(scene_, seeds, gl),
+                                      blockCapacity > 0 ? blockCapacity
+                                                        : initialBlockCapacity(scene_, seedsOf(share, seeds), gl),
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
              stepShaderOptions(scene_, programs)),
@@ -93,8 +104,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       gl_(gl),
       sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, colliderFields_, seeds)),
       keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
-                                      [](const Collider& c) { return !c.keyframes.empty(); })) {
-  const std::vector<ParticleSeed> particles = splitByRelease(seeds, pendingParticles_);
+                                      [](const Collider& c) { return !c.keyframes.empty(); })),
+      share_(share) {
+  const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
+  initialParticles_ = initial.size();
+  if (share_) share_->balance(seeds);
+  const std::vector<ParticleSeed> particles = ownParticles(initial, 0);
   writeParticles(0, particles);
   particleCount_ = particles.size();
 
@@ -110,6 +125,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       state_.resizeBlockPool(poolCapacity(scene_, usage.mostInAStep, 2 * usage.mostInAStep, gl_), gl_);
       pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     }
+    if (share_) share_->sumSharedNodes(state_.grid());
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
   // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
@@ -120,6 +136,17 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
   state_.particles().write(first, particleRecords(scene_, materialTable_, colliderFields_, particles));
   diagnostics_.noteParticles(particles);
+}
+
+std::vector<ParticleSeed> Simulation::ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId) {
+  if (!share_) return particles;
+  std::vector<ParticleSeed> own;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (!share_->owns(particles[i].positionM)) continue;
+    own.push_back(particles[i]);
+    ids_.push_back(static_cast<std::uint32_t>(firstId + i));
+  }
+  return own;
 }
 
 void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
@@ -154,10 +181,11 @@ void Simulation::releaseDueParticles() {
   std::vector<ParticleSeed> due;
   // The tolerance lets a particle due at a frame time join at that frame's first step despite rounding.
   const double nowS = timeS_ + 1e-9 * scene_.time.dtS;
+  const std::size_t firstId = initialParticles_ + nextPending_;  // emitters' particles follow in release order
   while (nextPending_ < pendingParticles_.size() && pendingParticles_[nextPending_].releaseTimeS <= nowS) {
     due.push_back(pendingParticles_[nextPending_++]);
   }
-  appendParticles(due);
+  appendParticles(ownParticles(due, firstId));
 }
 
 void Simulation::step(double dtS) {
@@ -167,8 +195,9 @@ void Simulation::step(double dtS) {
   if (keyframedColliders_) state_.writeColliders(colliderEntries(scene_, colliderFields_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
   pipeline_.chooseTransferShape(state_, particleCount_);  // at the first step with particles, and as they grow
-  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_);
+  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_, share_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);
+  if (share_) particleCount_ = share_->migrate(state_.particles(), particleCount_, ids_);
   timeS_ += dtS;
   ++steps_;
 }
@@ -193,8 +222,10 @@ SolverSummary Simulation::takeSolverSummary() {
 }
 
 int Simulation::advanceTo(double timeS) {
+  // Every share steps alike: by the fastest signal in any of them.
   const int steps = stepping_.advance(
-      timeS_, timeS, [this](double dtS) { step(dtS); }, [this] { return state_.fastestSignalMPerS(); });
+      timeS_, timeS, [this](double dtS) { step(dtS); },
+      [this] { return share_ ? share_->largest(state_.fastestSignalMPerS()) : state_.fastestSignalMPerS(); });
   if (stepping_.adaptive() || steps > 0) timeS_ = timeS;  // exactly, whatever the steps' rounding
   growBlockPool(kBlockPoolGrowthFullness);
   return steps;
@@ -219,34 +250,45 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
     blocksBeyondPool_ = 0;
     const int steps = advanceTo(frameTimeS);
     // A frame whose particles reached more blocks than the pool held left some out of a step: it is redone from
-    // its start with the pool advanceTo grew, which gives the bytes a pool large enough from the start would.
-    if (blocksBeyondPool_ > 0 && poolRetries < kBlockPoolRetries) {
+    // its start with the pool advanceTo grew, which gives the bytes a pool large enough from the start would. Shares
+    // step together, so a frame one of them redoes, all redo.
+    const bool beyondPool = share_ ? share_->any(blocksBeyondPool_ > 0) : blocksBeyondPool_ > 0;
+    if (beyondPool && poolRetries < kBlockPoolRetries) {
       ++poolRetries;
-      log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed " << blocksBeyondPool_
-          << " blocks of the grid, more than its pool held; redoing it with room for " << state_.blockUsage().capacity
-          << "\n";
+      log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed more blocks of the grid than a pool held ("
+          << blocksBeyondPool_ << " here); redoing it with room for " << state_.blockUsage().capacity << "\n";
       restoreState();
       continue;
     }
+    std::optional<SimulationError> failure;
     try {
       checkWatchdog();
+    } catch (const SimulationError& error) {
+      failure = error;
+    }
+    const bool failed = share_ ? share_->any(failure.has_value()) : failure.has_value();
+    if (!failed) {
       stepping_.resetStepScale();
       // P2G's shape, timed at the frame's first step with particles or again after the particles grew.
       const std::optional<TransferShapeChoice>& shape = transferShapeChoice();
       if (shape && shape->particles != shapeTimedOn) log << "\nfirn: transfers: " << shape->describe() << "\n";
+      if (share_) particleCount_ = share_->endFrame(state_.particles(), particleCount_, ids_);
       return steps;
-    } catch (const SimulationError&) {
-      if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) throw;
-      log << "\nfirn: the frame ending at t = " << frameTimeS << " s went unstable; redoing it with steps "
-          << stepping_.stepScale() << " times as large\n";
-      restoreState();
     }
+    if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) {
+      if (failure) throw *failure;
+      throw StoppedElsewhere("the frame ending at t = " + formatApproximately(frameTimeS) +
+                             " s went unstable in another process of the run");
+    }
+    log << "\nfirn: the frame ending at t = " << frameTimeS << " s went unstable; redoing it with steps "
+        << stepping_.stepScale() << " times as large\n";
+    restoreState();
   }
 }
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_, steps_, particleCount_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
+  saved_ = {timeS_, steps_, particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
             solverFailure_};
 }
 
@@ -255,6 +297,7 @@ void Simulation::restoreState() {
   timeS_ = saved_.timeS;
   steps_ = saved_.steps;
   particleCount_ = saved_.particleCount;
+  ids_ = saved_.ids;
   diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);

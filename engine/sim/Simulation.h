@@ -23,6 +23,7 @@
 #include "scene/Scene.h"
 #include "scene/SceneObjects.h"
 #include "sim/Diagnostics.h"
+#include "sim/DomainShare.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/SceneUpload.h"
@@ -67,10 +68,13 @@ class Simulation {
              std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels,
              std::size_t blockCapacity = 0);
   // The same with the scene's distance fields baked already (bakeColliderFields), as a session keeps them from its
-  // pre-flight through every restart.
+  // pre-flight through every restart. With a `share` (sim/DomainShare.h) it simulates the share's part of the
+  // domain: `seeds` are still all the scene's (every share takes the same decisions from them), but only the share's
+  // own are written, and the share completes the grid's sums and moves particles between shares at every step.
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
              ColliderFields colliderFields, std::size_t particleCapacity = 0,
-             MaterialPrograms programs = MaterialPrograms::SceneModels, std::size_t blockCapacity = 0);
+             MaterialPrograms programs = MaterialPrograms::SceneModels, std::size_t blockCapacity = 0,
+             DomainShare* share = nullptr);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
   // density that gave the first particles their volumes is not theirs to share), and grows the grid's pool if
@@ -106,6 +110,9 @@ class Simulation {
   SolverSummary takeSolverSummary();
 
   ParticleSnapshot snapshot() const;
+  // With a share: each particle's place in the order a single process would hold it (the snapshot's order); empty
+  // without one.
+  const std::vector<std::uint32_t>& particleIds() const { return ids_; }
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
@@ -156,6 +163,9 @@ class Simulation {
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
   void appendParticles(const std::vector<ParticleSeed>& particles);
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles);
+  // The share's own of `particles`, whose places in a single process's order start at `firstId` (all of them without
+  // a share); their ids are appended to ids_.
+  std::vector<ParticleSeed> ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId);
 
   // In the order of their checks: the float atomics the pipeline needs, the buffer sizes, the fixed-point range.
   Scene scene_;
@@ -170,6 +180,9 @@ class Simulation {
   gl::ContextInfo gl_;
   std::uint64_t sceneFingerprint_ = 0;
   bool keyframedColliders_ = false;  // whether the collider table changes as the steps go
+  DomainShare* share_ = nullptr;     // the part of the domain this simulates, or none: all of it
+  std::vector<std::uint32_t> ids_;   // with a share: each particle's place in a single process's order
+  std::size_t initialParticles_ = 0; // the particles present from the start, in all shares
 
   std::size_t particleCount_ = 0;
   std::vector<ParticleSeed> pendingParticles_;  // emitters' particles not yet released, by release time
@@ -185,6 +198,7 @@ class Simulation {
     double timeS = 0;
     std::uint64_t steps = 0;
     std::size_t particleCount = 0;
+    std::vector<std::uint32_t> ids;
     std::size_t nextPending = 0;
     double fastestSignalMPerS = 0;
     SolverSummary solverSummary;

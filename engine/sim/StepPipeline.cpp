@@ -184,7 +184,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   return true;
 }
 
-SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
+SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share) const {
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
   transferToGrid(state, particles, timer);
@@ -194,6 +194,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
     glMemoryBarrier(gl::kStorage);
   }
+  if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
   updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;

@@ -15,6 +15,7 @@
 #include "gl/Context.h"
 #include "gpu/GpuLayout.h"
 #include "scene/Scene.h"
+#include "sim/DomainShare.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
@@ -53,10 +54,10 @@ class StepPipeline {
   bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
-  // One whole step: transferToGrid, the bodies' mirrored stress, the grid update, the semi-implicit solve if the
-  // scene asks for one, grid to particle, the rigid bodies. Returns how the solve ended (explicit steps: no
-  // iterations).
-  SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
+  // One whole step: transferToGrid, the bodies' mirrored stress, the shared nodes' sums completed (with a `share`),
+  // the grid update, the semi-implicit solve if the scene asks for one, grid to particle, the rigid bodies. Returns
+  // how the solve ended (explicit steps: no iterations).
+  SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share = nullptr) const;
   // The semi-implicit solve, if the scene has one (tests reach its passes through it).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.

@@ -1,0 +1,316 @@
+#include "mpi/MpiShare.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <numeric>
+#include <string>
+
+#include "Error.h"
+
+namespace firn::mpi {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A run over several processes is the same, to the bit, as one process's only where a step's sums are integers
+// and each node's and particle's update its own; say which keys stand in the way, before any communication.
+const Scene& requireDistributable(const Scene& scene, int ranks) {
+  if (ranks <= 1) return scene;
+  const std::string file = sceneFileName(scene);
+  const std::string where = " (mpirun -np " + std::to_string(ranks) + ")";
+  if (scene.solver.atomics == Atomics::Float) {
+    throw InputError(file + ": solver.atomics: \"float\" sums depend on the order of the additions, so a run over "
+                     "several processes could not match one process; use \"fixed\"" + where);
+  }
+  if (scene.solver.semiImplicit()) {
+    throw InputError(file + ": solver.integrator: the semi-implicit solve runs in one process only; use "
+                     "\"explicit\" or run without mpirun" + where);
+  }
+  if (!scene.rigidBodies.empty()) {
+    throw InputError(file + ": rigid_bodies: bodies run in one process only; remove them or run without mpirun" +
+                     where);
+  }
+  return scene;
+}
+
+// a + b as the GPU's 32-bit atomics add them: modulo 2³².
+glm::ivec4 wrappingSum(const glm::ivec4& a, const glm::ivec4& b) {
+  return glm::ivec4(glm::uvec4(a) + glm::uvec4(b));
+}
+
+int commRank(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank;
+}
+
+int commSize(MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  return size;
+}
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
+    : comm_(comm),
+      rank_(commRank(comm)),
+      size_(commSize(comm)),
+      slabs_(requireDistributable(scene, size_), size_),
+      rebalanceEveryFrames_(rebalanceEveryFrames) {}
+
+void MpiShare::balance(const std::vector<ParticleSeed>& seeds) {
+  std::vector<std::uint64_t> perLayer(std::size_t(slabs_.layers()), 0);
+  for (const ParticleSeed& seed : seeds) ++perLayer[std::size_t(slabs_.layerOf(seed.positionM))];
+  slabs_.balance(perLayer);
+}
+
+void MpiShare::sumSharedNodes(BlockGrid& grid) {
+  const auto start = Clock::now();
+  // This rank's blocks by their index in the domain, and every rank's.
+  std::vector<ActiveBlock> mine = grid.activeBlocks();
+  std::sort(mine.begin(), mine.end(), [](const ActiveBlock& a, const ActiveBlock& b) { return a.block < b.block; });
+  std::vector<std::uint32_t> myBlocks(mine.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) myBlocks[i] = mine[i].block;
+  const int myCount = int(myBlocks.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
+  MPI_Allgather(&myCount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
+  std::vector<std::uint32_t> everyBlock(std::size_t(offsets.back() + counts.back()));
+  MPI_Allgatherv(myBlocks.data(), myCount, MPI_UINT32_T, everyBlock.data(), counts.data(), offsets.data(),
+                 MPI_UINT32_T, comm_);
+
+  // The blocks this rank holds with each other rank, as places in `mine` (in block order, as the other rank lists
+  // them too), and whether a lower rank holds each (then that rank counts it).
+  std::vector<std::vector<std::size_t>> shared(static_cast<std::size_t>(size_));
+  std::vector<bool> heldBelow(mine.size(), false), heldElsewhere(mine.size(), false);
+  for (int q = 0; q < size_; ++q) {
+    if (q == rank_) continue;
+    const std::uint32_t* other = everyBlock.data() + offsets[std::size_t(q)];
+    const std::uint32_t* otherEnd = other + counts[std::size_t(q)];
+    for (std::size_t i = 0; i < myBlocks.size() && other != otherEnd; ++i) {
+      other = std::lower_bound(other, otherEnd, myBlocks[i]);
+      if (other == otherEnd || *other != myBlocks[i]) continue;
+      shared[std::size_t(q)].push_back(i);
+      heldElsewhere[i] = true;
+      if (q < rank_) heldBelow[i] = true;
+    }
+  }
+  firstHeldBlocks_ = std::size_t(std::count(heldBelow.begin(), heldBelow.end(), false));
+
+  // The sums of every block held elsewhere, read once.
+  std::vector<std::uint32_t> heldSlots;
+  std::vector<std::size_t> sumsAt(mine.size(), 0);  // a held block's place in `sums`, in blocks
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    if (!heldElsewhere[i]) continue;
+    sumsAt[i] = heldSlots.size();
+    heldSlots.push_back(mine[i].slot);
+  }
+  const std::size_t perBlock = grid.sumsPerBlock();
+  std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots);
+
+  // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets.
+  constexpr int intsPerSum = 4;
+  const int intsPerBlock = int(perBlock) * intsPerSum;
+  std::vector<int> sendCounts(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
+  for (int q = 0; q < size_; ++q) sendCounts[std::size_t(q)] = int(shared[std::size_t(q)].size()) * intsPerBlock;
+  std::exclusive_scan(sendCounts.begin(), sendCounts.end(), sendOffsets.begin(), 0);
+  std::vector<glm::ivec4> sent(std::size_t(sendOffsets.back() + sendCounts.back()) / intsPerSum);
+  for (int q = 0; q < size_; ++q) {
+    glm::ivec4* out = sent.data() + sendOffsets[std::size_t(q)] / intsPerSum;
+    for (const std::size_t i : shared[std::size_t(q)]) {
+      std::copy_n(sums.begin() + std::ptrdiff_t(sumsAt[i] * perBlock), perBlock, out);
+      out += perBlock;
+    }
+  }
+  std::vector<glm::ivec4> received(sent.size());  // sharing is symmetric: as much comes back from each rank
+  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), MPI_INT, received.data(), sendCounts.data(),
+                sendOffsets.data(), MPI_INT, comm_);
+  // Integer sums: the order of the ranks' additions cannot matter, so every holder ends with the same bits.
+  for (int q = 0; q < size_; ++q) {
+    const glm::ivec4* in = received.data() + sendOffsets[std::size_t(q)] / intsPerSum;
+    for (const std::size_t i : shared[std::size_t(q)]) {
+      glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
+      for (std::size_t k = 0; k < perBlock; ++k) block[k] = wrappingSum(block[k], in[k]);
+      in += perBlock;
+    }
+  }
+  grid.writeBlockSums(heldSlots, sums);
+
+  ++traffic_.steps;
+  traffic_.haloBytes += sent.size() * sizeof(glm::ivec4);
+  traffic_.sharedBlocks += heldSlots.size();
+  traffic_.activeBlocks += mine.size();
+  traffic_.exchangeS += secondsSince(start);
+}
+
+std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
+  const auto start = Clock::now();
+  const std::vector<glm::vec4> positions = particles.positionsMasses(count);
+  std::vector<int> destination(count);
+  std::vector<int> sendCounts(std::size_t(size_), 0);
+  std::size_t firstLeaving = count;
+  for (std::size_t i = 0; i < count; ++i) {
+    destination[i] = slabs_.ownerOf(glm::vec3(positions[i]));
+    if (destination[i] == rank_) continue;
+    ++sendCounts[std::size_t(destination[i])];
+    firstLeaving = std::min(firstLeaving, i);
+  }
+  std::vector<int> receiveCounts(static_cast<std::size_t>(size_));
+  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
+  const std::size_t leaving = std::size_t(std::accumulate(sendCounts.begin(), sendCounts.end(), 0));
+  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
+
+  // A particle travels as its id and its record in every state buffer, in the buffers' order.
+  const std::vector<gl::Buffer*> buffers = particles.stateBuffers();
+  std::vector<std::size_t> strides;
+  std::size_t recordBytes = sizeof(std::uint32_t);
+  for (const gl::Buffer* buffer : buffers) {
+    strides.push_back(buffer->bytes() / particles.capacity());
+    recordBytes += strides.back();
+  }
+  // The records from the first leaving particle on, which move (or close up behind it).
+  const std::size_t moved = count - std::min(firstLeaving, count);
+  std::vector<std::vector<unsigned char>> tail(buffers.size());
+  if (leaving > 0) {
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+      tail[b].resize(moved * strides[b]);
+      buffers[b]->download(firstLeaving * strides[b], tail[b].size(), tail[b].data());
+    }
+  }
+  std::vector<int> sendBytes(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
+  std::vector<int> receiveBytes(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
+  for (int q = 0; q < size_; ++q) {
+    sendBytes[std::size_t(q)] = sendCounts[std::size_t(q)] * int(recordBytes);
+    receiveBytes[std::size_t(q)] = receiveCounts[std::size_t(q)] * int(recordBytes);
+  }
+  std::exclusive_scan(sendBytes.begin(), sendBytes.end(), sendOffsets.begin(), 0);
+  std::exclusive_scan(receiveBytes.begin(), receiveBytes.end(), receiveOffsets.begin(), 0);
+  std::vector<unsigned char> outgoing(leaving * recordBytes), incoming(arriving * recordBytes);
+  std::vector<int> cursor = sendOffsets;
+  // The particles that stay close up in their order; the tail's survivors are kept for writing back.
+  std::vector<std::vector<unsigned char>> staying(buffers.size());
+  std::vector<std::uint32_t> keptIds(ids.begin(), ids.begin() + std::ptrdiff_t(std::min(firstLeaving, count)));
+  for (std::size_t i = firstLeaving; i < count; ++i) {
+    const std::size_t t = i - firstLeaving;
+    if (destination[i] == rank_) {
+      for (std::size_t b = 0; b < buffers.size(); ++b) {
+        staying[b].insert(staying[b].end(), tail[b].begin() + std::ptrdiff_t(t * strides[b]),
+                          tail[b].begin() + std::ptrdiff_t((t + 1) * strides[b]));
+      }
+      keptIds.push_back(ids[i]);
+      continue;
+    }
+    unsigned char* out = outgoing.data() + cursor[std::size_t(destination[i])];
+    cursor[std::size_t(destination[i])] += int(recordBytes);
+    std::memcpy(out, &ids[i], sizeof(std::uint32_t));
+    out += sizeof(std::uint32_t);
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+      std::memcpy(out, tail[b].data() + t * strides[b], strides[b]);
+      out += strides[b];
+    }
+  }
+  MPI_Alltoallv(outgoing.data(), sendBytes.data(), sendOffsets.data(), MPI_BYTE, incoming.data(), receiveBytes.data(),
+                receiveOffsets.data(), MPI_BYTE, comm_);
+  if (leaving == 0 && arriving == 0) {
+    traffic_.exchangeS += secondsSince(start);
+    return count;
+  }
+
+  // Arrivals join after the particles that stayed, in the order of the ranks they came from.
+  const std::size_t kept = keptIds.size();
+  const std::size_t newCount = kept + arriving;
+  if (newCount > particles.capacity()) {
+    throw SimulationError("rank " + std::to_string(rank_) + " would hold " + std::to_string(newCount) +
+                          " particles, more than its buffers' " + std::to_string(particles.capacity()));
+  }
+  const std::size_t writeFrom = std::min(firstLeaving, count);
+  for (std::size_t b = 0; b < buffers.size(); ++b) {
+    std::vector<unsigned char>& bytes = staying[b];
+    for (std::size_t a = 0; a < arriving; ++a) {
+      const unsigned char* record = incoming.data() + a * recordBytes + sizeof(std::uint32_t);
+      for (std::size_t c = 0; c < b; ++c) record += strides[c];
+      bytes.insert(bytes.end(), record, record + strides[b]);
+    }
+    if (!bytes.empty()) buffers[b]->upload(writeFrom * strides[b], bytes.size(), bytes.data());
+  }
+  for (std::size_t a = 0; a < arriving; ++a) {
+    std::uint32_t id;
+    std::memcpy(&id, incoming.data() + a * recordBytes, sizeof id);
+    keptIds.push_back(id);
+  }
+  ids = std::move(keptIds);
+  traffic_.migratedParticles += leaving;
+  traffic_.exchangeS += secondsSince(start);
+  return newCount;
+}
+
+std::size_t MpiShare::endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
+  if (rebalanceEveryFrames_ <= 0 || ++framesSinceBalance_ < rebalanceEveryFrames_) return count;
+  framesSinceBalance_ = 0;
+  std::vector<std::uint64_t> mine(std::size_t(slabs_.layers()), 0), all(mine.size());
+  for (const glm::vec4& position : particles.positionsMasses(count)) ++mine[std::size_t(slabs_.layerOf(position))];
+  MPI_Allreduce(mine.data(), all.data(), int(mine.size()), MPI_UINT64_T, MPI_SUM, comm_);
+  slabs_.balance(all);
+  return migrate(particles, count, ids);
+}
+
+double MpiShare::largest(double value) {
+  double result = value;
+  MPI_Allreduce(&value, &result, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return result;
+}
+
+bool MpiShare::any(bool flag) {
+  int mine = flag ? 1 : 0, result = 0;
+  MPI_Allreduce(&mine, &result, 1, MPI_INT, MPI_LOR, comm_);
+  return result != 0;
+}
+
+ParticleSnapshot MpiShare::gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) {
+  const int count = int(snapshot.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+  std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
+  const std::size_t total = rank_ == 0 ? std::size_t(offsets.back() + counts.back()) : 0;
+  std::vector<std::uint32_t> allIds(total);
+  ParticleSnapshot all;
+  all.positionMass.resize(total);
+  all.velocityVolume.resize(total);
+  all.plasticJ.resize(total);
+  MPI_Gatherv(ids.data(), count, MPI_UINT32_T, allIds.data(), counts.data(), offsets.data(), MPI_UINT32_T, 0, comm_);
+  std::vector<int> floatCounts(counts), floatOffsets(offsets);
+  for (int q = 0; q < size_; ++q) {
+    floatCounts[std::size_t(q)] *= 4;
+    floatOffsets[std::size_t(q)] *= 4;
+  }
+  std::vector<glm::vec4> positionMass(total), velocityVolume(total);
+  std::vector<float> plasticJ(total);
+  MPI_Gatherv(snapshot.positionMass.data(), 4 * count, MPI_FLOAT, positionMass.data(), floatCounts.data(),
+              floatOffsets.data(), MPI_FLOAT, 0, comm_);
+  MPI_Gatherv(snapshot.velocityVolume.data(), 4 * count, MPI_FLOAT, velocityVolume.data(), floatCounts.data(),
+              floatOffsets.data(), MPI_FLOAT, 0, comm_);
+  MPI_Gatherv(snapshot.plasticJ.data(), count, MPI_FLOAT, plasticJ.data(), counts.data(), offsets.data(), MPI_FLOAT,
+              0, comm_);
+  // In a single process's order: every particle present has exactly one id below the total.
+  for (std::size_t i = 0; i < total; ++i) {
+    const std::uint32_t id = allIds[i];
+    if (id >= total) throw std::logic_error("gather: particle id " + std::to_string(id) + " of " + std::to_string(total));
+    all.positionMass[id] = positionMass[i];
+    all.velocityVolume[id] = velocityVolume[i];
+    all.plasticJ[id] = plasticJ[i];
+  }
+  return all;
+}
+
+std::size_t MpiShare::activeBlocksInAll() {
+  std::uint64_t mine = firstHeldBlocks_, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_UINT64_T, MPI_SUM, comm_);
+  return std::size_t(all);
+}
+
+}  // namespace firn::mpi

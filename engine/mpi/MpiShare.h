@@ -1,0 +1,65 @@
+#pragma once
+// A rank's share of the domain in a run over MPI (sim/DomainShare.h, docs/distributed.md): a slab of block layers
+// (mpi/Slabs.h), its particles, and the exchanges that keep the run the same, to the bit, as one process's.
+//
+// The grid's sums: after P2G every rank lists its active blocks and all ranks gather the lists, so each knows which
+// of its blocks another rank holds too (where its slab meets another, a rank's particles reach one layer into the
+// next slab). For those blocks the ranks swap their integer sums and each adds the other's: every holder then has
+// the whole sum, and each runs the grid update on all its blocks, the shared ones alike (the update is a node's own),
+// so no velocities need sending back. Nothing depends on a particle being in the "right" slab: a particle anywhere
+// is summed right wherever its stencil reaches, and the slabs only balance the work.
+#include <cstdint>
+#include <vector>
+
+#include <mpi.h>
+
+#include "mpi/Slabs.h"
+#include "scene/Scene.h"
+#include "sim/DomainShare.h"
+
+namespace firn::mpi {
+
+// What a share exchanged, summed over its steps (docs/distributed.md, the benchmarks).
+struct ShareTraffic {
+  std::uint64_t steps = 0;
+  std::uint64_t haloBytes = 0;        // grid sums sent
+  std::uint64_t sharedBlocks = 0;     // blocks this rank held with others, step by step
+  std::uint64_t activeBlocks = 0;     // this rank's active blocks, step by step
+  std::uint64_t migratedParticles = 0;
+  double exchangeS = 0;               // wall time in the grid's exchange and the migration
+};
+
+class MpiShare final : public DomainShare {
+ public:
+  // Throws InputError, the same on every rank and before any communication, for a scene a run over several
+  // processes does not take (the keys named) or one with fewer block layers along z than ranks.
+  MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames);
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  const Slabs& slabs() const { return slabs_; }
+  const ShareTraffic& traffic() const { return traffic_; }
+
+  void balance(const std::vector<ParticleSeed>& seeds) override;
+  bool owns(const glm::vec3& positionM) const override { return slabs_.ownerOf(positionM) == rank_; }
+  void sumSharedNodes(BlockGrid& grid) override;
+  std::size_t migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) override;
+  std::size_t endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) override;
+  double largest(double value) override;
+  bool any(bool flag) override;
+  bool writesOutput() const override { return rank_ == 0; }
+  ParticleSnapshot gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) override;
+  std::size_t activeBlocksInAll() override;
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0;
+  int size_ = 1;
+  Slabs slabs_;
+  int rebalanceEveryFrames_;
+  int framesSinceBalance_ = 0;
+  std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
+  ShareTraffic traffic_;
+};
+
+}  // namespace firn::mpi

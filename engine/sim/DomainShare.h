@@ -1,0 +1,53 @@
+#pragma once
+// A simulation's share of a domain that several processes simulate together (docs/distributed.md): which particles
+// are its own, the grid sums it adds with the other shares', the particles it hands over, and the decisions every
+// share must take alike. A process that simulates the whole domain has none; the MPI ranks of `firn run` under
+// mpirun each have one (engine/mpi/MpiShare.h).
+//
+// What keeps a run on several shares the same, to the bit, as a run on one: P2G's sums are integers, so a node's
+// sum does not depend on which process added which particle's part or in what order, and every other part of a step
+// is a particle's or a node's own. So a share only has to complete the sums of the nodes it holds before the grid
+// update reads them, and keep each particle's record intact as it moves from share to share.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "sim/BlockGrid.h"
+#include "sim/ParticleBuffers.h"
+#include "sim/SceneUpload.h"
+
+namespace firn {
+
+class DomainShare {
+ public:
+  virtual ~DomainShare() = default;
+
+  // Draws the shares' regions for the particles at the start: all the scene's seeds, the same in every share.
+  virtual void balance(const std::vector<ParticleSeed>& seeds) = 0;
+  // Whether a particle at `positionM` starts in this share: the seeds, and the emitters' particles as they join.
+  virtual bool owns(const glm::vec3& positionM) const = 0;
+  // After P2G: adds to the sums of this share's active nodes what the other shares summed at the same nodes, so
+  // that every share holding a node holds its whole sum. Every share calls it at the same point of the same step.
+  virtual void sumSharedNodes(BlockGrid& grid) = 0;
+  // After a step: hands the particles that left this share's region to the shares they entered and appends those
+  // that entered it; `ids` (each particle's place in the order of a single process) moves with them. Returns the
+  // new count.
+  virtual std::size_t migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) = 0;
+  // At the end of each frame: the regions may be redrawn for the particles' counts (and the particles migrated).
+  virtual std::size_t endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) = 0;
+
+  // Decisions every share takes alike: the largest of all shares' values, whether any share's flag is set.
+  virtual double largest(double value) = 0;
+  virtual bool any(bool flag) = 0;
+
+  // The output, which one share writes: whether this is it; every share's particles in the order of a single process
+  // (`snapshot`, this share's, with their `ids`; empty but on the writer); the blocks the last step's particles
+  // reached in all shares, each counted once. Every share calls the last two together.
+  virtual bool writesOutput() const = 0;
+  virtual ParticleSnapshot gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) = 0;
+  virtual std::size_t activeBlocksInAll() = 0;
+};
+
+}  // namespace firn
