@@ -63,9 +63,9 @@ MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
       slabs_(requireDistributable(scene, size_), size_),
       rebalanceEveryFrames_(rebalanceEveryFrames) {}
 
-void MpiShare::balance(const std::vector<ParticleSeed>& seeds) {
+void MpiShare::balance(const std::vector<glm::vec3>& positionsM) {
   std::vector<std::uint64_t> perLayer(std::size_t(slabs_.layers()), 0);
-  for (const ParticleSeed& seed : seeds) ++perLayer[std::size_t(slabs_.layerOf(seed.positionM))];
+  for (const glm::vec3& positionM : positionsM) ++perLayer[std::size_t(slabs_.layerOf(positionM))];
   slabs_.balance(perLayer);
 }
 
@@ -271,40 +271,66 @@ bool MpiShare::any(bool flag) {
   return result != 0;
 }
 
-ParticleSnapshot MpiShare::gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) {
-  const int count = int(snapshot.size());
+std::vector<std::string> MpiShare::gatherRecords(const std::vector<std::string>& records,
+                                                const std::vector<std::size_t>& strides,
+                                                const std::vector<std::uint32_t>& ids) {
+  const int count = int(ids.size());
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
   std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
   const std::size_t total = rank_ == 0 ? std::size_t(offsets.back() + counts.back()) : 0;
   std::vector<std::uint32_t> allIds(total);
-  ParticleSnapshot all;
-  all.positionMass.resize(total);
-  all.velocityVolume.resize(total);
-  all.plasticJ.resize(total);
   MPI_Gatherv(ids.data(), count, MPI_UINT32_T, allIds.data(), counts.data(), offsets.data(), MPI_UINT32_T, 0, comm_);
-  std::vector<int> floatCounts(counts), floatOffsets(offsets);
-  for (int q = 0; q < size_; ++q) {
-    floatCounts[std::size_t(q)] *= 4;
-    floatOffsets[std::size_t(q)] *= 4;
+  // Every particle present has exactly one id below the total: the order of a single process.
+  for (const std::uint32_t id : allIds) {
+    if (id >= total) throw std::logic_error("gatherRecords: particle id " + std::to_string(id) + " of " + std::to_string(total));
   }
-  std::vector<glm::vec4> positionMass(total), velocityVolume(total);
-  std::vector<float> plasticJ(total);
-  MPI_Gatherv(snapshot.positionMass.data(), 4 * count, MPI_FLOAT, positionMass.data(), floatCounts.data(),
-              floatOffsets.data(), MPI_FLOAT, 0, comm_);
-  MPI_Gatherv(snapshot.velocityVolume.data(), 4 * count, MPI_FLOAT, velocityVolume.data(), floatCounts.data(),
-              floatOffsets.data(), MPI_FLOAT, 0, comm_);
-  MPI_Gatherv(snapshot.plasticJ.data(), count, MPI_FLOAT, plasticJ.data(), counts.data(), offsets.data(), MPI_FLOAT,
-              0, comm_);
-  // In a single process's order: every particle present has exactly one id below the total.
-  for (std::size_t i = 0; i < total; ++i) {
-    const std::uint32_t id = allIds[i];
-    if (id >= total) throw std::logic_error("gather: particle id " + std::to_string(id) + " of " + std::to_string(total));
-    all.positionMass[id] = positionMass[i];
-    all.velocityVolume[id] = velocityVolume[i];
-    all.plasticJ[id] = plasticJ[i];
+  std::vector<std::string> ordered;
+  for (std::size_t a = 0; a < records.size(); ++a) {
+    const std::size_t stride = strides[a];
+    std::vector<int> byteCounts(counts.size()), byteOffsets(offsets.size());
+    for (std::size_t q = 0; q < counts.size(); ++q) {
+      byteCounts[q] = counts[q] * int(stride);
+      byteOffsets[q] = offsets[q] * int(stride);
+    }
+    std::string arrived(total * stride, '\0');
+    MPI_Gatherv(records[a].data(), count * int(stride), MPI_BYTE, arrived.data(), byteCounts.data(), byteOffsets.data(),
+                MPI_BYTE, 0, comm_);
+    std::string& array = ordered.emplace_back(total * stride, '\0');
+    for (std::size_t i = 0; i < total; ++i) {
+      std::memcpy(array.data() + allIds[i] * stride, arrived.data() + i * stride, stride);
+    }
   }
-  return all;
+  return rank_ == 0 ? ordered : std::vector<std::string>();
+}
+
+gpu::WatchdogStatus MpiShare::combineWatchdogs(const gpu::WatchdogStatus& mine) {
+  std::vector<gpu::WatchdogStatus> all(static_cast<std::size_t>(size_));
+  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm_);
+  gpu::WatchdogStatus combined = all[0];
+  for (std::size_t q = 1; q < all.size(); ++q) {
+    const gpu::WatchdogStatus& other = all[q];
+    if (combined.overflowCount == 0 && other.overflowCount > 0) {
+      combined.overflowNode = other.overflowNode;
+      combined.overflowStep = other.overflowStep;
+      combined.overflowChannel = other.overflowChannel;
+    }
+    if (combined.nonFiniteCount == 0 && other.nonFiniteCount > 0) {
+      combined.nonFiniteParticle = other.nonFiniteParticle;
+      combined.nonFiniteStep = other.nonFiniteStep;
+    }
+    if (combined.cflCount == 0 && other.cflCount > 0) {
+      combined.cflParticle = other.cflParticle;
+      combined.cflStep = other.cflStep;
+      combined.cflCellsPerStep = other.cflCellsPerStep;
+    }
+    combined.overflowCount += other.overflowCount;
+    combined.nonFiniteCount += other.nonFiniteCount;
+    combined.cflCount += other.cflCount;
+    // Non-negative floats order as their bits do.
+    combined.maxSpeedBits = std::max(combined.maxSpeedBits, other.maxSpeedBits);
+  }
+  return combined;
 }
 
 std::size_t MpiShare::activeBlocksInAll() {

@@ -9,6 +9,7 @@
 // so no velocities need sending back. Nothing depends on a particle being in the "right" slab: a particle anywhere
 // is summed right wherever its stencil reaches, and the slabs only balance the work.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <mpi.h>
@@ -40,7 +41,7 @@ class MpiShare final : public DomainShare {
   const Slabs& slabs() const { return slabs_; }
   const ShareTraffic& traffic() const { return traffic_; }
 
-  void balance(const std::vector<ParticleSeed>& seeds) override;
+  void balance(const std::vector<glm::vec3>& positionsM) override;
   bool owns(const glm::vec3& positionM) const override { return slabs_.ownerOf(positionM) == rank_; }
   void sumSharedNodes(BlockGrid& grid) override;
   std::size_t migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) override;
@@ -48,7 +49,9 @@ class MpiShare final : public DomainShare {
   double largest(double value) override;
   bool any(bool flag) override;
   bool writesOutput() const override { return rank_ == 0; }
-  ParticleSnapshot gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) override;
+  std::vector<std::string> gatherRecords(const std::vector<std::string>& records, const std::vector<std::size_t>& strides,
+                                         const std::vector<std::uint32_t>& ids) override;
+  gpu::WatchdogStatus combineWatchdogs(const gpu::WatchdogStatus& mine) override;
   std::size_t activeBlocksInAll() override;
 
  private:

@@ -124,19 +124,17 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
   return stats;
 }
 
-// What a run over several processes writes: stats.csv, bodies.csv and PLY frames. The outputs drawn from the
-// particles on the GPU (pictures, surfaces, VDB caches) and checkpoints are refused before anything runs.
+// What a run over several processes writes: stats.csv, bodies.csv, PLY frames and checkpoints. The outputs drawn
+// from the particles on the GPU (pictures, surfaces, VDB caches) are refused before anything runs.
 void requireDistributedOutputs(const RunOptions& options) {
   const char* refused = options.writePng             ? "--png"
                         : !options.videoPath.empty() ? "--mp4"
                         : options.writeMesh          ? "--mesh"
                         : options.writeVdb           ? "--vdb"
-                        : options.checkpointEvery > 0 ? "--checkpoint-every"
-                        : !options.resumePath.empty() ? "--resume"
-                                                      : nullptr;
+                                                     : nullptr;
   if (refused == nullptr) return;
-  throw InputError(std::string(refused) + ": a run over several processes writes stats.csv, bodies.csv and PLY "
-                   "frames only; run without mpirun for pictures, surfaces, VDB caches and checkpoints");
+  throw InputError(std::string(refused) + ": a run over several processes writes stats.csv, bodies.csv, PLY "
+                   "frames and checkpoints; run without mpirun for pictures, surfaces and VDB caches");
 }
 
 // The objects bodies.csv and the object meshes follow: the rigid bodies and the colliders that move.
@@ -258,9 +256,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const std::vector<ObjectPose> bodyPoses = simulation.rigidBodyPoses();
     const std::vector<ObjectPose> poses = objectPoses(scene, objects, bodyPoses, simulation.timeS());
     requireFinitePoses(objects, poses, frame, simulation.timeS());
-    // A run over several processes gathers every share's particles into the order of one process's.
-    const ParticleSnapshot particles =
-        share ? share->gather(simulation.snapshot(), simulation.particleIds()) : simulation.snapshot();
+    // Over several processes: every share's particles, gathered into the order of one process's.
+    const ParticleSnapshot particles = simulation.snapshot();
     const std::size_t activeBlocks = share ? share->activeBlocksInAll() : simulation.blockUsage().lastStep;
     if (!writer) return;
     FrameStats row = measureFrame(particles, scene.grid);
@@ -361,8 +358,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     summary.steps += static_cast<std::uint64_t>(steps);
     writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
     if (options.checkpointEvery > 0 && frame % options.checkpointEvery == 0) {
-      writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, ".firn"),
-                      simulation.checkpoint(frame));
+      const Checkpoint checkpoint = simulation.checkpoint(frame);  // over several processes, gathered by all
+      if (writer) writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, ".firn"), checkpoint);
     }
     summary.frames = frame;
     if (progress) {

@@ -10,10 +10,12 @@
 // update reads them, and keep each particle's record intact as it moves from share to share.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "gpu/GpuLayout.h"
 #include "sim/BlockGrid.h"
 #include "sim/ParticleBuffers.h"
 #include "sim/SceneUpload.h"
@@ -24,8 +26,9 @@ class DomainShare {
  public:
   virtual ~DomainShare() = default;
 
-  // Draws the shares' regions for the particles at the start: all the scene's seeds, the same in every share.
-  virtual void balance(const std::vector<ParticleSeed>& seeds) = 0;
+  // Draws the shares' regions for particles at `positionsM`: all the particles (the scene's seeds at the start, a
+  // checkpoint's when resuming), the same in every share.
+  virtual void balance(const std::vector<glm::vec3>& positionsM) = 0;
   // Whether a particle at `positionM` starts in this share: the seeds, and the emitters' particles as they join.
   virtual bool owns(const glm::vec3& positionM) const = 0;
   // After P2G: adds to the sums of this share's active nodes what the other shares summed at the same nodes, so
@@ -42,11 +45,18 @@ class DomainShare {
   virtual double largest(double value) = 0;
   virtual bool any(bool flag) = 0;
 
-  // The output, which one share writes: whether this is it; every share's particles in the order of a single process
-  // (`snapshot`, this share's, with their `ids`; empty but on the writer); the blocks the last step's particles
-  // reached in all shares, each counted once. Every share calls the last two together.
+  // The output, which one share writes: whether this is it. Every share calls the rest together.
   virtual bool writesOutput() const = 0;
-  virtual ParticleSnapshot gather(const ParticleSnapshot& snapshot, const std::vector<std::uint32_t>& ids) = 0;
+  // Every share's particle records in the order of a single process: `records` holds, per array, this share's
+  // particles' records of `strides` bytes each, in the order of `ids`; the writer gets each array for all particles
+  // (the others, nothing).
+  virtual std::vector<std::string> gatherRecords(const std::vector<std::string>& records,
+                                                 const std::vector<std::size_t>& strides,
+                                                 const std::vector<std::uint32_t>& ids) = 0;
+  // What the watchdogs of all shares saw, as one process's would have: counts summed, the first event of each kind
+  // from the lowest share that saw one, the largest speed.
+  virtual gpu::WatchdogStatus combineWatchdogs(const gpu::WatchdogStatus& mine) = 0;
+  // The blocks the last step's particles reached in all shares, each counted once.
   virtual std::size_t activeBlocksInAll() = 0;
 };
 

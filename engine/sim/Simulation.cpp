@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
@@ -60,6 +61,29 @@ std::vector<ParticleSeed> seedsOf(const DomainShare* share, const std::vector<Pa
   return own;
 }
 
+// Records `particles` of `bytes` (a buffer's contents: `capacity` records), packed at the start of a buffer of the
+// same size, the rest zero: a share's particles of a whole checkpoint.
+std::string recordsOf(const std::string& bytes, std::size_t capacity, const std::vector<std::uint32_t>& particles) {
+  const std::size_t stride = bytes.size() / capacity;
+  std::string packed(bytes.size(), '\0');
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    std::memcpy(packed.data() + i * stride, bytes.data() + std::size_t(particles[i]) * stride, stride);
+  }
+  return packed;
+}
+
+template <typename T>
+std::string bytesOf(const std::vector<T>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <typename T>
+std::vector<T> valuesOf(const std::string& bytes) {
+  std::vector<T> values(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
 // A pool of `wanted` blocks, or of as many as the driver's buffers hold if that is fewer but still the `needed`; a
 // pool that cannot hold what is needed is left for GpuState to refuse, with the sizes.
 std::size_t poolCapacity(const Scene& scene, std::size_t needed, std::size_t wanted, const gl::ContextInfo& gl) {
@@ -108,7 +132,11 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       share_(share) {
   const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
   initialParticles_ = initial.size();
-  if (share_) share_->balance(seeds);
+  if (share_) {
+    std::vector<glm::vec3> positionsM;
+    for (const ParticleSeed& seed : seeds) positionsM.push_back(seed.positionM);
+    share_->balance(positionsM);
+  }
   const std::vector<ParticleSeed> particles = ownParticles(initial, 0);
   writeParticles(0, particles);
   particleCount_ = particles.size();
@@ -315,6 +343,25 @@ Checkpoint Simulation::checkpoint(int frame) const {
   checkpoint.releasedEmitterParticles = nextPending_;
   checkpoint.fastestSpeedMPerS = stepping_.fastestSignalMPerS();
   checkpoint.buffers = state_.stateBytes();
+  if (!share_) return checkpoint;
+  // Every share's particles in one process's order, and the watchdogs as one, on the writing share: the bytes of
+  // one process's checkpoint, past the particles as zero as its never-written records are.
+  const std::size_t arrays = state_.particles().stateBuffers().size();
+  std::vector<std::string> records;
+  std::vector<std::size_t> strides;
+  for (std::size_t a = 0; a < arrays; ++a) {
+    strides.push_back(checkpoint.buffers[a].size() / particleCapacity());
+    records.push_back(checkpoint.buffers[a].substr(0, particleCount_ * strides[a]));
+  }
+  std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
+  const gpu::WatchdogStatus watchdog = share_->combineWatchdogs(state_.watchdog());
+  if (all.empty()) return checkpoint;
+  checkpoint.particleCount = all[0].size() / strides[0];
+  for (std::size_t a = 0; a < arrays; ++a) {
+    all[a].resize(checkpoint.buffers[a].size(), '\0');
+    checkpoint.buffers[a] = std::move(all[a]);
+  }
+  std::memcpy(checkpoint.buffers[arrays].data(), &watchdog, sizeof watchdog);
   return checkpoint;
 }
 
@@ -332,7 +379,27 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
                      "checkpoints such a state, so this file cannot be resumed");
   }
   state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
-  state_.loadStateBytes(checkpoint.buffers);
+  if (share_) {
+    // The checkpoint's particles (of any number of shares, or one process) drawn anew into slabs, and each share's
+    // packed at the start of its buffers; their places in the checkpoint are their ids.
+    std::vector<glm::vec3> positionsM;
+    for (const glm::vec4& positionMass : valuesOf<glm::vec4>(checkpoint.buffers[0])) {  // x and mass come first
+      if (positionsM.size() == checkpoint.particleCount) break;
+      positionsM.emplace_back(positionMass);
+    }
+    share_->balance(positionsM);
+    ids_.clear();
+    for (std::size_t i = 0; i < positionsM.size(); ++i) {
+      if (share_->owns(positionsM[i])) ids_.push_back(static_cast<std::uint32_t>(i));
+    }
+    std::vector<std::string> mine = checkpoint.buffers;
+    for (std::size_t a = 0; a < state_.particles().stateBuffers().size(); ++a) {
+      mine[a] = recordsOf(mine[a], particleCapacity(), ids_);
+    }
+    state_.loadStateBytes(mine);
+  } else {
+    state_.loadStateBytes(checkpoint.buffers);
+  }
   timeS_ = checkpoint.timeS;
   steps_ = checkpoint.steps;
   stepping_.setFastestSignalMPerS(checkpoint.fastestSpeedMPerS);
@@ -340,7 +407,7 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
   diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
   nextPending_ = checkpoint.releasedEmitterParticles;
-  particleCount_ = checkpoint.particleCount;
+  particleCount_ = share_ ? ids_.size() : checkpoint.particleCount;
 }
 
 void Simulation::checkWatchdog() const {
@@ -350,7 +417,15 @@ void Simulation::checkWatchdog() const {
   diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
 }
 
-ParticleSnapshot Simulation::snapshot() const { return state_.particles().read(particleCount_); }
+ParticleSnapshot Simulation::snapshot() const {
+  ParticleSnapshot mine = state_.particles().read(particleCount_);
+  if (!share_) return mine;
+  const std::vector<std::string> all =
+      share_->gatherRecords({bytesOf(mine.positionMass), bytesOf(mine.velocityVolume), bytesOf(mine.plasticJ)},
+                            {sizeof(glm::vec4), sizeof(glm::vec4), sizeof(float)}, ids_);
+  if (all.empty()) return {};
+  return {valuesOf<glm::vec4>(all[0]), valuesOf<glm::vec4>(all[1]), valuesOf<float>(all[2])};
+}
 
 ParticleView Simulation::particleView() const { return state_.particles().view(particleCount_, timeS_); }
 

@@ -97,7 +97,8 @@ class Simulation {
 
   // The complete state as a checkpoint of `frame` (io/Checkpoint.h), and back: resume() must be called on a
   // Simulation just built from the same scene; it throws InputError naming `source` if the checkpoint belongs
-  // to another scene.
+  // to another scene. With a share, every share calls both: checkpoint() gathers the whole state, as one process's,
+  // on the share that writes the output; resume() takes a checkpoint of any number of shares and keeps its own.
   Checkpoint checkpoint(int frame) const;
   void resume(const Checkpoint& checkpoint, const std::filesystem::path& source);
 
@@ -109,6 +110,8 @@ class Simulation {
   // The solves since the last call (or the start), and a fresh count from here.
   SolverSummary takeSolverSummary();
 
+  // The particles; with a share, every share's in the order of one process, on the share that writes the output
+  // (empty on the others, and every share calls it).
   ParticleSnapshot snapshot() const;
   // With a share: each particle's place in the order a single process would hold it (the snapshot's order); empty
   // without one.
