@@ -64,10 +64,11 @@ std::string Diagnostics::describeNode(std::int32_t node) const {
 
 std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState& state) const {
   const glm::vec3 position = state.particles().position(static_cast<std::size_t>(particle));
-  const int body = particleBody_[static_cast<std::size_t>(particle)];
-  const int material = particleMaterial_[static_cast<std::size_t>(particle)];
+  const std::size_t note = noteOf(static_cast<std::size_t>(particle));
+  const int body = particleBody_[note];
+  const int material = particleMaterial_[note];
   const std::string origin = body < 0 ? "added while running" : "of bodies[" + std::to_string(body) + "]";
-  return "particle " + std::to_string(particle) + " " + origin + " (material \"" +
+  return "particle " + std::to_string(note) + " " + origin + " (material \"" +
          materials_[static_cast<std::size_t>(material)].name + "\") near (" + format("%.4g", position.x) + ", " +
          format("%.4g", position.y) + ", " + format("%.4g", position.z) + ") m";
 }
@@ -82,13 +83,13 @@ std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
                               format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
                               format("%.4g", dtS_) + " s).";
   if (solver_.semiImplicit() || dtS_ > stableDtS_) return generic;
-  const std::vector<float> plasticJ = state.particles().read(particleBody_.size()).plasticJ;
+  const std::vector<float> plasticJ = state.particles().read(liveParticles()).plasticJ;
   std::size_t stiffest = plasticJ.size();
   double fastestMPerS = 0;
   for (std::size_t p = 0; p < plasticJ.size(); ++p) {
-    const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[p])];
+    const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[noteOf(p)])];
     if (material.model != MaterialModel::Snow || !(plasticJ[p] > 0.0f && plasticJ[p] < 1.0f)) continue;
-    const int body = particleBody_[p];
+    const int body = particleBody_[noteOf(p)];
     const double speedMPerS =
         hardenedWaveSpeedMPerS(material, plasticJ[p], body >= 0 ? bodies_[std::size_t(body)].lambdaScale : 1.0,
                                body >= 0 ? bodies_[std::size_t(body)].muScale : 1.0);
@@ -96,7 +97,7 @@ std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
   }
   const double boundS = grid_.cellSizeM / fastestMPerS;
   if (stiffest == plasticJ.size() || !(boundS < dtS_)) return generic;
-  const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[stiffest])];
+  const Material& material = materials_[static_cast<std::size_t>(particleMaterial_[noteOf(stiffest)])];
   return "Snow had compacted beyond what the step can take: " +
          describeParticle(static_cast<std::int32_t>(stiffest), state) + " reached J_P = " +
          format("%.3g", plasticJ[stiffest]) + ", and hardening e^(xi (1 - J_P)) = " +

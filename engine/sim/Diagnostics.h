@@ -24,6 +24,10 @@ class Diagnostics {
   // (a restored state holds fewer).
   void noteParticles(const std::vector<ParticleSeed>& seeds);
   void keepParticles(std::size_t count);
+  // With a share of the domain (sim/DomainShare.h): the notes are of all the scene's particles in one process's
+  // order, noted at the start, and `ids` gives each of the share's particles its place among them (the messages name
+  // a particle by it, as one process would).
+  void followIds(const std::vector<std::uint32_t>* ids) { ids_ = ids; }
 
   // Throws SimulationError (exit 3) listing, in the order they happened, the fixed-point overflows, non-finite
   // values and CFL violations `status` records, a step that needed `blocksNeeded` blocks of the grid when its
@@ -48,6 +52,11 @@ class Diagnostics {
   std::string fastestCollider_;        // "colliders[i] (… m/s)" when a collider moves, else empty
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle
+  const std::vector<std::uint32_t>* ids_ = nullptr;  // with a share: each of its particles' place in the notes
+
+  // The note of (and the name for) GPU particle `particle`; the particles live on the GPU.
+  std::size_t noteOf(std::size_t particle) const { return ids_ ? std::size_t((*ids_)[particle]) : particle; }
+  std::size_t liveParticles() const { return ids_ ? ids_->size() : particleBody_.size(); }
 };
 
 }  // namespace firn

@@ -137,6 +137,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     for (const ParticleSeed& seed : seeds) positionsM.push_back(seed.positionM);
     share_->balance(positionsM);
   }
+  if (share_) {
+    // The diagnostics know every particle of the scene, in one process's order: the first, then the emitters'.
+    diagnostics_.noteParticles(initial);
+    diagnostics_.noteParticles(pendingParticles_);
+    diagnostics_.followIds(&ids_);
+  }
   const std::vector<ParticleSeed> particles = ownParticles(initial, 0);
   writeParticles(0, particles);
   particleCount_ = particles.size();
@@ -163,7 +169,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
   state_.particles().write(first, particleRecords(scene_, materialTable_, colliderFields_, particles));
-  diagnostics_.noteParticles(particles);
+  if (!share_) diagnostics_.noteParticles(particles);
 }
 
 std::vector<ParticleSeed> Simulation::ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId) {
@@ -326,7 +332,7 @@ void Simulation::restoreState() {
   steps_ = saved_.steps;
   particleCount_ = saved_.particleCount;
   ids_ = saved_.ids;
-  diagnostics_.keepParticles(particleCount_);
+  if (!share_) diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
   solverSummary_ = saved_.solverSummary;
@@ -405,7 +411,9 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   stepping_.setFastestSignalMPerS(checkpoint.fastestSpeedMPerS);
   // The particles present: the first ones, then the emitters' in the order they were released.
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
-  diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
+  if (!share_) {
+    diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
+  }
   nextPending_ = checkpoint.releasedEmitterParticles;
   particleCount_ = share_ ? ids_.size() : checkpoint.particleCount;
 }
