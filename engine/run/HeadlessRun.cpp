@@ -124,19 +124,6 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
   return stats;
 }
 
-// What a run over several processes writes: stats.csv, bodies.csv, PLY frames and checkpoints. The outputs drawn
-// from the particles on the GPU (pictures, surfaces, VDB caches) are refused before anything runs.
-void requireDistributedOutputs(const RunOptions& options) {
-  const char* refused = options.writePng             ? "--png"
-                        : !options.videoPath.empty() ? "--mp4"
-                        : options.writeMesh          ? "--mesh"
-                        : options.writeVdb           ? "--vdb"
-                                                     : nullptr;
-  if (refused == nullptr) return;
-  throw InputError(std::string(refused) + ": a run over several processes writes stats.csv, bodies.csv, PLY "
-                   "frames and checkpoints; run without mpirun for pictures, surfaces and VDB caches");
-}
-
 // The objects bodies.csv and the object meshes follow: the rigid bodies and the colliders that move.
 std::vector<SceneObject> movingObjects(const Scene& scene) {
   std::vector<SceneObject> objects = sceneObjects(scene);
@@ -216,7 +203,6 @@ std::string progressText(int frame, int frames, double simulatedS, double stepsP
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
   const auto runStart = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
-  if (share) requireDistributedOutputs(options);
   const bool writer = share == nullptr || share->writesOutput();
   // Held to the end of the run: no other run writes here meanwhile.
   std::optional<OutputFolderClaim> outputFolder;
@@ -241,12 +227,15 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   simulation.setPassTiming(options.passTimes);
   std::optional<render::OffscreenRenderer> pictures;
   render::Camera camera;
-  if (writePictures) {
+  if (writePictures && writer) {
     pictures.emplace(scene, options.imageSizePx);
     pictures->setDomainEdges(options.domainBox);
     camera = render::defaultCamera(scene, float(options.imageSizePx.x) / float(options.imageSizePx.y));
   }
-  surface::SurfaceReconstruction* snowSurface = surfacePictures || caches ? &session.surface() : nullptr;
+  // Over several processes, what is drawn from the particles on the GPU is drawn by the writer, from every share's
+  // particles gathered there (Simulation::gatherParticleView).
+  const bool drawnFromParticles = surfacePictures || caches || writePictures;
+  surface::SurfaceReconstruction* snowSurface = (surfacePictures || caches) && writer ? &session.surface() : nullptr;
   if (snowSurface) snowSurface->setPassTiming(options.passTimes);
   std::optional<StatsCsvWriter> stats;  // started once a checkpoint has been accepted
   const std::vector<SceneObject> objects = movingObjects(scene);
@@ -259,6 +248,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     // Over several processes: every share's particles, gathered into the order of one process's.
     const ParticleSnapshot particles = simulation.snapshot();
     const std::size_t activeBlocks = share ? share->activeBlocksInAll() : simulation.blockUsage().lastStep;
+    if (drawnFromParticles) simulation.gatherParticleView();
     if (!writer) return;
     FrameStats row = measureFrame(particles, scene.grid);
     row.frame = frame;
@@ -378,7 +368,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
       logPassTimes(snowSurface->passTimes(), double(framesWritten), log);
     }
   }
-  if (!options.videoPath.empty()) {
+  if (!options.videoPath.empty() && writer) {
     assembleVideo(options.outputDir, summary.frames + 1, scene.time.frameRateHz, options.videoPath);
     log << "firn: wrote " << options.videoPath.string() << "\n";
   }

@@ -435,7 +435,29 @@ ParticleSnapshot Simulation::snapshot() const {
   return {valuesOf<glm::vec4>(all[0]), valuesOf<glm::vec4>(all[1]), valuesOf<float>(all[2])};
 }
 
-ParticleView Simulation::particleView() const { return state_.particles().view(particleCount_, timeS_); }
+ParticleView Simulation::particleView() const {
+  if (gathered_) return gathered_->view(gatheredCount_, timeS_);
+  return state_.particles().view(particleCount_, timeS_);
+}
+
+void Simulation::gatherParticleView() {
+  if (!share_) return;
+  const ParticleView mine = state_.particles().view(particleCount_, timeS_);
+  std::vector<std::string> records;
+  std::vector<std::size_t> strides;
+  for (const gl::Buffer* array : {mine.positionMass, mine.velocityVolume, mine.kirchhoffStress, mine.plasticState}) {
+    strides.push_back(array->bytes() / particleCapacity());
+    std::string& bytes = records.emplace_back(particleCount_ * strides.back(), '\0');
+    array->download(0, bytes.size(), bytes.data());
+  }
+  const std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
+  if (all.empty()) return;
+  // Without F and C, a particle buffers' state is the view's four arrays, in the view's order.
+  if (!gathered_) gathered_.emplace(particleCapacity(), false, false);
+  const std::vector<gl::Buffer*> buffers = gathered_->stateBuffers();
+  for (std::size_t a = 0; a < all.size(); ++a) buffers[a]->upload(0, all[a].size(), all[a].data());
+  gatheredCount_ = all[0].size() / strides[0];
+}
 
 GridTotals Simulation::transferToGrid() {
   // Added in node order: the same node sums (fixed point's do not depend on the particles' order) give the same

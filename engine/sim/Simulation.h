@@ -125,6 +125,10 @@ class Simulation {
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;
+  // With a share: gathers every share's particles into a copy on the GPU of the share that writes the output, which
+  // particleView() shows from then on (to the renderer and the surface). Every share calls it; without a share it
+  // does nothing.
+  void gatherParticleView();
   // readGridAfterTransfer's nodes, summed (a diagnostic: conservation tests).
   GridTotals transferToGrid();
   // The blocks of the grid the last step used (what the grid passes cost), and the pool's capacity.
@@ -186,6 +190,8 @@ class Simulation {
   DomainShare* share_ = nullptr;     // the part of the domain this simulates, or none: all of it
   std::vector<std::uint32_t> ids_;   // with a share: each particle's place in a single process's order
   std::size_t initialParticles_ = 0; // the particles present from the start, in all shares
+  std::optional<ParticleBuffers> gathered_;  // with a share, on the writer: every share's particles (gatherParticleView)
+  std::size_t gatheredCount_ = 0;
 
   std::size_t particleCount_ = 0;
   std::vector<ParticleSeed> pendingParticles_;  // emitters' particles not yet released, by release time
