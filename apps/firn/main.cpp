@@ -62,14 +62,12 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
   const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, writer ? std::cerr : silent,
                                                      share ? &*share : nullptr);
+  const std::optional<firn::mpi::RunTraffic> traffic =
+      share ? std::optional(share->summary()) : std::nullopt;  // every rank takes part
   if (!writer) return 0;
-  if (share) {
-    const firn::mpi::ShareTraffic& traffic = share->traffic();
-    std::fprintf(stderr, "firn: %d processes, slabs of block layers %s (rank 0: %.1f KiB of grid sums sent per step, "
-                         "%.1f ms per step exchanging)\n",
-                 share->size(), share->slabs().describe().c_str(),
-                 traffic.steps > 0 ? double(traffic.haloBytes) / 1024.0 / double(traffic.steps) : 0.0,
-                 summary.steps > 0 ? 1e3 * traffic.exchangeS / double(summary.steps) : 0.0);
+  if (traffic) {
+    std::fprintf(stderr, "firn: %d processes, slabs of block layers %s: %s\n", share->size(),
+                 share->slabs().describe().c_str(), traffic->describe().c_str());
   }
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",
               summary.frames - summary.firstFrame + 1, summary.particles, static_cast<unsigned long long>(summary.steps),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -111,6 +112,7 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
     heldSlots.push_back(mine[i].slot);
   }
   const std::size_t perBlock = grid.sumsPerBlock();
+  bytesPerBlockFactor_ = double(perBlock) / gpu::BLOCK_NODES;
   std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots);
 
   // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets.
@@ -145,7 +147,7 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   traffic_.haloBytes += sent.size() * sizeof(glm::ivec4);
   traffic_.sharedBlocks += heldSlots.size();
   traffic_.activeBlocks += mine.size();
-  traffic_.exchangeS += secondsSince(start);
+  traffic_.sumsS += secondsSince(start);
 }
 
 std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
@@ -217,7 +219,8 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
   MPI_Alltoallv(outgoing.data(), sendBytes.data(), sendOffsets.data(), MPI_BYTE, incoming.data(), receiveBytes.data(),
                 receiveOffsets.data(), MPI_BYTE, comm_);
   if (leaving == 0 && arriving == 0) {
-    traffic_.exchangeS += secondsSince(start);
+    traffic_.particleSteps += count;
+    traffic_.migrationS += secondsSince(start);
     return count;
   }
 
@@ -245,7 +248,8 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
   }
   ids = std::move(keptIds);
   traffic_.migratedParticles += leaving;
-  traffic_.exchangeS += secondsSince(start);
+  traffic_.particleSteps += newCount;
+  traffic_.migrationS += secondsSince(start);
   return newCount;
 }
 
@@ -331,6 +335,39 @@ gpu::WatchdogStatus MpiShare::combineWatchdogs(const gpu::WatchdogStatus& mine) 
     combined.maxSpeedBits = std::max(combined.maxSpeedBits, other.maxSpeedBits);
   }
   return combined;
+}
+
+RunTraffic MpiShare::summary() const {
+  // Sums over the ranks, and the largest of each rank's value.
+  const double mine[] = {double(traffic_.haloBytes), double(traffic_.activeBlocks), double(traffic_.migratedParticles),
+                         double(traffic_.particleSteps)};
+  double sums[4] = {}, largest[2] = {};
+  const double perRank[] = {traffic_.sumsS + traffic_.migrationS, double(traffic_.particleSteps)};
+  MPI_Allreduce(mine, sums, 4, MPI_DOUBLE, MPI_SUM, comm_);
+  MPI_Allreduce(perRank, largest, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  RunTraffic run;
+  run.ranks = size_;
+  const double steps = double(std::max<std::uint64_t>(traffic_.steps, 1));
+  // A node's sums are BLOCK_NODES ivec4s per block (two with PIC/FLIP's impulses); P2G writes them, the grid update
+  // reads them and writes the velocities over them, G2P reads those: four passes over them a step.
+  const double blockBytes = double(gpu::BLOCK_NODES * sizeof(glm::ivec4)) * bytesPerBlockFactor_;
+  run.haloBytesPerStep = sums[0] / steps;
+  run.gridBytesPerStep = 4.0 * sums[1] * blockBytes / steps;
+  run.exchangeMsPerStep = 1e3 * largest[0] / steps;
+  run.migratedPerStep = sums[2] / steps;
+  run.imbalance = sums[3] > 0 ? largest[1] / (sums[3] / size_) : 1.0;
+  return run;
+}
+
+std::string RunTraffic::describe() const {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "per step %.1f KiB of grid sums exchanged (%.1f%% of the %.2f MiB the grid passes move), %.2f ms "
+                "exchanging and migrating (the slowest rank), %.0f particles migrated; load imbalance %.3f (the "
+                "busiest rank's particles over the mean)",
+                haloBytesPerStep / 1024.0, gridBytesPerStep > 0 ? 100.0 * haloBytesPerStep / gridBytesPerStep : 0.0,
+                gridBytesPerStep / (1024.0 * 1024.0), exchangeMsPerStep, migratedPerStep, imbalance);
+  return text;
 }
 
 std::size_t MpiShare::activeBlocksInAll() {
