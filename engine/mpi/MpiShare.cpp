@@ -115,30 +115,51 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   bytesPerBlockFactor_ = double(perBlock) / gpu::BLOCK_NODES;
   std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots);
 
-  // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets.
-  constexpr int intsPerSum = 4;
-  const int intsPerBlock = int(perBlock) * intsPerSum;
+  // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets. A
+  // block travels as a mask of its nodes whose sums are not all zero, then those nodes' sums (per array): where the
+  // sender summed nothing there is nothing to add, and the rank below a slab reaches only the first node layers of
+  // the slab's first block layer.
+  const std::size_t arrays = perBlock / gpu::BLOCK_NODES;
   std::vector<int> sendCounts(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
-  for (int q = 0; q < size_; ++q) sendCounts[std::size_t(q)] = int(shared[std::size_t(q)].size()) * intsPerBlock;
-  std::exclusive_scan(sendCounts.begin(), sendCounts.end(), sendOffsets.begin(), 0);
-  std::vector<glm::ivec4> sent(std::size_t(sendOffsets.back() + sendCounts.back()) / intsPerSum);
+  std::vector<glm::ivec4> sent;
   for (int q = 0; q < size_; ++q) {
-    glm::ivec4* out = sent.data() + sendOffsets[std::size_t(q)] / intsPerSum;
+    sendOffsets[std::size_t(q)] = int(sent.size()) * 4;
     for (const std::size_t i : shared[std::size_t(q)]) {
-      std::copy_n(sums.begin() + std::ptrdiff_t(sumsAt[i] * perBlock), perBlock, out);
-      out += perBlock;
+      const glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
+      std::uint64_t mask = 0;
+      for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
+        for (std::size_t a = 0; a < arrays; ++a) {
+          if (block[a * gpu::BLOCK_NODES + node] != glm::ivec4(0)) mask |= std::uint64_t(1) << node;
+        }
+      }
+      sent.emplace_back(int(std::uint32_t(mask)), int(std::uint32_t(mask >> 32)), 0, 0);
+      for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
+        if ((mask >> node & 1u) == 0) continue;
+        for (std::size_t a = 0; a < arrays; ++a) sent.push_back(block[a * gpu::BLOCK_NODES + node]);
+      }
     }
+    sendCounts[std::size_t(q)] = int(sent.size()) * 4 - sendOffsets[std::size_t(q)];
   }
-  std::vector<glm::ivec4> received(sent.size());  // sharing is symmetric: as much comes back from each rank
-  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), MPI_INT, received.data(), sendCounts.data(),
-                sendOffsets.data(), MPI_INT, comm_);
+  std::vector<int> receiveCounts(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
+  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
+  std::exclusive_scan(receiveCounts.begin(), receiveCounts.end(), receiveOffsets.begin(), 0);
+  std::vector<glm::ivec4> received(std::size_t(receiveOffsets.back() + receiveCounts.back()) / 4);
+  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), MPI_INT, received.data(), receiveCounts.data(),
+                receiveOffsets.data(), MPI_INT, comm_);
   // Integer sums: the order of the ranks' additions cannot matter, so every holder ends with the same bits.
   for (int q = 0; q < size_; ++q) {
-    const glm::ivec4* in = received.data() + sendOffsets[std::size_t(q)] / intsPerSum;
+    const glm::ivec4* in = received.data() + receiveOffsets[std::size_t(q)] / 4;
     for (const std::size_t i : shared[std::size_t(q)]) {
       glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
-      for (std::size_t k = 0; k < perBlock; ++k) block[k] = wrappingSum(block[k], in[k]);
-      in += perBlock;
+      const std::uint64_t mask = std::uint64_t(std::uint32_t(in->x)) | std::uint64_t(std::uint32_t(in->y)) << 32;
+      ++in;
+      for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
+        if ((mask >> node & 1u) == 0) continue;
+        for (std::size_t a = 0; a < arrays; ++a, ++in) {
+          glm::ivec4& sum = block[a * gpu::BLOCK_NODES + node];
+          sum = wrappingSum(sum, *in);
+        }
+      }
     }
   }
   grid.writeBlockSums(heldSlots, sums);
