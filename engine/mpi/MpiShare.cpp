@@ -65,9 +65,9 @@ MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
       rebalanceEveryFrames_(rebalanceEveryFrames) {}
 
 void MpiShare::balance(const std::vector<glm::vec3>& positionsM) {
-  std::vector<std::uint64_t> perLayer(std::size_t(slabs_.layers()), 0);
-  for (const glm::vec3& positionM : positionsM) ++perLayer[std::size_t(slabs_.layerOf(positionM))];
-  slabs_.balance(perLayer);
+  LayerCounts counts = slabs_.emptyCounts();
+  for (const glm::vec3& positionM : positionsM) slabs_.count(positionM, counts);
+  slabs_.balance(counts);
 }
 
 void MpiShare::sumSharedNodes(BlockGrid& grid) {
@@ -277,10 +277,12 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
 std::size_t MpiShare::endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
   if (rebalanceEveryFrames_ <= 0 || ++framesSinceBalance_ < rebalanceEveryFrames_) return count;
   framesSinceBalance_ = 0;
-  std::vector<std::uint64_t> mine(std::size_t(slabs_.layers()), 0), all(mine.size());
-  for (const glm::vec4& position : particles.positionsMasses(count)) ++mine[std::size_t(slabs_.layerOf(position))];
-  MPI_Allreduce(mine.data(), all.data(), int(mine.size()), MPI_UINT64_T, MPI_SUM, comm_);
-  slabs_.balance(all);
+  LayerCounts counts = slabs_.emptyCounts();
+  for (const glm::vec4& position : particles.positionsMasses(count)) slabs_.count(glm::vec3(position), counts);
+  for (std::vector<std::uint64_t>& perLayer : counts) {
+    MPI_Allreduce(MPI_IN_PLACE, perLayer.data(), int(perLayer.size()), MPI_UINT64_T, MPI_SUM, comm_);
+  }
+  slabs_.balance(counts);
   return migrate(particles, count, ids);
 }
 
