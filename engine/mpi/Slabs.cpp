@@ -79,10 +79,13 @@ void Slabs::balance(const LayerCounts& counts) {
   std::uint64_t below = 0;  // particles in the layers before `layer`
   int layer = 0;
   for (int r = 1; r < ranks; ++r) {
-    // The first layer with at least r/ranks of the particles below it, leaving each slab a layer at least.
+    // The layer boundary with the count below it nearest r/ranks of the particles, leaving each slab a layer at
+    // least.
     const double target = double(total) * r / ranks;
     while (layer < layers && double(below) < target) below += perLayer[std::size_t(layer++)];
-    const int first = std::clamp(layer, firstLayers_[std::size_t(r - 1)] + 1, layers - (ranks - r));
+    const double belowBefore = layer > 0 ? double(below - perLayer[std::size_t(layer - 1)]) : 0.0;
+    const int nearest = layer > 0 && target - belowBefore < double(below) - target ? layer - 1 : layer;
+    const int first = std::clamp(nearest, firstLayers_[std::size_t(r - 1)] + 1, layers - (ranks - r));
     while (layer < first) below += perLayer[std::size_t(layer++)];
     while (layer > first) below -= perLayer[std::size_t(--layer)];
     firstLayers_[std::size_t(r)] = first;

@@ -55,13 +55,14 @@ TEST(Slabs, EqualThicknessAcrossZUntilBalanced) {
 
 TEST(Slabs, BalancedSlabsHoldEqualCountsAndALayerEach) {
   Slabs slabs(sceneOfCells({8, 8, 32}, Kernel::Quadratic), 3);
-  // 300 particles: 100 in layer 1, 100 in layer 2, 100 in layer 7 → a slab ends after each of the first two, at
-  // the first layer where a third of them lie below.
+  // 300 particles: 100 in layer 1, 100 in layer 2, 100 in layer 7 → a slab ends after each of the first two, where
+  // exactly a third and two thirds of them lie below.
   slabs.balance(alongZ(slabs, {0, 100, 100, 0, 0, 0, 0, 100, 0}));
   EXPECT_EQ(slabs.describe(), "z: 0–1 | 2–2 | 3–8");
-  // Everything in one layer: the slabs still hold a layer each, the last ones past it.
+  // Everything in one layer: the slabs still hold a layer each, the boundary nearest a third below it (no particles)
+  // rather than above it (all of them).
   slabs.balance(alongZ(slabs, {0, 0, 0, 0, 300, 0, 0, 0, 0}));
-  EXPECT_EQ(slabs.describe(), "z: 0–4 | 5–5 | 6–8");
+  EXPECT_EQ(slabs.describe(), "z: 0–3 | 4–4 | 5–8");
   slabs.balance(alongZ(slabs, {0, 0, 0, 0, 0, 0, 0, 0, 300}));
   EXPECT_EQ(slabs.describe(), "z: 0–6 | 7–7 | 8–8");
 }
