@@ -53,15 +53,16 @@ for config in "1 1" "1 2" "2 1" "3 1" "4 1"; do
   echo "strong: $1 rank(s) × $2 thread(s): $ms ms per step"
 done
 
-# The weak row: N snowballs of 14k particles side by side along z (the ranks' slabs), falling onto a floor.
+# The weak row: N snowballs of 14k particles in a row along z, touching, falling onto a floor: the ranks' slabs cut
+# the row between the balls, where their stencils meet.
 snowballs() {
   local n=$1 file=$2 bodies="" z
   for ((i = 0; i < n; ++i)); do
-    z=$(awk "BEGIN { print 0.28 + 0.4 * $i }")
+    z=$(awk "BEGIN { print 0.24 + 0.3 * $i }")
     bodies+="${bodies:+, }{ \"shape\": \"sphere\", \"center\": [0.3, 0.4, $z], \"radius\": 0.15, \"material\": \"snow\", \"velocity\": [0, -2, 0], \"particles_per_cell\": 8 }"
   done
   cat > "$file" <<JSON
-{ "name": "snowball-row-$n", "grid": { "origin": [0, 0, 0], "cells": [30, 40, $((20 * n + 8))], "cell_size": 0.02 },
+{ "name": "snowball-row-$n", "grid": { "origin": [0, 0, 0], "cells": [30, 40, $((15 * n + 9))], "cell_size": 0.02 },
   "time": { "dt": 2e-4, "frame_rate": 30, "frames": 1 },
   "solver": { "kernel": "quadratic", "transfer": "apic", "atomics": "fixed" },
   "materials": { "snow": { "preset": "stomakhin" } },

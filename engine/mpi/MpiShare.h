@@ -37,7 +37,7 @@ struct RunTraffic {
   int ranks = 1;
   double haloBytesPerStep = 0;      // grid sums sent by all ranks
   double gridBytesPerStep = 0;      // what the grid passes move: 4 × the node sums of every rank's active blocks
-  double exchangeMsPerStep = 0;     // the slowest rank's time completing sums and migrating
+  double exchangeMsPerStep = 0;     // completing sums and migrating: the least of any rank (the others also wait)
   double migratedPerStep = 0;       // particles that changed rank
   double imbalance = 1;             // the busiest rank's particles over the mean (time-averaged)
   // "per step 230 KiB of grid sums exchanged (5.2% of the 4.4 MiB the grid passes move), …"
