@@ -171,9 +171,10 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   traffic_.sumsS += secondsSince(start);
 }
 
-std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
+std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                              const MakeRoom& makeRoom) {
   const auto start = Clock::now();
-  const std::vector<glm::vec4> positions = particles.positionsMasses(count);
+  const std::vector<glm::vec4> positions = state.particles().positionsMasses(count);
   std::vector<int> destination(count);
   std::vector<int> sendCounts(std::size_t(size_), 0);
   std::size_t firstLeaving = count;
@@ -185,15 +186,16 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
   }
   std::vector<int> receiveCounts(static_cast<std::size_t>(size_));
   MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
-  const std::size_t leaving = std::size_t(std::accumulate(sendCounts.begin(), sendCounts.end(), 0));
-  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
 
   // A particle travels as its id and its record in every state buffer, in the buffers' order.
-  const std::vector<gl::Buffer*> buffers = particles.stateBuffers();
+  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
+  const std::size_t leaving = std::size_t(std::accumulate(sendCounts.begin(), sendCounts.end(), 0));
+  makeRoom(count - leaving + arriving);  // before the buffers are taken: growing replaces them
+  std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
   std::vector<std::size_t> strides;
   std::size_t recordBytes = sizeof(std::uint32_t);
   for (const gl::Buffer* buffer : buffers) {
-    strides.push_back(buffer->bytes() / particles.capacity());
+    strides.push_back(buffer->bytes() / state.particles().capacity());
     recordBytes += strides.back();
   }
   // The records from the first leaving particle on, which move (or close up behind it).
@@ -248,9 +250,9 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
   // Arrivals join after the particles that stayed, in the order of the ranks they came from.
   const std::size_t kept = keptIds.size();
   const std::size_t newCount = kept + arriving;
-  if (newCount > particles.capacity()) {
+  if (newCount > state.particles().capacity()) {
     throw SimulationError("rank " + std::to_string(rank_) + " would hold " + std::to_string(newCount) +
-                          " particles, more than its buffers' " + std::to_string(particles.capacity()));
+                          " particles, more than its buffers' " + std::to_string(state.particles().capacity()));
   }
   const std::size_t writeFrom = std::min(firstLeaving, count);
   for (std::size_t b = 0; b < buffers.size(); ++b) {
@@ -274,16 +276,17 @@ std::size_t MpiShare::migrate(ParticleBuffers& particles, std::size_t count, std
   return newCount;
 }
 
-std::size_t MpiShare::endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) {
+std::size_t MpiShare::endFrame(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                               const MakeRoom& makeRoom) {
   if (rebalanceEveryFrames_ <= 0 || ++framesSinceBalance_ < rebalanceEveryFrames_) return count;
   framesSinceBalance_ = 0;
   LayerCounts counts = slabs_.emptyCounts();
-  for (const glm::vec4& position : particles.positionsMasses(count)) slabs_.count(glm::vec3(position), counts);
+  for (const glm::vec4& position : state.particles().positionsMasses(count)) slabs_.count(glm::vec3(position), counts);
   for (std::vector<std::uint64_t>& perLayer : counts) {
     MPI_Allreduce(MPI_IN_PLACE, perLayer.data(), int(perLayer.size()), MPI_UINT64_T, MPI_SUM, comm_);
   }
   slabs_.balance(counts);
-  return migrate(particles, count, ids);
+  return migrate(state, count, ids, makeRoom);
 }
 
 double MpiShare::largest(double value) {

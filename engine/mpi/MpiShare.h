@@ -57,11 +57,14 @@ class MpiShare final : public DomainShare {
   // This run's traffic over all ranks; every rank calls it.
   RunTraffic summary() const;
 
+  int shares() const override { return size_; }
   void balance(const std::vector<glm::vec3>& positionsM) override;
   bool owns(const glm::vec3& positionM) const override { return slabs_.ownerOf(positionM) == rank_; }
   void sumSharedNodes(BlockGrid& grid) override;
-  std::size_t migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) override;
-  std::size_t endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) override;
+  std::size_t migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                      const MakeRoom& makeRoom) override;
+  std::size_t endFrame(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                       const MakeRoom& makeRoom) override;
   double largest(double value) override;
   bool any(bool flag) override;
   bool writesOutput() const override { return rank_ == 0; }

@@ -79,7 +79,7 @@ void checkFieldsFit(const Scene& scene, const std::vector<FieldLattice>& fields,
                    "; lower its resolution, make the mesh smaller or use a coarser cell_size");
 }
 
-Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
+Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl, int shares) {
   // F is counted whatever the materials: the estimate is of the larger layout.
   const GpuStateLayout layout = GpuStateLayout::forScene(scene, 0, 0, true);
   layout.checkBlockMapFits(gl);
@@ -93,17 +93,24 @@ Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl) {
   const std::string fieldsText = fields.empty() ? std::string() : ", " + bytes(fieldsBytes) + " for the distance fields";
   std::vector<Limit> limits;
   limits.push_back({double(std::numeric_limits<std::int32_t>::max()), "the GPU's 32-bit particle indices"});
-  limits.push_back({double(gl.maxStorageBlockBytes) / largestBufferBytesPerParticle,
+  // Over several processes each GPU holds about its share of the particles and a quarter more (its buffers' room to
+  // take particles in, sim/Simulation.cpp); each host samples them all.
+  const double perGpu = shares > 1 ? double(shares) / 1.25 : 1.0;
+  const std::string ofShares =
+      shares > 1 ? " on each of " + std::to_string(shares) + " processes, each holding about 1/" + std::to_string(shares) +
+                       " of the particles and a quarter more"
+                 : std::string();
+  limits.push_back({perGpu * double(gl.maxStorageBlockBytes) / largestBufferBytesPerParticle,
                     "the " + bytes(double(gl.maxStorageBlockBytes)) + " " + gl.renderer +
                         " allows per particle buffer (" + format("%.0f", largestBufferBytesPerParticle) +
-                        " bytes per particle)"});
+                        " bytes per particle)" + ofShares});
   if (gl.availableMemoryBytes > 0) {
     const std::string gpuMemory = "the " + bytes(double(gl.availableMemoryBytes)) + " of GPU memory " + gl.renderer + " has free";
     checkFieldsFit(scene, fields, fieldsBytes, double(gl.availableMemoryBytes) - grid,
                    gpuMemory + " after " + bytes(grid) + " for the grid");
-    limits.push_back({(double(gl.availableMemoryBytes) - grid - fieldsBytes) / gpuBytesPerParticle,
+    limits.push_back({perGpu * (double(gl.availableMemoryBytes) - grid - fieldsBytes) / gpuBytesPerParticle,
                       gpuMemory + " (" + format("%.0f", gpuBytesPerParticle) + " bytes per particle in all, after " +
-                          bytes(grid) + " for the grid" + fieldsText + ")"});
+                          bytes(grid) + " for the grid" + fieldsText + ")" + ofShares});
   }
   const double hostBytesPerParticle = kHostBytesPerParticle + (gl.buffersInHostMemory ? gpuBytesPerParticle : 0);
   const double allocatable = double(voxelizer::allocatableBytes());
@@ -152,11 +159,12 @@ std::string suggestion(const Scene& scene, const std::vector<BodyEstimate>& esti
 
 }  // namespace
 
-ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles) {
+ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
+                                   int shares) {
   ParticleBudget budget;
   budget.bodies = estimateBodies(scene);
   budget.reservedParticles = reservedParticles;
-  const Limit limit = tightestLimit(scene, gl);
+  const Limit limit = tightestLimit(scene, gl, shares);
   const double room = std::max(0.0, std::floor(limit.particles - reservedParticles));
   budget.maxParticles = static_cast<std::size_t>(room);
   budget.limit = limit.what;
@@ -176,8 +184,9 @@ ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl
 }
 
 std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
-                                             const std::function<void(std::size_t body, double fraction)>& progress) {
-  const ParticleBudget budget = checkParticleBudget(scene, gl, reservedParticles);
+                                             const std::function<void(std::size_t body, double fraction)>& progress,
+                                             int shares) {
+  const ParticleBudget budget = checkParticleBudget(scene, gl, reservedParticles, shares);
   SamplingLimits limits;
   limits.maxParticles = budget.maxParticles;
   limits.reason = budget.limit;

@@ -26,12 +26,15 @@ struct ParticleBudget {
 
 // Estimates the bodies' particles and checks them, with `reservedParticles` more, against each particle buffer's
 // largest size, the GPU's free memory where the driver says, the host's allocatable memory and the GPU's 32-bit
-// indices. Throws InputError naming the scene file, the bodies, the estimate, the limit and what to change.
-ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles);
+// indices. Throws InputError naming the scene file, the bodies, the estimate, the limit and what to change. Over
+// `shares` processes (docs/distributed.md) each GPU holds about its share of the particles and a quarter more.
+ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
+                                   int shares = 1);
 
 // checkParticleBudget, then sampleBodies held to its maxParticles, reporting each body's progress to `progress`
 // when set.
 std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
-                                             const std::function<void(std::size_t body, double fraction)>& progress);
+                                             const std::function<void(std::size_t body, double fraction)>& progress,
+                                             int shares = 1);
 
 }  // namespace firn

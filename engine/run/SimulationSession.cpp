@@ -11,6 +11,7 @@
 #include "run/Budget.h"
 #include "run/Preflight.h"
 #include "run/Progress.h"
+#include "sim/DomainShare.h"
 #include "sim/Simulation.h"
 #include "surface/SurfaceReconstruction.h"
 
@@ -28,7 +29,7 @@ std::vector<ParticleSeed> sampleShowingProgress(const Scene& scene, const gl::Co
       progressLine->showFraction(options.messagePrefix + ": sampling bodies[" + std::to_string(body) + "]:", fraction);
     };
   }
-  return sampleWithinBudget(scene, gl, options.reservedParticles, progress);
+  return sampleWithinBudget(scene, gl, options.reservedParticles, progress, options.share ? options.share->shares() : 1);
 }
 
 }  // namespace

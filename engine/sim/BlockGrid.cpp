@@ -27,8 +27,12 @@ BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& libr
       binPlace_(library, "sim/bin_place.comp", options),
       orderTiles_(library, "sim/order_tiles.comp", options) {
   blockMap_ = gl::Buffer(layout.blockMapBytes()).labelled("block grid: block map");
-  sortedParticles_ = gl::Buffer(layout.particleCapacity * sizeof(std::uint32_t)).labelled("block grid: sorted particles");
-  particleRanks_ = gl::Buffer(layout.particleCapacity * sizeof(std::uint32_t)).labelled("block grid: particle ranks");
+  allocateParticles(layout.particleCapacity);
+}
+
+void BlockGrid::allocateParticles(std::size_t particleCapacity) {
+  sortedParticles_ = gl::Buffer(particleCapacity * sizeof(std::uint32_t)).labelled("block grid: sorted particles");
+  particleRanks_ = gl::Buffer(particleCapacity * sizeof(std::uint32_t)).labelled("block grid: particle ranks");
 }
 
 void BlockGrid::allocatePool(std::size_t capacity) {

@@ -66,6 +66,8 @@ class BlockGrid {
   // A new, zero-filled pool of `capacity` blocks (the grid is rebuilt every step, so nothing is copied). The caller
   // checks the sizes against the driver (GpuState).
   void allocatePool(std::size_t capacity);
+  // The sort's per-particle buffers for `particleCapacity` particles (rebuilt every step, so nothing is copied).
+  void allocateParticles(std::size_t particleCapacity);
   BlockUsage usage() const;
 
   // The blocks the particles' stencils reach claim slots of the pool (last step's are released first), and the

@@ -10,6 +10,7 @@
 // update reads them, and keep each particle's record intact as it moves from share to share.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 
 #include "gpu/GpuLayout.h"
 #include "sim/BlockGrid.h"
+#include "sim/GpuState.h"
 #include "sim/ParticleBuffers.h"
 #include "sim/SceneUpload.h"
 
@@ -25,6 +27,9 @@ namespace firn {
 class DomainShare {
  public:
   virtual ~DomainShare() = default;
+
+  // How many shares the domain is split into.
+  virtual int shares() const = 0;
 
   // Draws the shares' regions for particles at `positionsM`: all the particles (the scene's seeds at the start, a
   // checkpoint's when resuming), the same in every share.
@@ -35,11 +40,14 @@ class DomainShare {
   // that every share holding a node holds its whole sum. Every share calls it at the same point of the same step.
   virtual void sumSharedNodes(BlockGrid& grid) = 0;
   // After a step: hands the particles that left this share's region to the shares they entered and appends those
-  // that entered it; `ids` (each particle's place in the order of a single process) moves with them. Returns the
-  // new count.
-  virtual std::size_t migrate(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) = 0;
+  // that entered it, after `makeRoom(n)` has made room for n particles in the state's buffers; `ids` (each
+  // particle's place in the order of a single process) moves with them. Returns the new count.
+  using MakeRoom = std::function<void(std::size_t particles)>;
+  virtual std::size_t migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                              const MakeRoom& makeRoom) = 0;
   // At the end of each frame: the regions may be redrawn for the particles' counts (and the particles migrated).
-  virtual std::size_t endFrame(ParticleBuffers& particles, std::size_t count, std::vector<std::uint32_t>& ids) = 0;
+  virtual std::size_t endFrame(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
+                               const MakeRoom& makeRoom) = 0;
 
   // Decisions every share takes alike: the largest of all shares' values, whether any share's flag is set.
   virtual double largest(double value) = 0;

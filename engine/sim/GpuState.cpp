@@ -139,6 +139,34 @@ void GpuState::allocateBlockPool(const gl::ContextInfo& gl) {
   publish();
 }
 
+void GpuState::growParticles(std::size_t capacity, const gl::ContextInfo& gl) {
+  if (capacity <= layout_.particleCapacity) return;
+  GpuStateLayout layout = layout_;
+  layout.particleCapacity = capacity;
+  checkedLayout(layout, gl);
+  ParticleBuffers grown(capacity, layout.deformationGradient, layout.affine);
+  const std::vector<gl::Buffer*> from = particles_.stateBuffers();
+  const std::vector<gl::Buffer*> to = grown.stateBuffers();
+  for (std::size_t i = 0; i < from.size(); ++i) to[i]->copyFrom(*from[i], from[i]->bytes());
+  particles_ = std::move(grown);
+  layout_ = layout;
+  grid_.allocateParticles(capacity);
+  if (solver_) {  // per step only: nothing to keep
+    solver_.emplace(capacity);
+    solver_->allocatePool(grid_.usage().capacity);
+  }
+  if (!saved_.empty()) {
+    // The saved state's buffers as large as the live ones, the saved contents kept.
+    const std::vector<gl::Buffer*> live = stateBuffers();
+    for (std::size_t i = 0; i < live.size(); ++i) {
+      gl::Buffer larger(live[i]->bytes());
+      larger.copyFrom(saved_[i], saved_[i].bytes());
+      saved_[i] = std::move(larger);
+    }
+  }
+  publish();
+}
+
 void GpuState::publish() {
   bindings_ = gl::BufferBindings();
   particles_.publish(bindings_);
@@ -207,17 +235,21 @@ std::vector<std::string> GpuState::stateBytes() const {
   return bytes;
 }
 
-void GpuState::checkStateBytes(const std::vector<std::string>& bytes, const std::string& source) const {
+void GpuState::checkStateBytes(const std::vector<std::string>& bytes, const std::string& source,
+                               std::size_t particleCapacity) const {
   const std::vector<const gl::Buffer*> buffers = stateBuffers();
   if (bytes.size() != buffers.size()) {
     throw InputError(source + ": the checkpoint was written for another scene (or another version of this one); "
                      "resume it with the scene it came from");
   }
+  const std::size_t particleArrays = particles_.stateBuffers().size();
   for (std::size_t i = 0; i < buffers.size(); ++i) {
-    if (bytes[i].size() != buffers[i]->bytes()) {
+    const std::size_t needed = i < particleArrays && particleCapacity > 0
+                                   ? buffers[i]->bytes() / layout_.particleCapacity * particleCapacity
+                                   : buffers[i]->bytes();
+    if (bytes[i].size() != needed) {
       throw InputError(source + ": the checkpoint's buffer " + std::to_string(i) + " has " +
-                       std::to_string(bytes[i].size()) + " bytes, the scene needs " +
-                       std::to_string(buffers[i]->bytes()));
+                       std::to_string(bytes[i].size()) + " bytes, the scene needs " + std::to_string(needed));
     }
   }
 }

@@ -49,6 +49,9 @@ class GpuState {
   // step, so nothing is copied). Throws InputError when the pool's buffers of `capacity` blocks exceed what the
   // driver allows.
   BlockUsage blockUsage() const;
+  // Room for `capacity` particles (more than now): the particles' buffers grown with their contents kept, a saved
+  // state's with them. Throws InputError when a particle buffer would exceed what the driver allows.
+  void growParticles(std::size_t capacity, const gl::ContextInfo& gl);
   void resizeBlockPool(std::size_t capacity, const gl::ContextInfo& gl);
 
   void writeStepUniforms(const gpu::StepUniforms& uniforms);
@@ -63,8 +66,10 @@ class GpuState {
   // The buffers whose contents carry over from one step to the next (the grid is rebuilt every step): what a
   // checkpoint holds and what save() copies.
   std::vector<std::string> stateBytes() const;
-  // Throws InputError naming `source` when the bytes do not fit this state's buffers.
-  void checkStateBytes(const std::vector<std::string>& bytes, const std::string& source) const;
+  // Throws InputError naming `source` when the bytes do not fit this state's buffers, the particles' sized for
+  // `particleCapacity` particles (0: this state's capacity; a share of a domain reads one process's checkpoint).
+  void checkStateBytes(const std::vector<std::string>& bytes, const std::string& source,
+                       std::size_t particleCapacity = 0) const;
   void loadStateBytes(const std::vector<std::string>& bytes);
   void save();
   void restore();  // throws std::logic_error if nothing was saved

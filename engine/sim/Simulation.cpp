@@ -51,6 +51,16 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
   return fastestMPerS;
 }
 
+// The scene, once a share's slabs are drawn for all its seeds: first, since its buffers are sized for its own.
+const Scene& startShare(DomainShare* share, const Scene& scene, const std::vector<ParticleSeed>& seeds) {
+  if (share == nullptr) return scene;
+  std::vector<glm::vec3> positionsM;
+  positionsM.reserve(seeds.size());
+  for (const ParticleSeed& seed : seeds) positionsM.push_back(seed.positionM);
+  share->balance(positionsM);
+  return scene;
+}
+
 // The seeds a share starts with (all of them without one).
 std::vector<ParticleSeed> seedsOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds) {
   if (share == nullptr) return seeds;
@@ -61,11 +71,21 @@ std::vector<ParticleSeed> seedsOf(const DomainShare* share, const std::vector<Pa
   return own;
 }
 
-// Records `particles` of `bytes` (a buffer's contents: `capacity` records), packed at the start of a buffer of the
-// same size, the rest zero: a share's particles of a whole checkpoint.
-std::string recordsOf(const std::string& bytes, std::size_t capacity, const std::vector<std::uint32_t>& particles) {
+// A share's particle buffers start with room for its own seeds and a quarter more, and grow as particles come
+// (Simulation::growParticles); one process's hold all `capacity`.
+constexpr std::size_t kShareSpareParticles = 1024;
+std::size_t particleCapacityOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds, std::size_t capacity) {
+  if (share == nullptr) return capacity;
+  const std::size_t own = seedsOf(share, seeds).size();
+  return std::min(capacity, own + own / 4 + kShareSpareParticles);
+}
+
+// Records `particles` of `bytes` (a buffer's contents: `capacity` records), packed at the start of a buffer of
+// `packedCapacity` records, the rest zero: a share's particles of a whole checkpoint.
+std::string recordsOf(const std::string& bytes, std::size_t capacity, const std::vector<std::uint32_t>& particles,
+                      std::size_t packedCapacity) {
   const std::size_t stride = bytes.size() / capacity;
-  std::string packed(bytes.size(), '\0');
+  std::string packed(packedCapacity * stride, '\0');
   for (std::size_t i = 0; i < particles.size(); ++i) {
     std::memcpy(packed.data() + i * stride, bytes.data() + std::size_t(particles[i]) * stride, stride);
   }
@@ -112,11 +132,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
                        ColliderFields colliderFields, std::size_t particleCapacity, MaterialPrograms programs,
                        std::size_t blockCapacity, DomainShare* share)
-    : scene_(requireParticles(scene, seeds)),
+    : scene_(startShare(share, requireParticles(scene, seeds), seeds)),
       pipeline_(scene_, programs, gl),
       materialTable_(buildMaterialTable(scene_)),
       colliderFields_(std::move(colliderFields)),
-      state_(GpuStateLayout::forScene(scene_, std::max(particleCapacity, seeds.size()),
+      state_(GpuStateLayout::forScene(scene_,
+                                      particleCapacityOf(share, seeds, std::max(particleCapacity, seeds.size())),
                                       blockCapacity > 0 ? blockCapacity
                                                         : initialBlockCapacity(scene_, seedsOf(share, seeds), gl),
                                       needsDeformationGradient(scene_, programs)),
@@ -126,17 +147,13 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
       gl_(gl),
-      sceneFingerprint_(sceneFingerprint(scene_, state_.particleCapacity(), materialTable_, colliderFields_, seeds)),
+      totalCapacity_(std::max(particleCapacity, seeds.size())),
+      sceneFingerprint_(sceneFingerprint(scene_, totalCapacity_, materialTable_, colliderFields_, seeds)),
       keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
                                       [](const Collider& c) { return !c.keyframes.empty(); })),
       share_(share) {
   const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
   initialParticles_ = initial.size();
-  if (share_) {
-    std::vector<glm::vec3> positionsM;
-    for (const ParticleSeed& seed : seeds) positionsM.push_back(seed.positionM);
-    share_->balance(positionsM);
-  }
   if (share_) {
     // The diagnostics know every particle of the scene, in one process's order: the first, then the emitters'.
     diagnostics_.noteParticles(initial);
@@ -195,6 +212,7 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
 
 void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
+  if (share_) growParticles(particleCount_ + particles.size());
   if (particles.size() > particleCapacity() - particleCount_) {
     throw std::length_error("addParticles: " + std::to_string(particles.size()) + " particles do not fit: " +
                             std::to_string(particleCount_) + " of " + std::to_string(particleCapacity()) + " in use");
@@ -209,6 +227,11 @@ void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
   }
   writeParticles(particleCount_, particles);
   particleCount_ += particles.size();
+}
+
+void Simulation::growParticles(std::size_t needed) {
+  if (needed <= particleCapacity()) return;
+  state_.growParticles(std::min(totalCapacity_, needed + needed / 4 + kShareSpareParticles), gl_);
 }
 
 void Simulation::releaseDueParticles() {
@@ -231,7 +254,7 @@ void Simulation::step(double dtS) {
   pipeline_.chooseTransferShape(state_, particleCount_);  // at the first step with particles, and as they grow
   const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_, share_);
   if (scene_.solver.semiImplicit()) noteSolve(solve);
-  if (share_) particleCount_ = share_->migrate(state_.particles(), particleCount_, ids_);
+  if (share_) particleCount_ = share_->migrate(state_, particleCount_, ids_, [this](std::size_t n) { growParticles(n); });
   timeS_ += dtS;
   ++steps_;
 }
@@ -306,7 +329,9 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
       // P2G's shape, timed at the frame's first step with particles or again after the particles grew.
       const std::optional<TransferShapeChoice>& shape = transferShapeChoice();
       if (shape && shape->particles != shapeTimedOn) log << "\nfirn: transfers: " << shape->describe() << "\n";
-      if (share_) particleCount_ = share_->endFrame(state_.particles(), particleCount_, ids_);
+      if (share_) {
+        particleCount_ = share_->endFrame(state_, particleCount_, ids_, [this](std::size_t n) { growParticles(n); });
+      }
       return steps;
     }
     if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) {
@@ -359,12 +384,13 @@ Checkpoint Simulation::checkpoint(int frame) const {
     strides.push_back(checkpoint.buffers[a].size() / particleCapacity());
     records.push_back(checkpoint.buffers[a].substr(0, particleCount_ * strides[a]));
   }
+  // (A share's buffers hold its own particles; one process's, all the scene's capacity.)
   std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
   const gpu::WatchdogStatus watchdog = share_->combineWatchdogs(state_.watchdog());
   if (all.empty()) return checkpoint;
   checkpoint.particleCount = all[0].size() / strides[0];
   for (std::size_t a = 0; a < arrays; ++a) {
-    all[a].resize(checkpoint.buffers[a].size(), '\0');
+    all[a].resize(totalCapacity_ * strides[a], '\0');
     checkpoint.buffers[a] = std::move(all[a]);
   }
   std::memcpy(checkpoint.buffers[arrays].data(), &watchdog, sizeof watchdog);
@@ -376,8 +402,8 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
     throw InputError(source.string() + ": the checkpoint was written for another scene (or another version of this "
                      "one); resume it with the scene it came from");
   }
-  state_.checkStateBytes(checkpoint.buffers, source.string());
-  if (checkpoint.particleCount > particleCapacity() || checkpoint.releasedEmitterParticles > pendingParticles_.size()) {
+  state_.checkStateBytes(checkpoint.buffers, source.string(), totalCapacity_);
+  if (checkpoint.particleCount > totalCapacity_ || checkpoint.releasedEmitterParticles > pendingParticles_.size()) {
     throw InputError(source.string() + ": the checkpoint holds more particles than the scene makes");
   }
   if (!std::isfinite(checkpoint.timeS) || !std::isfinite(checkpoint.fastestSpeedMPerS)) {
@@ -398,9 +424,10 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
     for (std::size_t i = 0; i < positionsM.size(); ++i) {
       if (share_->owns(positionsM[i])) ids_.push_back(static_cast<std::uint32_t>(i));
     }
+    growParticles(ids_.size());
     std::vector<std::string> mine = checkpoint.buffers;
     for (std::size_t a = 0; a < state_.particles().stateBuffers().size(); ++a) {
-      mine[a] = recordsOf(mine[a], particleCapacity(), ids_);
+      mine[a] = recordsOf(mine[a], totalCapacity_, ids_, particleCapacity());
     }
     state_.loadStateBytes(mine);
   } else {
@@ -453,7 +480,7 @@ void Simulation::gatherParticleView() {
   const std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
   if (all.empty()) return;
   // Without F and C, a particle buffers' state is the view's four arrays, in the view's order.
-  if (!gathered_) gathered_.emplace(particleCapacity(), false, false);
+  if (!gathered_) gathered_.emplace(totalCapacity_, false, false);
   const std::vector<gl::Buffer*> buffers = gathered_->stateBuffers();
   for (std::size_t a = 0; a < all.size(); ++a) buffers[a]->upload(0, all[a].size(), all[a].data());
   gatheredCount_ = all[0].size() / strides[0];

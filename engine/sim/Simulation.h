@@ -165,6 +165,8 @@ class Simulation {
   // too small for `neededBlocks`).
   void growBlockPoolTo(std::size_t neededBlocks);
   void releaseDueParticles();
+  // With a share: room in its particle buffers for `needed` particles, and some more (never beyond one process's).
+  void growParticles(std::size_t needed);
   // Adds a semi-implicit step's solve to the summary, and notes the first that failed (kSolverFailureFactor).
   void noteSolve(const SolveReport& solve);
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
@@ -185,6 +187,7 @@ class Simulation {
   Diagnostics diagnostics_;
   gl::PassTimer passTimer_;
   gl::ContextInfo gl_;
+  std::size_t totalCapacity_ = 0;  // one process's particle capacity (a share's buffers hold its own particles)
   std::uint64_t sceneFingerprint_ = 0;
   bool keyframedColliders_ = false;  // whether the collider table changes as the steps go
   DomainShare* share_ = nullptr;     // the part of the domain this simulates, or none: all of it
