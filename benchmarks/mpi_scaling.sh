@@ -41,16 +41,22 @@ measure() {
 
 header="ranks,threads_per_rank,particles,steps,ms_per_step,speedup,halo_kib_per_step,halo_percent_of_grid_bytes,exchange_ms_per_step,imbalance"
 
+# Measures one configuration and appends its row to CSV, with its speed-up over the table's first row (weak
+# scaling's efficiency: one rank's time over N ranks' on N times the particles).
+table_row() {
+  local csv=$1 ranks=$2 threads=$3 scene=$4 row particles steps ms
+  row=$(measure "$ranks" "$threads" "$scene")
+  IFS=, read -r particles steps ms _ <<< "$row"
+  [ -n "$base" ] || base=$ms
+  echo "$ranks,$threads,$particles,$steps,$ms,$(awk "BEGIN { printf \"%.3f\", $base / $ms }"),${row#*,*,*,}" >> "$csv"
+  echo "$(basename "$csv" .csv): $ranks rank(s) × $threads thread(s): $ms ms per step"
+}
+
 echo "$header" > "$out/strong.csv"
 base=""
 for config in "1 1" "1 2" "2 1" "3 1" "4 1"; do
   set -- $config
-  row=$(measure "$1" "$2" assets/scenes/bunny_thesis.json)
-  ms=$(echo "$row" | cut -d, -f3)
-  [ -n "$base" ] || base=$ms
-  IFS=, read -r particles steps _ rest <<< "$row"
-  echo "$1,$2,$particles,$steps,$ms,$(awk "BEGIN { printf \"%.3f\", $base / $ms }"),${row#*,*,*,}" >> "$out/strong.csv"
-  echo "strong: $1 rank(s) × $2 thread(s): $ms ms per step"
+  table_row "$out/strong.csv" "$1" "$2" assets/scenes/bunny_thesis.json
 done
 
 # The weak row: N snowballs of 14k particles in a row along z, touching, falling onto a floor: the ranks' slabs cut
@@ -74,12 +80,6 @@ echo "$header" > "$out/weak.csv"
 base=""
 for ranks in 1 2 3 4; do
   snowballs "$ranks" "$out/snowball_row_$ranks.json"
-  row=$(measure "$ranks" 1 "$out/snowball_row_$ranks.json")
-  ms=$(echo "$row" | cut -d, -f3)
-  [ -n "$base" ] || base=$ms
-  IFS=, read -r particles steps _ rest <<< "$row"
-  # Weak scaling's efficiency: one rank's time over N ranks' time on N times the particles.
-  echo "$ranks,1,$particles,$steps,$ms,$(awk "BEGIN { printf \"%.3f\", $base / $ms }"),${row#*,*,*,}" >> "$out/weak.csv"
-  echo "weak: $ranks rank(s): $ms ms per step"
+  table_row "$out/weak.csv" "$ranks" 1 "$out/snowball_row_$ranks.json"
 done
 echo "wrote $out/strong.csv and $out/weak.csv"

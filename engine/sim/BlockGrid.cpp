@@ -102,33 +102,32 @@ std::vector<ActiveBlock> BlockGrid::activeBlocks() const {
   return blocks;
 }
 
-std::vector<glm::ivec4> BlockGrid::readBlockSums(const std::vector<std::uint32_t>& slots) const {
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // P2G's atomics, before they are read back
+template <class Self, class Visit>
+void BlockGrid::visitBlockSums(Self& self, const std::vector<std::uint32_t>& slots, Visit visit) {
   const std::size_t blockBytes = gpu::BLOCK_NODES * sizeof(glm::ivec4);
-  std::vector<glm::ivec4> sums(slots.size() * sumsPerBlock());
-  glm::ivec4* out = sums.data();
+  std::size_t at = 0;  // in node sums
   for (const std::uint32_t slot : slots) {
-    momentumMass_.download(slot * blockBytes, blockBytes, out);
-    out += gpu::BLOCK_NODES;
-    if (withImpulse_) {
-      impulseSums_.download(slot * blockBytes, blockBytes, out);
-      out += gpu::BLOCK_NODES;
+    for (auto* buffer : {&self.momentumMass_, &self.impulseSums_}) {
+      if (!*buffer) continue;
+      visit(*buffer, slot * blockBytes, blockBytes, at);
+      at += gpu::BLOCK_NODES;
     }
   }
+}
+
+std::vector<glm::ivec4> BlockGrid::readBlockSums(const std::vector<std::uint32_t>& slots) const {
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // P2G's atomics, before they are read back
+  std::vector<glm::ivec4> sums(slots.size() * sumsPerBlock());
+  visitBlockSums(*this, slots, [&](const gl::Buffer& buffer, std::size_t offset, std::size_t bytes, std::size_t at) {
+    buffer.download(offset, bytes, sums.data() + at);
+  });
   return sums;
 }
 
 void BlockGrid::writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums) {
-  const std::size_t blockBytes = gpu::BLOCK_NODES * sizeof(glm::ivec4);
-  const glm::ivec4* in = sums.data();
-  for (const std::uint32_t slot : slots) {
-    momentumMass_.upload(slot * blockBytes, blockBytes, in);
-    in += gpu::BLOCK_NODES;
-    if (withImpulse_) {
-      impulseSums_.upload(slot * blockBytes, blockBytes, in);
-      in += gpu::BLOCK_NODES;
-    }
-  }
+  visitBlockSums(*this, slots, [&](gl::Buffer& buffer, std::size_t offset, std::size_t bytes, std::size_t at) {
+    buffer.upload(offset, bytes, sums.data() + at);
+  });
 }
 
 std::vector<glm::ivec3> BlockGrid::activeNodes() const {

@@ -92,6 +92,10 @@ class BlockGrid {
   void writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums);
 
  private:
+  // visit(buffer, byte offset, bytes, place in the sums) for each node-sum array of each slot, in readBlockSums' order.
+  template <class Self, class Visit>
+  static void visitBlockSums(Self& self, const std::vector<std::uint32_t>& slots, Visit visit);
+
   glm::ivec3 blocksPerAxis_;
   std::size_t capacity_ = 0;
   bool withImpulse_;
