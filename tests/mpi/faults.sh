@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # A failing rank ends a run over several processes at once (docs/distributed.md), with its message:
+#   - bad input (a semi-implicit scene, which runs in one process only): exit 2, said once, naming the key;
 #   - a scene that goes unstable: exit 3 within 30 s, a rank's message naming itself and the step;
 #   - rank 1 killed (SIGKILL) mid-run: mpirun ends within 30 s, non-zero, naming rank 1; the frames written before
 #     are whole (each the size of frame 0: the scene keeps its particles).
@@ -10,6 +11,15 @@ mpirun=(mpirun --oversubscribe --allow-run-as-root)
 rm -rf "$work"
 mkdir -p "$work"
 failed=0
+
+sed 's/"atomics": "fixed"/"atomics": "fixed", "integrator": "semi_implicit"/' "$unstable" > "$work/semi_implicit.json"
+status=0
+"${mpirun[@]}" -np 2 "$firn" run "$work/semi_implicit.json" --out "$work/refused" > "$work/refused.log" 2>&1 || status=$?
+if [ "$status" -ne 2 ] || [ "$(grep -c "solver.integrator: the semi-implicit solve runs in one process only" "$work/refused.log")" -ne 1 ]; then
+  cat "$work/refused.log"
+  echo "FAILED: the semi-implicit scene ended with status $status, not refused once with exit 2"
+  failed=1
+fi
 
 start=$(date +%s)
 status=0
