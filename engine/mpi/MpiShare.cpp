@@ -8,6 +8,7 @@
 #include <string>
 
 #include "Error.h"
+#include "mpi/MpiWorld.h"
 
 namespace firn::mpi {
 
@@ -63,6 +64,8 @@ MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
       size_(commSize(comm)),
       slabs_(requireDistributable(scene, size_), size_),
       rebalanceEveryFrames_(rebalanceEveryFrames) {}
+
+void MpiShare::beginStep(std::uint64_t step) { MpiWorld::noteStep(step); }
 
 void MpiShare::balance(const std::vector<glm::vec3>& positionsM) {
   LayerCounts counts = slabs_.emptyCounts();

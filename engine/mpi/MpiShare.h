@@ -58,6 +58,7 @@ class MpiShare final : public DomainShare {
   RunTraffic summary() const;
 
   int shares() const override { return size_; }
+  void beginStep(std::uint64_t step) override;
   void balance(const std::vector<glm::vec3>& positionsM) override;
   bool owns(const glm::vec3& positionM) const override { return slabs_.ownerOf(positionM) == rank_; }
   void sumSharedNodes(BlockGrid& grid) override;

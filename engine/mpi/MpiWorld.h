@@ -1,6 +1,8 @@
 #pragma once
 // MPI for `firn run` under mpirun (docs/distributed.md): started only when a launcher started this process, so that
 // `firn` on its own never touches MPI. Open MPI's, MPICH's and PMIx's launchers say so in the environment.
+#include <cstdint>
+
 #include <mpi.h>
 
 namespace firn::mpi {
@@ -26,6 +28,10 @@ class MpiWorld {
   // Ends every rank of the run at once with `exitCode` (MPI_Abort): what a rank does when it fails, so that no
   // other rank waits for it.
   [[noreturn]] void abort(int exitCode) const;
+
+  // The step this rank is in: when mpirun ends the rank because another one ended (SIGTERM), the rank says at which
+  // step, which the launcher's own message (naming the rank that ended and why) cannot.
+  static void noteStep(std::uint64_t step);
 
  private:
   int rank_ = 0;

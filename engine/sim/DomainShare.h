@@ -31,6 +31,8 @@ class DomainShare {
   // How many shares the domain is split into.
   virtual int shares() const = 0;
 
+  // A step begins: `step`, counted from the run's start (what a share names when the run is ended from outside).
+  virtual void beginStep(std::uint64_t step) = 0;
   // Draws the shares' regions for particles at `positionsM`: all the particles (the scene's seeds at the start, a
   // checkpoint's when resuming), the same in every share.
   virtual void balance(const std::vector<glm::vec3>& positionsM) = 0;

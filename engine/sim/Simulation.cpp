@@ -246,6 +246,7 @@ void Simulation::releaseDueParticles() {
 }
 
 void Simulation::step(double dtS) {
+  if (share_) share_->beginStep(steps_);
   releaseDueParticles();
   // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
   // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).

@@ -2,8 +2,8 @@
 # A failing rank ends a run over several processes at once (docs/distributed.md), with its message:
 #   - bad input (a semi-implicit scene, which runs in one process only): exit 2, said once, naming the key;
 #   - a scene that goes unstable: exit 3 within 30 s, a rank's message naming itself and the step;
-#   - rank 1 killed (SIGKILL) mid-run: mpirun ends within 30 s, non-zero, naming rank 1; the frames written before
-#     are whole (each the size of frame 0: the scene keeps its particles).
+#   - rank 1 killed (SIGKILL) mid-run: mpirun ends within 30 s, non-zero, naming rank 1 and the signal, rank 0 saying
+#     at which step; the frames written before are whole (each the size of frame 0: the scene keeps its particles).
 #   faults.sh FIRN WORK UNSTABLE_SCENE LONG_SCENE
 set -euo pipefail
 firn=$1 work=$2 unstable=$3 long=$4
@@ -50,7 +50,9 @@ size=$(stat -c %s "$work/killed/frame_0000.ply")
 for frame in "$work"/killed/frame_*.ply; do
   [ "$(stat -c %s "$frame")" = "$size" ] || { echo "FAILED: $frame is not whole"; failed=1; }
 done
-if [ -z "$killed" ] || [ "$status" -eq 0 ] || [ "$seconds" -gt 30 ] || ! grep -q "rank 1" "$work/killed.log"; then
+if [ -z "$killed" ] || [ "$status" -eq 0 ] || [ "$seconds" -gt 30 ] ||
+   ! grep -q "process rank 1 .* exited on signal 9" "$work/killed.log" ||
+   ! grep -q "rank 0 of 2: stopped by mpirun at step [0-9]*, after another rank of the run ended" "$work/killed.log"; then
   cat "$work/killed.log"
   echo "FAILED: killing rank 1 (pid ${killed:-none found}) ended the run with status $status after $seconds s"
   failed=1
