@@ -169,7 +169,6 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
 
   ++traffic_.steps;
   traffic_.haloBytes += sent.size() * sizeof(glm::ivec4);
-  traffic_.sharedBlocks += heldSlots.size();
   traffic_.activeBlocks += mine.size();
   traffic_.sumsS += secondsSince(start);
 }

@@ -24,7 +24,6 @@ namespace firn::mpi {
 struct ShareTraffic {
   std::uint64_t steps = 0;
   std::uint64_t haloBytes = 0;        // grid sums sent
-  std::uint64_t sharedBlocks = 0;     // blocks this rank held with others, step by step
   std::uint64_t activeBlocks = 0;     // this rank's active blocks, step by step
   std::uint64_t migratedParticles = 0;
   std::uint64_t particleSteps = 0;    // this rank's particles, step by step

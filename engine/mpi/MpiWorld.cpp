@@ -84,6 +84,7 @@ MpiWorld::~MpiWorld() { MPI_Finalize(); }
 void MpiWorld::noteStep(std::uint64_t step) { currentStep.store(step, std::memory_order_relaxed); }
 
 void MpiWorld::abort(int exitCode) const {
+  std::signal(SIGTERM, SIG_DFL);  // this rank said why it ends; mpirun's SIGTERM is then no news
   MPI_Abort(MPI_COMM_WORLD, exitCode);
   std::_Exit(exitCode);  // MPI_Abort does not return; should it, the rank still ends
 }

@@ -313,8 +313,14 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
     const bool beyondPool = share_ ? share_->any(blocksBeyondPool_ > 0) : blocksBeyondPool_ > 0;
     if (beyondPool && poolRetries < kBlockPoolRetries) {
       ++poolRetries;
-      log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed more blocks of the grid than a pool held ("
-          << blocksBeyondPool_ << " here); redoing it with room for " << state_.blockUsage().capacity << "\n";
+      if (blocksBeyondPool_ > 0) {
+        log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed " << blocksBeyondPool_
+            << " blocks of the grid, more than its pool held; redoing it with room for " << state_.blockUsage().capacity
+            << "\n";
+      } else {
+        log << "\nfirn: the frame ending at t = " << frameTimeS << " s needed more blocks of the grid than another "
+            << "process's pool held; redoing it\n";
+      }
       restoreState();
       continue;
     }
