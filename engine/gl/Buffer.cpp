@@ -66,6 +66,13 @@ void Buffer::copyFrom(const Buffer& source, std::size_t bytes) {
   glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, static_cast<GLsizeiptr>(bytes));
 }
 
+void Buffer::copyWithin(std::size_t fromBytes, std::size_t toBytes, std::size_t bytes) {
+  glBindBuffer(GL_COPY_READ_BUFFER, id_);
+  glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
+  glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, static_cast<GLintptr>(fromBytes),
+                      static_cast<GLintptr>(toBytes), static_cast<GLsizeiptr>(bytes));
+}
+
 void Buffer::zero() {
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, id_);
   glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);

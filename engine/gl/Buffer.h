@@ -38,6 +38,8 @@ class Buffer {
   void zero();
   // Copies the first `bytes` of `source` into this buffer on the GPU (glCopyBufferSubData).
   void copyFrom(const Buffer& source, std::size_t bytes);
+  // Copies `bytes` at `fromBytes` of this buffer to `toBytes` of it, on the GPU; the ranges must not overlap.
+  void copyWithin(std::size_t fromBytes, std::size_t toBytes, std::size_t bytes);
 
   template <typename T>
   std::vector<T> read(std::size_t count, std::size_t firstElement = 0) const {

@@ -176,39 +176,42 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
 std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
                               const MakeRoom& makeRoom) {
   const auto start = Clock::now();
-  const std::vector<glm::vec4> positions = state.particles().positionsMasses(count);
-  std::vector<int> destination(count);
-  std::vector<int> sendCounts(std::size_t(size_), 0);
-  std::size_t firstLeaving = count;
-  for (std::size_t i = 0; i < count; ++i) {
-    destination[i] = slabs_.ownerOf(glm::vec3(positions[i]));
-    if (destination[i] == rank_) continue;
-    ++sendCounts[std::size_t(destination[i])];
-    firstLeaving = std::min(firstLeaving, i);
-  }
-  std::vector<int> receiveCounts(static_cast<std::size_t>(size_));
-  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
-
-  // A particle travels as its id and its record in every state buffer, in the buffers' order.
-  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
-  const std::size_t leaving = std::size_t(std::accumulate(sendCounts.begin(), sendCounts.end(), 0));
-  makeRoom(count - leaving + arriving);  // before the buffers are taken: growing replaces them
-  std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
+  // The particles the GPU finds outside this rank's slab: only theirs are read back.
+  const std::vector<std::uint32_t> outside = state.grid().particlesOutside(
+      count, slabs_.axis(), slabs_.firstLayer(rank_), slabs_.firstLayer(rank_ + 1), state.bindings());
+  // A particle travels as its id and its record in every state buffer, in the buffers' order (x and m first).
   std::vector<std::size_t> strides;
   std::size_t recordBytes = sizeof(std::uint32_t);
-  for (const gl::Buffer* buffer : buffers) {
+  for (const gl::Buffer* buffer : state.particles().stateBuffers()) {
     strides.push_back(buffer->bytes() / state.particles().capacity());
     recordBytes += strides.back();
   }
-  // The records from the first leaving particle on, which move (or close up behind it).
-  const std::size_t moved = count - std::min(firstLeaving, count);
-  std::vector<std::vector<unsigned char>> tail(buffers.size());
-  if (leaving > 0) {
-    for (std::size_t b = 0; b < buffers.size(); ++b) {
-      tail[b].resize(moved * strides[b]);
-      buffers[b]->download(firstLeaving * strides[b], tail[b].size(), tail[b].data());
+  std::vector<unsigned char> records(outside.size() * recordBytes);
+  std::vector<std::uint32_t> leaving;  // in index order
+  std::vector<int> destinations, sendCounts(static_cast<std::size_t>(size_), 0);
+  {
+    const std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
+    for (std::size_t k = 0; k < outside.size(); ++k) {
+      unsigned char* record = records.data() + leaving.size() * recordBytes;
+      std::memcpy(record, &ids[outside[k]], sizeof(std::uint32_t));
+      unsigned char* field = record + sizeof(std::uint32_t);
+      for (std::size_t b = 0; b < buffers.size(); ++b) {
+        buffers[b]->download(outside[k] * strides[b], strides[b], field);
+        field += strides[b];
+      }
+      glm::vec3 positionM;
+      std::memcpy(&positionM, record + sizeof(std::uint32_t), sizeof positionM);
+      // Where the host's reading of the layer disagrees with the GPU's at a cell's edge, the particle stays.
+      const int destination = slabs_.ownerOf(positionM);
+      if (destination == rank_) continue;
+      leaving.push_back(outside[k]);
+      destinations.push_back(destination);
+      ++sendCounts[std::size_t(destination)];
     }
   }
+  std::vector<int> receiveCounts(static_cast<std::size_t>(size_));
+  MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
+  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
   std::vector<int> sendBytes(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
   std::vector<int> receiveBytes(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
   for (int q = 0; q < size_; ++q) {
@@ -217,65 +220,60 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
   }
   std::exclusive_scan(sendBytes.begin(), sendBytes.end(), sendOffsets.begin(), 0);
   std::exclusive_scan(receiveBytes.begin(), receiveBytes.end(), receiveOffsets.begin(), 0);
-  std::vector<unsigned char> outgoing(leaving * recordBytes), incoming(arriving * recordBytes);
+  // The records by destination, each destination's in index order.
+  std::vector<unsigned char> outgoing(leaving.size() * recordBytes), incoming(arriving * recordBytes);
   std::vector<int> cursor = sendOffsets;
-  // The particles that stay close up in their order; the tail's survivors are kept for writing back.
-  std::vector<std::vector<unsigned char>> staying(buffers.size());
-  std::vector<std::uint32_t> keptIds(ids.begin(), ids.begin() + std::ptrdiff_t(std::min(firstLeaving, count)));
-  for (std::size_t i = firstLeaving; i < count; ++i) {
-    const std::size_t t = i - firstLeaving;
-    if (destination[i] == rank_) {
-      for (std::size_t b = 0; b < buffers.size(); ++b) {
-        staying[b].insert(staying[b].end(), tail[b].begin() + std::ptrdiff_t(t * strides[b]),
-                          tail[b].begin() + std::ptrdiff_t((t + 1) * strides[b]));
-      }
-      keptIds.push_back(ids[i]);
-      continue;
-    }
-    unsigned char* out = outgoing.data() + cursor[std::size_t(destination[i])];
-    cursor[std::size_t(destination[i])] += int(recordBytes);
-    std::memcpy(out, &ids[i], sizeof(std::uint32_t));
-    out += sizeof(std::uint32_t);
-    for (std::size_t b = 0; b < buffers.size(); ++b) {
-      std::memcpy(out, tail[b].data() + t * strides[b], strides[b]);
-      out += strides[b];
-    }
+  for (std::size_t k = 0, read = 0; k < outside.size() && read < leaving.size(); ++k) {
+    const unsigned char* record = records.data() + k * recordBytes;
+    if (outside[k] != leaving[read]) continue;  // stayed
+    std::memcpy(outgoing.data() + cursor[std::size_t(destinations[read])], record, recordBytes);
+    cursor[std::size_t(destinations[read])] += int(recordBytes);
+    ++read;
   }
   MPI_Alltoallv(outgoing.data(), sendBytes.data(), sendOffsets.data(), MPI_BYTE, incoming.data(), receiveBytes.data(),
                 receiveOffsets.data(), MPI_BYTE, comm_);
-  if (leaving == 0 && arriving == 0) {
-    traffic_.particleSteps += count;
+  const std::size_t kept = count - leaving.size();
+  traffic_.particleSteps += kept + arriving;
+  if (leaving.empty() && arriving == 0) {
     traffic_.migrationS += secondsSince(start);
     return count;
   }
 
-  // Arrivals join after the particles that stayed, in the order of the ranks they came from.
-  const std::size_t kept = keptIds.size();
-  const std::size_t newCount = kept + arriving;
-  if (newCount > state.particles().capacity()) {
-    throw SimulationError("rank " + std::to_string(rank_) + " would hold " + std::to_string(newCount) +
-                          " particles, more than its buffers' " + std::to_string(state.particles().capacity()));
+  makeRoom(kept + arriving);  // growing replaces the buffers: take them after
+  const std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
+  // The particles that stay close up: each hole a leaver left below `kept` takes a staying particle from above it.
+  std::size_t filler = count;
+  std::size_t nextLeaving = leaving.size();  // leavers above the filler, from the top
+  for (const std::uint32_t hole : leaving) {
+    if (hole >= kept) break;
+    do {
+      --filler;
+      if (nextLeaving > 0 && leaving[nextLeaving - 1] == filler) {
+        --nextLeaving;
+        continue;
+      }
+      break;
+    } while (true);
+    for (std::size_t b = 0; b < buffers.size(); ++b) buffers[b]->copyWithin(filler * strides[b], hole * strides[b], strides[b]);
+    ids[hole] = ids[filler];
   }
-  const std::size_t writeFrom = std::min(firstLeaving, count);
-  for (std::size_t b = 0; b < buffers.size(); ++b) {
-    std::vector<unsigned char>& bytes = staying[b];
+  ids.resize(kept);
+  // Arrivals join after them, in the order of the ranks they came from.
+  for (std::size_t b = 0, fieldOffset = sizeof(std::uint32_t); b < buffers.size(); fieldOffset += strides[b], ++b) {
+    std::vector<unsigned char> bytes(arriving * strides[b]);
     for (std::size_t a = 0; a < arriving; ++a) {
-      const unsigned char* record = incoming.data() + a * recordBytes + sizeof(std::uint32_t);
-      for (std::size_t c = 0; c < b; ++c) record += strides[c];
-      bytes.insert(bytes.end(), record, record + strides[b]);
+      std::memcpy(bytes.data() + a * strides[b], incoming.data() + a * recordBytes + fieldOffset, strides[b]);
     }
-    if (!bytes.empty()) buffers[b]->upload(writeFrom * strides[b], bytes.size(), bytes.data());
+    if (!bytes.empty()) buffers[b]->upload(kept * strides[b], bytes.size(), bytes.data());
   }
   for (std::size_t a = 0; a < arriving; ++a) {
     std::uint32_t id;
     std::memcpy(&id, incoming.data() + a * recordBytes, sizeof id);
-    keptIds.push_back(id);
+    ids.push_back(id);
   }
-  ids = std::move(keptIds);
-  traffic_.migratedParticles += leaving;
-  traffic_.particleSteps += newCount;
+  traffic_.migratedParticles += leaving.size();
   traffic_.migrationS += secondsSince(start);
-  return newCount;
+  return kept + arriving;
 }
 
 std::size_t MpiShare::endFrame(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,

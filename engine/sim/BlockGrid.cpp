@@ -25,7 +25,8 @@ BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& libr
       binScan_(library, "sim/bin_scan.comp", options),
       blockOffsets_(library, "sim/block_offsets.comp", options),
       binPlace_(library, "sim/bin_place.comp", options),
-      orderTiles_(library, "sim/order_tiles.comp", options) {
+      orderTiles_(library, "sim/order_tiles.comp", options),
+      listLeavers_(library, "sim/list_leavers.comp", options) {
   blockMap_ = gl::Buffer(layout.blockMapBytes()).labelled("block grid: block map");
   allocateParticles(layout.particleCapacity);
 }
@@ -90,6 +91,22 @@ void BlockGrid::publish(gl::BufferBindings& bindings) const {
   bindings.storage(FIRN_BINDING_SORTED_PARTICLES, sortedParticles_);
   bindings.storage(FIRN_BINDING_PARTICLE_RANKS, particleRanks_);
   bindings.storage(FIRN_BINDING_TILE_ORDER, tileOrder_);
+}
+
+std::vector<std::uint32_t> BlockGrid::particlesOutside(std::size_t particles, int axis, int firstLayer, int endLayer,
+                                                       const gl::BufferBindings& buffers) {
+  const std::uint32_t none = 0;
+  const std::size_t counter = offsetof(gpu::BlockTableHeader, migration);
+  blockTable_.upload(counter, sizeof none, &none);
+  gl::PassTimer untimed;
+  listLeavers_.set("particles", unsigned(particles)).set("slabAxis", unsigned(axis));
+  listLeavers_.set("slabFirstLayer", unsigned(firstLayer)).set("slabEndLayer", unsigned(endLayer));
+  listLeavers_.runOver(particles, maxWorkGroupsX_, buffers, untimed);
+  std::uint32_t listed = 0;
+  blockTable_.download(counter, sizeof listed, &listed);
+  std::vector<std::uint32_t> outside = particleRanks_.read<std::uint32_t>(listed);
+  std::sort(outside.begin(), outside.end());  // the atomics' order is the GPU's; the list's is the particles'
+  return outside;
 }
 
 std::vector<ActiveBlock> BlockGrid::activeBlocks() const {

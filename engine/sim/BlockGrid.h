@@ -83,6 +83,10 @@ class BlockGrid {
   // Every node of the active blocks after P2G, as stored, in the order of the dense grid (z, then y, then x).
   std::vector<StoredNode> readNodes() const;
 
+  // The particles whose stencil's base node lies in a block layer along `axis` outside [firstLayer, endLayer), in
+  // index order (list_leavers.comp): a share's particles that left its slab. `buffers` must hold the particles'.
+  std::vector<std::uint32_t> particlesOutside(std::size_t particles, int axis, int firstLayer, int endLayer,
+                                              const gl::BufferBindings& buffers);
   // The last step's active blocks, in the order of their slots.
   std::vector<ActiveBlock> activeBlocks() const;
   // The sums P2G left at the nodes of the blocks in `slots`: per block its BLOCK_NODES momentum-mass sums, then (PIC/
@@ -119,6 +123,7 @@ class BlockGrid {
   gl::ComputePass blockOffsets_;
   gl::ComputePass binPlace_;
   gl::ComputePass orderTiles_;
+  gl::ComputePass listLeavers_;
 };
 
 }  // namespace firn

@@ -228,6 +228,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
 //   mirrorDispatch   xyz: work groups of mirror_stress.comp, FIRN_PARTICLE_GROUP_SIZE invocations each; w: the
 //                    particles within a kernel's reach of a rigid body's surface (listed in particleRanks)
+//   migration        x: the particles list_leavers.comp listed (in particleRanks) as outside this process's slab
 //   tileBuckets      per bucket of fill: its tiles, then its first entry in the tile order, then its next free one
 #define FIRN_BLOCK_TABLE_HEADER(member, array) \
   member(uvec4, blockCounts)                   \
@@ -237,6 +238,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
   member(uvec4, tileCounts)                    \
   member(uvec4, tileDispatch)                  \
   member(uvec4, mirrorDispatch)                \
+  member(uvec4, migration)                     \
   array(uint, tileBuckets, TILE_BUCKETS)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 
