@@ -9,6 +9,7 @@
 
 #include "Error.h"
 #include "mpi/MpiWorld.h"
+#include "sim/GpuStateLayout.h"
 
 namespace firn::mpi {
 
@@ -63,7 +64,8 @@ MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
       rank_(commRank(comm)),
       size_(commSize(comm)),
       slabs_(requireDistributable(scene, size_), size_),
-      rebalanceEveryFrames_(rebalanceEveryFrames) {}
+      rebalanceEveryFrames_(rebalanceEveryFrames),
+      sumsPerNode_(GpuStateLayout::forScene(scene, 0, 0, false).impulse ? 2 : 1) {}
 
 void MpiShare::beginStep(std::uint64_t step) { MpiWorld::noteStep(step); }
 
@@ -115,7 +117,6 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
     heldSlots.push_back(mine[i].slot);
   }
   const std::size_t perBlock = grid.sumsPerBlock();
-  bytesPerBlockFactor_ = double(perBlock) / gpu::BLOCK_NODES;
   std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots);
 
   // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets. A
@@ -186,7 +187,7 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
     strides.push_back(buffer->bytes() / state.particles().capacity());
     recordBytes += strides.back();
   }
-  std::vector<unsigned char> records(outside.size() * recordBytes);
+  std::vector<unsigned char> records(outside.size() * recordBytes);  // the leaving particles', packed
   std::vector<std::uint32_t> leaving;  // in index order
   std::vector<int> destinations, sendCounts(static_cast<std::size_t>(size_), 0);
   {
@@ -223,12 +224,10 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
   // The records by destination, each destination's in index order.
   std::vector<unsigned char> outgoing(leaving.size() * recordBytes), incoming(arriving * recordBytes);
   std::vector<int> cursor = sendOffsets;
-  for (std::size_t k = 0, read = 0; k < outside.size() && read < leaving.size(); ++k) {
-    const unsigned char* record = records.data() + k * recordBytes;
-    if (outside[k] != leaving[read]) continue;  // stayed
-    std::memcpy(outgoing.data() + cursor[std::size_t(destinations[read])], record, recordBytes);
-    cursor[std::size_t(destinations[read])] += int(recordBytes);
-    ++read;
+  for (std::size_t k = 0; k < leaving.size(); ++k) {  // records[k] is leaving[k]'s
+    int& at = cursor[std::size_t(destinations[k])];
+    std::memcpy(outgoing.data() + at, records.data() + k * recordBytes, recordBytes);
+    at += int(recordBytes);
   }
   MPI_Alltoallv(outgoing.data(), sendBytes.data(), sendOffsets.data(), MPI_BYTE, incoming.data(), receiveBytes.data(),
                 receiveOffsets.data(), MPI_BYTE, comm_);
@@ -378,7 +377,7 @@ RunTraffic MpiShare::summary() const {
   const double steps = double(std::max<std::uint64_t>(traffic_.steps, 1));
   // A node's sums are BLOCK_NODES ivec4s per block (two with PIC/FLIP's impulses); P2G writes them, the grid update
   // reads them and writes the velocities over them, G2P reads those: four passes over them a step.
-  const double blockBytes = double(gpu::BLOCK_NODES * sizeof(glm::ivec4)) * bytesPerBlockFactor_;
+  const double blockBytes = double(gpu::BLOCK_NODES * sizeof(glm::ivec4)) * sumsPerNode_;
   run.haloBytesPerStep = sums[0] / steps;
   run.gridBytesPerStep = 4.0 * sums[1] * blockBytes / steps;
   run.exchangeMsPerStep = 1e3 * leastExchangeS / steps;

@@ -82,7 +82,7 @@ class MpiShare final : public DomainShare {
   int framesSinceBalance_ = 0;
   std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
   ShareTraffic traffic_;
-  double bytesPerBlockFactor_ = 1;   // node sums per node: 1, or 2 with PIC/FLIP's impulse sums
+  int sumsPerNode_;                  // 1, or 2 with PIC/FLIP's impulse sums (as the grid stores them)
 };
 
 }  // namespace firn::mpi

@@ -245,10 +245,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const std::vector<ObjectPose> bodyPoses = simulation.rigidBodyPoses();
     const std::vector<ObjectPose> poses = objectPoses(scene, objects, bodyPoses, simulation.timeS());
     requireFinitePoses(objects, poses, frame, simulation.timeS());
-    // Over several processes: every share's particles, gathered into the order of one process's.
+    // Over several processes: every share's particles, gathered into the order of one process's (once: the snapshot
+    // reads the view's copy when the pictures or caches need one).
+    if (drawnFromParticles) simulation.gatherParticleView();
     const ParticleSnapshot particles = simulation.snapshot();
     const std::size_t activeBlocks = share ? share->activeBlocksInAll() : simulation.blockUsage().lastStep;
-    if (drawnFromParticles) simulation.gatherParticleView();
     if (!writer) return;
     FrameStats row = measureFrame(particles, scene.grid);
     row.frame = frame;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
@@ -61,22 +62,13 @@ const Scene& startShare(DomainShare* share, const Scene& scene, const std::vecto
   return scene;
 }
 
-// The seeds a share starts with (all of them without one).
-std::vector<ParticleSeed> seedsOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds) {
-  if (share == nullptr) return seeds;
-  std::vector<ParticleSeed> own;
-  for (const ParticleSeed& seed : seeds) {
-    if (share->owns(seed.positionM)) own.push_back(seed);
-  }
-  return own;
-}
-
 // A share's particle buffers start with room for its own seeds and a quarter more, and grow as particles come
 // (Simulation::growParticles); one process's hold all `capacity`.
 constexpr std::size_t kShareSpareParticles = 1024;
 std::size_t particleCapacityOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds, std::size_t capacity) {
   if (share == nullptr) return capacity;
-  const std::size_t own = seedsOf(share, seeds).size();
+  const auto own = std::size_t(std::count_if(seeds.begin(), seeds.end(),
+                                             [share](const ParticleSeed& seed) { return share->owns(seed.positionM); }));
   return std::min(capacity, own + own / 4 + kShareSpareParticles);
 }
 
@@ -113,8 +105,15 @@ std::size_t poolCapacity(const Scene& scene, std::size_t needed, std::size_t wan
 
 // The block pool starts with room for the particles to spread: four times the blocks they reach at the start, the
 // emitters' included (and at least a few hundred: a pool of 256 blocks is 256 KiB of nodes).
-std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl) {
-  const std::size_t reached = blocksReached(scene, seeds);
+// With a share, the blocks its own seeds reach.
+std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleSeed>& seeds, const DomainShare* share,
+                                 const gl::ContextInfo& gl) {
+  std::vector<ParticleSeed> own;
+  if (share != nullptr) {
+    std::copy_if(seeds.begin(), seeds.end(), std::back_inserter(own),
+                 [share](const ParticleSeed& seed) { return share->owns(seed.positionM); });
+  }
+  const std::size_t reached = blocksReached(scene, share != nullptr ? own : seeds);
   return poolCapacity(scene, reached, std::max<std::size_t>(4 * reached, 256), gl);
 }
 
@@ -139,7 +138,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       state_(GpuStateLayout::forScene(scene_,
                                       particleCapacityOf(share, seeds, std::max(particleCapacity, seeds.size())),
                                       blockCapacity > 0 ? blockCapacity
-                                                        : initialBlockCapacity(scene_, seedsOf(share, seeds), gl),
+                                                        : initialBlockCapacity(scene_, seeds, share, gl),
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
              stepShaderOptions(scene_, programs)),
@@ -246,6 +245,7 @@ void Simulation::releaseDueParticles() {
 }
 
 void Simulation::step(double dtS) {
+  viewGathered_ = false;
   if (share_) share_->beginStep(steps_);
   releaseDueParticles();
   // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
@@ -359,6 +359,7 @@ void Simulation::saveState() {
 }
 
 void Simulation::restoreState() {
+  viewGathered_ = false;
   state_.restore();
   timeS_ = saved_.timeS;
   steps_ = saved_.steps;
@@ -418,6 +419,7 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
                      "checkpoints such a state, so this file cannot be resumed");
   }
   state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
+  viewGathered_ = false;
   if (share_) {
     // The checkpoint's particles (of any number of shares, or one process) drawn anew into slabs, and each share's
     // packed at the start of its buffers; their places in the checkpoint are their ids.
@@ -460,8 +462,10 @@ void Simulation::checkWatchdog() const {
 }
 
 ParticleSnapshot Simulation::snapshot() const {
+  if (!share_) return state_.particles().read(particleCount_);
+  // Gathered already for the view at this step: read on the writer, not gathered again.
+  if (viewGathered_) return gathered_ ? gathered_->read(gatheredCount_) : ParticleSnapshot{};
   ParticleSnapshot mine = state_.particles().read(particleCount_);
-  if (!share_) return mine;
   const std::vector<std::string> all =
       share_->gatherRecords({bytesOf(mine.positionMass), bytesOf(mine.velocityVolume), bytesOf(mine.plasticJ)},
                             {sizeof(glm::vec4), sizeof(glm::vec4), sizeof(float)}, ids_);
@@ -485,6 +489,7 @@ void Simulation::gatherParticleView() {
     array->download(0, bytes.size(), bytes.data());
   }
   const std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
+  viewGathered_ = true;
   if (all.empty()) return;
   // Without F and C, a particle buffers' state is the view's four arrays, in the view's order.
   if (!gathered_) gathered_.emplace(totalCapacity_, false, false);

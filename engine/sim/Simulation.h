@@ -126,8 +126,8 @@ class Simulation {
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;
   // With a share: gathers every share's particles into a copy on the GPU of the share that writes the output, which
-  // particleView() shows from then on (to the renderer and the surface). Every share calls it; without a share it
-  // does nothing.
+  // particleView() shows from then on (to the renderer and the surface), and snapshot() reads until the next step.
+  // Every share calls it; without a share it does nothing.
   void gatherParticleView();
   // readGridAfterTransfer's nodes, summed (a diagnostic: conservation tests).
   GridTotals transferToGrid();
@@ -195,6 +195,7 @@ class Simulation {
   std::size_t initialParticles_ = 0; // the particles present from the start, in all shares
   std::optional<ParticleBuffers> gathered_;  // with a share, on the writer: every share's particles (gatherParticleView)
   std::size_t gatheredCount_ = 0;
+  bool viewGathered_ = false;  // since the last step: snapshot() reads the gathered copy (every share alike)
 
   std::size_t particleCount_ = 0;
   std::vector<ParticleSeed> pendingParticles_;  // emitters' particles not yet released, by release time
