@@ -26,6 +26,8 @@ namespace firn::bench {
 // passes and P2G tables.
 constexpr double kThesisSmallestParticles = 47063;
 constexpr double kSmallestParticlesPerCell = 4;
+// The thesis implementation's time step (s): beyond Firn's explicit bound, the semi-implicit integrator's.
+constexpr double kThesisDtS = 1e-3;
 
 struct Sizes {
   int particleGridCells = 200;  // per axis: the thesis's 200³ cells, 8 million nodes

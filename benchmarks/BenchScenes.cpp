@@ -88,6 +88,9 @@ Scene BunnyScenes::scene(const BunnySetup& setup) const {
   bunny["angular_velocity"] = {setup.angularVelocityRadPerS.x, setup.angularVelocityRadPerS.y,
                                setup.angularVelocityRadPerS.z};
   scene["solver"]["atomics"] = setup.atomics;
+  if (!setup.kernel.empty()) scene["solver"]["kernel"] = setup.kernel;
+  if (!setup.integrator.empty()) scene["solver"]["integrator"] = setup.integrator;
+  if (setup.dtS > 0) scene["time"]["dt"] = setup.dtS;
   return parseScene(scene.dump(), sceneFile_);
 }
 

@@ -19,6 +19,9 @@ struct BunnySetup {
   bool centred = true;                 // in the domain; otherwise in its low corner, one cell inside the walls
                                        // and above the ground plane, so the same particles fit every domain
   std::string atomics = "fixed";
+  std::string kernel;      // "cubic", "quadratic"; empty: the thesis scene's (cubic)
+  std::string integrator;  // "explicit", "semi_implicit"; empty: the thesis scene's (explicit)
+  double dtS = 0;          // 0: the thesis scene's 1e-4 s
   glm::dvec3 velocityMPerS{0.0};
   glm::dvec3 angularVelocityRadPerS{0.0};
 };

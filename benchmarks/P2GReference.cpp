@@ -67,6 +67,8 @@ ReferenceGrid referenceParticleToGrid(const Scene& scene, const FixedPointScale&
           sums.momentumUnits += glm::dvec3(momentum);
           sums.momentumScaleUnits += glm::length(glm::dvec3(momentum));
           ++sums.contributions;
+          sums.particleMassUnits += double(massUnits);
+          sums.particleMomentumUnits += glm::length(glm::dvec3(momentumUnits));
         }
   }
   return grid;

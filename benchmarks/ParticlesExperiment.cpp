@@ -38,70 +38,80 @@ double logLogSlope(const std::vector<std::pair<double, double>>& points) {
 }  // namespace
 
 void measureParticles(BenchRun& run) {
-  CsvTable table({"series", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell",
-                  "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step", "ms_min", "ms_max",
-                  "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
+  CsvTable table({"series", "kernel", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m",
+                  "particles_per_cell", "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step", "ms_min",
+                  "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
   const Sizes& sizes = run.sizes();
   const BunnyScenes& bunnies = run.bunnies();
   const double smallestScale = bunnies.scaleFor(sizes.smallestParticles, kSmallestParticlesPerCell);
-  std::vector<std::string> series;
-  std::vector<BunnySetup> setups;
-  std::vector<std::string> shapes;  // each setup's P2G shape (SumSeries::transferShape)
+  // The thesis's cubic kernel in both series; fixed point also with the quadratic kernel at 8 per cell, the
+  // configuration of issue 28's GPU target (a million particles within 0.5 ms per step).
+  struct Series {
+    std::string name;  // "unscaled", "scaled"
+    std::string kernel;
+    SumSeries sums;
+    std::string label() const { return name + " " + kernel + " " + sums.label(); }
+  };
+  std::vector<Series> series;
   for (const SumSeries& sums : run.sumSeries()) {
-    for (const std::string name : {"unscaled", "scaled"}) {
-      for (const double unscaledPerCell : sizes.unscaledParticlesPerCell) {
-        BunnySetup setup;
-        setup.atomics = sums.atomics;
-        shapes.push_back(sums.transferShape);
-        setup.gridCells = sizes.particleGridCells;
-        if (name == "unscaled") {
-          setup.scale = smallestScale;
-          setup.particlesPerCell = unscaledPerCell;
-        } else {
-          setup.scale = smallestScale * std::cbrt(unscaledPerCell / kScaledParticlesPerCell);
-          setup.particlesPerCell = kScaledParticlesPerCell;
-        }
-        series.push_back(name);
-        setups.push_back(setup);
+    series.push_back({"unscaled", "cubic", sums});
+    series.push_back({"scaled", "cubic", sums});
+    if (sums.atomics == "fixed") series.push_back({"scaled", "quadratic", sums});
+  }
+  std::vector<std::size_t> seriesOf;  // each setup's
+  std::vector<BunnySetup> setups;
+  for (std::size_t s = 0; s < series.size(); ++s) {
+    for (const double unscaledPerCell : sizes.unscaledParticlesPerCell) {
+      BunnySetup setup;
+      setup.atomics = series[s].sums.atomics;
+      setup.kernel = series[s].kernel;
+      setup.gridCells = sizes.particleGridCells;
+      if (series[s].name == "unscaled") {
+        setup.scale = smallestScale;
+        setup.particlesPerCell = unscaledPerCell;
+      } else {
+        setup.scale = smallestScale * std::cbrt(unscaledPerCell / kScaledParticlesPerCell);
+        setup.particlesPerCell = kScaledParticlesPerCell;
       }
+      seriesOf.push_back(s);
+      setups.push_back(setup);
     }
   }
   std::vector<Configuration> configurations;
   for (std::size_t i = 0; i < setups.size(); ++i) {
-    configurations.push_back({"particles, " + setups[i].atomics + " atomics, " + shapes[i] + ", " + series[i] + ", " +
-                                  fixed(setups[i].particlesPerCell, 0) + " per cell, bunny scale " +
+    const Series& of = series[seriesOf[i]];
+    configurations.push_back({"particles, " + of.kernel + ", " + of.sums.atomics + " atomics, " + of.sums.transferShape +
+                                  ", " + of.name + ", " + fixed(setups[i].particlesPerCell, 0) + " per cell, bunny scale " +
                                   fixed(setups[i].scale, 3),
-                              [&, i] { return bunnies.scene(setups[i]); }, shapes[i]});
+                              [&, i] { return bunnies.scene(setups[i]); }, of.sums.transferShape});
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   std::string exponents;
-  for (const SumSeries& sums : run.sumSeries()) {
-    const std::string& atomics = sums.atomics;
-    for (const std::string name : {"unscaled", "scaled"}) {
-      std::vector<std::pair<double, double>> points;
-      for (std::size_t i = 0; i < setups.size(); ++i) {
-        if (series[i] != name || setups[i].atomics != atomics || shapes[i] != sums.transferShape) continue;
-        const glm::ivec3 cells(setups[i].gridCells);
-        CsvTable::Row& row = table.addRow();
-        row.setText("series", name)
-            .setText("atomics", atomics)
-            .setCount("particles", std::int64_t(timed[i].particles))
-            .setCount("grid_cells", nodeCount(cells))
-            .setText("grid_dims", nodeDims(cells))
-            .set("cell_size_m", bunnies.cellSizeM())
-            .set("particles_per_cell", setups[i].particlesPerCell)
-            .set("bunny_scale", setups[i].scale)
-            .setText("renderer", run.renderer());
-        setTiming(row, timed[i]);
-        if (timed[i].status == "ok") points.emplace_back(double(timed[i].particles), timed[i].timing.medianMs);
-      }
-      if (points.size() >= 2) {
-        const std::vector<std::pair<double, double>> largest(
-            points.end() - std::ptrdiff_t(std::min(points.size(), kExponentFitSizes)), points.end());
-        exponents += (exponents.empty() ? "" : ", ") + name + " " + sums.label() + " " + fixed(logLogSlope(largest), 3) +
-                     " (" + grouped(std::uint64_t(largest.front().first)) + "–" +
-                     grouped(std::uint64_t(largest.back().first)) + " particles)";
-      }
+  for (std::size_t s = 0; s < series.size(); ++s) {
+    std::vector<std::pair<double, double>> points;
+    for (std::size_t i = 0; i < setups.size(); ++i) {
+      if (seriesOf[i] != s) continue;
+      const glm::ivec3 cells(setups[i].gridCells);
+      CsvTable::Row& row = table.addRow();
+      row.setText("series", series[s].name)
+          .setText("kernel", series[s].kernel)
+          .setText("atomics", series[s].sums.atomics)
+          .setCount("particles", std::int64_t(timed[i].particles))
+          .setCount("grid_cells", nodeCount(cells))
+          .setText("grid_dims", nodeDims(cells))
+          .set("cell_size_m", bunnies.cellSizeM())
+          .set("particles_per_cell", setups[i].particlesPerCell)
+          .set("bunny_scale", setups[i].scale)
+          .setText("renderer", run.renderer());
+      setTiming(row, timed[i]);
+      if (timed[i].status == "ok") points.emplace_back(double(timed[i].particles), timed[i].timing.medianMs);
+    }
+    if (points.size() >= 2) {
+      const std::vector<std::pair<double, double>> largest(
+          points.end() - std::ptrdiff_t(std::min(points.size(), kExponentFitSizes)), points.end());
+      exponents += (exponents.empty() ? "" : ", ") + series[s].label() + " " + fixed(logLogSlope(largest), 3) + " (" +
+                   grouped(std::uint64_t(largest.front().first)) + "–" + grouped(std::uint64_t(largest.back().first)) +
+                   " particles)";
     }
   }
   run.write(table, "particles");

@@ -1,6 +1,7 @@
 // passes.csv: each pass of a step timed alone (GL_TIME_ELAPSED and wall time to glFinish) on the reference
-// bunny, once per series of sums (atomics and P2G shape), with its share of the step. The summary gives each
-// pass's share and their sum.
+// bunny, once per series of sums (atomics and P2G shape), with its share of the step; and once more for each
+// fixed-point series stepped semi-implicitly at the thesis's 1e-3 s, whose solve's passes (the Hessian product
+// above all) are where that integrator's time goes. The summary gives each pass's share and their sum.
 #include "Error.h"
 #include "Experiments.h"
 #include "sim/Simulation.h"
@@ -9,12 +10,26 @@ namespace firn::bench {
 
 void measurePasses(BenchRun& run) {
   CsvTable table(
-      {"atomics", "transfer_shape", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step", "particles", "renderer"});
+      {"atomics", "transfer_shape", "integrator", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step",
+       "particles", "renderer"});
+  struct PassSeries {
+    SumSeries sums;
+    std::string integrator;
+  };
+  std::vector<PassSeries> series;
+  for (const SumSeries& sums : run.sumSeries()) series.push_back({sums, "explicit"});
   for (const SumSeries& sums : run.sumSeries()) {
+    if (sums.atomics == "fixed") series.push_back({sums, "semi_implicit"});  // the solver sums fixed point only
+  }
+  for (const auto& [sums, integrator] : series) {
     const std::string& atomics = sums.atomics;
     try {
       BunnySetup setup = run.referenceBunny();
       setup.atomics = atomics;
+      if (integrator == "semi_implicit") {
+        setup.integrator = integrator;
+        setup.dtS = kThesisDtS;
+      }
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
       const ForcedTransferShape forced(sums.transferShape);
@@ -31,6 +46,7 @@ void measurePasses(BenchRun& run) {
         table.addRow()
             .setText("atomics", atomics)
             .setText("transfer_shape", shape)
+            .setText("integrator", integrator)
             .setText("pass", timing.pass)
             .set("gpu_ms", timing.gpuMs)
             .set("wall_ms", timing.wallMs)
@@ -43,12 +59,13 @@ void measurePasses(BenchRun& run) {
       }
       run.progress("passes: " + shares);
       run.addSummary("passes (" + grouped(seeds.size()) + " particles, cubic, PIC/FLIP, " + atomics +
-                     " atomics, P2G by " + shape + "), wall time per step, each pass timed alone: " + shares + "; sum " +
+                     " atomics, P2G by " + shape + ", " + integrator + (integrator == "explicit" ? "" : ", dt 1e-3 s") +
+                     "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
     } catch (const SimulationError& error) {
-      run.progress(std::string("passes: unstable: ") + error.what());
+      run.progress("passes, " + integrator + ": unstable: " + error.what());
     } catch (const InputError& error) {
-      run.progress(std::string("passes: skipped: ") + error.what());
+      run.progress("passes, " + integrator + ": skipped: " + error.what());
     }
   }
   run.write(table, "passes");

@@ -15,7 +15,6 @@ namespace {
 
 // The thesis implementation's median time per physics step on its own bunny, at its step (issue 7).
 constexpr double kThesisMsPerStep = 546;
-constexpr double kThesisDtS = 1e-3;
 
 }  // namespace
 

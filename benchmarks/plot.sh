@@ -44,22 +44,23 @@ plot_table() {
 plot_table particles '
 set title "Time per step against particles (the bunny on the thesis grid)\n".renderer
 set logscale xy
+set key top left
 set xlabel "particles"
 set ylabel "ms per step (median)"
-series(name, atomics) = (strcol("series") eq name && strcol("atomics") eq atomics && @ok) ? column("particles") : NaN
+family(shape) = (shape eq "tiles") ? "tiles" : "blocks"
+series(name, kernel, of) = (strcol("series") eq name && strcol("kernel") eq kernel && \
+                            strcol("atomics")."_".family(strcol("transfer_shape")) eq of && @ok) ? column("particles") : NaN
 stats file using (@ok ? log(column("particles")) : NaN) name "logParticles" nooutput
 stats file using (@ok ? log(column("ms_per_step")) : NaN) name "logMs" nooutput
 guide(x) = exp(logMs_mean) * x / exp(logParticles_mean)
-set style line 1 lc rgb "#1f77b4" pt 7
-set style line 2 lc rgb "#1f77b4" pt 5 dashtype 3
-set style line 3 lc rgb "#d62728" pt 7
-set style line 4 lc rgb "#d62728" pt 5 dashtype 3
-set style line 5 lc rgb "#2ca02c" pt 7
-set style line 6 lc rgb "#2ca02c" pt 5 dashtype 3
-plot for [i=1:2] file using (series("unscaled", word("fixed float", i))):"ms_per_step" with linespoints \
-       ls 2*i-1 title word("fixed float", i)." atomics, unscaled (one bunny, 4, 8, 16 … per cell)", \
-     for [i=1:2] file using (series("scaled", word("fixed float", i))):"ms_per_step" with linespoints \
-       ls 2*i title word("fixed float", i)." atomics, scaled (8 per cell, larger bunny)", \
+sumsList = "fixed_tiles fixed_blocks float_tiles"
+colours = "#1f77b4 #2ca02c #d62728"
+plot for [i=1:3] file using (series("unscaled", "cubic", word(sumsList, i))):"ms_per_step" with linespoints \
+       lc rgb word(colours, i) pt 7 title word(sumsList, i)." cubic, unscaled (one bunny, 4, 8, 16 … per cell)", \
+     for [i=1:3] file using (series("scaled", "cubic", word(sumsList, i))):"ms_per_step" with linespoints \
+       lc rgb word(colours, i) pt 5 dashtype 3 title word(sumsList, i)." cubic, scaled (8 per cell, larger bunny)", \
+     for [i=1:2] file using (series("scaled", "quadratic", word(sumsList, i))):"ms_per_step" with linespoints \
+       lc rgb word(colours, i) pt 9 dashtype 2 title word(sumsList, i)." quadratic, scaled", \
      guide(x) with lines dashtype 2 lc rgb "gray40" title "slope 1 (linear)"
 '
 
@@ -99,7 +100,8 @@ set yrange [0:*]
 set ylabel "ms per step"
 set key top right
 set xtics rotate by -30
-plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics").")") title "wall (dispatch to glFinish)", \
+plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics")." ".strcol("transfer_shape").", ".strcol("integrator").")") \
+       title "wall (dispatch to glFinish)", \
      file using "gpu_ms" title "GL_TIME_ELAPSED"
 '
 

@@ -35,11 +35,13 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
 
   const std::map<std::string, std::vector<std::string>> leadingColumns = {
       {"particles.csv",
-       {"series", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m", "particles_per_cell"}},
+       {"series", "kernel", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m",
+        "particles_per_cell"}},
       {"grid.csv", {"atomics", "transfer_shape", "grid_cells", "grid_dims", "particles", "active_nodes"}},
       {"domain.csv", {"grid_cells", "grid_dims", "transfer_shape", "particles", "active_blocks", "active_nodes", "pool_blocks", "pool_mib",
                       "block_map_mib"}},
-      {"passes.csv", {"atomics", "transfer_shape", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
+      {"passes.csv",
+       {"atomics", "transfer_shape", "integrator", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step"}},
       {"p2g_atomics.csv", {"atomics", "transfer_shape", "p2g_ms", "p2g_gpu_ms", "mass_max_rel_error", "mass_rms_rel_error",
                            "momentum_max_rel_error", "momentum_rms_rel_error"}},
       {"tradeoff.csv", {"configuration", "integrator", "implicit_ratio", "kernel", "transfer", "flip_ratio",
@@ -85,7 +87,7 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
   // The tables of the step time fixed point in both P2G shapes, tiles and blocks (sim/TransferShape.h).
   for (const std::string file : {"particles.csv", "grid.csv", "passes.csv", "p2g_atomics.csv"}) {
     const auto rows = readCsv(out / file);
-    const std::size_t atomics = file == "particles.csv" ? 1 : 0, shape = atomics + 1;  // particles.csv: series first
+    const std::size_t atomics = file == "particles.csv" ? 2 : 0, shape = atomics + 1;  // particles.csv: series, kernel first
     bool tiles = false, blocks = false;
     for (std::size_t r = 1; r < rows.size(); ++r) {
       if (rows[r][atomics] != "fixed") continue;
