@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "gpu/GpuLayout.h"
@@ -26,16 +28,26 @@ static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "t
 
 }  // namespace
 
-ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
+ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
+                               const std::vector<TransferShape>& shapes)
     : maxIterations_(scene.solver.maxIterations) {
-  orderBins_ = gl::ComputePass(library, "sim/solver_order_bins.comp", options);
   prepare_ = gl::ComputePass(library, "sim/solver_prepare.comp", options);
   begin_ = gl::ComputePass(library, "sim/solver_begin.comp", options);
-  gl::ShaderOptions firstProductOptions = options;
-  firstProductOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
-  firstProduct_ = gl::ComputePass(library, "sim/solver_product.comp", firstProductOptions,
-                                  "sim/solver_product.comp (first product)");
-  product_ = gl::ComputePass(library, "sim/solver_product.comp", options);
+  // Every shape's product is timed under one name, the tiles' (sim/solver_product.comp), as P2G's are.
+  for (const TransferShape& shape : shapes) {
+    const bool tiles = shape.kind == TransferShape::Kind::Tiles;
+    gl::ShaderOptions shapeOptions = options;
+    if (!tiles) shapeOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
+    gl::ShaderOptions firstOptions = shapeOptions;
+    firstOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
+    const std::string file = tiles ? "sim/solver_product.comp" : "sim/solver_product_block.comp";
+    ProductPasses passes;
+    passes.shape = shape;
+    passes.first = gl::ComputePass(library, file, firstOptions, "sim/solver_product.comp (first product)");
+    passes.iteration = gl::ComputePass(library, file, shapeOptions, "sim/solver_product.comp");
+    passes.dispatch = tiles ? kProductDispatch : kBlockDispatch;
+    products_.push_back(std::move(passes));
+  }
   residual_ = gl::ComputePass(library, "sim/solver_residual.comp", options);
   apply_ = gl::ComputePass(library, "sim/solver_apply.comp", options);
   step_ = gl::ComputePass(library, "sim/solver_step.comp", options);
@@ -45,9 +57,7 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
 
 void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
                              gl::PassTimer& timer) const {
-  const gl::BufferBindings& buffers = state.bindings();
-  orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-  prepare_.runOver(particles, maxWorkGroupsX, buffers, timer);
+  prepare_.runOver(particles, maxWorkGroupsX, state.bindings(), timer);
   glMemoryBarrier(gl::kStorage);
 }
 
@@ -73,8 +83,16 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
   return report;
 }
 
+const ImplicitSolver::ProductPasses& ImplicitSolver::products(const TransferShape& shape) const {
+  for (const ProductPasses& passes : products_) {
+    if (passes.shape == shape) return passes;
+  }
+  throw std::logic_error("ImplicitSolver: no Hessian product in the shape " + transferShapeName(shape));
+}
+
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
-                                  gl::PassTimer& timer) const {
+                                  const TransferShape& shape, gl::PassTimer& timer) const {
+  const ProductPasses& product = products(shape);
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   begin_.runOnce(buffers, timer);
@@ -82,7 +100,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
-  firstProduct_.runIndirect(status, kProductDispatch, buffers, timer);
+  product.first.runIndirect(status, product.dispatch, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   residual_.runIndirect(status, kBlockDispatch, buffers, timer);
   glMemoryBarrier(gl::kStorage);
@@ -92,7 +110,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product_.runIndirect(status, kProductDispatch, buffers, timer);
+    product.iteration.runIndirect(status, product.dispatch, buffers, timer);
     glMemoryBarrier(gl::kStorage);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
     glMemoryBarrier(gl::kStorage);

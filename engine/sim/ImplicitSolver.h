@@ -15,6 +15,7 @@
 #include "scene/Scene.h"
 #include "sim/GpuState.h"
 #include "sim/SolveReport.h"
+#include "sim/TransferShape.h"
 
 namespace firn {
 
@@ -24,28 +25,40 @@ class ImplicitSolver {
   // after convergence cost nothing.
   static constexpr int checkInterval = 4;
 
-  // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them.
-  ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options);
+  // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them; `shapes` the
+  // transfer shapes the run may take (sim/TransferShape.h): the Hessian product takes the shape P2G took.
+  ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
+                 const std::vector<TransferShape>& shapes);
 
-  // Replaces v* on the grid with the solution. The state's buffers must be bound (StepPipeline binds them).
-  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
+  // Replaces v* on the grid with the solution, the Hessian products in `shape`, one of the constructor's. The
+  // state's buffers must be bound (StepPipeline binds them).
+  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, const TransferShape& shape,
+                    gl::PassTimer& timer) const;
 
 
  private:
   friend class SimulationProbe;  // the solver's tests (tests/support/SimulationProbe.h) run its passes one by one
 
-  // The bins' order by particle index and each particle's stiffness (solver_prepare.comp).
+  // Each particle's stiffness (solver_prepare.comp).
   void prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
   // The solve's end after `iterations`: the residual register it ended at, relative to the reference.
   static SolveReport report(const GpuState& state, int iterations);
   void reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const;
 
+  // The Hessian product's passes in one shape: tiles (solver_product.comp) take the transfers' dispatch, blocks
+  // (solver_product_block.comp) a work group per active block.
+  struct ProductPasses {
+    TransferShape shape;
+    gl::ComputePass first;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
+    gl::ComputePass iteration;
+    std::size_t dispatch = 0;  // its indirect dispatch's offset in the solver's status
+  };
+  const ProductPasses& products(const TransferShape& shape) const;
+
   int maxIterations_;
-  gl::ComputePass orderBins_;
   gl::ComputePass prepare_;
   gl::ComputePass begin_;
-  gl::ComputePass firstProduct_;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
-  gl::ComputePass product_;
+  std::vector<ProductPasses> products_;  // tiles first
   gl::ComputePass residual_;
   gl::ComputePass apply_;
   gl::ComputePass step_;

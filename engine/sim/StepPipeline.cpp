@@ -121,7 +121,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
     rigidBodies_ = scene.rigidBodies.size();
   }
-  if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
+  if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options, candidates.shapes);
 }
 
 namespace {
@@ -198,7 +198,9 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;
-  if (implicitSolver_) solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
+  if (implicitSolver_) {
+    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, particleToGrid_[chosen_].first, timer);
+  }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   if (rigidBodies_ > 0) {

@@ -13,4 +13,7 @@ layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer 
 
 // A node's linear index in the dense domain: how the watchdog names it (grid nodes are stored by block).
 uint nodeIndex(ivec3 node) { return uint(node.x + gridNodes.x * (node.y + gridNodes.y * node.z)); }
-vec3 nodePosition(ivec3 node) { return gridOriginM + vec3(node) * cellSizeM; }
+vec3 nodePosition(ivec3 node) {
+  precise vec3 positionM = gridOriginM + vec3(node) * cellSizeM;  // as the weights (common/bspline.glsl)
+  return positionM;
+}

@@ -150,3 +150,15 @@ int regionIndex(ivec3 offset) { return offset.x + REGION_WIDTH * (offset.y + REG
 ivec3 regionOffset(int index) {
   return ivec3(index % REGION_WIDTH, (index / REGION_WIDTH) % REGION_HEIGHT, index / (REGION_WIDTH * REGION_HEIGHT));
 }
+
+// A block's region, for the transfers shaped for GPUs (p2g_block.comp, solver_product_block.comp): the nodes the
+// stencils of the particles based in the block reach, from its first node on, indexed x, then y, then z.
+const int BLOCK_REGION_WIDTH = BLOCK_WIDTH + KERNEL_WIDTH - 1;
+const int BLOCK_REGION_NODES = BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH;
+int blockRegionIndex(ivec3 offset) {
+  return offset.x + BLOCK_REGION_WIDTH * (offset.y + BLOCK_REGION_WIDTH * offset.z);
+}
+ivec3 blockRegionOffset(int index) {
+  return ivec3(index % BLOCK_REGION_WIDTH, (index / BLOCK_REGION_WIDTH) % BLOCK_REGION_WIDTH,
+               index / (BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH));
+}

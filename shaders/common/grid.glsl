@@ -95,7 +95,10 @@ float particleDither(vec3 particlePosition) {
 }
 
 // The dither of the particle's contributions to stencil node n (channel 0), by the golden-ratio recurrence.
-float contributionDither(float particleU, int stencilNode) { return fract(particleU + float(stencilNode) * 0.61803399); }
+float contributionDither(float particleU, int stencilNode) {
+  precise float u = fract(particleU + float(stencilNode) * 0.61803399);  // as the weights: the same in every program
+  return u;
+}
 
 // Reports an overflow of the channels `over` marks at `node`.
 void reportOverflows(bvec4 over, ivec3 node, uvec4 channels) {
@@ -114,9 +117,9 @@ void reportOverflows(bvec4 over, ivec3 node, uvec4 channels) {
 // particle lost 5e-4 of its speed in 10,000 steps. x·2^k − ⌊x·2^k⌋ is exact (Sterbenz) except for x·2^k in (−1, 0),
 // and 1 − u (u ≥ 2⁻²⁴) is off by at most 2⁻²⁵: biases of 2⁻²⁵ of a quantum.
 ivec4 quantize(vec4 values, uvec4 channels, float dither, inout ivec4 overflow) {
-  vec4 exact = values * ldexp(1.0, fixedPointFractionBits);
+  precise vec4 exact = values * ldexp(1.0, fixedPointFractionBits);
   vec4 whole = floor(exact);
-  vec4 u = fract(dither + vec4(channels) * 0.75487767);
+  precise vec4 u = fract(dither + vec4(channels) * 0.75487767);
   vec4 scaled = whole + vec4(greaterThanEqual(exact - whole, 1.0 - u));
   bvec4 tooLarge = not(lessThanEqual(abs(scaled), vec4(FIXED_POINT_LIMIT)));  // also catches NaN
   overflow |= ivec4(uvec4(tooLarge) << 31);

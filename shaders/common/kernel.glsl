@@ -49,20 +49,26 @@ ivec3 stencilBaseNode(vec3 positionInCells) {
 #endif
 }
 
-vec3 cellCoordinates(vec3 positionM) { return (positionM - gridOriginM) / cellSizeM; }
+// precise, as the weights (common/bspline.glsl): every pass that sorts, bins or transfers a particle must find the
+// same cell for it, and a division rewritten in one program and not in another could move a particle on a cell's
+// boundary to the next.
+vec3 cellCoordinates(vec3 positionM) {
+  precise vec3 positionInCells = (positionM - gridOriginM) / cellSizeM;
+  return positionInCells;
+}
 
 Stencil particleStencil(vec3 positionM) {
-  vec3 positionInCells = cellCoordinates(positionM);
-  Stencil stencil;
+  precise vec3 positionInCells = cellCoordinates(positionM);
+  precise Stencil stencil;
   stencil.baseNode = stencilBaseNode(positionInCells);
   stencil.weightX = stencil.weightY = stencil.weightZ = vec4(0.0);
   stencil.slopeX = stencil.slopeY = stencil.slopeZ = vec4(0.0);
   for (int k = 0; k < KERNEL_WIDTH; ++k) {
-    vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
+    precise vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
     stencil.weightX[k] = kernelWeight(offsetInCells.x);
     stencil.weightY[k] = kernelWeight(offsetInCells.y);
     stencil.weightZ[k] = kernelWeight(offsetInCells.z);
-    vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSizeM;
+    precise vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSizeM;
     stencil.slopeX[k] = slope.x;
     stencil.slopeY[k] = slope.y;
     stencil.slopeZ[k] = slope.z;
@@ -71,8 +77,12 @@ Stencil particleStencil(vec3 positionM) {
 }
 
 // w_ip = N(dx) N(dy) N(dz) and its gradient (Stomakhin 2013 eq. 4–5).
-float stencilWeight(Stencil s, ivec3 k) { return s.weightX[k.x] * s.weightY[k.y] * s.weightZ[k.z]; }
+float stencilWeight(Stencil s, ivec3 k) {
+  precise float w = s.weightX[k.x] * s.weightY[k.y] * s.weightZ[k.z];
+  return w;
+}
 vec3 stencilGradient(Stencil s, ivec3 k) {
-  return vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z], s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
-              s.weightX[k.x] * s.weightY[k.y] * s.slopeZ[k.z]);
+  precise vec3 gradient = vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z], s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
+                               s.weightX[k.x] * s.weightY[k.y] * s.slopeZ[k.z]);
+  return gradient;
 }

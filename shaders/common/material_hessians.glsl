@@ -56,7 +56,7 @@ PrincipalHessian fixedCorotatedHessian(vec3 sigma, float mu, float lambda) {
 // λ / (σᵢσⱼ), shear μ + (μ − λ ln J) / (σᵢσⱼ) and rotation μ − (μ − λ ln J) / (σᵢσⱼ), σᵢσⱼ = J/σₖ.
 PrincipalHessian neoHookeanHessian(vec3 sigma, float mu, float lambda) {
   vec3 inverse = 1.0 / sigma;
-  float logJ = log(sigma.x * sigma.y * sigma.z);
+  float logJ = logAccurate(sigma.x * sigma.y * sigma.z);
   vec3 pairProducts = vec3(sigma.y * sigma.z, sigma.z * sigma.x, sigma.x * sigma.y);
   PrincipalHessian h;
   h.scaling = mu * mat3(1.0) + (mu - lambda * logJ) * diagonal(inverse * inverse) + lambda * outerProduct(inverse, inverse);

@@ -13,6 +13,19 @@ struct MaterialUpdate {
 
 mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
 
+// ln x to a few ulps of ln x also where x is near 1, for the strains of the models (Hencky's ln Σ, ln J): GLSL lets
+// log(x) be off by 2⁻²¹ absolutely for x in [0.5, 2] (GLSL 4.30 §4.7.1), which is the whole of a strain of 1e-7 and
+// more, and NVIDIA's log is: sand at rest (Σ ≈ 1 ± 1e-7) took strains of that size, its volume correction summed
+// them every step, and lone sand particles near a wall drifted off by 2 cm in 2 s (an H200; llvmpipe's log is
+// exact to the ulp). Within 1/32 of 1, x − 1 is exact (Sterbenz) and the series ln(1 + y) = y − y²/2 + y³/3 − y⁴/4
+// + y⁵/5 is off by less than y⁶/6 < 2e-10 absolutely, 5e-9 relatively.
+float logAccurate(float x) {
+  float y = x - 1.0;
+  if (abs(y) >= 1.0 / 32.0) return log(x);
+  return y * (1.0 - y * (0.5 - y * (1.0 / 3.0 - y * (0.25 - y * 0.2))));
+}
+vec3 logAccurate(vec3 x) { return vec3(logAccurate(x.x), logAccurate(x.y), logAccurate(x.z)); }
+
 // F̂ = (I + Δt ∇v) F (Stomakhin 2013 eq. 8; Blažević 2022 eq. 3.19).
 mat3 advanceDeformation(mat3 F, mat3 velocityGradient, float dtS) { return (mat3(1.0) + dtS * velocityGradient) * F; }
 
@@ -73,7 +86,7 @@ MaterialUpdate updateFixedCorotated(mat3 F, mat3 velocityGradient, float dtS, Ma
 // −μ F⁻ᵀ), so τ = μ(F Fᵀ − I) + λ ln J I: no SVD. An inverted F (J ≤ 0) gives a non-finite τ, which the
 // watchdog reports.
 mat3 neoHookeanStress(mat3 F, float mu, float lambda) {
-  return mu * (F * transpose(F) - mat3(1.0)) + lambda * log(determinant(F)) * mat3(1.0);
+  return mu * (F * transpose(F) - mat3(1.0)) + lambda * logAccurate(determinant(F)) * mat3(1.0);
 }
 
 MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, MaterialParams m) {
@@ -88,7 +101,8 @@ MaterialUpdate updateNeoHookean(mat3 F, mat3 velocityGradient, float dtS, Materi
 MaterialUpdate updateWater(float J, mat3 velocityGradient, float dtS, MaterialParams m) {
   MaterialUpdate result;
   float newJ = (1.0 + dtS * (velocityGradient[0][0] + velocityGradient[1][1] + velocityGradient[2][2])) * J;
-  float pressure = m.fluid.x * (pow(newJ, -m.fluid.y) - 1.0);
+  // J^−γ as exp(−γ ln J): pow takes its logarithm with log's absolute error, a pressure of k γ 2⁻²¹ at rest.
+  float pressure = m.fluid.x * (exp(-m.fluid.y * logAccurate(newJ)) - 1.0);
   result.kirchhoffStress = -pressure * newJ * mat3(1.0) +
                            newJ * m.fluid.z * (velocityGradient + transpose(velocityGradient));
   result.deformation = mat3(1.0);
@@ -118,7 +132,8 @@ MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3
   sigma = max(sigma, vec3(1e-4));
   float mu = m.elastic.x;
   float lambda = m.elastic.y;
-  vec3 epsilon = log(sigma) + volumeCorrection / 3.0;
+  vec3 logSigmaTrial = logAccurate(sigma);
+  vec3 epsilon = logSigmaTrial + volumeCorrection / 3.0;
   float traceEpsilon = epsilon.x + epsilon.y + epsilon.z;
   vec3 deviatoric = epsilon - traceEpsilon / 3.0;
   float deviatoricNorm = length(deviatoric);
@@ -138,10 +153,11 @@ MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3
   result.deformation = U * diagonal(projected) * transpose(V);
   // V_c collects the volume the projection removed, so that loosened sand must be compressed back before it
   // bears load again.
-  result.volumeCorrection = volumeCorrection + log(sigma.x * sigma.y * sigma.z) - log(projected.x * projected.y * projected.z);
-  result.state = q + plasticIncrement;
   // τ = U (2μ ln Σ + λ tr(ln Σ) I) Uᵀ for the Hencky energy (eq. 4.13).
-  vec3 logSigma = log(projected);
+  vec3 logSigma = logAccurate(projected);
+  result.volumeCorrection = volumeCorrection + (logSigmaTrial.x + logSigmaTrial.y + logSigmaTrial.z) -
+                            (logSigma.x + logSigma.y + logSigma.z);
+  result.state = q + plasticIncrement;
   result.kirchhoffStress = U * diagonal(2.0 * mu * logSigma + lambda * (logSigma.x + logSigma.y + logSigma.z)) * transpose(U);
   return result;
 }

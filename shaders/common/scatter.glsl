@@ -15,8 +15,9 @@ struct Contribution {
   float particleU;            // the particle's rounding dither (grid.glsl)
 };
 
+// precise, as the weights (common/bspline.glsl): P2G's two shapes must compute each contribution to the same bits.
 Contribution particleContribution(uint p) {
-  Contribution c;
+  precise Contribution c;
   c.x = positionMass[p].xyz;
   float massKg = positionMass[p].w;
   vec4 velocityVolumeP = velocityVolume[p];
@@ -37,14 +38,16 @@ Contribution particleContribution(uint p) {
 // The contribution to `node` with weight w and gradient ∇w: (momentum, mass) and the impulse, which an explicit
 // APIC step adds to the momentum (grid.glsl's FIRN_GRID_IMPULSE).
 void contributionToNode(Contribution c, ivec3 node, float w, vec3 gradient, out vec4 momentumMass, out vec3 impulse) {
-  impulse = c.impulseUnits * gradient;
+  precise vec3 nodeImpulse = c.impulseUnits * gradient;
 #ifdef FIRN_TRANSFER_APIC
-  vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x));
+  precise vec3 momentum = w * (c.momentumUnits + c.affineMomentumUnits * (nodePosition(node) - c.x));
 #else
-  vec3 momentum = w * c.momentumUnits;
+  precise vec3 momentum = w * c.momentumUnits;
 #endif
 #ifndef FIRN_GRID_IMPULSE
-  momentum += impulse;
+  momentum += nodeImpulse;
 #endif
-  momentumMass = vec4(momentum, w * c.massUnits);
+  precise vec4 nodeMomentumMass = vec4(momentum, w * c.massUnits);
+  impulse = nodeImpulse;
+  momentumMass = nodeMomentumMass;
 }

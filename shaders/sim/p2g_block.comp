@@ -17,8 +17,6 @@
 
 layout(local_size_x = FIRN_P2G_BLOCK_GROUP_SIZE) in;
 
-const int BLOCK_REGION_WIDTH = BLOCK_WIDTH + KERNEL_WIDTH - 1;
-const int BLOCK_REGION_NODES = BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH;
 #ifdef FIRN_GRID_IMPULSE
 const int REGION_CHANNELS = 7;  // momentum x, y, z, mass; impulse x, y, z
 #else
@@ -29,14 +27,6 @@ const int REGION_CHANNELS = 4;
 // whose partial sums overflowed (their sign bits, as p2g.comp's accumulators mark them).
 shared int regionSums[REGION_CHANNELS * BLOCK_REGION_NODES];
 shared int regionOverflow[REGION_CHANNELS];
-
-int blockRegionIndex(ivec3 offset) {
-  return offset.x + BLOCK_REGION_WIDTH * (offset.y + BLOCK_REGION_WIDTH * offset.z);
-}
-ivec3 blockRegionOffset(int index) {
-  return ivec3(index % BLOCK_REGION_WIDTH, (index / BLOCK_REGION_WIDTH) % BLOCK_REGION_WIDTH,
-               index / (BLOCK_REGION_WIDTH * BLOCK_REGION_WIDTH));
-}
 
 // Adds the quantized `values` to channels [firstChannel, firstChannel + channels) of region node i, and marks the
 // channels whose contribution was too large to quantize (`tooLarge`, from quantize) or whose partial sum overflowed.

@@ -72,12 +72,22 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
       forceDifference.defines.emplace_back("FIRN_SOLVER_FORCE_DIFFERENCE", "1");
       EXPECT_NO_THROW(firn::gl::Program::compute(library, "sim/solver_product.comp", forceDifference))
           << "force difference " << kernel << " " << transfer;
-      for (const char* pass : {"sim/update_grid.comp", "sim/g2p.comp", "sim/solver_prepare.comp",
-                               "sim/solver_order_bins.comp", "sim/solver_begin.comp", "sim/solver_product.comp", "sim/solver_residual.comp",
-                               "sim/solver_apply.comp", "sim/solver_step.comp",
-                               "sim/solver_reduce.comp", "sim/solver_finish.comp"}) {
+      for (const char* pass : {"sim/update_grid.comp", "sim/g2p.comp", "sim/solver_prepare.comp", "sim/solver_begin.comp",
+                               "sim/solver_product.comp", "sim/solver_residual.comp", "sim/solver_apply.comp",
+                               "sim/solver_step.comp", "sim/solver_reduce.comp", "sim/solver_finish.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, semiImplicit))
             << pass << " semi-implicit " << kernel << " " << transfer;
+      }
+      // The product in both shapes, the first product's too (its block shape holds the most shared memory).
+      for (const char* groupSize : {"", "64", "256"}) {
+        for (const bool first : {false, true}) {
+          firn::gl::ShaderOptions product = semiImplicit;
+          if (first) product.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
+          if (*groupSize != '\0') product.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", groupSize);
+          const char* pass = *groupSize == '\0' ? "sim/solver_product.comp" : "sim/solver_product_block.comp";
+          EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, product))
+              << pass << " " << groupSize << (first ? " first product " : " ") << kernel << " " << transfer;
+        }
       }
     }
   }

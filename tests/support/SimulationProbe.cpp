@@ -49,8 +49,6 @@ void SimulationProbe::prepare(HessianProduct product) {
   s.pipeline_.transferToGrid(state, s.particleCount_, s.passTimer_);
   const gl::BufferBindings& buffers = state.bindings();
   const ImplicitSolver& implicitSolver = solver();
-  implicitSolver.orderBins_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers,
-                                        s.passTimer_);
   const gl::ComputePass& pass = product == HessianProduct::Unprojected ? unprojectedPrepare_ : implicitSolver.prepare_;
   pass.runOver(s.particleCount_, s.gl_.maxComputeWorkGroupCountX, buffers, s.passTimer_);
   glMemoryBarrier(kStorage);
@@ -69,7 +67,7 @@ std::vector<SimulationProbe::NodeVector> SimulationProbe::hessianProduct(
     stored[i].preconditioned = glm::vec4(glm::vec3(velocityAtNode(grid.originM + glm::dvec3(nodes[i]) * grid.cellSizeM)), 0);
   }
   solverNodes.upload(0, stored.size() * sizeof(gpu::SolverNode), stored.data());
-  const gl::ComputePass& pass = product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().product_;
+  const gl::ComputePass& pass = product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().products_.front().iteration;
   pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
                    simulation_.passTimer_);
   glMemoryBarrier(kStorage);
@@ -80,7 +78,7 @@ std::vector<SimulationProbe::NodeMatrix> SimulationProbe::stiffnessBlocks() {
   prepare(HessianProduct::Differential);
   GpuState& state = simulation_.state_;
   const std::vector<glm::ivec3> nodes = state.grid().activeNodes();
-  solver().firstProduct_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch),
+  solver().products_.front().first.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch),
                                     state.bindings(), simulation_.passTimer_);
   glMemoryBarrier(kStorage);
   return inGridOrder<NodeMatrix>(nodes, takeSums(nodes.size()).stiffnessBlocks);

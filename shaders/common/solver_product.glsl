@@ -1,0 +1,134 @@
+// One particle's part of the semi-implicit solve's Hessian product β Δt² H u (common/solver.glsl), for both shapes of
+// the product: solver_product.comp (a tile of base nodes per invocation, its region in private arrays) and
+// solver_product_block.comp (a block per work group, an invocation per particle, its region in shared memory). The
+// particle gathers the velocity gradient G = Σᵢ uᵢ ∇wᵢₚᵀ from u at its stencil's nodes (δF = Δt G F, the change of F
+// if the nodes moved Δt u), takes δP Fᵀ from its stiffness (common/material_hessians.glsl; δP = ∂²Ψ/∂F² : δF) and
+// adds β Δt V0 δP Fᵀ ∇wᵢₚ to each node, as P2G adds the force of τ (Stomakhin 2013 §6 and eq. 9). Plasticity is held
+// fixed for the step: F is F_E. The first product of a step (FIRN_SOLVER_FIRST_PRODUCT, of the start x₀) also adds
+// β Δt² Hᵢᵢ, the Hessian's 3×3 block at each node, for the block preconditioner.
+//
+// Each contribution to a node is rounded to the solve's 64-bit fixed point on its own (productToFixed64) and the
+// region sums them as 64-bit integers, exact in any order: the two shapes write the same bytes, as P2G's do
+// (sim/TransferShape.h), and neither needs the particles in a fixed order. The values are precise (as the weights,
+// common/bspline.glsl), so that the two programs compute each contribution to the same bits.
+//
+// The pass says where its region lives, `offset` counted from the region's first node:
+vec3 productVectorAt(ivec3 offset);                               // u there (m/s)
+void addProductToRegion(ivec3 offset, uvec3 low, ivec3 high);     // adds a product contribution there
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+void addStiffnessBlockToRegion(ivec3 offset, uvec3 diagonalLow, ivec3 diagonalHigh, uvec3 offDiagonalLow,
+                               ivec3 offDiagonalHigh);             // adds a stiffness block's diagonal, yz zx xy
+#endif
+
+#ifdef FIRN_SOLVER_FORCE_DIFFERENCE
+// Test builds (tests/gl/SemiImplicitTest.cpp) put the central difference of the stress the explicit force comes
+// from, (P(F + δF) − P(F − δF)) / 2 with P = τ F⁻ᵀ and τ as materials.glsl computes it, in place of δP.
+mat3 firstPiolaStress(mat3 F, MaterialParams m, float plasticJ) {
+  vec2 lame = currentLameParameters(m, plasticJ);
+  mat3 kirchhoff = mat3(0.0);
+#if defined(FIRN_MATERIAL_SNOW) || defined(FIRN_MATERIAL_FIXED_COROTATED)
+  if (m.model.x == MODEL_SNOW || m.model.x == MODEL_FIXED_COROTATED) {
+    mat3 U, V;
+    vec3 sigma;
+    svd3(F, U, sigma, V);
+    kirchhoff = fixedCorotatedStress(F, U, sigma, lame.x, lame.y);
+  }
+#endif
+#ifdef FIRN_MATERIAL_NEO_HOOKEAN
+  if (m.model.x == MODEL_NEO_HOOKEAN) {
+    kirchhoff = neoHookeanStress(F, lame.x, lame.y);
+  }
+#endif
+  return kirchhoff * transpose(inverse(F));
+}
+#endif
+
+// The stencil node k's term uᵢ ∇wᵢₚᵀ of the velocity gradient; `base` is the stencil's first node in the region.
+mat3 gatherFromNode(Stencil stencil, ivec3 k, ivec3 base) {
+  precise mat3 term = outerProduct(productVectorAt(base + k), stencilGradient(stencil, k));
+  return term;
+}
+
+// Rounds the stencil node k's product contribution, stressUnits ∇w, and adds it to the region; false when it was
+// too large for the fixed point (dropped, for the pass to report).
+bool scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 base) {
+  precise vec3 contribution = stressUnits * stencilGradient(stencil, k);
+  uvec4 low;
+  ivec4 high;
+  bool fits = productToFixed64(vec4(contribution, 0.0), low, high);
+  addProductToRegion(base + k, low.xyz, high.xyz);
+  return fits;
+}
+
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+// The first product's: also the particle's share of the node's stiffness block, `blockUnits` times
+// stiffnessBlock. The iterations' products leave the blocks out, and with them two thirds of the region's traffic.
+bool scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, StiffnessBlockForm form, Stencil stencil, ivec3 k,
+                            ivec3 base) {
+  bool fits = scatterToNode(stressUnits, stencil, k, base);
+  vec3 blockDiagonal, blockOff;
+  stiffnessBlock(form, stencilGradient(stencil, k), blockDiagonal, blockOff);
+  precise vec4 diagonalUnits = vec4(blockUnits * blockDiagonal, 0.0);
+  precise vec4 offDiagonalUnits = vec4(blockUnits * blockOff, 0.0);
+  uvec4 diagonalLow, offLow;
+  ivec4 diagonalHigh, offHigh;
+  fits = productToFixed64(diagonalUnits, diagonalLow, diagonalHigh) && fits;
+  fits = productToFixed64(offDiagonalUnits, offLow, offHigh) && fits;
+  addStiffnessBlockToRegion(base + k, diagonalLow.xyz, diagonalHigh.xyz, offLow.xyz, offHigh.xyz);
+  return fits;
+}
+#endif
+
+// Particle p's contributions to the region whose first node is `regionFirstNode`; false when one was dropped.
+bool scatterProductParticle(uint p, ivec3 regionFirstNode) {
+  vec3 x = positionMass[p].xyz;
+  Stencil stencil = particleStencil(x);
+  ivec3 base = stencil.baseNode - regionFirstNode;
+  // G, the stencil row by row along x with each row written out, as the scatter below: the product took 6% less
+  // time on llvmpipe than with one loop over the stencil's nodes.
+  precise mat3 velocityGradient = mat3(0.0);
+  for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
+    ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
+    velocityGradient += gatherFromNode(stencil, k, base);
+    velocityGradient += gatherFromNode(stencil, k + ivec3(1, 0, 0), base);
+    velocityGradient += gatherFromNode(stencil, k + ivec3(2, 0, 0), base);
+#ifdef FIRN_KERNEL_CUBIC
+    velocityGradient += gatherFromNode(stencil, k + ivec3(3, 0, 0), base);
+#endif
+  }
+  SolverParticle stiffness = solverParticles[p];
+#ifdef FIRN_SOLVER_FORCE_DIFFERENCE
+  mat3 F = elasticDeformation[p];
+  mat3 dF = dtS * velocityGradient * F;
+  ParticlePlasticState state = plasticState[p];
+  MaterialParams material = materials[state.materialIndex];
+  precise mat3 stressTimesFT =
+      0.5 * (firstPiolaStress(F + dF, material, state.plasticJ) - firstPiolaStress(F - dF, material, state.plasticJ)) *
+      transpose(F);
+#else
+  precise mat3 stressTimesFT = stressDifferentialTimesFT(stiffness, velocityGradient, dtS);
+#endif
+  // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and β Δt² V0 (Pa/m² of stiffnessBlock to kg) in reference
+  // masses.
+  float volume = velocityVolume[p].w;
+  precise mat3 stressUnits = (implicitRatio * dtS * volume / momentumUnitKgMPerS) * stressTimesFT;
+  bool fits = true;
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+  precise float blockUnits = implicitRatio * dtS * dtS * volume / referenceMassKg;
+  StiffnessBlockForm form = stiffnessBlockForm(stiffness);
+  for (int n = 0; n < KERNEL_NODES; ++n) {
+    fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), base) && fits;
+  }
+#else
+  for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
+    ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
+    fits = scatterToNode(stressUnits, stencil, k, base) && fits;
+    fits = scatterToNode(stressUnits, stencil, k + ivec3(1, 0, 0), base) && fits;
+    fits = scatterToNode(stressUnits, stencil, k + ivec3(2, 0, 0), base) && fits;
+#ifdef FIRN_KERNEL_CUBIC
+    fits = scatterToNode(stressUnits, stencil, k + ivec3(3, 0, 0), base) && fits;
+#endif
+  }
+#endif
+  return fits;
+}
