@@ -25,8 +25,8 @@ struct Stencil {
   glm::vec3 weight[4];
 };
 
-Stencil particleStencil(const glm::vec3& positionM, const glm::vec3& gridOriginM, float cellSizeM, Kernel kernel) {
-  const glm::vec3 positionInCells = (positionM - gridOriginM) / cellSizeM;
+Stencil particleStencil(const glm::vec3& positionM, const glm::vec3& gridOriginM, float cellsPerM, Kernel kernel) {
+  const glm::vec3 positionInCells = (positionM - gridOriginM) * cellsPerM;
   Stencil stencil;
   const bool cubic = kernel == Kernel::Cubic;
   stencil.width = cubic ? 4 : 3;
@@ -45,16 +45,16 @@ ReferenceGrid referenceParticleToGrid(const Scene& scene, const FixedPointScale&
   const glm::ivec3 nodes = scene.grid.cells + 1;
   // The uniforms the shader reads (Simulation::writeStepUniforms), as the floats it gets.
   const glm::vec3 gridOriginM(scene.grid.originM);
-  const float cellSizeM = float(scene.grid.cellSizeM);
-  const float referenceMassKg = float(scale.referenceMassKg);
-  const float momentumUnitKgMPerS = float(scale.momentumUnitKgMPerS);
+  const float cellsPerM = float(1.0 / scene.grid.cellSizeM);
+  const float massUnitsPerKg = float(1.0 / scale.referenceMassKg);
+  const float momentumUnitsPerKgMPerS = float(1.0 / scale.momentumUnitKgMPerS);
   ReferenceGrid grid;
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const glm::vec3 x(particles.positionMass[p]);
     const float massKg = particles.positionMass[p].w;
-    const float massUnits = massKg / referenceMassKg;
-    const glm::vec3 momentumUnits = glm::vec3(particles.velocityVolume[p]) * (massKg / momentumUnitKgMPerS);
-    const Stencil stencil = particleStencil(x, gridOriginM, cellSizeM, scene.solver.kernel);
+    const float massUnits = massKg * massUnitsPerKg;
+    const glm::vec3 momentumUnits = glm::vec3(particles.velocityVolume[p]) * (massKg * momentumUnitsPerKgMPerS);
+    const Stencil stencil = particleStencil(x, gridOriginM, cellsPerM, scene.solver.kernel);
     for (int kz = 0; kz < stencil.width; ++kz)
       for (int ky = 0; ky < stencil.width; ++ky)
         for (int kx = 0; kx < stencil.width; ++kx) {
@@ -67,8 +67,6 @@ ReferenceGrid referenceParticleToGrid(const Scene& scene, const FixedPointScale&
           sums.momentumUnits += glm::dvec3(momentum);
           sums.momentumScaleUnits += glm::length(glm::dvec3(momentum));
           ++sums.contributions;
-          sums.particleMassUnits += double(massUnits);
-          sums.particleMomentumUnits += glm::length(glm::dvec3(momentumUnits));
         }
   }
   return grid;

@@ -24,10 +24,6 @@ struct ReferenceNodeSums {
   glm::dvec3 momentumUnits{0.0};   // Σ w m v / (m_ref h / Δt)
   double momentumScaleUnits = 0;   // Σ |w m v| / (m_ref h / Δt): the size of what was added, whatever cancels
   std::uint32_t contributions = 0; // particles that added a nonzero weight
-  // The same sums without the weights, Σ m / m_ref and Σ |m v| / (m_ref h / Δt) over those particles: what an
-  // error in a weight, rather than in a product with it, is proportional to.
-  double particleMassUnits = 0;
-  double particleMomentumUnits = 0;
 };
 
 // By linear node index x + nx (y + ny z), nx and ny the nodes per axis.

@@ -86,7 +86,7 @@ static_assert(sizeof(ColliderParams) == 304, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 128 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 16, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
-static_assert(sizeof(StepUniforms) == 96, "std140 StepUniforms");
+static_assert(sizeof(StepUniforms) == 112, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
 static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");

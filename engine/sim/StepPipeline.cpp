@@ -68,9 +68,15 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   uniforms.stepIndex = static_cast<std::uint32_t>(step);
   // Adaptive steps shrink with speed, so the momentum unit m_ref·h/Δt follows the step taken: a node's velocity
   // in cells per step, which the CFL factor keeps below 1, is what the fixed-point bound assumes.
+  const double momentumUnitKgMPerS =
+      scene.time.adaptive ? fixedPoint.referenceMassKg * h / dtS : fixedPoint.momentumUnitKgMPerS;
   uniforms.referenceMassKg = float(fixedPoint.referenceMassKg);
-  uniforms.momentumUnitKgMPerS =
-      float(scene.time.adaptive ? fixedPoint.referenceMassKg * h / dtS : fixedPoint.momentumUnitKgMPerS);
+  uniforms.momentumUnitKgMPerS = float(momentumUnitKgMPerS);
+  // The shaders multiply by these rather than divide (gpu_contract.h): the same bits in every program.
+  uniforms.cellsPerM = float(1.0 / h);
+  uniforms.massUnitsPerKg = float(1.0 / fixedPoint.referenceMassKg);
+  uniforms.momentumUnitsPerKgMPerS = float(1.0 / momentumUnitKgMPerS);
+  uniforms.impulseUnitsPerPaM3 = float(-dtS / momentumUnitKgMPerS);
   uniforms.fixedPointFractionBits = fixedPoint.fractionBits;
   uniforms.colliderCount = static_cast<std::uint32_t>(scene.colliders.size() + scene.rigidBodies.size());
   uniforms.rigidBodyCount = static_cast<std::uint32_t>(scene.rigidBodies.size());

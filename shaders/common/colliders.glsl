@@ -56,12 +56,12 @@ float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
 // Adds an impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) to the sums of the body of entry i,
 // in 64-bit fixed point, so that the sums, like P2G's, do not depend on the order of the additions.
 void addToRigidBody(uint i, vec3 impulseKgMPerS, vec3 momentKgM2PerS) {
-  float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) / momentumUnitKgMPerS;
+  float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) * momentumUnitsPerKgMPerS;
   uvec4 low;
   ivec4 high;
   splitFixed64(vec4(round(impulseKgMPerS * unitsPerKgMPerS), 0.0), low, high);
   FIRN_ADD_FIXED64(colliders[i].impulseLow, colliders[i].impulseHigh, low, high)
-  splitFixed64(vec4(round(momentKgM2PerS * (unitsPerKgMPerS / cellSizeM)), 0.0), low, high);
+  splitFixed64(vec4(round(momentKgM2PerS * (unitsPerKgMPerS * cellsPerM)), 0.0), low, high);
   FIRN_ADD_FIXED64(colliders[i].angularLow, colliders[i].angularHigh, low, high)
 }
 

@@ -371,7 +371,7 @@ FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
   member(uint, maxSpeedBits)
 FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 
-// StepUniforms: the uniform block written before every step (std140, 96 bytes: each 16 bytes a vec3 and a scalar, or
+// StepUniforms: the uniform block written before every step (std140, 112 bytes: each 16 bytes a vec3 and a scalar, or
 // four scalars, so that std140 and C++ place every member alike).
 //   gridOriginM, cellSizeM         the grid's origin and cell size h (m)
 //   gridNodes, particleCount       nodes per axis; the live particles
@@ -388,6 +388,11 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //   implicitRatio, solverToleranceSquared   semi-implicit: β and the tolerance²
 //   solverFractionBits             semi-implicit: k_H, the units 2^−k_H of SolverNode.productLow/High
 //   rigidBodyCount                 the rigid bodies, the collider table's last entries
+//   cellsPerM, massUnitsPerKg, momentumUnitsPerKgMPerS, impulseUnitsPerPaM3
+//                                  1 / h, 1 / m_ref, 1 / the momentum unit and −Δt / the momentum unit, divided on
+//                                  the host: a GLSL division may be 2.5 ulp off and need not round alike in two
+//                                  programs (an NVIDIA driver's did not), where a product is exact to the ulp; every
+//                                  pass then finds a particle in the same cell, and P2G's two shapes add the same bits
 #define FIRN_STEP_UNIFORMS(member, array)  \
   member(vec3, gridOriginM)                \
   member(float, cellSizeM)                 \
@@ -406,7 +411,11 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
   member(float, implicitRatio)             \
   member(float, solverToleranceSquared)    \
   member(int, solverFractionBits)          \
-  member(uint, rigidBodyCount)
+  member(uint, rigidBodyCount)             \
+  member(float, cellsPerM)                 \
+  member(float, massUnitsPerKg)            \
+  member(float, momentumUnitsPerKgMPerS)   \
+  member(float, impulseUnitsPerPaM3)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

@@ -49,11 +49,13 @@ ivec3 stencilBaseNode(vec3 positionInCells) {
 #endif
 }
 
-// precise, as the weights (common/bspline.glsl): every pass that sorts, bins or transfers a particle must find the
-// same cell for it, and a division rewritten in one program and not in another could move a particle on a cell's
-// boundary to the next.
+// Every pass that sorts, bins or transfers a particle must find the same cell for it: a difference and a product by
+// the host's 1/h (gpu_contract.h), each exact to the ulp, and precise, as the weights (common/bspline.glsl). A
+// division may be 2.5 ulp off and round differently in two programs: a particle within an ulp of a cell's face could
+// be binned in one cell and scattered from the next, and P2G by blocks would put its contributions outside their
+// rows of the block's region.
 vec3 cellCoordinates(vec3 positionM) {
-  precise vec3 positionInCells = (positionM - gridOriginM) / cellSizeM;
+  precise vec3 positionInCells = (positionM - gridOriginM) * cellsPerM;
   return positionInCells;
 }
 
@@ -68,7 +70,7 @@ Stencil particleStencil(vec3 positionM) {
     stencil.weightX[k] = kernelWeight(offsetInCells.x);
     stencil.weightY[k] = kernelWeight(offsetInCells.y);
     stencil.weightZ[k] = kernelWeight(offsetInCells.z);
-    precise vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) / cellSizeM;
+    precise vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) * cellsPerM;
     stencil.slopeX[k] = slope.x;
     stencil.slopeY[k] = slope.y;
     stencil.slopeZ[k] = slope.z;

@@ -14,11 +14,10 @@ struct MaterialUpdate {
 mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
 
 // ln x to a few ulps of ln x also where x is near 1, for the strains of the models (Hencky's ln Σ, ln J): GLSL lets
-// log(x) be off by 2⁻²¹ absolutely for x in [0.5, 2] (GLSL 4.30 §4.7.1), which is the whole of a strain of 1e-7 and
-// more, and NVIDIA's log is: sand at rest (Σ ≈ 1 ± 1e-7) took strains of that size, its volume correction summed
-// them every step, and lone sand particles near a wall drifted off by 2 cm in 2 s (an H200; llvmpipe's log is
-// exact to the ulp). Within 1/32 of 1, x − 1 is exact (Sterbenz) and the series ln(1 + y) = y − y²/2 + y³/3 − y⁴/4
-// + y⁵/5 is off by less than y⁶/6 < 2e-10 absolutely, 5e-9 relatively.
+// log(x) be off by 2⁻²¹ absolutely for x in [0.5, 2] (GLSL 4.30 §8.2), the whole of a strain of 1e-7 and more. Sand
+// at rest (Σ ≈ 1 ± 1e-7) would take strains of that size and its volume correction would sum them every step.
+// Within 1/32 of 1, x − 1 is exact (Sterbenz) and the series ln(1 + y) = y − y²/2 + y³/3 − y⁴/4 + y⁵/5 is off by less
+// than y⁶/6 < 2e-10 absolutely, 5e-9 relatively.
 float logAccurate(float x) {
   float y = x - 1.0;
   if (abs(y) >= 1.0 / 32.0) return log(x);

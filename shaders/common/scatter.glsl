@@ -24,12 +24,12 @@ Contribution particleContribution(uint p) {
   mat3 stress = kirchhoffStress[p];
   // G2P never stores a non-finite state, so one here came from outside (an upload): report it, scatter nothing.
   c.finite = allFinite(c.x) && allFinite(velocityVolumeP.xyz) && allFinite(stress);
-  c.massUnits = massKg / referenceMassKg;
-  c.momentumUnits = velocityVolumeP.xyz * (massKg / momentumUnitKgMPerS);
-  c.impulseUnits = (-dtS * velocityVolumeP.w / momentumUnitKgMPerS) * stress;
+  c.massUnits = massKg * massUnitsPerKg;
+  c.momentumUnits = velocityVolumeP.xyz * (massKg * momentumUnitsPerKgMPerS);
+  c.impulseUnits = (velocityVolumeP.w * impulseUnitsPerPaM3) * stress;
 #ifdef FIRN_TRANSFER_APIC
   // APIC (Jiang et al. 2015): momentum m w (v + C (x_i − x_p)).
-  c.affineMomentumUnits = affine[p] * (massKg / momentumUnitKgMPerS);
+  c.affineMomentumUnits = affine[p] * (massKg * momentumUnitsPerKgMPerS);
 #endif
   c.particleU = particleDither(c.x);
   return c;

@@ -111,10 +111,10 @@ bool scatterProductParticle(uint p, ivec3 regionFirstNode) {
   // β Δt V0 δP Fᵀ in momentum units per unit of ∇w (m), and β Δt² V0 (Pa/m² of stiffnessBlock to kg) in reference
   // masses.
   float volume = velocityVolume[p].w;
-  precise mat3 stressUnits = (implicitRatio * dtS * volume / momentumUnitKgMPerS) * stressTimesFT;
+  precise mat3 stressUnits = (implicitRatio * dtS * volume * momentumUnitsPerKgMPerS) * stressTimesFT;
   bool fits = true;
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
-  precise float blockUnits = implicitRatio * dtS * dtS * volume / referenceMassKg;
+  precise float blockUnits = implicitRatio * dtS * dtS * volume * massUnitsPerKg;
   StiffnessBlockForm form = stiffnessBlockForm(stiffness);
   for (int n = 0; n < KERNEL_NODES; ++n) {
     fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), base) && fits;

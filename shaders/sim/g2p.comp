@@ -83,7 +83,7 @@ void advanceParticle(uint p) {
     reportNonFinite(p);
     return;
   }
-  float cellsPerStep = length(velocity) * dtS / cellSizeM;
+  float cellsPerStep = length(velocity) * dtS * cellsPerM;
   if (cellsPerStep > 1.0) reportCflViolation(p, cellsPerStep);
 #if defined(FIRN_ADAPTIVE_DT) && defined(FIRN_SEMI_IMPLICIT)
   // A semi-implicit step is not bounded by the elastic wave: the next step must keep the particle within a cell.

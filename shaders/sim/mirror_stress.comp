@@ -28,7 +28,7 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   mat3 reflection = mat3(1.0) - 2.0 * outerProduct(normal, normal);
   // Times −Δt V0 / (momentum unit): the impulse per ∇w, as P2G's (common/scatter.glsl).
   mat3 impulseUnits =
-      (-dtS * velocityVolume[p].w / momentumUnitKgMPerS) * (reflection * kirchhoffStress[p] * reflection);
+      (velocityVolume[p].w * impulseUnitsPerPaM3) * (reflection * kirchhoffStress[p] * reflection);
   Stencil stencil = particleStencil(image);
   float particleU = particleDither(image);
   // The body's share, summed over the stencil here and added once: one pair of 64-bit sums per image, not per node.

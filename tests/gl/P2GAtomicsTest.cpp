@@ -20,27 +20,17 @@ constexpr double kEpsilon = 1.0 / (1 << 23);
 constexpr double kUnitRoundoff = kEpsilon / 2;
 // How far one contribution the shader computes may be from the CPU's float copy of that computation, which uses
 // the same operations in the same order. llvmpipe evaluates them as the CPU does (measured: no node's error
-// exceeds what its quantization alone allows); a compiler may fuse a multiply and an add, and GLSL lets a
-// division be 2.5 ulp off, so 4 ulp of the contribution are allowed for it. (A GPU whose division is that
-// inexact moves the stencil's positions by ulps of the cell index, which changes small weights by more than
-// this: there these bounds measure the driver's arithmetic as well as its atomics.)
+// exceeds what its quantization alone allows), and 4 ulp of the contribution are allowed for a driver's. The
+// shaders divide by nothing here (the host's reciprocals, gpu_contract.h) and fuse no multiply and add (precise,
+// common/bspline.glsl), so a GPU's stencil positions and weights are the CPU's too: on an NVIDIA H100, whose
+// division moved the positions by ulps of the cell index before, fringe nodes went 29-73x over this bound.
 constexpr double kContributionMismatch = 4 * kEpsilon;
-// What that division does to a weight, absolutely: the stencil's positions in cells, (x − origin) / h, are up to
-// 2.5 ulp off on the GPU and 0.5 ulp on the CPU, 3 ulp apart, and an ulp of a position of up to kGridCells cells is
-// at most kGridCells ε. A weight N(dx) N(dy) N(dz) of factors ≤ 1 whose slopes are ≤ 1 per cell (the quadratic
-// B-spline's largest; the cubic's is 2/3) moves by at most 3 axes × 3 kGridCells ε, however small it is: on a
-// stencil's fringe, where weights are far below 1, this is many times the relative mismatch above (measured on an
-// NVIDIA H100: fringe nodes 29–73× over a bound without it). Each contribution is then off by up to this times
-// m / m_ref (mass) or |m v| (momentum), the particle's own, not its weighted, size.
-constexpr int kGridCells = 24;
-constexpr double kWeightMismatch = 3 * 3 * kGridCells * kEpsilon;
 
 // A snowball of 2,100 particles on 0.05 m cells, falling at 3 m/s and spinning, so that momenta vary in size and
 // sign across the grid.
 firn::Scene snowball(const std::string& kernel, const std::string& transfer, const std::string& atomics) {
   return firn::parseScene(R"({
-    "grid": { "cells": [)" + std::to_string(kGridCells) + ", " + std::to_string(kGridCells) + ", " +
-                          std::to_string(kGridCells) + R"(], "cell_size": 0.05 },
+    "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
     "time": { "dt": 1e-4, "frame_rate": 30, "frames": 1 },
     "solver": { "kernel": ")" + kernel + R"(", "transfer": ")" + transfer + R"(", "atomics": ")" + atomics + R"(" },
     "materials": { "snow": { "preset": "stomakhin" } },
@@ -101,8 +91,7 @@ TEST(P2GAtomics, FixedPointSumsMatchDoubleWithinResolution) {
 // of the running sum (a standard deviation of at most u·Σ|c|/√3), so the typical error is u·Σ|c|·√(n/3) at most:
 // 5e-7 of a full node's sum with the quadratic kernel (n ≈ 8·27), 8e-7 with the cubic (n ≈ 8·64). Asserted: the
 // RMS relative error over the nodes holding a particle's mass or more (SumErrorSummary) below 1e-6.
-// Measured: 2e-7 to 3e-7. The worst node's bound adds each contribution's weight error (kWeightMismatch), which no
-// sum of contributions cancels.
+// Measured: 2e-7 to 3e-7.
 TEST(P2GAtomics, FloatSumsMatchDoubleWithinRounding) {
   for (const std::string atomics : {"float"}) {
     // Float atomics need GL_NV_shader_atomic_float.
@@ -113,12 +102,9 @@ TEST(P2GAtomics, FloatSumsMatchDoubleWithinRounding) {
       double worstMass = 0, worstMomentum = 0;
       for (const firn::bench::NodeSumError& node : comparison.nodes) {
         const double relativeBound = (node.reference.contributions - 1) * kUnitRoundoff + kContributionMismatch;
-        const double massBound =
-            relativeBound * node.reference.massUnits + kWeightMismatch * node.reference.particleMassUnits;
-        const double momentumBound = relativeBound * node.reference.momentumScaleUnits +
-                                     kWeightMismatch * node.reference.particleMomentumUnits;
-        worstMass = std::max(worstMass, node.massErrorUnits / massBound);
-        worstMomentum = std::max(worstMomentum, node.momentumErrorUnits / momentumBound);
+        worstMass = std::max(worstMass, node.massErrorUnits / (relativeBound * node.reference.massUnits));
+        worstMomentum =
+            std::max(worstMomentum, node.momentumErrorUnits / (relativeBound * node.reference.momentumScaleUnits));
       }
       const firn::bench::SumErrorSummary summary = firn::bench::summarizeErrors(comparison.nodes);
       std::printf("[ measured ] %s atomics, %s, %s: worst node error / bound: mass %.3f, momentum %.3f; RMS relative "
