@@ -1,11 +1,13 @@
 #pragma once
-// The shape of particle to grid (docs/numerics.md, "Transfer shapes"). Both shapes add the same quantized
-// contributions and integer sums do not depend on the order, so they write the same bytes; which one runs is chosen
-// by timing both on the run's own scene and device, never by the scene file.
-//   tiles   an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp): built for
-//           CPU renderers, which run an invocation's private arrays as vector registers
+// The shape of particle to grid, and of the semi-implicit solve's Hessian product, which takes P2G's (docs/numerics.md,
+// Transfers). Both shapes add the same quantized contributions and integer sums do not depend on the order, so they
+// write the same bytes; which one runs is chosen by timing P2G in each on the run's own scene and device, never by
+// the scene file.
+//   tiles   an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp,
+//           solver_product.comp): built for CPU renderers, which run an invocation's private arrays as vector
+//           registers
 //   blocks  a work group per block, an invocation per particle, the block's region summed in shared memory
-//           (p2g_block.comp), in groups of 64, 128 or 256 invocations: built for GPUs
+//           (p2g_block.comp, solver_product_block.comp), in groups of 64, 128 or 256 invocations: built for GPUs
 #include <optional>
 #include <string>
 #include <vector>

@@ -14,9 +14,9 @@
 //
 // Determinism. A Hessian product is summed at the nodes from every particle's contribution, like P2G. Its
 // contributions are (c Δt / h)² times larger than the product they add up to, too many bits for P2G's 32-bit fixed
-// point. A tile sums its particles' contributions in float, in the particles' index order within each bin
-// (solver_order_bins.comp), which repeats; the tiles' sums, which reach a node in no fixed order, are added there as
-// 64-bit integers, two 32-bit words with the carry: exact, so the same whatever the order. A dot product is summed
+// point. Each contribution is rounded to a 64-bit integer on its own and added as two 32-bit words with the carry
+// (common/solver_product.glsl): exact, so the same whatever the order, and the same in either shape of the product
+// (solver_product.comp, solver_product_block.comp). A dot product is summed
 // within a block in a fixed order, and over the blocks, whose slots follow no fixed order, as 64-bit integers at a
 // scale set by the largest block's partial sum: again exact. A run repeats to the bit.
 #include "common/fixed64.glsl"
@@ -38,9 +38,9 @@ layout(std430, binding = FIRN_BINDING_SOLVER_PRECONDITIONER) buffer SolverPrecon
 
 // --- Hessian products at the nodes -------------------------------------------------------------------------------
 
-// A tile's sum at a node in momentum units (a product), or in reference masses (a stiffness block), as the 64-bit
-// integers of units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over the
-// stiffest wave the scene states (sim/FixedPoint.h).
+// A contribution to a node in momentum units (a product), or in reference masses (a stiffness block), as the
+// 64-bit integers of units 2^−k_H; one too large (or NaN) is dropped and reported: k_H leaves 2^8 of headroom over
+// the stiffest wave the scene states (sim/FixedPoint.h).
 bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   vec4 scaled = floor(units * ldexp(1.0, solverFractionBits) + 0.5);
   bool fits = all(lessThan(abs(scaled), vec4(FIXED64_LIMIT)));  // also false for NaN
@@ -48,12 +48,12 @@ bool productToFixed64(vec4 units, out uvec4 low, out ivec4 high) {
   return fits;
 }
 
-// Adds a tile's sums of a Hessian product at a node.
+// Adds a region's sums of a Hessian product at a node.
 void addProductToNode(uint address, uvec4 low, ivec4 high) {
   FIRN_ADD_FIXED64(solverNodes[address].productLow, solverNodes[address].productHigh, low, high)
 }
 
-// Adds a tile's sums of the stiffness block at a node: its diagonal and its entries yz, zx, xy.
+// Adds a region's sums of the stiffness block at a node: its diagonal and its entries yz, zx, xy.
 void addStiffnessBlockToNode(uint address, uvec4 diagonalLow, ivec4 diagonalHigh, uvec4 offDiagonalLow,
                              ivec4 offDiagonalHigh) {
   FIRN_ADD_FIXED64(solverNodes[address].diagonalLow, solverNodes[address].diagonalHigh, diagonalLow, diagonalHigh)

@@ -50,9 +50,10 @@ bool sameGrid(const std::vector<firn::GridNodeSums>& a, const std::vector<firn::
   return true;
 }
 
-// Every shape against tiles, on scenes that between them take each kernel, transfer, material model, collider kind,
-// rigid bodies, emitters, the adaptive steps' momentum unit and the semi-implicit solve: the first transfer's node
-// sums and the particles after 12 steps, to the bit (integer sums either agree or they do not).
+// Every shape against tiles, on scenes that between them take each kernel with each transfer, every material model,
+// each collider kind, rigid bodies, emitters, the adaptive steps' momentum unit and the semi-implicit solve (its
+// Hessian product in the same shape): the first transfer's node sums and the particles after 12 steps, to the bit
+// (integer sums either agree or they do not).
 TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"snowball_wall.json", "bunny_small.json", "mixed_materials.json", "sand_column.json",
@@ -71,6 +72,9 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   cubicFlip.solver.kernel = firn::Kernel::Cubic;
   cubicFlip.solver.transfer = firn::Transfer::PicFlip;
   scenes.emplace_back("bunny_small.json, cubic PIC/FLIP", cubicFlip);
+  Scene cubicApic = assetScene("mixed_materials.json");
+  cubicApic.solver.kernel = firn::Kernel::Cubic;
+  scenes.emplace_back("mixed_materials.json, cubic APIC", cubicApic);
 
   for (const auto& [name, scene] : scenes) {
     const std::vector<TransferShape> shapes = firn::transferShapes(scene);
