@@ -38,9 +38,9 @@ double logLogSlope(const std::vector<std::pair<double, double>>& points) {
 }  // namespace
 
 void measureParticles(BenchRun& run) {
-  CsvTable table({"series", "kernel", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims", "cell_size_m",
-                  "particles_per_cell", "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step", "ms_min",
-                  "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
+  CsvTable table({"series", "kernel", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims",
+                  "cell_size_m", "particles_per_cell", "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step",
+                  "ms_min", "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});
   const Sizes& sizes = run.sizes();
   const BunnyScenes& bunnies = run.bunnies();
   const double smallestScale = bunnies.scaleFor(sizes.smallestParticles, kSmallestParticlesPerCell);
@@ -80,10 +80,10 @@ void measureParticles(BenchRun& run) {
   std::vector<Configuration> configurations;
   for (std::size_t i = 0; i < setups.size(); ++i) {
     const Series& of = series[seriesOf[i]];
-    configurations.push_back({"particles, " + of.kernel + ", " + of.sums.atomics + " atomics, " + of.sums.transferShape +
-                                  ", " + of.name + ", " + fixed(setups[i].particlesPerCell, 0) + " per cell, bunny scale " +
-                                  fixed(setups[i].scale, 3),
-                              [&, i] { return bunnies.scene(setups[i]); }, of.sums.transferShape});
+    const std::string label = "particles, " + of.kernel + ", " + of.sums.atomics + " atomics, " +
+                              of.sums.transferShape + ", " + of.name + ", " + fixed(setups[i].particlesPerCell, 0) +
+                              " per cell, bunny scale " + fixed(setups[i].scale, 3);
+    configurations.push_back({label, [&, i] { return bunnies.scene(setups[i]); }, of.sums.transferShape});
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);
   std::string exponents;
@@ -110,8 +110,8 @@ void measureParticles(BenchRun& run) {
       const std::vector<std::pair<double, double>> largest(
           points.end() - std::ptrdiff_t(std::min(points.size(), kExponentFitSizes)), points.end());
       exponents += (exponents.empty() ? "" : ", ") + series[s].label() + " " + fixed(logLogSlope(largest), 3) + " (" +
-                   grouped(std::uint64_t(largest.front().first)) + "–" + grouped(std::uint64_t(largest.back().first)) +
-                   " particles)";
+                   grouped(std::uint64_t(largest.front().first)) + "–" +
+                   grouped(std::uint64_t(largest.back().first)) + " particles)";
     }
   }
   run.write(table, "particles");

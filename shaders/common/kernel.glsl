@@ -70,7 +70,8 @@ Stencil particleStencil(vec3 positionM) {
     stencil.weightX[k] = kernelWeight(offsetInCells.x);
     stencil.weightY[k] = kernelWeight(offsetInCells.y);
     stencil.weightZ[k] = kernelWeight(offsetInCells.z);
-    precise vec3 slope = vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) * cellsPerM;
+    precise vec3 slope =
+        vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) * cellsPerM;
     stencil.slopeX[k] = slope.x;
     stencil.slopeY[k] = slope.y;
     stencil.slopeZ[k] = slope.z;
@@ -84,7 +85,8 @@ float stencilWeight(Stencil s, ivec3 k) {
   return w;
 }
 vec3 stencilGradient(Stencil s, ivec3 k) {
-  precise vec3 gradient = vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z], s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
+  precise vec3 gradient = vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z],
+                               s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
                                s.weightX[k.x] * s.weightY[k.y] * s.slopeZ[k.z]);
   return gradient;
 }

@@ -67,7 +67,9 @@ std::vector<SimulationProbe::NodeVector> SimulationProbe::hessianProduct(
     stored[i].preconditioned = glm::vec4(glm::vec3(velocityAtNode(grid.originM + glm::dvec3(nodes[i]) * grid.cellSizeM)), 0);
   }
   solverNodes.upload(0, stored.size() * sizeof(gpu::SolverNode), stored.data());
-  const gl::ComputePass& pass = product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().products_.front().iteration;
+  // The tiles' product (products_'s first), whose dispatch is the transfers' own.
+  const gl::ComputePass& pass =
+      product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().products_.front().iteration;
   pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
                    simulation_.passTimer_);
   glMemoryBarrier(kStorage);
@@ -78,8 +80,9 @@ std::vector<SimulationProbe::NodeMatrix> SimulationProbe::stiffnessBlocks() {
   prepare(HessianProduct::Differential);
   GpuState& state = simulation_.state_;
   const std::vector<glm::ivec3> nodes = state.grid().activeNodes();
-  solver().products_.front().first.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch),
-                                    state.bindings(), simulation_.passTimer_);
+  solver().products_.front().first.runIndirect(state.grid().blockTable(),
+                                               offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
+                                               simulation_.passTimer_);
   glMemoryBarrier(kStorage);
   return inGridOrder<NodeMatrix>(nodes, takeSums(nodes.size()).stiffnessBlocks);
 }
