@@ -22,6 +22,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.barPeriods = 3;
       sizes.surfaceParticles = {47063, 188252, 753008, 3012032};
       sizes.stiffSimulatedS = 0.1;
+      sizes.passesTargetParticles = 1e6;  // the GPU target: a million quadratic particles within 0.5 ms a step
       break;
     case BenchSize::Quick:
       // Up to 376k particles: on llvmpipe (2 cores) a 188k-particle cubic step takes about half a second.

@@ -41,6 +41,7 @@ struct Sizes {
   std::vector<double> surfaceParticles;            // surface: the bunny's sizes at 8 per cell
   std::vector<double> surfaceResolutions = {1, 2, 3, 4};  // surface: the smallest bunny at each
   double stiffSimulatedS = 0.05;  // stiff: the snowball's run, each integrator the same simulated time
+  double passesTargetParticles = 0;  // passes: also the quadratic bunny of this many at 8 per cell (0: not)
 };
 
 Sizes sizesFor(BenchSize size);

@@ -1,7 +1,9 @@
 // passes.csv: each pass of a step timed alone (GL_TIME_ELAPSED and wall time to glFinish) on the reference
-// bunny, once per series of sums (atomics and P2G shape), with its share of the step; and once more for each
+// bunny, once per series of sums (atomics and P2G shape), with its share of the step; once more for each
 // fixed-point series stepped semi-implicitly at the thesis's 1e-3 s, whose solve's passes (the Hessian product
-// above all) are where that integrator's time goes. The summary gives each pass's share and their sum.
+// above all) are where that integrator's time goes; and, at the GPU sizes, for each fixed-point series on a bunny of
+// a million particles with the quadratic kernel, the GPU target's configuration. The summary gives each pass's share
+// and their sum.
 #include "Error.h"
 #include "Experiments.h"
 #include "sim/Simulation.h"
@@ -10,22 +12,33 @@ namespace firn::bench {
 
 void measurePasses(BenchRun& run) {
   CsvTable table(
-      {"atomics", "transfer_shape", "integrator", "pass", "gpu_ms", "wall_ms", "share_of_step", "dispatches_per_step",
-       "particles", "renderer"});
+      {"atomics", "transfer_shape", "integrator", "kernel", "pass", "gpu_ms", "wall_ms", "share_of_step",
+       "dispatches_per_step", "particles", "renderer"});
   struct PassSeries {
     SumSeries sums;
     std::string integrator;
+    std::string kernel;
+    double particles = 0;  // at 8 per cell; 0: the reference bunny
   };
   std::vector<PassSeries> series;
-  for (const SumSeries& sums : run.sumSeries()) series.push_back({sums, "explicit"});
+  for (const SumSeries& sums : run.sumSeries()) series.push_back({sums, "explicit", "cubic"});
   for (const SumSeries& sums : run.sumSeries()) {
-    if (sums.atomics == "fixed") series.push_back({sums, "semi_implicit"});  // the solver sums fixed point only
+    if (sums.atomics == "fixed") series.push_back({sums, "semi_implicit", "cubic"});  // the solver sums fixed point
   }
-  for (const auto& [sums, integrator] : series) {
+  const double targetParticles = run.sizes().passesTargetParticles;
+  for (const SumSeries& sums : run.sumSeries()) {
+    if (sums.atomics == "fixed" && targetParticles > 0) series.push_back({sums, "explicit", "quadratic", targetParticles});
+  }
+  for (const auto& [sums, integrator, kernel, particles] : series) {
     const std::string& atomics = sums.atomics;
     try {
       BunnySetup setup = run.referenceBunny();
       setup.atomics = atomics;
+      setup.kernel = kernel;
+      if (particles > 0) {
+        setup.particlesPerCell = 8;
+        setup.scale = run.bunnies().scaleFor(particles, setup.particlesPerCell);
+      }
       if (integrator == "semi_implicit") {
         setup.integrator = integrator;
         setup.dtS = kThesisDtS;
@@ -47,6 +60,7 @@ void measurePasses(BenchRun& run) {
             .setText("atomics", atomics)
             .setText("transfer_shape", shape)
             .setText("integrator", integrator)
+            .setText("kernel", kernel)
             .setText("pass", timing.pass)
             .set("gpu_ms", timing.gpuMs)
             .set("wall_ms", timing.wallMs)
@@ -58,7 +72,7 @@ void measurePasses(BenchRun& run) {
                   "% (" + fixed(timing.wallMs, 2) + " ms)";
       }
       run.progress("passes: " + shares);
-      run.addSummary("passes (" + grouped(seeds.size()) + " particles, cubic, PIC/FLIP, " + atomics +
+      run.addSummary("passes (" + grouped(seeds.size()) + " particles, " + kernel + ", PIC/FLIP, " + atomics +
                      " atomics, P2G by " + shape + ", " + integrator + (integrator == "explicit" ? "" : ", dt 1e-3 s") +
                      "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");

@@ -100,7 +100,7 @@ set yrange [0:*]
 set ylabel "ms per step"
 set key top right
 set xtics rotate by -30
-plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics")." ".strcol("transfer_shape").", ".strcol("integrator").")") \
+plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics")." ".strcol("transfer_shape").", ".strcol("integrator").", ".strcol("kernel").", ".strcol("particles").")") \
        title "wall (dispatch to glFinish)", \
      file using "gpu_ms" title "GL_TIME_ELAPSED"
 '
