@@ -1,6 +1,7 @@
 #include "sim/ImplicitSolver.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -88,6 +89,34 @@ const ImplicitSolver::ProductPasses& ImplicitSolver::products(const TransferShap
     if (passes.shape == shape) return passes;
   }
   throw std::logic_error("ImplicitSolver: no Hessian product in the shape " + transferShapeName(shape));
+}
+
+std::vector<std::pair<TransferShape, double>> ImplicitSolver::timeProducts(const GpuState& state, std::size_t particles,
+                                                                           int maxWorkGroupsX, int rounds) const {
+  const gl::Buffer& status = state.solver()->status();
+  const gl::BufferBindings& buffers = state.bindings();
+  gl::PassTimer untimed;
+  begin_.runOnce(buffers, untimed);
+  glMemoryBarrier(gl::kStorageAndCommands);
+  prepare(state, particles, maxWorkGroupsX, untimed);
+  std::vector<std::pair<TransferShape, double>> fastestMs;
+  for (const ProductPasses& product : products_) {
+    fastestMs.emplace_back(product.shape, std::numeric_limits<double>::infinity());
+  }
+  for (int round = 0; round <= rounds; ++round) {
+    for (std::size_t i = 0; i < products_.size(); ++i) {
+      glFinish();
+      const auto start = std::chrono::steady_clock::now();
+      products_[i].first.runIndirect(status, products_[i].dispatch, buffers, untimed);
+      glMemoryBarrier(gl::kStorage);
+      glFinish();
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      if (round > 0) fastestMs[i].second = std::min(fastestMs[i].second, ms);
+      residual_.runIndirect(status, kBlockDispatch, buffers, untimed);  // takes the product's sums
+      glMemoryBarrier(gl::kStorage);
+    }
+  }
+  return fastestMs;
 }
 
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,

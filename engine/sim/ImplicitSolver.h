@@ -6,6 +6,7 @@
 // and looks at the residual every few of them; the GPU stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -26,7 +27,7 @@ class ImplicitSolver {
   static constexpr int checkInterval = 4;
 
   // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them; `shapes` the
-  // transfer shapes the run may take (sim/TransferShape.h): the Hessian product takes the shape P2G took.
+  // transfer shapes the run may take (sim/TransferShape.h), for the Hessian product, timed among them (timeProducts).
   ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
                  const std::vector<TransferShape>& shapes);
 
@@ -34,6 +35,12 @@ class ImplicitSolver {
   // state's buffers must be bound (StepPipeline binds them).
   SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, const TransferShape& shape,
                     gl::PassTimer& timer) const;
+  // Times the step's first Hessian product in each of the constructor's shapes, one untimed round and then `rounds`
+  // timed ones, each from glFinish to glFinish, on the grid the grid update has just left (its start x₀). Each
+  // product's sums are taken by the residual pass after it, so nothing carries into the next solve. Returns each
+  // shape's fastest round (ms), in the constructor's order.
+  std::vector<std::pair<TransferShape, double>> timeProducts(const GpuState& state, std::size_t particles,
+                                                             int maxWorkGroupsX, int rounds) const;
 
 
  private:

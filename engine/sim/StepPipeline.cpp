@@ -116,7 +116,10 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   }
   transferShapeForced_ = candidates.forced;
   if (particleToGrid_.size() == 1) {
-    transferChoice_ = TransferShapeChoice{particleToGrid_[0].first, candidates.forced, {}};
+    TransferShapeChoice only;
+    only.shape = only.productShape = particleToGrid_[0].first;
+    only.forced = candidates.forced;
+    transferChoice_ = std::move(only);
   }
   updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
@@ -182,10 +185,25 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     if (fastestMs[i] < fastestMs[best]) best = i;
   }
   choice.shape = particleToGrid_[best].first;
+  choice.productShape = choice.shape;
   choice.particles = particles;
   chosen_ = best;
-  // The chosen shape runs last, so that the grid is its own transfer's (the same sums either way).
+  // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
   transferToGrid(state, particles, untimed);
+  if (implicitSolver_) {
+    // The product is timed from the start x₀ the grid update leaves, and the grid summed again after it.
+    updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
+                            state.bindings(), untimed);
+    glMemoryBarrier(gl::kStorage);
+    choice.msPerProduct = implicitSolver_->timeProducts(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
+    std::size_t fastest = 0;
+    for (std::size_t i = 0; i < choice.msPerProduct.size(); ++i) {
+      if (choice.msPerProduct[i].second < choice.msPerProduct[fastest].second) fastest = i;
+    }
+    productChosen_ = fastest;  // the solver's shapes are particleToGrid_'s, in its order
+    choice.productShape = particleToGrid_[fastest].first;
+    transferToGrid(state, particles, untimed);
+  }
   transferChoice_ = std::move(choice);
   return true;
 }
@@ -205,7 +223,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;
   if (implicitSolver_) {
-    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, particleToGrid_[chosen_].first, timer);
+    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, particleToGrid_[productChosen_].first, timer);
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);

@@ -49,8 +49,9 @@ class StepPipeline {
   // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state` and runs the
   // fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
   // Times them once a run has particles (a scene of emitters: at its first), and again each time its particles have
-  // grown fourfold since (the faster shape can change with the count). Returns whether it timed them now. Leaves
-  // the grid as transferToGrid does.
+  // grown fourfold since (the faster shape can change with the count). A semi-implicit scene's Hessian product is
+  // timed in each shape too, on its own, and may take another. Returns whether it timed them now. Leaves the grid as
+  // transferToGrid does.
   bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
@@ -68,6 +69,7 @@ class StepPipeline {
   // P2G in each shape the scene can take (or FIRN_TRANSFER_SHAPE names), and the one that runs.
   std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
   std::size_t chosen_ = 0;
+  std::size_t productChosen_ = 0;  // the semi-implicit solve's product: its shape's index in particleToGrid_
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;

@@ -69,14 +69,14 @@ ForcedTransferShape::ForcedTransferShape(const std::string& names) {
 
 ForcedTransferShape::~ForcedTransferShape() { unsetenv(kVariable); }
 
-std::string TransferShapeChoice::describe() const {
-  const std::string name = transferShapeName(shape);
-  const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();
-  if (msPerTransfer.size() < 2) return "P2G by " + name + (forced ? asked : ", the only shape for this scene");
+namespace {
+
+// "blocks-128, 3.10x faster than tiles (0.71 ms against 2.2 ms": the chosen of `timed` against the fastest other.
+std::string againstRunnerUp(const TransferShape& chosen, const std::vector<std::pair<TransferShape, double>>& timed) {
   double chosenMs = 0;
   const std::pair<TransferShape, double>* runnerUp = nullptr;
-  for (const auto& entry : msPerTransfer) {
-    if (entry.first == shape) {
+  for (const auto& entry : timed) {
+    if (entry.first == chosen) {
       chosenMs = entry.second;
     } else if (runnerUp == nullptr || entry.second < runnerUp->second) {
       runnerUp = &entry;
@@ -84,9 +84,20 @@ std::string TransferShapeChoice::describe() const {
   }
   char ratio[32];
   std::snprintf(ratio, sizeof ratio, "%.2f", runnerUp->second / std::max(chosenMs, 1e-9));
-  return "P2G by " + name + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
-         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second) + ", timed on " +
-         std::to_string(particles) + " particles)" + asked;
+  return transferShapeName(chosen) + ", " + ratio + "x faster than " + transferShapeName(runnerUp->first) + " (" +
+         milliseconds(chosenMs) + " against " + milliseconds(runnerUp->second);
+}
+
+}  // namespace
+
+std::string TransferShapeChoice::describe() const {
+  const std::string name = transferShapeName(shape);
+  const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();
+  if (msPerTransfer.size() < 2) return "P2G by " + name + (forced ? asked : ", the only shape for this scene");
+  std::string line = "P2G by " + againstRunnerUp(shape, msPerTransfer) + ", timed on " + std::to_string(particles) +
+                     " particles)";
+  if (msPerProduct.size() >= 2) line += "; Hessian product by " + againstRunnerUp(productShape, msPerProduct) + ")";
+  return line + asked;
 }
 
 }  // namespace firn

@@ -1,8 +1,8 @@
 #pragma once
-// The shape of particle to grid, and of the semi-implicit solve's Hessian product, which takes P2G's (docs/numerics.md,
-// Transfers). Both shapes add the same quantized contributions and integer sums do not depend on the order, so they
-// write the same bytes; which one runs is chosen by timing P2G in each on the run's own scene and device, never by
-// the scene file.
+// The shape of particle to grid, and of the semi-implicit solve's Hessian product (docs/numerics.md, Transfers). Both
+// shapes add the same quantized contributions and integer sums do not depend on the order, so they write the same
+// bytes; which one runs is chosen by timing each (P2G, and the product on its own) on the run's own scene and
+// device, never by the scene file.
 //   tiles   an invocation per tile of base nodes sums its particles in private accumulators (p2g.comp,
 //           solver_product.comp): built for CPU renderers, which run an invocation's private arrays as vector
 //           registers
@@ -50,15 +50,19 @@ class ForcedTransferShape {
   ForcedTransferShape& operator=(const ForcedTransferShape&) = delete;
 };
 
-// The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate).
+// The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate); in a
+// semi-implicit run also the Hessian product's, timed on its own (it runs a few to tens of times a step, and its
+// shapes need not win where P2G's do).
 struct TransferShapeChoice {
   TransferShape shape;
   bool forced = false;  // FIRN_TRANSFER_SHAPE named the candidates
   std::vector<std::pair<TransferShape, double>> msPerTransfer;
   std::size_t particles = 0;  // the particles they were timed on
+  TransferShape productShape;  // the Hessian product's (semi-implicit runs)
+  std::vector<std::pair<TransferShape, double>> msPerProduct;  // empty when untimed
 
   // One line for a run's log and firn info: "P2G by blocks-128, 3.10x faster than tiles (0.71 ms against 2.2 ms,
-  // timed on 91,897 particles)".
+  // timed on 91,897 particles)", and "; Hessian product by …, … faster than …" when the product was timed.
   std::string describe() const;
 };
 

@@ -120,6 +120,32 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   EXPECT_EQ(blocksChoice->shape.kind, TransferShape::Kind::Blocks);
 }
 
+// A semi-implicit run times its Hessian product in every shape too, on its own, keeps the fastest, and says so; its
+// particles after a few steps are the bytes of a run forced to tiles (the shapes agree, whichever were kept).
+TEST(TransferShape, ASemiImplicitRunTimesItsProductToo) {
+  Scene scene = assetScene("snowball_wall.json");
+  scene.solver.integrator = firn::Integrator::SemiImplicit;
+  scene.time.dtS = 1e-3;
+  const firn::ForcedTransferShape unforced("");
+  Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
+  ASSERT_TRUE(choice.has_value());
+  ASSERT_EQ(choice->msPerProduct.size(), 4u);
+  double chosenMs = -1;
+  for (const auto& [shape, ms] : choice->msPerProduct) {
+    EXPECT_GT(ms, 0.0) << firn::transferShapeName(shape);
+    if (shape == choice->productShape) chosenMs = ms;
+  }
+  for (const auto& [shape, ms] : choice->msPerProduct) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
+  EXPECT_NE(choice->describe().find("; Hessian product by " + firn::transferShapeName(choice->productShape)),
+            std::string::npos)
+      << choice->describe();
+  for (int step = 0; step < 6; ++step) simulation.step(scene.time.dtS);
+  simulation.checkWatchdog();
+  EXPECT_TRUE(firn::test::sameBytes(simulation.snapshot(), runInShape(scene, "tiles", 6).particles))
+      << choice->describe();
+}
+
 // A scene whose particles all come from an emitter has none to time at first: it times the shapes at its first step
 // with particles, and again each time they have grown fourfold, since the faster shape can change with the count.
 // Float sums depend on their order, so a float scene keeps the tiles and blocks are refused for it.
