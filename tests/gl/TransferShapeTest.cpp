@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Error.h"
@@ -38,6 +39,16 @@ ShapeRun runInShape(const Scene& scene, const std::string& shape, int steps) {
   simulation.checkWatchdog();
   run.particles = simulation.snapshot();
   return run;
+}
+
+// Every shape took time, and `chosen` the least of it.
+void expectKeptTheFastest(const std::vector<std::pair<TransferShape, double>>& timed, const TransferShape& chosen) {
+  double chosenMs = -1;
+  for (const auto& [shape, ms] : timed) {
+    EXPECT_GT(ms, 0.0) << firn::transferShapeName(shape);
+    if (shape == chosen) chosenMs = ms;
+  }
+  for (const auto& [shape, ms] : timed) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
 }
 
 bool sameGrid(const std::vector<firn::GridNodeSums>& a, const std::vector<firn::GridNodeSums>& b) {
@@ -101,12 +112,7 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   ASSERT_TRUE(choice.has_value());
   EXPECT_FALSE(choice->forced);
   ASSERT_EQ(choice->msPerTransfer.size(), 4u);
-  double chosenMs = -1;
-  for (const auto& [shape, ms] : choice->msPerTransfer) {
-    EXPECT_GT(ms, 0.0) << firn::transferShapeName(shape);
-    if (shape == choice->shape) chosenMs = ms;
-  }
-  for (const auto& [shape, ms] : choice->msPerTransfer) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
+  expectKeptTheFastest(choice->msPerTransfer, choice->shape);
   EXPECT_NE(choice->describe().find("faster than"), std::string::npos) << choice->describe();
 
   // FIRN_TRANSFER_SHAPE=blocks times the block sizes alone (the benchmarks' blocks rows).
@@ -131,12 +137,7 @@ TEST(TransferShape, ASemiImplicitRunTimesItsProductToo) {
   const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
   ASSERT_TRUE(choice.has_value());
   ASSERT_EQ(choice->msPerProduct.size(), 4u);
-  double chosenMs = -1;
-  for (const auto& [shape, ms] : choice->msPerProduct) {
-    EXPECT_GT(ms, 0.0) << firn::transferShapeName(shape);
-    if (shape == choice->productShape) chosenMs = ms;
-  }
-  for (const auto& [shape, ms] : choice->msPerProduct) EXPECT_LE(chosenMs, ms) << firn::transferShapeName(shape);
+  expectKeptTheFastest(choice->msPerProduct, choice->productShape);
   EXPECT_NE(choice->describe().find("; Hessian product by " + firn::transferShapeName(choice->productShape)),
             std::string::npos)
       << choice->describe();
