@@ -1,5 +1,6 @@
-// P2G's two shapes (sim/TransferShape.h): tiles and blocks add the same quantized contributions, and integer sums do
-// not depend on the order, so every shape must write the same bytes; a run picks the fastest by timing them.
+// The transfers' two shapes (sim/TransferShape.h), P2G's and the semi-implicit Hessian product's: tiles and blocks add
+// the same quantized contributions, and integer sums do not depend on the order, so every shape must write the same
+// bytes; a run picks the fastest by timing them.
 #include <gtest/gtest.h>
 
 #include <string>
