@@ -91,19 +91,50 @@ plot file using (@ok ? column("grid_cells") : NaN):"ms_per_step" with linespoint
        with linespoints pt 5 title "grid memory: block pool and map"
 '
 
-plot_table passes '
-set title "Time per pass, each timed alone (reference bunny)\n".renderer
-set style data histograms
-set style histogram clustered gap 1
-set style fill solid 0.8 border -1
-set yrange [0:*]
-set ylabel "ms per step"
-set key top right
-set xtics rotate by -30
-plot file using "wall_ms":xtic(strcol("pass")." (".strcol("atomics")." ".strcol("transfer_shape").", ".strcol("integrator").", ".strcol("kernel").", ".strcol("particles").")") \
-       title "wall (dispatch to glFinish)", \
-     file using "gpu_ms" title "GL_TIME_ELAPSED"
-'
+# passes: a panel per series (atomics, shape, integrator, kernel and particles), each pass a pair of bars; one chart of
+# every series' passes side by side had too many bars to read their names.
+plot_passes() {
+  if [ ! -f "$dir/passes.csv" ]; then return; fi
+  local tmp panels
+  tmp=$(mktemp -d)
+  awk -F, -v out="$tmp" '
+    function field(name) { return (name in column) ? $column[name] : "" }  # tables of older builds lack some
+    NR == 1 { header = $0; for (i = 1; i <= NF; ++i) column[$i] = i; next }
+    {
+      series = field("atomics") " " field("transfer_shape") " " field("integrator") " " field("kernel") ", " \
+               field("particles") " particles"
+      if (!(series in table)) {
+        table[series] = out "/" (++panels) ".csv"
+        print header > table[series]
+        print series > (out "/" panels ".title")
+      }
+      print >> table[series]
+    }' "$dir/passes.csv"
+  panels=$(find "$tmp" -name '*.csv' | wc -l)
+  {
+    preamble
+    printf 'set terminal pngcairo size 960,%d noenhanced font ",10"\n' $((60 + 230 * panels))
+    printf 'set output "%s"\n' "$dir/passes.png"
+    printf 'set multiplot layout %d,1 title "Time per pass, each timed alone\\n%s"\n' "$panels" "${renderer//\"/}"
+    echo 'set style data histograms'
+    echo 'set style histogram clustered gap 1'
+    echo 'set style fill solid 0.8 border -1'
+    echo 'set yrange [0:*]'
+    echo 'set ylabel "ms per step"'
+    echo 'set key top left'
+    echo 'set xtics rotate by -20 font ",8"'
+    for ((i = 1; i <= panels; ++i)); do
+      printf 'set title "%s"\n' "$(cat "$tmp/$i.title")"
+      printf 'plot "%s" using "wall_ms":xtic(strcol("pass")) title "wall (dispatch to glFinish)", "" using "gpu_ms" title "GL_TIME_ELAPSED"\n' \
+        "$tmp/$i.csv"
+      echo 'unset key'
+    done
+    echo 'unset multiplot'
+  } | gnuplot
+  rm -rf "$tmp"
+  echo "plot.sh: wrote $dir/passes.png" >&2
+}
+plot_passes
 
 plot_table tradeoff '
 set title "Elastic bar: period error against cost (Pareto front highlighted)\n".renderer
