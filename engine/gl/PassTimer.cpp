@@ -31,4 +31,12 @@ void PassTimer::end(const std::string& pass) {
   ++entry->dispatches;
 }
 
+double msToFinish(const std::function<void()>& work) {
+  glFinish();
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  glFinish();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 }  // namespace firn::gl

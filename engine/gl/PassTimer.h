@@ -4,6 +4,7 @@
 // without it a pass only runs gl::checkPass, which is free outside debug builds.
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,5 +32,9 @@ class PassTimer {
   std::chrono::steady_clock::time_point wallStart_;
   std::vector<PassTime> times_;
 };
+
+// Host milliseconds from an idle GPU until the commands `work` issues have finished (glFinish before and after): for
+// timing a few dispatches once, as a run's choice of transfer shape does.
+double msToFinish(const std::function<void()>& work);
 
 }  // namespace firn::gl

@@ -1,11 +1,9 @@
 #include "sim/ImplicitSolver.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,6 +23,11 @@ constexpr std::size_t kBlockDispatch = offsetof(gpu::SolverStatus, solveBlockDis
 constexpr std::size_t kProductDispatch = offsetof(gpu::SolverStatus, solveProductDispatch);
 constexpr std::size_t kReduceDispatch = offsetof(gpu::SolverStatus, solveReduceDispatch);
 
+// The product's indirect dispatch in `shape`: over the transfers' tiles, or a work group per active block.
+std::size_t productDispatch(const TransferShape& shape) {
+  return shape.kind == TransferShape::Kind::Tiles ? kProductDispatch : kBlockDispatch;
+}
+
 static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "the scene's limit is the GPU's");
 
 }  // namespace
@@ -36,17 +39,15 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   begin_ = gl::ComputePass(library, "sim/solver_begin.comp", options);
   // Every shape's product is timed under one name, the tiles' (sim/solver_product.comp), as P2G's are.
   for (const TransferShape& shape : shapes) {
-    const bool tiles = shape.kind == TransferShape::Kind::Tiles;
-    gl::ShaderOptions shapeOptions = options;
-    if (!tiles) shapeOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
+    const gl::ShaderOptions shapeOptions = shapeShaderOptions(options, shape);
     gl::ShaderOptions firstOptions = shapeOptions;
     firstOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
-    const std::string file = tiles ? "sim/solver_product.comp" : "sim/solver_product_block.comp";
+    const std::string file =
+        shape.kind == TransferShape::Kind::Tiles ? "sim/solver_product.comp" : "sim/solver_product_block.comp";
     ProductPasses passes;
     passes.shape = shape;
     passes.first = gl::ComputePass(library, file, firstOptions, "sim/solver_product.comp (first product)");
     passes.iteration = gl::ComputePass(library, file, shapeOptions, "sim/solver_product.comp");
-    passes.dispatch = tiles ? kProductDispatch : kBlockDispatch;
     products_.push_back(std::move(passes));
   }
   residual_ = gl::ComputePass(library, "sim/solver_residual.comp", options);
@@ -84,44 +85,34 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
   return report;
 }
 
-const ImplicitSolver::ProductPasses& ImplicitSolver::products(const TransferShape& shape) const {
-  for (const ProductPasses& passes : products_) {
-    if (passes.shape == shape) return passes;
-  }
-  throw std::logic_error("ImplicitSolver: no Hessian product in the shape " + transferShapeName(shape));
-}
-
-std::vector<std::pair<TransferShape, double>> ImplicitSolver::timeProducts(const GpuState& state, std::size_t particles,
-                                                                           int maxWorkGroupsX, int rounds) const {
+std::vector<std::pair<TransferShape, double>> ImplicitSolver::chooseProduct(const GpuState& state,
+                                                                            std::size_t particles, int maxWorkGroupsX,
+                                                                            int rounds) {
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   gl::PassTimer untimed;
   begin_.runOnce(buffers, untimed);
   glMemoryBarrier(gl::kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, untimed);
-  std::vector<std::pair<TransferShape, double>> fastestMs;
-  for (const ProductPasses& product : products_) {
-    fastestMs.emplace_back(product.shape, std::numeric_limits<double>::infinity());
-  }
-  for (int round = 0; round <= rounds; ++round) {
-    for (std::size_t i = 0; i < products_.size(); ++i) {
-      glFinish();
-      const auto start = std::chrono::steady_clock::now();
-      products_[i].first.runIndirect(status, products_[i].dispatch, buffers, untimed);
+  const std::vector<double> fastestMs = fastestOfRounds(products_.size(), rounds, [&](std::size_t i) {
+    const ProductPasses& product = products_[i];
+    const double ms = gl::msToFinish([&] {
+      product.first.runIndirect(status, productDispatch(product.shape), buffers, untimed);
       glMemoryBarrier(gl::kStorage);
-      glFinish();
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      if (round > 0) fastestMs[i].second = std::min(fastestMs[i].second, ms);
-      residual_.runIndirect(status, kBlockDispatch, buffers, untimed);  // takes the product's sums
-      glMemoryBarrier(gl::kStorage);
-    }
-  }
-  return fastestMs;
+    });
+    residual_.runIndirect(status, kBlockDispatch, buffers, untimed);  // takes the product's sums
+    glMemoryBarrier(gl::kStorage);
+    return ms;
+  });
+  std::vector<std::pair<TransferShape, double>> timed;
+  for (std::size_t i = 0; i < products_.size(); ++i) timed.emplace_back(products_[i].shape, fastestMs[i]);
+  chosen_ = fastestEntry(timed);
+  return timed;
 }
 
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
-                                  const TransferShape& shape, gl::PassTimer& timer) const {
-  const ProductPasses& product = products(shape);
+                                  gl::PassTimer& timer) const {
+  const ProductPasses& product = products_[chosen_];
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   begin_.runOnce(buffers, timer);
@@ -129,7 +120,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
-  product.first.runIndirect(status, product.dispatch, buffers, timer);
+  product.first.runIndirect(status, productDispatch(product.shape), buffers, timer);
   glMemoryBarrier(gl::kStorage);
   residual_.runIndirect(status, kBlockDispatch, buffers, timer);
   glMemoryBarrier(gl::kStorage);
@@ -139,7 +130,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product.iteration.runIndirect(status, product.dispatch, buffers, timer);
+    product.iteration.runIndirect(status, productDispatch(product.shape), buffers, timer);
     glMemoryBarrier(gl::kStorage);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
     glMemoryBarrier(gl::kStorage);

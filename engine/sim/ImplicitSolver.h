@@ -31,16 +31,15 @@ class ImplicitSolver {
   ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
                  const std::vector<TransferShape>& shapes);
 
-  // Replaces v* on the grid with the solution, the Hessian products in `shape`, one of the constructor's. The
-  // state's buffers must be bound (StepPipeline binds them).
-  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, const TransferShape& shape,
-                    gl::PassTimer& timer) const;
-  // Times the step's first Hessian product in each of the constructor's shapes, one untimed round and then `rounds`
-  // timed ones, each from glFinish to glFinish, on the grid the grid update has just left (its start x₀). Each
-  // product's sums are taken by the residual pass after it, so nothing carries into the next solve. Returns each
-  // shape's fastest round (ms), in the constructor's order.
-  std::vector<std::pair<TransferShape, double>> timeProducts(const GpuState& state, std::size_t particles,
-                                                             int maxWorkGroupsX, int rounds) const;
+  // Replaces v* on the grid with the solution, the Hessian products in the chosen shape (the constructor's first
+  // until chooseProduct). The state's buffers must be bound (StepPipeline binds them).
+  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
+  // Times the step's first Hessian product in each of the constructor's shapes (fastestOfRounds, `rounds` timed),
+  // on the grid the grid update has just left (its start x₀), and keeps the fastest. Each product's sums are taken
+  // by the residual pass after it, so nothing carries into the next solve. Returns each shape's time (ms).
+  std::vector<std::pair<TransferShape, double>> chooseProduct(const GpuState& state, std::size_t particles,
+                                                              int maxWorkGroupsX, int rounds);
+  const TransferShape& productShape() const { return products_[chosen_].shape; }
 
 
  private:
@@ -53,19 +52,18 @@ class ImplicitSolver {
   void reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const;
 
   // The Hessian product's passes in one shape: tiles (solver_product.comp) take the transfers' dispatch, blocks
-  // (solver_product_block.comp) a work group per active block.
+  // (solver_product_block.comp) a work group per active block (productDispatch).
   struct ProductPasses {
     TransferShape shape;
     gl::ComputePass first;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
     gl::ComputePass iteration;
-    std::size_t dispatch = 0;  // its indirect dispatch's offset in the solver's status
   };
-  const ProductPasses& products(const TransferShape& shape) const;
 
   int maxIterations_;
   gl::ComputePass prepare_;
   gl::ComputePass begin_;
-  std::vector<ProductPasses> products_;  // tiles first
+  std::vector<ProductPasses> products_;  // in the constructor's order of shapes
+  std::size_t chosen_ = 0;
   gl::ComputePass residual_;
   gl::ComputePass apply_;
   gl::ComputePass step_;

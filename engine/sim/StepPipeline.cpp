@@ -1,9 +1,7 @@
 #include "sim/StepPipeline.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <utility>
 
@@ -105,14 +103,9 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   // Both shapes of P2G are timed under one name, the tiles' (sim/p2g.comp): a step has one P2G.
   const TransferShapeCandidates candidates = transferShapeCandidates(scene);
   for (const TransferShape& shape : candidates.shapes) {
-    if (shape.kind == TransferShape::Kind::Tiles) {
-      particleToGrid_.emplace_back(shape, gl::ComputePass(library, "sim/p2g.comp", options));
-    } else {
-      gl::ShaderOptions blockOptions = options;
-      blockOptions.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
-      particleToGrid_.emplace_back(shape,
-                                   gl::ComputePass(library, "sim/p2g_block.comp", blockOptions, "sim/p2g.comp"));
-    }
+    const char* file = shape.kind == TransferShape::Kind::Tiles ? "sim/p2g.comp" : "sim/p2g_block.comp";
+    particleToGrid_.emplace_back(
+        shape, gl::ComputePass(library, file, shapeShaderOptions(options, shape), "sim/p2g.comp"));
   }
   transferShapeForced_ = candidates.forced;
   if (particleToGrid_.size() == 1) {
@@ -145,7 +138,7 @@ void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, 
   glMemoryBarrier(gl::kStorage);
 }
 
-// Timed rounds of every shape, after one round untimed (a driver may build its code at the first dispatch).
+// Timed rounds of every shape (fastestOfRounds).
 constexpr int kTransferShapeRounds = 3;
 // The shapes are timed again when the particles have grown this many times since they were last timed.
 constexpr std::size_t kTransferShapeRetimeGrowth = 4;
@@ -161,49 +154,34 @@ void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::Pa
 bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   if (particles == 0 || particleToGrid_.size() == 1) return false;
   if (transferChoice_ && particles < kTransferShapeRetimeGrowth * transferChoice_->particles) return false;
-  // The fastest of each shape's timed rounds: a shared machine's noise only ever adds time.
-  std::vector<double> fastestMs(particleToGrid_.size(), std::numeric_limits<double>::infinity());
   gl::PassTimer untimed;
-  for (int round = 0; round <= kTransferShapeRounds; ++round) {
-    for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
-      // Each P2G adds to the sums the sort has just emptied (release_blocks.comp), so every round ends as one
-      // transferToGrid would.
-      state.grid().sortParticles(particles, state.bindings(), untimed);
-      glFinish();
-      const auto start = std::chrono::steady_clock::now();
-      runParticleToGrid(particleToGrid_[i].first, particleToGrid_[i].second, state, untimed);
-      glFinish();
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      if (round > 0) fastestMs[i] = std::min(fastestMs[i], ms);
-    }
-  }
+  const auto timeOne = [&](std::size_t i) {
+    // Each P2G adds to the sums the sort has just emptied (release_blocks.comp), so every round ends as one
+    // transferToGrid would.
+    state.grid().sortParticles(particles, state.bindings(), untimed);
+    const auto& [shape, pass] = particleToGrid_[i];
+    return gl::msToFinish([&] { runParticleToGrid(shape, pass, state, untimed); });
+  };
+  const std::vector<double> fastestMs = fastestOfRounds(particleToGrid_.size(), kTransferShapeRounds, timeOne);
   TransferShapeChoice choice;
   choice.forced = transferShapeForced_;
-  std::size_t best = 0;
   for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
     choice.msPerTransfer.emplace_back(particleToGrid_[i].first, fastestMs[i]);
-    if (fastestMs[i] < fastestMs[best]) best = i;
   }
-  choice.shape = particleToGrid_[best].first;
-  choice.productShape = choice.shape;
+  chosen_ = fastestEntry(choice.msPerTransfer);
+  choice.shape = choice.productShape = particleToGrid_[chosen_].first;
   choice.particles = particles;
-  chosen_ = best;
-  // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
-  transferToGrid(state, particles, untimed);
   if (implicitSolver_) {
-    // The product is timed from the start x₀ the grid update leaves, and the grid summed again after it.
+    // The last round left the grid every shape's transfer leaves (they agree to the bit): the product is timed from
+    // the start x₀ the grid update makes of it.
     updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
                             state.bindings(), untimed);
     glMemoryBarrier(gl::kStorage);
-    choice.msPerProduct = implicitSolver_->timeProducts(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
-    std::size_t fastest = 0;
-    for (std::size_t i = 0; i < choice.msPerProduct.size(); ++i) {
-      if (choice.msPerProduct[i].second < choice.msPerProduct[fastest].second) fastest = i;
-    }
-    productChosen_ = fastest;  // the solver's shapes are particleToGrid_'s, in its order
-    choice.productShape = particleToGrid_[fastest].first;
-    transferToGrid(state, particles, untimed);
+    choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
+    choice.productShape = implicitSolver_->productShape();
   }
+  // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
+  transferToGrid(state, particles, untimed);
   transferChoice_ = std::move(choice);
   return true;
 }
@@ -223,7 +201,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;
   if (implicitSolver_) {
-    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, particleToGrid_[productChosen_].first, timer);
+    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);

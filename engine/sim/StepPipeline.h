@@ -69,7 +69,6 @@ class StepPipeline {
   // P2G in each shape the scene can take (or FIRN_TRANSFER_SHAPE names), and the one that runs.
   std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
   std::size_t chosen_ = 0;
-  std::size_t productChosen_ = 0;  // the semi-implicit solve's product: its shape's index in particleToGrid_
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   gl::ComputePass updateGrid_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "Error.h"
 
@@ -68,6 +69,31 @@ ForcedTransferShape::ForcedTransferShape(const std::string& names) {
 }
 
 ForcedTransferShape::~ForcedTransferShape() { unsetenv(kVariable); }
+
+gl::ShaderOptions shapeShaderOptions(gl::ShaderOptions options, const TransferShape& shape) {
+  if (shape.kind == TransferShape::Kind::Blocks) {
+    options.defines.emplace_back("FIRN_P2G_BLOCK_GROUP_SIZE", std::to_string(shape.groupSize));
+  }
+  return options;
+}
+
+std::vector<double> fastestOfRounds(std::size_t candidates, int rounds,
+                                    const std::function<double(std::size_t)>& timeOne) {
+  std::vector<double> fastestMs(candidates, std::numeric_limits<double>::infinity());
+  for (int round = 0; round <= rounds; ++round) {
+    for (std::size_t i = 0; i < candidates; ++i) {
+      const double ms = timeOne(i);
+      if (round > 0) fastestMs[i] = std::min(fastestMs[i], ms);
+    }
+  }
+  return fastestMs;
+}
+
+std::size_t fastestEntry(const std::vector<std::pair<TransferShape, double>>& timed) {
+  return std::size_t(std::min_element(timed.begin(), timed.end(),
+                                      [](const auto& a, const auto& b) { return a.second < b.second; }) -
+                     timed.begin());
+}
 
 namespace {
 

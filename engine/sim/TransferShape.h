@@ -8,10 +8,14 @@
 //           registers
 //   blocks  a work group per block, an invocation per particle, the block's region summed in shared memory
 //           (p2g_block.comp, solver_product_block.comp), in groups of 64, 128 or 256 invocations: built for GPUs
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "gl/ShaderLibrary.h"
 #include "scene/Scene.h"
 
 namespace firn {
@@ -49,6 +53,17 @@ class ForcedTransferShape {
   ForcedTransferShape(const ForcedTransferShape&) = delete;
   ForcedTransferShape& operator=(const ForcedTransferShape&) = delete;
 };
+
+// A pass's shader options in `shape`: blocks take their group size (FIRN_P2G_BLOCK_GROUP_SIZE).
+gl::ShaderOptions shapeShaderOptions(gl::ShaderOptions options, const TransferShape& shape);
+
+// Each of `candidates` timed once untimed (a driver may build a program's code at its first dispatch) and then
+// `rounds` times, round after round; `timeOne(i)` runs candidate i once and returns its milliseconds. Each
+// candidate's fastest round: a shared machine's noise only ever adds time.
+std::vector<double> fastestOfRounds(std::size_t candidates, int rounds,
+                                    const std::function<double(std::size_t)>& timeOne);
+// The entry with the least time (the first of equals).
+std::size_t fastestEntry(const std::vector<std::pair<TransferShape, double>>& timed);
 
 // The shape a run takes, and the P2G times that chose it (ms; empty when there was one candidate); in a
 // semi-implicit run also the Hessian product's, timed on its own (it runs a few to tens of times a step, and its

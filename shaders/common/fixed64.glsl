@@ -49,13 +49,20 @@ vec4 fixed64ToFloat(uvec4 low, ivec4 high) {
               fixed64ToFloat(low.w, high.w));
 }
 
-// Adds 64-bit sums (low, high) to the words `lowWords`/`highWords` of a node, a word at a time: the low word's
+bool nonzero(uvec3 low, ivec3 high) { return any(notEqual(low, uvec3(0u))) || any(notEqual(high, ivec3(0))); }
+bool nonzero(uvec4 low, ivec4 high) { return any(notEqual(low, uvec4(0u))) || any(notEqual(high, ivec4(0))); }
+
+// Adds the 64-bit value (low, high) to the words lowWord/highWord, in storage or shared memory: the low word's
 // atomicAdd returns the sum before, which tells whether it carried into the high word. The words end as the exact
-// 64-bit sum whatever the order of the additions. (A macro: GLSL's atomics take the buffer's variable itself.)
-#define FIRN_ADD_FIXED64(lowWords, highWords, low, high)                    \
-  for (int c = 0; c < 4; ++c) {                                           \
-    if (low[c] == 0u && high[c] == 0) continue;                           \
-    uint previous = atomicAdd(lowWords[c], low[c]);                       \
-    int carry = previous + low[c] < previous ? 1 : 0;                     \
-    if (high[c] + carry != 0) atomicAdd(highWords[c], high[c] + carry);   \
+// 64-bit sum whatever the order of the additions. (Macros: GLSL's atomics take the variable itself.)
+#define FIRN_ADD_FIXED64_WORD(lowWord, highWord, low, high)           \
+  if ((low) != 0u || (high) != 0) {                                   \
+    uint previous = atomicAdd(lowWord, low);                          \
+    int carry = previous + (low) < previous ? 1 : 0;                  \
+    if ((high) + carry != 0) atomicAdd(highWord, (high) + carry);     \
+  }
+// Each of the four words of a node's 64-bit sums (lowWords/highWords, uvec4/ivec4), as above.
+#define FIRN_ADD_FIXED64(lowWords, highWords, low, high) \
+  for (int c = 0; c < 4; ++c) {                          \
+    FIRN_ADD_FIXED64_WORD(lowWords[c], highWords[c], low[c], high[c]) \
   }

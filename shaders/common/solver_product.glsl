@@ -49,32 +49,31 @@ mat3 gatherFromNode(Stencil stencil, ivec3 k, ivec3 base) {
   return term;
 }
 
-// Rounds the stencil node k's product contribution, stressUnits ∇w, and adds it to the region; false when it was
-// too large for the fixed point (dropped, for the pass to report).
-bool scatterToNode(mat3 stressUnits, Stencil stencil, ivec3 k, ivec3 base) {
-  precise vec3 contribution = stressUnits * stencilGradient(stencil, k);
+// Rounds a node's product contribution, stressUnits ∇w (`gradient` the node's ∇w), and adds it to the region at
+// `offset`; false when it was too large for the fixed point (dropped, for the pass to report).
+bool scatterToNode(mat3 stressUnits, vec3 gradient, ivec3 offset) {
+  precise vec3 contribution = stressUnits * gradient;
   uvec4 low;
   ivec4 high;
   bool fits = productToFixed64(vec4(contribution, 0.0), low, high);
-  addProductToRegion(base + k, low.xyz, high.xyz);
+  addProductToRegion(offset, low.xyz, high.xyz);
   return fits;
 }
 
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
 // The first product's: also the particle's share of the node's stiffness block, `blockUnits` times
 // stiffnessBlock. The iterations' products leave the blocks out, and with them two thirds of the region's traffic.
-bool scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, StiffnessBlockForm form, Stencil stencil, ivec3 k,
-                            ivec3 base) {
-  bool fits = scatterToNode(stressUnits, stencil, k, base);
+bool scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, StiffnessBlockForm form, vec3 gradient, ivec3 offset) {
+  bool fits = scatterToNode(stressUnits, gradient, offset);
   vec3 blockDiagonal, blockOff;
-  stiffnessBlock(form, stencilGradient(stencil, k), blockDiagonal, blockOff);
+  stiffnessBlock(form, gradient, blockDiagonal, blockOff);
   precise vec4 diagonalUnits = vec4(blockUnits * blockDiagonal, 0.0);
   precise vec4 offDiagonalUnits = vec4(blockUnits * blockOff, 0.0);
   uvec4 diagonalLow, offLow;
   ivec4 diagonalHigh, offHigh;
   fits = productToFixed64(diagonalUnits, diagonalLow, diagonalHigh) && fits;
   fits = productToFixed64(offDiagonalUnits, offLow, offHigh) && fits;
-  addStiffnessBlockToRegion(base + k, diagonalLow.xyz, diagonalHigh.xyz, offLow.xyz, offHigh.xyz);
+  addStiffnessBlockToRegion(offset, diagonalLow.xyz, diagonalHigh.xyz, offLow.xyz, offHigh.xyz);
   return fits;
 }
 #endif
@@ -117,16 +116,17 @@ bool scatterProductParticle(uint p, ivec3 regionFirstNode) {
   precise float blockUnits = implicitRatio * dtS * dtS * volume * massUnitsPerKg;
   StiffnessBlockForm form = stiffnessBlockForm(stiffness);
   for (int n = 0; n < KERNEL_NODES; ++n) {
-    fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, stencil, stencilOffset(n), base) && fits;
+    ivec3 k = stencilOffset(n);
+    fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, stencilGradient(stencil, k), base + k) && fits;
   }
 #else
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {
     ivec3 k = ivec3(0, yz % KERNEL_WIDTH, yz / KERNEL_WIDTH);
-    fits = scatterToNode(stressUnits, stencil, k, base) && fits;
-    fits = scatterToNode(stressUnits, stencil, k + ivec3(1, 0, 0), base) && fits;
-    fits = scatterToNode(stressUnits, stencil, k + ivec3(2, 0, 0), base) && fits;
+    fits = scatterToNode(stressUnits, stencilGradient(stencil, k), base + k) && fits;
+    fits = scatterToNode(stressUnits, stencilGradient(stencil, k + ivec3(1, 0, 0)), base + k + ivec3(1, 0, 0)) && fits;
+    fits = scatterToNode(stressUnits, stencilGradient(stencil, k + ivec3(2, 0, 0)), base + k + ivec3(2, 0, 0)) && fits;
 #ifdef FIRN_KERNEL_CUBIC
-    fits = scatterToNode(stressUnits, stencil, k + ivec3(3, 0, 0), base) && fits;
+    fits = scatterToNode(stressUnits, stencilGradient(stencil, k + ivec3(3, 0, 0)), base + k + ivec3(3, 0, 0)) && fits;
 #endif
   }
 #endif

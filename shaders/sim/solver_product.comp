@@ -2,8 +2,8 @@
 // The semi-implicit solve's Hessian product, β Δt² H u (common/solver.glsl, common/solver_product.glsl), shaped for
 // CPU renderers as P2G's tiles (p2g.comp): an invocation per tile of base nodes reads u at its tile's region of
 // nodes once, adds each particle's rounded contributions to the region's 64-bit sums in private arrays, and then the
-// region's sums to the nodes. solver_product_block.comp is the same product shaped for GPUs; a run takes the shape
-// its P2G took (sim/TransferShape.h), and both write the same bytes.
+// region's sums to the nodes. solver_product_block.comp is the same product shaped for GPUs; a run times both and
+// keeps the faster (ImplicitSolver::timeProducts), and both write the same bytes.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
 // which update_grid.comp left in the direction: the first product of a step also sums the nodes' stiffness blocks.
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
@@ -61,8 +61,6 @@ void loadRegion(ivec3 firstBase) {
     regionHigh[i] = ivec3(0);
   }
 }
-
-bool nonzero(uvec3 low, ivec3 high) { return any(notEqual(low, uvec3(0u))) || any(notEqual(high, ivec3(0))); }
 
 void main() {
   uint entry = workGroupSlot() * uint(FIRN_TILE_GROUP_SIZE) + gl_LocalInvocationIndex;

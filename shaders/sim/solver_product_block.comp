@@ -2,7 +2,7 @@
 // The semi-implicit solve's Hessian product, β Δt² H u (common/solver.glsl, common/solver_product.glsl), shaped for
 // GPUs as P2G's blocks (p2g_block.comp): a work group per active block reads u at the block's region into shared
 // memory once; an invocation per particle of the block adds its rounded contributions to the region's 64-bit sums in
-// shared memory with integer atomics (the low word's carry taken by hand, as FIRN_ADD_FIXED64 does at the nodes);
+// shared memory with integer atomics (the low word's carry taken by hand: FIRN_ADD_FIXED64_WORD, as at the nodes);
 // then the group adds each region node's sums to the node, a global atomic per word. The same bytes as the tiles'
 // solver_product.comp: the same contributions, rounded alike, summed exactly.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
@@ -37,11 +37,8 @@ vec3 productVectorAt(ivec3 offset) { return regionVector[blockRegionIndex(offset
 // Adds (low, high) to channels [firstChannel, firstChannel + 3) of region node i.
 void addToRegion(int i, int firstChannel, uvec3 low, ivec3 high) {
   for (int c = 0; c < 3; ++c) {
-    if (low[c] == 0u && high[c] == 0) continue;
     int word = (firstChannel + c) * BLOCK_REGION_NODES + i;
-    uint previous = atomicAdd(regionLow[word], low[c]);
-    int carry = previous + low[c] < previous ? 1 : 0;
-    if (high[c] + carry != 0) atomicAdd(regionHigh[word], high[c] + carry);
+    FIRN_ADD_FIXED64_WORD(regionLow[word], regionHigh[word], low[c], high[c])
   }
 }
 
@@ -65,8 +62,6 @@ void regionSums(int i, int firstChannel, out uvec4 low, out ivec4 high) {
     high[c] = regionHigh[(firstChannel + c) * BLOCK_REGION_NODES + i];
   }
 }
-
-bool nonzero(uvec4 low, ivec4 high) { return any(notEqual(low, uvec4(0u))) || any(notEqual(high, ivec4(0))); }
 
 void main() {
   uint slot = workGroupSlot();
