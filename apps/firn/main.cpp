@@ -66,7 +66,7 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
       share ? std::optional(share->summary()) : std::nullopt;  // every rank takes part
   if (!writer) return 0;
   if (traffic) {
-    std::fprintf(stderr, "firn: %d processes, slabs of block layers across %s: %s\n", share->size(),
+    std::fprintf(stderr, "firn: %d processes, slabs of block layers across %s: %s\n", share->shares(),
                  share->slabs().describe().c_str(), traffic->describe().c_str());
   }
   std::printf("firn: wrote %d frames (%zu particles, %llu steps) to %s in %.1f s: %.2f ms per step on %s\n",

@@ -60,14 +60,8 @@ void Buffer::download(std::size_t offsetBytes, std::size_t bytes, void* out) con
   glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, static_cast<GLintptr>(offsetBytes), static_cast<GLsizeiptr>(bytes), out);
 }
 
-void Buffer::copyFrom(const Buffer& source, std::size_t bytes) {
+void Buffer::copyFrom(const Buffer& source, std::size_t bytes, std::size_t fromBytes, std::size_t toBytes) {
   glBindBuffer(GL_COPY_READ_BUFFER, source.id_);
-  glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
-  glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, static_cast<GLsizeiptr>(bytes));
-}
-
-void Buffer::copyWithin(std::size_t fromBytes, std::size_t toBytes, std::size_t bytes) {
-  glBindBuffer(GL_COPY_READ_BUFFER, id_);
   glBindBuffer(GL_COPY_WRITE_BUFFER, id_);
   glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, static_cast<GLintptr>(fromBytes),
                       static_cast<GLintptr>(toBytes), static_cast<GLsizeiptr>(bytes));

@@ -36,10 +36,9 @@ class Buffer {
   void upload(std::size_t offsetBytes, std::size_t bytes, const void* data);
   void download(std::size_t offsetBytes, std::size_t bytes, void* out) const;
   void zero();
-  // Copies the first `bytes` of `source` into this buffer on the GPU (glCopyBufferSubData).
-  void copyFrom(const Buffer& source, std::size_t bytes);
-  // Copies `bytes` at `fromBytes` of this buffer to `toBytes` of it, on the GPU; the ranges must not overlap.
-  void copyWithin(std::size_t fromBytes, std::size_t toBytes, std::size_t bytes);
+  // Copies `bytes` of `source` from `fromBytes` into this buffer at `toBytes`, on the GPU (glCopyBufferSubData);
+  // `source` may be this buffer, with ranges that do not overlap.
+  void copyFrom(const Buffer& source, std::size_t bytes, std::size_t fromBytes = 0, std::size_t toBytes = 0);
 
   template <typename T>
   std::vector<T> read(std::size_t count, std::size_t firstElement = 0) const {

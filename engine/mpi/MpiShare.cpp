@@ -187,17 +187,31 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
     strides.push_back(buffer->bytes() / state.particles().capacity());
     recordBytes += strides.back();
   }
+  // Their records, one state buffer at a time gathered on the GPU into a staging buffer and read back whole: a
+  // readback per particle and buffer waited for the GPU once each.
+  std::vector<std::vector<unsigned char>> listed(strides.size());
+  if (!outside.empty()) {
+    const std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
+    const std::size_t stagingBytes = outside.size() * *std::max_element(strides.begin(), strides.end());
+    if (staging_.bytes() < stagingBytes) staging_ = gl::Buffer(2 * stagingBytes).labelled("migration staging");
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+      for (std::size_t k = 0; k < outside.size(); ++k) {
+        staging_.copyFrom(*buffers[b], strides[b], outside[k] * strides[b], k * strides[b]);
+      }
+      listed[b].resize(outside.size() * strides[b]);
+      staging_.download(0, listed[b].size(), listed[b].data());
+    }
+  }
   std::vector<unsigned char> records(outside.size() * recordBytes);  // the leaving particles', packed
   std::vector<std::uint32_t> leaving;  // in index order
   std::vector<int> destinations, sendCounts(static_cast<std::size_t>(size_), 0);
   {
-    const std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
     for (std::size_t k = 0; k < outside.size(); ++k) {
       unsigned char* record = records.data() + leaving.size() * recordBytes;
       std::memcpy(record, &ids[outside[k]], sizeof(std::uint32_t));
       unsigned char* field = record + sizeof(std::uint32_t);
-      for (std::size_t b = 0; b < buffers.size(); ++b) {
-        buffers[b]->download(outside[k] * strides[b], strides[b], field);
+      for (std::size_t b = 0; b < strides.size(); ++b) {
+        std::memcpy(field, listed[b].data() + k * strides[b], strides[b]);
         field += strides[b];
       }
       glm::vec3 positionM;
@@ -245,15 +259,11 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
   std::size_t nextLeaving = leaving.size();  // leavers above the filler, from the top
   for (const std::uint32_t hole : leaving) {
     if (hole >= kept) break;
-    do {
-      --filler;
-      if (nextLeaving > 0 && leaving[nextLeaving - 1] == filler) {
-        --nextLeaving;
-        continue;
-      }
-      break;
-    } while (true);
-    for (std::size_t b = 0; b < buffers.size(); ++b) buffers[b]->copyWithin(filler * strides[b], hole * strides[b], strides[b]);
+    // The next staying particle from the top: leavers up there are skipped.
+    for (--filler; nextLeaving > 0 && leaving[nextLeaving - 1] == filler; --filler) --nextLeaving;
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+      buffers[b]->copyFrom(*buffers[b], strides[b], filler * strides[b], hole * strides[b]);
+    }
     ids[hole] = ids[filler];
   }
   ids.resize(kept);
@@ -373,7 +383,6 @@ RunTraffic MpiShare::summary() const {
   // A rank's time in the exchanges includes its wait for slower ranks; the rank that waited least shows their cost.
   MPI_Allreduce(&exchangeS, &leastExchangeS, 1, MPI_DOUBLE, MPI_MIN, comm_);
   RunTraffic run;
-  run.ranks = size_;
   const double steps = double(std::max<std::uint64_t>(traffic_.steps, 1));
   // A node's sums are BLOCK_NODES ivec4s per block (two with PIC/FLIP's impulses); P2G writes them, the grid update
   // reads them and writes the velocities over them, G2P reads those: four passes over them a step.

@@ -14,6 +14,7 @@
 
 #include <mpi.h>
 
+#include "gl/Buffer.h"
 #include "mpi/Slabs.h"
 #include "scene/Scene.h"
 #include "sim/DomainShare.h"
@@ -33,7 +34,6 @@ struct ShareTraffic {
 
 // What all ranks exchanged over a run, per step (MpiShare::summary).
 struct RunTraffic {
-  int ranks = 1;
   double haloBytesPerStep = 0;      // grid sums sent by all ranks
   double gridBytesPerStep = 0;      // what the grid passes move: 4 × the node sums of every rank's active blocks
   double exchangeMsPerStep = 0;     // completing sums and migrating: the least of any rank (the others also wait)
@@ -50,9 +50,7 @@ class MpiShare final : public DomainShare {
   MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames);
 
   int rank() const { return rank_; }
-  int size() const { return size_; }
   const Slabs& slabs() const { return slabs_; }
-  const ShareTraffic& traffic() const { return traffic_; }
   // This run's traffic over all ranks; every rank calls it.
   RunTraffic summary() const;
 
@@ -82,6 +80,7 @@ class MpiShare final : public DomainShare {
   int framesSinceBalance_ = 0;
   std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
   ShareTraffic traffic_;
+  gl::Buffer staging_;               // migration: the leavers' records of one state buffer, read back at once
   int sumsPerNode_;                  // 1, or 2 with PIC/FLIP's impulse sums (as the grid stores them)
 };
 

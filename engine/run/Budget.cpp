@@ -11,6 +11,7 @@
 
 #include "Error.h"
 #include "gpu/GpuLayout.h"
+#include "sim/DomainShare.h"
 #include "io/Text.h"
 #include "scene/FieldLattice.h"
 #include "sim/GpuState.h"
@@ -94,8 +95,8 @@ Limit tightestLimit(const Scene& scene, const gl::ContextInfo& gl, int shares) {
   std::vector<Limit> limits;
   limits.push_back({double(std::numeric_limits<std::int32_t>::max()), "the GPU's 32-bit particle indices"});
   // Over several processes each GPU holds about its share of the particles and a quarter more (its buffers' room to
-  // take particles in, sim/Simulation.cpp); each host samples them all.
-  const double perGpu = shares > 1 ? double(shares) / 1.25 : 1.0;
+  // take particles in, sim/DomainShare.h); each host samples them all.
+  const double perGpu = shares > 1 ? double(shares) / (1.0 + 1.0 / double(kShareSpareFraction)) : 1.0;
   const std::string ofShares =
       shares > 1 ? " on each of " + std::to_string(shares) + " processes, each holding about 1/" + std::to_string(shares) +
                        " of the particles and a quarter more"

@@ -43,6 +43,7 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
 }
 
 void Diagnostics::noteParticles(const std::vector<ParticleSeed>& seeds) {
+  if (ids_ != nullptr) return;
   for (const ParticleSeed& seed : seeds) {
     particleBody_.push_back(seed.bodyIndex);
     particleMaterial_.push_back(seed.materialIndex);
@@ -50,6 +51,7 @@ void Diagnostics::noteParticles(const std::vector<ParticleSeed>& seeds) {
 }
 
 void Diagnostics::keepParticles(std::size_t count) {
+  if (ids_ != nullptr) return;
   particleBody_.resize(count);
   particleMaterial_.resize(count);
 }

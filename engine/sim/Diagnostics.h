@@ -21,7 +21,7 @@ class Diagnostics {
   Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint);
 
   // Records the body and material of particles as they are written, in order; forgets those beyond `count`
-  // (a restored state holds fewer).
+  // (a restored state holds fewer). Both do nothing once ids are followed: the notes are then fixed.
   void noteParticles(const std::vector<ParticleSeed>& seeds);
   void keepParticles(std::size_t count);
   // With a share of the domain (sim/DomainShare.h): the notes are of all the scene's particles in one process's

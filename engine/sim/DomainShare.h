@@ -8,6 +8,7 @@
 // sum does not depend on which process added which particle's part or in what order, and every other part of a step
 // is a particle's or a node's own. So a share only has to complete the sums of the nodes it holds before the grid
 // update reads them, and keep each particle's record intact as it moves from share to share.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -23,6 +24,14 @@
 #include "sim/SceneUpload.h"
 
 namespace firn {
+
+// A share's particle buffers hold its particles and a quarter more (and kShareSpareParticles), growing as particles
+// come, never beyond one process's `capacity`; the budget counts a GPU for that room (run/Budget.cpp).
+constexpr std::size_t kShareSpareFraction = 4;  // a quarter
+constexpr std::size_t kShareSpareParticles = 1024;
+inline std::size_t shareParticleCapacity(std::size_t particles, std::size_t capacity) {
+  return std::min(capacity, particles + particles / kShareSpareFraction + kShareSpareParticles);
+}
 
 class DomainShare {
  public:

@@ -62,14 +62,13 @@ const Scene& startShare(DomainShare* share, const Scene& scene, const std::vecto
   return scene;
 }
 
-// A share's particle buffers start with room for its own seeds and a quarter more, and grow as particles come
+// A share's particle buffers start with room for its own seeds (shareParticleCapacity), and grow as particles come
 // (Simulation::growParticles); one process's hold all `capacity`.
-constexpr std::size_t kShareSpareParticles = 1024;
 std::size_t particleCapacityOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds, std::size_t capacity) {
   if (share == nullptr) return capacity;
   const auto own = std::size_t(std::count_if(seeds.begin(), seeds.end(),
                                              [share](const ParticleSeed& seed) { return share->owns(seed.positionM); }));
-  return std::min(capacity, own + own / 4 + kShareSpareParticles);
+  return shareParticleCapacity(own, capacity);
 }
 
 // Records `particles` of `bytes` (a buffer's contents: `capacity` records), packed at the start of a buffer of
@@ -185,7 +184,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
   state_.particles().write(first, particleRecords(scene_, materialTable_, colliderFields_, particles));
-  if (!share_) diagnostics_.noteParticles(particles);
+  diagnostics_.noteParticles(particles);
 }
 
 std::vector<ParticleSeed> Simulation::ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId) {
@@ -230,7 +229,7 @@ void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
 
 void Simulation::growParticles(std::size_t needed) {
   if (needed <= particleCapacity()) return;
-  state_.growParticles(std::min(totalCapacity_, needed + needed / 4 + kShareSpareParticles), gl_);
+  state_.growParticles(shareParticleCapacity(needed, totalCapacity_), gl_);
 }
 
 void Simulation::releaseDueParticles() {
@@ -365,7 +364,7 @@ void Simulation::restoreState() {
   steps_ = saved_.steps;
   particleCount_ = saved_.particleCount;
   ids_ = saved_.ids;
-  if (!share_) diagnostics_.keepParticles(particleCount_);
+  diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
   solverSummary_ = saved_.solverSummary;
@@ -447,9 +446,7 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   stepping_.setFastestSignalMPerS(checkpoint.fastestSpeedMPerS);
   // The particles present: the first ones, then the emitters' in the order they were released.
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
-  if (!share_) {
-    diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
-  }
+  diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
   nextPending_ = checkpoint.releasedEmitterParticles;
   particleCount_ = share_ ? ids_.size() : checkpoint.particleCount;
 }
