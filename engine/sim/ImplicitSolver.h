@@ -27,7 +27,7 @@ class ImplicitSolver {
   static constexpr int checkInterval = 4;
 
   // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them; `shapes` the
-  // transfer shapes the run may take (sim/TransferShape.h), for the Hessian product, timed among them (timeProducts).
+  // transfer shapes the run may take (sim/TransferShape.h), for the Hessian product, timed among them (chooseProduct).
   ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
                  const std::vector<TransferShape>& shapes);
 
