@@ -644,4 +644,26 @@ DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, doubl
   return field;
 }
 
+double steepestSlope(const DistanceField& field) {
+  const glm::ivec3 n = field.samples;
+  if (n.x < 2 || n.y < 2 || n.z < 2) return 0;
+  double steepest = 0;
+  for (int z = 0; z + 1 < n.z; ++z) {
+    for (int y = 0; y + 1 < n.y; ++y) {
+      for (int x = 0; x + 1 < n.x; ++x) {
+        glm::dvec3 largest(0.0);  // the largest difference along each axis over the cell's edges
+        for (int a = 0; a < 2; ++a) {
+          for (int b = 0; b < 2; ++b) {
+            largest.x = std::max(largest.x, double(std::abs(field.at(x + 1, y + a, z + b) - field.at(x, y + a, z + b))));
+            largest.y = std::max(largest.y, double(std::abs(field.at(x + a, y + 1, z + b) - field.at(x + a, y, z + b))));
+            largest.z = std::max(largest.z, double(std::abs(field.at(x + a, y + b, z + 1) - field.at(x + a, y + b, z))));
+          }
+        }
+        steepest = std::max(steepest, glm::length(largest));
+      }
+    }
+  }
+  return steepest / field.spacingM;
+}
+
 }  // namespace firn::voxelizer

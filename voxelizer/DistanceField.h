@@ -47,4 +47,10 @@ DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, doubl
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM);
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM, unsigned threadCount);
 
+// The steepest |∇φ| of the field's trilinear interpolation anywhere in its lattice: within a cell ∂φ/∂x is a blend
+// of the differences along the cell's four x edges over the spacing, so at most the largest of them, and likewise
+// for y and z; the most, over the cells, of the root of their squares. About 1 for a distance field; steeper where
+// the sign flips away from the surface (around a hole). 0 for a lattice of fewer than two samples on an axis.
+double steepestSlope(const DistanceField& field);
+
 }  // namespace firn::voxelizer

@@ -13,7 +13,8 @@ namespace firn {
 struct Checkpoint {
   // 2: the block-sparse grid keeps no active region between steps, so a checkpoint holds one buffer fewer.
   // 3: the header lists every buffer's size, and the header and each buffer end in their CRC-32.
-  static constexpr std::uint32_t kVersion = 3;
+  // 4: a mesh collider's entry of the collider table (held with rigid bodies) holds its field's steepest slope.
+  static constexpr std::uint32_t kVersion = 4;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;

@@ -1,5 +1,7 @@
 #include "sim/BlockGrid.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 
 #include "gpu/GpuLayout.h"
@@ -107,6 +109,14 @@ std::vector<std::uint32_t> BlockGrid::particlesOutside(std::size_t particles, in
   std::vector<std::uint32_t> outside = particleRanks_.read<std::uint32_t>(listed);
   std::sort(outside.begin(), outside.end());  // the atomics' order is the GPU's; the list's is the particles'
   return outside;
+}
+
+std::vector<std::uint32_t> BlockGrid::mirroredParticles() const {
+  std::uint32_t listed = 0;
+  blockTable_.download(offsetof(gpu::BlockTableHeader, mirrorDispatch) + 3 * sizeof listed, sizeof listed, &listed);
+  std::vector<std::uint32_t> mirrored = particleRanks_.read<std::uint32_t>(listed);
+  std::sort(mirrored.begin(), mirrored.end());  // the atomics' order is the GPU's
+  return mirrored;
 }
 
 std::vector<ActiveBlock> BlockGrid::activeBlocks() const {

@@ -87,6 +87,9 @@ class BlockGrid {
   // index order (list_leavers.comp): a share's particles that left its slab. `buffers` must hold the particles'.
   std::vector<std::uint32_t> particlesOutside(std::size_t particles, int axis, int firstLayer, int endLayer,
                                               const gl::BufferBindings& buffers);
+  // The particles the last step's list_mirrored.comp listed, those whose stress it mirrored into a rigid body (scenes
+  // with rigid bodies; docs/algorithm.md eq. 38), in index order.
+  std::vector<std::uint32_t> mirroredParticles() const;
   // The last step's active blocks, in the order of their slots.
   std::vector<ActiveBlock> activeBlocks() const;
   // The sums P2G left at the nodes of the blocks in `slots`: per block its BLOCK_NODES momentum-mass sums, then (PIC/

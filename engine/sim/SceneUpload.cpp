@@ -35,6 +35,7 @@ ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::
   placed.samples = field.samples;
   placed.originFromPivotM = field.originM - pivotM;
   placed.spacingM = field.spacingM;
+  placed.steepestSlope = voxelizer::steepestSlope(field);
   samples.insert(samples.end(), field.distancesM.begin(), field.distancesM.end());
   return placed;
 }
@@ -43,6 +44,7 @@ void setField(gpu::ColliderParams& entry, const ColliderFields::Field& field) {
   entry.shapeBoundary.x = gpu::SHAPE_MESH;
   entry.field = glm::ivec4(field.first, field.samples);
   entry.fieldOrigin = glm::vec4(glm::vec3(field.originFromPivotM), float(field.spacingM));
+  entry.shapeA.w = float(field.steepestSlope * (1.0 + 1e-4));  // above the bound's own rounding
 }
 
 // The radius of the sphere about an entry's pivot that holds its whole shape at rest (for a mesh, its field's

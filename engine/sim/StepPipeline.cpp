@@ -118,6 +118,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   if (!scene.rigidBodies.empty()) {
+    listMirrorBlocks_ = gl::ComputePass(library, "sim/list_mirror_blocks.comp", options);
     listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
@@ -191,7 +192,9 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const gl::Buffer& blockTable = state.grid().blockTable();
   transferToGrid(state, particles, timer);
   if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
-    listMirrored_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+    listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
+    glMemoryBarrier(gl::kStorageAndCommands);
+    listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
     glMemoryBarrier(gl::kStorageAndCommands);
     mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
     glMemoryBarrier(gl::kStorage);

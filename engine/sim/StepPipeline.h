@@ -74,9 +74,10 @@ class StepPipeline {
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
-  gl::ComputePass listMirrored_;     // scenes with rigid bodies
-  gl::ComputePass mirrorStress_;     // scenes with rigid bodies
-  gl::ComputePass integrateBodies_;  // scenes with rigid bodies
+  gl::ComputePass listMirrorBlocks_;  // scenes with rigid bodies
+  gl::ComputePass listMirrored_;      // scenes with rigid bodies
+  gl::ComputePass mirrorStress_;      // scenes with rigid bodies
+  gl::ComputePass integrateBodies_;   // scenes with rigid bodies
   std::size_t rigidBodies_ = 0;
   std::optional<ImplicitSolver> implicitSolver_;
 };

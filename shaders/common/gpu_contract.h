@@ -177,7 +177,8 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 // integrate_bodies.comp writes at the end of every step: its pivot is the body's centre of mass, its shape at rest
 // is in the body's own frame.
 //   shapeA            the shape at rest, from its pivot (m): plane: a point; sphere: the centre, w the radius;
-//                     box: the centre
+//                     box: the centre; mesh: w the steepest slope of its field's interpolation within the lattice
+//                     (|∇φ| ≤ w, from the samples; colliderSlope)
 //   shapeB            plane: the unit normal; box: the half extents (m)
 //   pivotTime         xyz where the pivot is (m) at the time w (s)
 //   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)
@@ -226,6 +227,8 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 //   releaseDispatch  xyz: work groups of the pass releasing last step's blocks
 //   tileCounts       x: tiles holding particles this step, y: particles in the sorted order
 //   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
+//   mirrorBlocks     xyz: work groups of list_mirrored.comp, one per block list_mirror_blocks.comp listed (those
+//                    whose particles may lie within a kernel's reach of a rigid body's surface); w: their number
 //   mirrorDispatch   xyz: work groups of mirror_stress.comp, FIRN_PARTICLE_GROUP_SIZE invocations each; w: the
 //                    particles within a kernel's reach of a rigid body's surface (listed in particleRanks)
 //   migration        x: the particles list_leavers.comp listed (in particleRanks) as outside this process's slab
@@ -237,6 +240,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
   member(uvec4, releaseDispatch)               \
   member(uvec4, tileCounts)                    \
   member(uvec4, tileDispatch)                  \
+  member(uvec4, mirrorBlocks)                  \
   member(uvec4, mirrorDispatch)                \
   member(uvec4, migration)                     \
   array(uint, tileBuckets, TILE_BUCKETS)
@@ -246,11 +250,13 @@ FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 //   block          the block's linear index in the domain
 //   firstParticle  its first particle in the sorted order
 //   particles      its particles
+//   mirrorBlock    the k-th slot's: the slot of the k-th block list_mirror_blocks.comp listed this step
+//                  (k < BlockTableHeader.mirrorBlocks.w)
 #define FIRN_BLOCK_SLOT(member, array) \
   member(uint, block)                  \
   member(uint, firstParticle)          \
   member(uint, particles)              \
-  member(uint, unused)
+  member(uint, mirrorBlock)
 FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 
 // The semi-implicit solve (common/solver.glsl, docs/numerics.md "The semi-implicit solve"): how a grid node's

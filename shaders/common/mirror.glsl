@@ -11,3 +11,22 @@ float mirroredDistance(uint i, vec3 x, float reachM, out vec3 normal) {
   if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, x, timeS, reachM)) return 2.0 * reachM;
   return colliderDistance(colliders[i], x, timeS, normal);
 }
+
+// How steeply a collider's φ may change, |φ(x) − φ(y)| ≤ slope |x − y|: 1 for the analytic shapes, whose φ is a
+// distance. A mesh's field is interpolated trilinearly, as steep as shapeA.w within its lattice (the host's bound
+// from the samples), and beyond the lattice grows by the distance from it: a move splits per axis into one along the
+// lattice and one away from it, so the slope is at most √(w² + 1).
+float colliderSlope(ColliderParams c) {
+  return c.shapeBoundary.x == SHAPE_MESH ? sqrt(c.shapeA.w * c.shapeA.w + 1.0) : 1.0;
+}
+
+// Whether a particle within radiusM of `centreM` may lie within reachM of rigid body i's surface, outside it (the
+// test list_mirrored.comp makes, for every point of that ball at once): φ at the centre, give or take the slope
+// times the radius, or beyond the body's reach.
+bool mayHoldMirrored(uint i, vec3 centreM, float radiusM, float reachM) {
+  if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, centreM, timeS, radiusM + reachM)) return false;
+  vec3 normal;
+  float distanceM = colliderDistance(colliders[i], centreM, timeS, normal);
+  float spreadM = colliderSlope(colliders[i]) * radiusM;
+  return distanceM - spreadM < reachM && distanceM + spreadM > 0.0;
+}

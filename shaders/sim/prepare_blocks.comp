@@ -2,7 +2,8 @@
 // Prepare blocks: one invocation, first in the step (common/blocks.glsl). Last step's active blocks become the
 // ones to release, their count the release pass's dispatch; this step's counts of blocks and rows start at zero.
 // Resets the watchdog's fastest signal, which this step's G2P finds afresh (adaptive steps).
-// Reads: blockCounts. Writes: blockCounts, releaseDispatch, tileCounts, mirrorDispatch, tileBuckets, maxSpeedBits.
+// Reads: blockCounts. Writes: blockCounts, releaseDispatch, tileCounts, mirrorBlocks, mirrorDispatch,
+// tileBuckets, maxSpeedBits.
 #include "common/bindings.glsl"
 #include "common/watchdog.glsl"
 #include "common/blocks.glsl"
@@ -16,6 +17,7 @@ void main() {
   blockCounts.x = 0u;
   releaseDispatch = blockWorkGroups(previous);
   tileCounts = uvec4(0u);
+  mirrorBlocks = uvec4(0u, 1u, 1u, 0u);
   mirrorDispatch = uvec4(0u, 1u, 1u, 0u);
   for (int bucket = 0; bucket < TILE_BUCKETS; ++bucket) tileBuckets[bucket] = 0u;
   maxSpeedBits = 0u;

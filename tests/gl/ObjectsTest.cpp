@@ -19,6 +19,7 @@
 #include "scene/Scene.h"
 #include "sim/SceneUpload.h"
 #include "sim/Simulation.h"
+#include "support/SimulationProbe.h"
 #include "support/TestFiles.h"
 
 namespace {
@@ -386,6 +387,67 @@ TEST_F(ObjectsTest, ASphereOfHalfTheWatersDensityComesToRestFloating) {
   EXPECT_GT(submerged, 0.45);
   EXPECT_LT(submerged, 0.8);
   EXPECT_LT(std::abs(centerM - centerEarlyM), 1e-3);
+}
+
+// The snow whose stress is mirrored into a rigid body (docs/algorithm.md eq. 38) is every particle within the
+// kernel's reach of its surface, outside it: list_mirror_blocks.comp passes over the blocks whose region lies beyond
+// that band by the field's slope times the region's half diagonal, and none of their particles may be one of them.
+// A turned, spinning boulder (its mesh's distance field) thrown into snow, with either kernel: after 60 steps the
+// step's list equals the particles with 0 < φ < reach by the distance the host computes with the shaders' own
+// functions from the table's pose, save those within 1e-5 m of the band's two ends (float rounding of φ: the
+// positions are under 1 m, the field's samples under 0.1 m, so a few ulps are 1e-7 m).
+TEST_F(ObjectsTest, EveryParticleWithinAKernelOfABodyHasItsStressMirrored) {
+  const std::string boulder = std::string(FIRN_SOURCE_DIR) + "/assets/meshes/boulder.obj";
+  for (const std::string kernel : {"quadratic", "cubic"}) {
+    SCOPED_TRACE(kernel);
+    const Scene scene = firn::parseScene(R"({
+      "grid": { "origin": [0, 0, 0], "cells": [32, 20, 24], "cell_size": 0.025 },
+      "time": { "dt": 2.5e-4, "frame_rate": 10, "frames": 1 },
+      "solver": { "kernel": ")" + kernel + R"(", "transfer": "apic" },
+      "materials": { "snow": { "preset": "stomakhin", "youngs_modulus": 4e4 } },
+      "bodies": [ { "shape": "box", "min": [0.3, 0.05, 0.1], "max": [0.7, 0.25, 0.5], "material": "snow" } ],
+      "rigid_bodies": [ { "shape": "mesh", "path": ")" + boulder + R"(", "scale": 0.08, "rotate_deg": [30, 45, 10],
+                          "translate": [0.25, 0.16, 0.3], "density": 2600, "velocity": [4, 0, 0],
+                          "angular_velocity": [3, -6, 4] } ]
+    })", "boulder into snow");
+    Simulation simulation(scene, firn::sampleBodies(scene), gl());
+    firn::SimulationProbe probe(simulation);
+    const double dtS = scene.time.dtS;
+    for (int step = 0; step < 59; ++step) simulation.step(dtS);
+    const float timeS = float(simulation.timeS());
+    const firn::gpu::ColliderParams body = probe.colliderTable().back();
+    const firn::ParticleSnapshot s = simulation.snapshot();
+    simulation.step(dtS);
+    const std::vector<std::uint32_t> listed = probe.mirroredParticles();
+
+    const firn::ColliderFields fields = firn::bakeColliderFields(scene);
+    const double reachM = (kernel == "cubic" ? 2.0 : 1.5) * scene.grid.cellSizeM, slackM = 1e-5;
+    const glm::vec3 pivotM = firn::gpu::colliderPivot(body, timeS);
+    std::size_t inside = 0, checked = 0, missed = 0, extra = 0;
+    for (std::size_t i = 0, next = 0; i < s.size(); ++i) {
+      const bool isListed = next < listed.size() && listed[next] == i;
+      if (isListed) ++next;
+      const glm::vec3 x(s.positionMass[i]);
+      // Beyond the body's reach by more than the kernel's, nothing is tested (colliderWithinReach).
+      if (glm::length(x - pivotM) > body.angularVelocity.w + reachM + slackM) {
+        extra += isListed;
+        continue;
+      }
+      glm::vec3 normal;
+      const double distanceM = firn::gpu::colliderDistance(body, fields.samples, x, timeS, normal);
+      inside += distanceM > slackM && distanceM < reachM - slackM;
+      if (std::abs(distanceM) < slackM || std::abs(distanceM - reachM) < slackM) continue;
+      ++checked;
+      const bool expected = distanceM > 0 && distanceM < reachM;
+      missed += expected && !isListed;
+      extra += !expected && isListed;
+    }
+    std::printf("%s: %zu particles, %zu listed, %zu within the band by the host's distance (%zu checked near the "
+                "body)\n", kernel.c_str(), s.size(), listed.size(), inside, checked);
+    EXPECT_GT(inside, 300u) << "the boulder must be in the snow for the test to mean anything";
+    EXPECT_EQ(missed, 0u);
+    EXPECT_EQ(extra, 0u);
+  }
 }
 
 }  // namespace

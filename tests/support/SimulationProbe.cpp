@@ -30,6 +30,15 @@ void SimulationProbe::setParticleVelocity(std::size_t particle, const glm::vec3&
   simulation_.state_.particles().writeVelocity(particle, velocityMPerS);
 }
 
+std::vector<gpu::ColliderParams> SimulationProbe::colliderTable() const {
+  const Scene& scene = simulation_.scene();
+  return simulation_.state_.readColliders(0, scene.colliders.size() + scene.rigidBodies.size());
+}
+
+std::vector<std::uint32_t> SimulationProbe::mirroredParticles() const {
+  return simulation_.state_.grid().mirroredParticles();
+}
+
 const ImplicitSolver& SimulationProbe::solver() {
   const ImplicitSolver* solver = simulation_.pipeline_.implicitSolver();
   if (solver == nullptr) {

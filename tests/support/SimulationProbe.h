@@ -6,6 +6,7 @@
 // it, as its differential before the projection onto the positive semi-definite, or as the central difference of the
 // stress the explicit force comes from; and the stiffness blocks β Δt² Hᵢᵢ (kg) the solve's first product sums for
 // its block preconditioner. Values come in the order of the dense grid (z, then y, then x).
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include <glm/vec3.hpp>
 
 #include "gl/ComputePass.h"
+#include "gpu/GpuLayout.h"
 #include "sim/Simulation.h"
 
 namespace firn {
@@ -33,6 +35,12 @@ class SimulationProbe {
   explicit SimulationProbe(Simulation& simulation);
 
   void setParticleVelocity(std::size_t particle, const glm::vec3& velocityMPerS);
+
+  // The collider table as the GPU holds it now: the colliders' poses of the last step, the rigid bodies' for the
+  // next (integrate_bodies.comp writes them at the end of a step).
+  std::vector<gpu::ColliderParams> colliderTable() const;
+  // The particles whose stress the last step mirrored into a rigid body, in index order.
+  std::vector<std::uint32_t> mirroredParticles() const;
 
   // The solver's; they throw std::logic_error for a scene whose integrator is explicit.
 
