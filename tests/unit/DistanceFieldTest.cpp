@@ -286,6 +286,51 @@ TEST(DistanceField, OpenCubeStillHasAnInside) {
   EXPECT_GE(middleCount, 1000);  // 11³ samples
 }
 
+// φ by trilinear interpolation at a point of the lattice given in samples (as the shaders interpolate it).
+double interpolatedM(const DistanceField& field, const glm::dvec3& latticePoint) {
+  const glm::ivec3 cell = glm::min(glm::ivec3(glm::floor(latticePoint)), field.samples - 2);
+  const glm::dvec3 f = latticePoint - glm::dvec3(cell);
+  double phiM = 0;
+  for (int k = 0; k < 8; ++k) {
+    const glm::ivec3 corner(k & 1, (k >> 1) & 1, k >> 2);
+    const glm::dvec3 weight = glm::mix(1.0 - f, f, glm::dvec3(corner));
+    phiM += weight.x * weight.y * weight.z * field.at(cell.x + corner.x, cell.y + corner.y, cell.z + corner.z);
+  }
+  return phiM;
+}
+
+// steepestSlope bounds how fast the interpolated field changes (list_mirror_blocks.comp relies on it): between
+// 20,000 random pairs of points of the lattice, |Δφ| never exceeds it times their distance. For a distance field
+// it lies between 1 (straight out of a face the samples differ by a whole spacing) and √3 (no edge differs by
+// more); where the sign flips away from the surface (an open cube's hole) it is steeper than √3.
+TEST(DistanceField, SteepestSlopeBoundsTheInterpolation) {
+  const DistanceField closed = bakeDistanceField(box(glm::dvec3(-0.4, -0.3, 0.1), glm::dvec3(0.6, 0.7, 1.1)), 0.047, 0.2);
+  const DistanceField open = bakeDistanceField(openBox(glm::dvec3(-0.5), glm::dvec3(0.5)), 0.05, 0.15);
+  const double closedSlope = steepestSlope(closed), openSlope = steepestSlope(open);
+  EXPECT_GE(closedSlope, 1.0 - 1e-5);
+  EXPECT_LE(closedSlope, std::sqrt(3.0) + 1e-5);
+  EXPECT_GT(openSlope, std::sqrt(3.0));
+  std::mt19937 random(7);
+  for (const DistanceField* field : {&closed, &open}) {
+    const double slope = steepestSlope(*field);
+    std::uniform_real_distribution<double> along(0.0, 1.0);
+    const glm::dvec3 highest = glm::dvec3(field->samples - 1);
+    double steepestSeen = 0;
+    for (int pair = 0; pair < 20000; ++pair) {
+      const glm::dvec3 a = highest * glm::dvec3(along(random), along(random), along(random));
+      // Half the pairs within a cell of each other, where the steepest cells show.
+      const glm::dvec3 b = pair % 2 == 0 ? highest * glm::dvec3(along(random), along(random), along(random))
+                                         : glm::clamp(a + glm::dvec3(along(random), along(random), along(random)) - 0.5,
+                                                      glm::dvec3(0.0), highest);
+      const double apartM = glm::length(b - a) * field->spacingM;
+      if (apartM == 0) continue;
+      steepestSeen = std::max(steepestSeen, std::abs(interpolatedM(*field, a) - interpolatedM(*field, b)) / apartM);
+    }
+    EXPECT_LE(steepestSeen, slope * (1 + 1e-9));
+    EXPECT_GT(steepestSeen, 0.5 * slope);  // the bound is not loose by more than the sampling shows
+  }
+}
+
 // Two boxes in one mesh, overlapping: w = 2 where both hold a point, and |w| ≥ 0.5 keeps it inside. |φ| is the
 // distance to the nearest triangle, the faces inside the other box included, so the nearer of the two boxes'
 // surfaces (|box field|); the sign is the union's. Float storage bounds the difference.
