@@ -47,7 +47,8 @@ done
 # stdout, the cost per simulated second (ms) on stderr.
 summarize() {
   awk -F, -v name="$1" -v frame_rate=30 '
-    NR == 1 { for (c = 1; c <= NF; ++c) column[$c] = c; next }
+    /^#/ { next }
+    !header { for (c = 1; c <= NF; ++c) column[$c] = c; header = 1; next }
     $1 > 0 {
       wall += $column["wall_ms"]; steps += $column["steps"]; frames = $1
       if ($column["solver_iterations"] > iterations) iterations = $column["solver_iterations"]

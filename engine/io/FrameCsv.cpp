@@ -11,29 +11,31 @@
 
 namespace firn {
 
-FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what)
+FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
+                   const std::string& what)
     : path_(path), what_(what) {
-  start(header);
+  start(comments, header);
 }
 
-FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what,
-                   int firstFrame)
+FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
+                   const std::string& what, int firstFrame)
     : path_(path), what_(what) {
   std::error_code error;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) {
-    start(header);
+    start(comments, header);
     return;
   }
   requireRegularFile(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot read " + what + " (" + std::strerror(errno) + ")");
   std::string line;
-  std::getline(in, line);
+  int lineNumber = 1;
+  while (std::getline(in, line) && line.rfind('#', 0) == 0) ++lineNumber;  // the earlier run's comments
   if (line != header) {
     throw InputError(path.string() + ": its header is not the one this version of Firn writes, so its rows before "
                      "frame " + std::to_string(firstFrame) + " cannot be kept; move it away to resume without them");
   }
-  for (int lineNumber = 2; std::getline(in, line); ++lineNumber) {
+  for (++lineNumber; std::getline(in, line); ++lineNumber) {
     // A last line without its line break is a row cut short by a run that was killed while writing it.
     if (in.eof()) break;
     int frame = 0;
@@ -47,11 +49,11 @@ FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header,
   }
   if (in.bad()) throw InputError(path.string() + ": cannot read " + what + " (" + std::strerror(errno) + ")");
   in.close();
-  start(header);
+  start(comments, header);
 }
 
-void FrameCsv::start(const std::string& header) {
-  writeFileAtomically(path_, header + '\n' + keptRows_, what_);
+void FrameCsv::start(const std::string& comments, const std::string& header) {
+  writeFileAtomically(path_, comments + header + '\n' + keptRows_, what_);
   out_.open(path_, std::ios::app);
   if (!out_) throw InputError(path_.string() + ": cannot write " + what_ + " (" + std::strerror(errno) + ")");
 }

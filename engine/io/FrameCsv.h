@@ -1,6 +1,7 @@
 #pragma once
-// A CSV file of rows per frame (stats.csv, bodies.csv): a header, then rows that begin with their frame number,
-// flushed as they are written so a stopped run keeps its rows, and continued by a run resumed from a checkpoint.
+// A CSV file of rows per frame (stats.csv, bodies.csv): comment lines (each beginning with "#"), a header, then rows
+// that begin with their frame number, flushed as they are written so a stopped run keeps its rows, and continued by
+// a run resumed from a checkpoint.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,14 +10,17 @@ namespace firn {
 
 class FrameCsv {
  public:
-  // Starts the file afresh: the header alone. `what` names the file in messages ("stats file"). Throws InputError
-  // naming the file if it cannot be written.
-  FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what);
+  // Starts the file afresh: `comments` (whole lines, each beginning with "#"), then the header. `what` names the
+  // file in messages ("stats file"). Throws InputError naming the file if it cannot be written.
+  FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
+           const std::string& what);
   // Continues the file of a run resumed at `firstFrame`: keeps its rows of the frames before it and drops the rest,
-  // which the resumed run writes again. The kept rows replace the file atomically (io/AtomicFile.h), so a run
-  // stopped here leaves the old file or the new one. A missing file starts afresh. Throws InputError naming the file
-  // if it cannot be read or written, has another header than `header` or holds a row without a frame number.
-  FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what, int firstFrame);
+  // which the resumed run writes again; `comments` replace the file's own, which were the earlier run's. The kept
+  // rows replace the file atomically (io/AtomicFile.h), so a run stopped here leaves the old file or the new one. A
+  // missing file starts afresh. Throws InputError naming the file if it cannot be read or written, has another
+  // header than `header` or holds a row without a frame number.
+  FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
+           const std::string& what, int firstFrame);
 
   // The rows kept from before the resumed run's first frame, each ending in a line break; empty for a fresh file.
   const std::string& keptRows() const { return keptRows_; }
@@ -24,8 +28,8 @@ class FrameCsv {
   void append(const std::string& rows);
 
  private:
-  // Writes the header and `keptRows_` to the file atomically, then opens it to append.
-  void start(const std::string& header);
+  // Writes the comments, the header and `keptRows_` to the file atomically, then opens it to append.
+  void start(const std::string& comments, const std::string& header);
 
   std::filesystem::path path_;
   std::string what_;

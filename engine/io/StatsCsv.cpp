@@ -13,10 +13,17 @@ const char* StatsCsvWriter::header() {
          "solver_iterations,solver_residual";
 }
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path) : file_(path, header(), "stats file") {}
+namespace {
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame)
-    : file_(path, header(), "stats file", firstFrame) {}
+std::string commentLine(const std::string& comment) { return comment.empty() ? comment : "# " + comment + "\n"; }
+
+}  // namespace
+
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, const std::string& comment)
+    : file_(path, commentLine(comment), header(), "stats file") {}
+
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame, const std::string& comment)
+    : file_(path, commentLine(comment), header(), "stats file", firstFrame) {}
 
 void StatsCsvWriter::write(const FrameStats& s) {
   const double values[] = {s.massKg,           s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z,

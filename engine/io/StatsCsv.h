@@ -1,8 +1,10 @@
 #pragma once
-// stats.csv: one row per frame (frame 0 included), flushed as it is written so a stopped run keeps its rows.
+// stats.csv: a comment line (how the run moves its particles' sums to the grid: the shape it timed fastest, and by
+// how much), then one row per frame (frame 0 included), flushed as it is written so a stopped run keeps its rows.
 // The rows are plain numbers; the run measures them (run/HeadlessRun.cpp).
 #include <cstdint>
 #include <filesystem>
+#include <string>
 
 #include <glm/vec3.hpp>
 
@@ -34,13 +36,15 @@ struct FrameStats {
 
 class StatsCsvWriter {
  public:
-  // Starts the file afresh: the header alone. Throws InputError naming the file if it cannot be written.
-  explicit StatsCsvWriter(const std::filesystem::path& path);
+  // Starts the file afresh: `comment` (one line, without its "# "; none if empty), then the header. Throws
+  // InputError naming the file if it cannot be written.
+  explicit StatsCsvWriter(const std::filesystem::path& path, const std::string& comment = "");
   // Continues the file of a run resumed at `firstFrame`: keeps its rows of the frames before it and drops the rest,
-  // which the resumed run writes again. The kept rows replace the file atomically (io/AtomicFile.h), so a run
-  // stopped here leaves the old file or the new one. A missing file starts afresh. Throws InputError naming the file
-  // if it cannot be read or written, has another header than this build's or holds a row without a frame number.
-  StatsCsvWriter(const std::filesystem::path& path, int firstFrame);
+  // which the resumed run writes again; `comment` replaces the earlier run's. The kept rows replace the file
+  // atomically (io/AtomicFile.h), so a run stopped here leaves the old file or the new one. A missing file starts
+  // afresh. Throws InputError naming the file if it cannot be read or written, has another header than this
+  // build's or holds a row without a frame number.
+  StatsCsvWriter(const std::filesystem::path& path, int firstFrame, const std::string& comment = "");
   void write(const FrameStats& stats);
 
   static const char* header();

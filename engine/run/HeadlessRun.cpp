@@ -331,11 +331,12 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
                                                        options.outputDir, error);
     if (ownFolder) {
-      stats.emplace(statsPath, firstFrame);
+      stats.emplace(statsPath, firstFrame, transfersLine(simulation.transferShapeChoice()));
       if (!objects.empty()) bodies.emplace(bodiesPath, firstFrame);
     }
   }
-  if (!stats && writer) stats.emplace(statsPath);
+  // stats.csv's comment: the transfers' shape this run timed fastest (which changes no number in it).
+  if (!stats && writer) stats.emplace(statsPath, transfersLine(simulation.transferShapeChoice()));
   if (!bodies && !objects.empty() && writer) bodies.emplace(bodiesPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   // Each frame shows on a terminal; a log gets a line every few seconds.

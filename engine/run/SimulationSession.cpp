@@ -51,9 +51,7 @@ SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& 
       << gl.renderer << "\n";
   for (const std::string& note : report.notes) log << messagePrefix_ << ": " << note << "\n";
   for (const std::string& warning : report.warnings) log << messagePrefix_ << ": warning: " << warning << "\n";
-  const std::optional<TransferShapeChoice>& shape = simulation_->transferShapeChoice();
-  log << messagePrefix_ << ": transfers: "
-      << (shape ? shape->describe() : std::string("P2G's shape is timed at the first step with particles")) << "\n";
+  log << messagePrefix_ << ": " << transfersLine(simulation_->transferShapeChoice()) << "\n";
 }
 
 SimulationSession::~SimulationSession() = default;

@@ -126,4 +126,8 @@ std::string TransferShapeChoice::describe() const {
   return line + asked;
 }
 
+std::string transfersLine(const std::optional<TransferShapeChoice>& choice) {
+  return "transfers: " + (choice ? choice->describe() : std::string("P2G's shape is timed at the first step with particles"));
+}
+
 }  // namespace firn

@@ -81,4 +81,8 @@ struct TransferShapeChoice {
   std::string describe() const;
 };
 
+// A run's line for its log's header and stats.csv's comment: "transfers: " and the choice's description, or that
+// P2G's shape is timed at the first step with particles where the run starts with none.
+std::string transfersLine(const std::optional<TransferShapeChoice>& choice);
+
 }  // namespace firn

@@ -246,6 +246,18 @@ TEST(StatsCsvResume, KeepsTheRowsBeforeTheCheckpointsFrame) {
   EXPECT_FALSE(fs::exists(path.string() + ".part"));
 }
 
+// The comment line (the transfers' shape the run timed) is the resumed run's: the earlier run's is replaced, its rows
+// before the checkpoint's frame kept.
+TEST(StatsCsvResume, TheResumedRunsCommentReplacesTheEarlierOne) {
+  const fs::path path = freshDirectory("stats_comment") / "stats.csv";
+  const std::string header = std::string(firn::StatsCsvWriter::header()) + "\n";
+  writeBytes(path, "# transfers: P2G by tiles, 1.20x faster than blocks-64\n" + header + statsRow(0) + statsRow(1) +
+                       statsRow(2));
+  firn::StatsCsvWriter stats(path, 2, "transfers: P2G by blocks-128, 1.10x faster than tiles");
+  EXPECT_EQ(fileBytes(path),
+            "# transfers: P2G by blocks-128, 1.10x faster than tiles\n" + header + statsRow(0) + statsRow(1));
+}
+
 // Rows under another header (another version's columns) cannot be continued: refused, and the file is untouched.
 TEST(StatsCsvResume, AnotherHeaderIsRefusedAndLeftAsItWas) {
   const fs::path path = freshDirectory("header") / "stats.csv";
