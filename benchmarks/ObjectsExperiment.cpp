@@ -89,13 +89,14 @@ void measureObjects(BenchRun& run) {
                   "ms_per_step", "ms_min", "ms_max", "ratio_to_analytic_box", "bake_s", "field_samples", "status",
                   "renderer"});
   const BenchOptions& options = run.options();
-  const std::vector<ObjectCase> cases = {{"none", Placement::UnderTheBunny, 0},
-                                         {"analytic box", Placement::UnderTheBunny, 0},
-                                         {"mesh box", Placement::UnderTheBunny, 12},
-                                         {"mesh sphere", Placement::UnderTheBunny, 2 * kFineSegments * (kFineRings - 1)},
-                                         {"rigid box", Placement::UnderTheBunny, 0},
-                                         {"analytic box", Placement::IntoTheBunny, 0},
-                                         {"rigid box", Placement::IntoTheBunny, 0}};
+  constexpr Placement under = Placement::UnderTheBunny, into = Placement::IntoTheBunny;
+  const std::vector<ObjectCase> cases = {{"none", under, 0},
+                                         {"analytic box", under, 0},
+                                         {"mesh box", under, 12},
+                                         {"mesh sphere", under, 2 * kFineSegments * (kFineRings - 1)},
+                                         {"rigid box", under, 0},
+                                         {"analytic box", into, 0},
+                                         {"rigid box", into, 0}};
   std::vector<Configuration> configurations;
   std::vector<double> bakeSeconds(cases.size(), 0);
   std::vector<std::size_t> fieldSamples(cases.size(), 0);

@@ -127,7 +127,8 @@ std::string TransferShapeChoice::describe() const {
 }
 
 std::string transfersLine(const std::optional<TransferShapeChoice>& choice) {
-  return "transfers: " + (choice ? choice->describe() : std::string("P2G's shape is timed at the first step with particles"));
+  if (!choice) return "transfers: P2G's shape is timed at the first step with particles";
+  return "transfers: " + choice->describe();
 }
 
 }  // namespace firn

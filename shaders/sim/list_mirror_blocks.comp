@@ -20,7 +20,8 @@ void main() {
   uint slot = workGroupSlot() * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
   if (slot >= activeBlocks()) return;
   const float REGION_HALF_WIDTH = 0.5 * float(BLOCK_REGION_WIDTH - 1);
-  vec3 centreM = gridOriginM + (vec3(blockCoordinates(slots[slot].block) * BLOCK_WIDTH) + REGION_HALF_WIDTH) * cellSizeM;
+  ivec3 firstNode = blockCoordinates(slots[slot].block) * BLOCK_WIDTH;
+  vec3 centreM = gridOriginM + (vec3(firstNode) + REGION_HALF_WIDTH) * cellSizeM;
   // 1% of a cell more than the region's half diagonal: the particles' cells are found by rounded arithmetic.
   float radiusM = (sqrt(3.0) * REGION_HALF_WIDTH + 0.01) * cellSizeM;
   float reachM = mirrorReachM();
