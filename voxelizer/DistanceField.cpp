@@ -654,9 +654,10 @@ double steepestSlope(const DistanceField& field) {
         glm::dvec3 largest(0.0);  // the largest difference along each axis over the cell's edges
         for (int a = 0; a < 2; ++a) {
           for (int b = 0; b < 2; ++b) {
-            largest.x = std::max(largest.x, double(std::abs(field.at(x + 1, y + a, z + b) - field.at(x, y + a, z + b))));
-            largest.y = std::max(largest.y, double(std::abs(field.at(x + a, y + 1, z + b) - field.at(x + a, y, z + b))));
-            largest.z = std::max(largest.z, double(std::abs(field.at(x + a, y + b, z + 1) - field.at(x + a, y + b, z))));
+            const float alongX = field.at(x + 1, y + a, z + b) - field.at(x, y + a, z + b);
+            const float alongY = field.at(x + a, y + 1, z + b) - field.at(x + a, y, z + b);
+            const float alongZ = field.at(x + a, y + b, z + 1) - field.at(x + a, y + b, z);
+            largest = glm::max(largest, glm::abs(glm::dvec3(alongX, alongY, alongZ)));
           }
         }
         steepest = std::max(steepest, glm::length(largest));

@@ -231,8 +231,8 @@ TEST_F(SurfaceCli, CachesCarryTheVelocityOfABallMovingUniformly) {
   }
 }
 
-// Deterministic output: every file two runs write (stats.csv aside, which records wall-clock times) is the same
-// bytes: the particles (fixed-point sums), the mesh (integer splat, places fixed by a prefix scan), the VDB (its
+// Deterministic output: every file two runs write (stats.csv aside, which records wall-clock times and the transfers'
+// timing) is the same bytes: the particles (fixed-point sums), the mesh (integer splat, places fixed by a prefix scan), the VDB (its
 // archive id derived from the content) and the surface's pictures.
 TEST_F(SurfaceCli, TwoRunsWriteTheSameBytes) {
   const fs::path folder = freshDirectory("surface_twice");

@@ -22,7 +22,8 @@ for frame in $frames; do
   cmp "$work/one/$frame" "$work/many/$frame" || failed=1
 done
 [ "$(cd "$work/many" && ls | grep -vx stats.csv)" = "$frames" ] || { echo "the runs wrote different files"; failed=1; }
-without_wall_time() { awk -F, '/^#/ { next } !header { header = 1; for (i = 1; i <= NF; i++) if ($i == "wall_ms") skip = i }
+without_wall_time() { awk -F, '/^#/ { next }
+  !header { header = 1; for (i = 1; i <= NF; i++) if ($i == "wall_ms") skip = i }
   { line = ""; for (i = 1; i <= NF; i++) if (i != skip) line = line (line == "" ? "" : ",") $i; print line }' "$1"; }
 diff <(without_wall_time "$work/one/stats.csv") <(without_wall_time "$work/many/stats.csv") || failed=1
 if [ "$failed" -ne 0 ]; then

@@ -304,7 +304,8 @@ double interpolatedM(const DistanceField& field, const glm::dvec3& latticePoint)
 // it lies between 1 (straight out of a face the samples differ by a whole spacing) and √3 (no edge differs by
 // more); where the sign flips away from the surface (an open cube's hole) it is steeper than √3.
 TEST(DistanceField, SteepestSlopeBoundsTheInterpolation) {
-  const DistanceField closed = bakeDistanceField(box(glm::dvec3(-0.4, -0.3, 0.1), glm::dvec3(0.6, 0.7, 1.1)), 0.047, 0.2);
+  const DistanceField closed =
+      bakeDistanceField(box(glm::dvec3(-0.4, -0.3, 0.1), glm::dvec3(0.6, 0.7, 1.1)), 0.047, 0.2);
   const DistanceField open = bakeDistanceField(openBox(glm::dvec3(-0.5), glm::dvec3(0.5)), 0.05, 0.15);
   const double closedSlope = steepestSlope(closed), openSlope = steepestSlope(open);
   EXPECT_GE(closedSlope, 1.0 - 1e-5);

@@ -258,6 +258,18 @@ TEST(StatsCsvResume, TheResumedRunsCommentReplacesTheEarlierOne) {
             "# transfers: P2G by blocks-128, 1.10x faster than tiles\n" + header + statsRow(0) + statsRow(1));
 }
 
+// A row without a frame number is refused naming its line, the comment counted, and the file is left as it was.
+TEST(StatsCsvResume, ARowWithoutAFrameNumberIsRefusedNamingItsLine) {
+  const fs::path path = freshDirectory("stats_bad_row") / "stats.csv";
+  const std::string text = "# transfers: P2G by tiles\n" + std::string(firn::StatsCsvWriter::header()) + "\n" +
+                           statsRow(0) + "x,0.1\n" + statsRow(2);
+  writeBytes(path, text);
+  EXPECT_EQ(inputErrorOf([&] { firn::StatsCsvWriter stats(path, 2); }),
+            path.string() + ": line 4: no frame number, so the rows before frame 2 cannot be kept; move it away to "
+                            "resume without them");
+  EXPECT_EQ(fileBytes(path), text);
+}
+
 // Rows under another header (another version's columns) cannot be continued: refused, and the file is untouched.
 TEST(StatsCsvResume, AnotherHeaderIsRefusedAndLeftAsItWas) {
   const fs::path path = freshDirectory("header") / "stats.csv";
