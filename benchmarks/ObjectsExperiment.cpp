@@ -38,6 +38,11 @@ const char* placementName(Placement placement) {
   return placement == Placement::UnderTheBunny ? "under the bunny" : "into the bunny";
 }
 
+// "thesis bunny with rigid box under the bunny": the configuration's name and its summary line's start.
+std::string caseName(const ObjectCase& object) {
+  return "thesis bunny with " + object.object + " " + placementName(object.placement);
+}
+
 // The box the objects share: 2 m wide, centred under the bunny on the floor of its domain; under the bunny it ends a
 // quarter cell below the lowest particle, into it 1 m above the floor.
 Scene withObject(Scene scene, const ObjectCase& object) {
@@ -102,7 +107,7 @@ void measureObjects(BenchRun& run) {
   std::vector<std::size_t> fieldSamples(cases.size(), 0);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const ObjectCase object = cases[i];
-    configurations.push_back({"thesis bunny with " + object.object + " " + placementName(object.placement),
+    configurations.push_back({caseName(object),
                               [&options, object] {
                                 return withObject(thesisCloudScene(options.thesisCloud, options.thesisDtS, "fixed",
                                                                    "cubic", "explicit"),
@@ -146,8 +151,7 @@ void measureObjects(BenchRun& run) {
         .set("ms_min", timed[i].timing.minMs)
         .set("ms_max", timed[i].timing.maxMs);
     if (boxMs > 0) row.set("ratio_to_analytic_box", msPerStep / boxMs);
-    std::string summary = "thesis bunny with " + cases[i].object + " " + placementName(cases[i].placement) + ": " +
-                          fixed(msPerStep, 1) + " ms per step";
+    std::string summary = caseName(cases[i]) + ": " + fixed(msPerStep, 1) + " ms per step";
     if (boxMs > 0) summary += ", " + fixed(msPerStep / boxMs, 3) + "x the analytic box's";
     if (cases[i].triangles > 0) {
       summary += "; " + grouped(cases[i].triangles) + " triangles baked in " + fixed(bakeSeconds[i], 2) + " s";

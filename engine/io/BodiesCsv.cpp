@@ -34,10 +34,10 @@ const char* BodiesCsvWriter::header() {
          "wy_rad_per_s,wz_rad_per_s";
 }
 
-BodiesCsvWriter::BodiesCsvWriter(const std::filesystem::path& path) : file_(path, "", header(), "bodies file") {}
+BodiesCsvWriter::BodiesCsvWriter(const std::filesystem::path& path) : file_(path, header(), "bodies file") {}
 
 BodiesCsvWriter::BodiesCsvWriter(const std::filesystem::path& path, int firstFrame)
-    : file_(path, "", header(), "bodies file", firstFrame) {
+    : file_(path, header(), "bodies file", firstFrame) {
   // The kept rows' last quaternion of each object sets the sign of its next, as in a run never interrupted.
   const std::string& kept = file_.keptRows();
   for (std::size_t start = 0; start < kept.size();) {

@@ -11,18 +11,18 @@
 
 namespace firn {
 
-FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
-                   const std::string& what)
+FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what,
+                   const std::string& comment)
     : path_(path), what_(what) {
-  start(comments, header);
+  start(comment, header);
 }
 
-FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& comments, const std::string& header,
-                   const std::string& what, int firstFrame)
+FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what,
+                   int firstFrame, const std::string& comment)
     : path_(path), what_(what) {
   std::error_code error;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) {
-    start(comments, header);
+    start(comment, header);
     return;
   }
   requireRegularFile(path, what);
@@ -49,11 +49,12 @@ FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& comment
   }
   if (in.bad()) throw InputError(path.string() + ": cannot read " + what + " (" + std::strerror(errno) + ")");
   in.close();
-  start(comments, header);
+  start(comment, header);
 }
 
-void FrameCsv::start(const std::string& comments, const std::string& header) {
-  writeFileAtomically(path_, comments + header + '\n' + keptRows_, what_);
+void FrameCsv::start(const std::string& comment, const std::string& header) {
+  const std::string commentLine = comment.empty() ? comment : "# " + comment + '\n';
+  writeFileAtomically(path_, commentLine + header + '\n' + keptRows_, what_);
   out_.open(path_, std::ios::app);
   if (!out_) throw InputError(path_.string() + ": cannot write " + what_ + " (" + std::strerror(errno) + ")");
 }

@@ -13,17 +13,11 @@ const char* StatsCsvWriter::header() {
          "solver_iterations,solver_residual";
 }
 
-namespace {
-
-std::string commentLine(const std::string& comment) { return comment.empty() ? comment : "# " + comment + "\n"; }
-
-}  // namespace
-
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, const std::string& comment)
-    : file_(path, commentLine(comment), header(), "stats file") {}
+    : file_(path, header(), "stats file", comment) {}
 
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& path, int firstFrame, const std::string& comment)
-    : file_(path, commentLine(comment), header(), "stats file", firstFrame) {}
+    : file_(path, header(), "stats file", firstFrame, comment) {}
 
 void StatsCsvWriter::write(const FrameStats& s) {
   const double values[] = {s.massKg,           s.momentumKgMPerS.x, s.momentumKgMPerS.y, s.momentumKgMPerS.z,

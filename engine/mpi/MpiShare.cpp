@@ -187,20 +187,21 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
     strides.push_back(buffer->bytes() / state.particles().capacity());
     recordBytes += strides.back();
   }
-  // Their records, one state buffer at a time gathered on the GPU into a staging buffer and read back whole: a
-  // readback per particle and buffer waited for the GPU once each.
-  std::vector<std::vector<unsigned char>> listed(strides.size());
+  // Their records (less the id), gathered on the GPU into a staging buffer record after record and read back at once:
+  // a readback per particle, or per state buffer, waited for the GPU once each.
+  const std::size_t stateBytes = recordBytes - sizeof(std::uint32_t);
+  std::vector<unsigned char> listed(outside.size() * stateBytes);
   if (!outside.empty()) {
     const std::vector<gl::Buffer*> buffers = state.particles().stateBuffers();
-    const std::size_t stagingBytes = outside.size() * *std::max_element(strides.begin(), strides.end());
-    if (staging_.bytes() < stagingBytes) staging_ = gl::Buffer(2 * stagingBytes).labelled("migration staging");
-    for (std::size_t b = 0; b < buffers.size(); ++b) {
-      for (std::size_t k = 0; k < outside.size(); ++k) {
-        staging_.copyFrom(*buffers[b], strides[b], outside[k] * strides[b], k * strides[b]);
+    if (staging_.bytes() < listed.size()) staging_ = gl::Buffer(2 * listed.size()).labelled("migration staging");
+    for (std::size_t k = 0; k < outside.size(); ++k) {
+      std::size_t field = k * stateBytes;
+      for (std::size_t b = 0; b < buffers.size(); ++b) {
+        staging_.copyFrom(*buffers[b], strides[b], outside[k] * strides[b], field);
+        field += strides[b];
       }
-      listed[b].resize(outside.size() * strides[b]);
-      staging_.download(0, listed[b].size(), listed[b].data());
     }
+    staging_.download(0, listed.size(), listed.data());
   }
   std::vector<unsigned char> records(outside.size() * recordBytes);  // the leaving particles', packed
   std::vector<std::uint32_t> leaving;  // in index order
@@ -209,11 +210,7 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
     for (std::size_t k = 0; k < outside.size(); ++k) {
       unsigned char* record = records.data() + leaving.size() * recordBytes;
       std::memcpy(record, &ids[outside[k]], sizeof(std::uint32_t));
-      unsigned char* field = record + sizeof(std::uint32_t);
-      for (std::size_t b = 0; b < strides.size(); ++b) {
-        std::memcpy(field, listed[b].data() + k * strides[b], strides[b]);
-        field += strides[b];
-      }
+      std::memcpy(record + sizeof(std::uint32_t), listed.data() + k * stateBytes, stateBytes);
       glm::vec3 positionM;
       std::memcpy(&positionM, record + sizeof(std::uint32_t), sizeof positionM);
       // Where the host's reading of the layer disagrees with the GPU's at a cell's edge, the particle stays.

@@ -80,7 +80,7 @@ class MpiShare final : public DomainShare {
   int framesSinceBalance_ = 0;
   std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
   ShareTraffic traffic_;
-  gl::Buffer staging_;               // migration: the leavers' records of one state buffer, read back at once
+  gl::Buffer staging_;               // migration: the leavers' records, read back at once
   int sumsPerNode_;                  // 1, or 2 with PIC/FLIP's impulse sums (as the grid stores them)
 };
 

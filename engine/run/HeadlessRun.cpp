@@ -317,6 +317,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   int firstFrame = 0;
   const std::filesystem::path statsPath = options.outputDir / "stats.csv";
   const std::filesystem::path bodiesPath = options.outputDir / "bodies.csv";
+  // stats.csv's comment: the transfers' shape this run timed fastest (which changes no number in it).
+  const std::string transfers = transfersLine(simulation.transferShapeChoice());
   if (checkpoint) {
     simulation.resume(*checkpoint, options.resumePath);
     firstFrame = checkpoint->frame;
@@ -331,12 +333,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
                                                        options.outputDir, error);
     if (ownFolder) {
-      stats.emplace(statsPath, firstFrame, transfersLine(simulation.transferShapeChoice()));
+      stats.emplace(statsPath, firstFrame, transfers);
       if (!objects.empty()) bodies.emplace(bodiesPath, firstFrame);
     }
   }
-  // stats.csv's comment: the transfers' shape this run timed fastest (which changes no number in it).
-  if (!stats && writer) stats.emplace(statsPath, transfersLine(simulation.transferShapeChoice()));
+  if (!stats && writer) stats.emplace(statsPath, transfers);
   if (!bodies && !objects.empty() && writer) bodies.emplace(bodiesPath);
   writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
   // Each frame shows on a terminal; a log gets a line every few seconds.

@@ -104,19 +104,19 @@ std::vector<std::uint32_t> BlockGrid::particlesOutside(std::size_t particles, in
   listLeavers_.set("particles", unsigned(particles)).set("slabAxis", unsigned(axis));
   listLeavers_.set("slabFirstLayer", unsigned(firstLayer)).set("slabEndLayer", unsigned(endLayer));
   listLeavers_.runOver(particles, maxWorkGroupsX_, buffers, untimed);
-  std::uint32_t listed = 0;
-  blockTable_.download(counter, sizeof listed, &listed);
-  std::vector<std::uint32_t> outside = particleRanks_.read<std::uint32_t>(listed);
-  std::sort(outside.begin(), outside.end());  // the atomics' order is the GPU's; the list's is the particles'
-  return outside;
+  return listedParticles(counter);
 }
 
 std::vector<std::uint32_t> BlockGrid::mirroredParticles() const {
+  return listedParticles(offsetof(gpu::BlockTableHeader, mirrorDispatch) + 3 * sizeof(std::uint32_t));
+}
+
+std::vector<std::uint32_t> BlockGrid::listedParticles(std::size_t counterOffset) const {
   std::uint32_t listed = 0;
-  blockTable_.download(offsetof(gpu::BlockTableHeader, mirrorDispatch) + 3 * sizeof listed, sizeof listed, &listed);
-  std::vector<std::uint32_t> mirrored = particleRanks_.read<std::uint32_t>(listed);
-  std::sort(mirrored.begin(), mirrored.end());  // the atomics' order is the GPU's
-  return mirrored;
+  blockTable_.download(counterOffset, sizeof listed, &listed);
+  std::vector<std::uint32_t> particles = particleRanks_.read<std::uint32_t>(listed);
+  std::sort(particles.begin(), particles.end());  // the atomics' order is the GPU's; the list's is the particles'
+  return particles;
 }
 
 std::vector<ActiveBlock> BlockGrid::activeBlocks() const {

@@ -99,6 +99,9 @@ class BlockGrid {
   void writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums);
 
  private:
+  // The particles a pass listed in particleRanks, as many as the block table's counter at `counterOffset` says, in
+  // index order.
+  std::vector<std::uint32_t> listedParticles(std::size_t counterOffset) const;
   // visit(buffer, byte offset, bytes, place in the sums) for each node-sum array of each slot, in readBlockSums' order.
   template <class Self, class Visit>
   static void visitBlockSums(Self& self, const std::vector<std::uint32_t>& slots, Visit visit);

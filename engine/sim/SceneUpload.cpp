@@ -26,16 +26,17 @@ int boundaryCode(Boundary boundary) {
                                       : gpu::BOUNDARY_SEPARATE;
 }
 
-// Bakes `mesh`'s field for the grid at its resolution, appends its samples and says where they lie from `pivotM`.
+// Bakes `mesh`'s field for the grid at its resolution, appends its samples and says where they lie from `pivotM`;
+// a rigid body's also how steep its interpolation is (the list of the snow near it reads that; a collider's is 0).
 ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::TriangleMesh& mesh, double resolution,
-                                  const GridSpec& grid, const glm::dvec3& pivotM) {
+                                  const GridSpec& grid, const glm::dvec3& pivotM, bool rigidBody) {
   voxelizer::DistanceField field = bakeField(mesh, grid, resolution);
   ColliderFields::Field placed;
   placed.first = static_cast<int>(samples.size());
   placed.samples = field.samples;
   placed.originFromPivotM = field.originM - pivotM;
   placed.spacingM = field.spacingM;
-  placed.steepestSlope = voxelizer::steepestSlope(field);
+  if (rigidBody) placed.steepestSlope = voxelizer::steepestSlope(field);
   samples.insert(samples.end(), field.distancesM.begin(), field.distancesM.end());
   return placed;
 }
@@ -120,14 +121,15 @@ ColliderFields bakeColliderFields(const Scene& scene) {
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
     const Collider& c = scene.colliders[i];
     if (c.shape == ColliderShape::Mesh) {
-      fields.colliders[i] = appendField(fields.samples, *c.mesh, c.fieldResolution, scene.grid, c.pivotM);
+      fields.colliders[i] = appendField(fields.samples, *c.mesh, c.fieldResolution, scene.grid, c.pivotM, false);
     }
   }
   fields.bodies.resize(scene.rigidBodies.size());
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {
     const RigidBody& body = scene.rigidBodies[i];
     if (body.shape == RigidShape::Mesh) {
-      fields.bodies[i] = appendField(fields.samples, *body.mesh, body.fieldResolution, scene.grid, body.centerOfMassM);
+      fields.bodies[i] =
+          appendField(fields.samples, *body.mesh, body.fieldResolution, scene.grid, body.centerOfMassM, true);
     }
     const std::vector<glm::dvec3> probes = bodyProbes(body);
     fields.bodyProbes.emplace_back(static_cast<int>(fields.samples.size()), static_cast<int>(probes.size()));

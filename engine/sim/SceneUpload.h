@@ -23,7 +23,7 @@ struct ColliderFields {
     glm::ivec3 samples{0};              // per axis
     glm::dvec3 originFromPivotM{0.0};   // sample (0, 0, 0) in the shape's rest frame, from its pivot
     double spacingM = 0;
-    double steepestSlope = 0;           // of its interpolation (voxelizer::steepestSlope)
+    double steepestSlope = 0;           // of its interpolation (voxelizer::steepestSlope); rigid bodies' only
   };
   std::vector<float> samples;
   std::vector<Field> colliders;           // per scene collider

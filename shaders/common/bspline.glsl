@@ -5,7 +5,8 @@
 // The values are FIRN_PRECISE (GLSL's precise): computed as written, no multiply and add fused, so that two
 // programs that transfer the same particle get the same bits (P2G by tiles and by blocks must add the same
 // contributions: an NVIDIA driver fused them differently in two programs, docs/platform.md). C++ has no such
-// qualifier and needs none: its compiler contracts nothing unless told to.
+// qualifier; the host's copies (tests, references) are built for x86-64 without -march, where the compiler has no
+// fused multiply-add to contract to.
 #ifndef FIRN_PRECISE
 #ifdef __cplusplus
 #define FIRN_PRECISE

@@ -3,7 +3,9 @@
 // llvmpipe no 64-bit atomics: a sum is two words, with the carry taken by hand.
 
 const float TWO_TO_32 = 4294967296.0;
-// Largest magnitude a value may have to fit 64 bits with room for a few additions: 2^62.
+// Largest magnitude a single contribution may have: 2^62. A node's sum of many stays within 64 bits because the
+// host picks the solve's fraction bits k_H so that the largest node sum it bounds stays below 2^62
+// (sim/FixedPoint.cpp, deriveSolverFractionBits).
 const float FIXED64_LIMIT = 4611686018427387904.0;
 
 // x as (low, high): x is an integer-valued float below 2^62 in magnitude. Its magnitude splits exactly (|x| mod

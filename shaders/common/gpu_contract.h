@@ -177,8 +177,8 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 // integrate_bodies.comp writes at the end of every step: its pivot is the body's centre of mass, its shape at rest
 // is in the body's own frame.
 //   shapeA            the shape at rest, from its pivot (m): plane: a point; sphere: the centre, w the radius;
-//                     box: the centre; mesh: w the steepest slope of its field's interpolation within the lattice
-//                     (|∇φ| ≤ w, from the samples; colliderSlope)
+//                     box: the centre; a rigid body's mesh: w the steepest slope of its field's interpolation
+//                     within the lattice (|∇φ| ≤ w, from the samples; colliderSlope), a collider's 0
 //   shapeB            plane: the unit normal; box: the half extents (m)
 //   pivotTime         xyz where the pivot is (m) at the time w (s)
 //   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)

@@ -4,11 +4,16 @@
 // The kernel's reach: a particle farther from the surface than this has no image node outside the body.
 float mirrorReachM() { return 0.5 * float(KERNEL_WIDTH) * cellSizeM; }
 
+// Whether the collider table's entry i is a rigid body that takes part and x lies within marginM of its reach.
+bool bodyWithinReach(uint i, vec3 x, float marginM) {
+  return colliders[i].shapeBoundary.z != 0 && colliderWithinReach(i, x, timeS, marginM);
+}
+
 // The signed distance of x from the surface of the collider table's entry i, and the outward normal there, if it is
 // a rigid body that takes part and x lies within reachM of its reach; a large distance (nothing mirrored) else.
 float mirroredDistance(uint i, vec3 x, float reachM, out vec3 normal) {
   normal = vec3(0.0);
-  if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, x, timeS, reachM)) return 2.0 * reachM;
+  if (!bodyWithinReach(i, x, reachM)) return 2.0 * reachM;
   return colliderDistance(colliders[i], x, timeS, normal);
 }
 
@@ -24,7 +29,7 @@ float colliderSlope(ColliderParams c) {
 // test list_mirrored.comp makes, for every point of that ball at once): φ at the centre, give or take the slope
 // times the radius, or beyond the body's reach.
 bool mayHoldMirrored(uint i, vec3 centreM, float radiusM, float reachM) {
-  if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, centreM, timeS, radiusM + reachM)) return false;
+  if (!bodyWithinReach(i, centreM, radiusM + reachM)) return false;
   vec3 normal;
   float distanceM = colliderDistance(colliders[i], centreM, timeS, normal);
   float spreadM = colliderSlope(colliders[i]) * radiusM;

@@ -132,3 +132,36 @@ bool scatterProductParticle(uint p, ivec3 regionFirstNode) {
 #endif
   return fits;
 }
+
+// u at the node stored at `address` (m/s): the solve's start x₀ for the first product, else the preconditioned
+// residual z; 0 for a node past the pool (address < 0). Each shape reads its region's u through this.
+vec3 productVectorOfNode(int address) {
+  if (address < 0) return vec3(0.0);
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+  return solverNodes[address].direction.xyz;
+#else
+  return solverNodes[address].preconditioned.xyz;
+#endif
+}
+
+// Adds a region node's sums to the node `offset` from the region's first (`blocks` its stencilBlocks): nothing where
+// they are all zero, or where the node's block lies past the pool's capacity (the host sees the count and grows the
+// pool). The first product's also carry the stiffness block's diagonal and its entries yz, zx, xy.
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+void addRegionSumsToNode(StencilBlocks blocks, ivec3 offset, uvec4 low, ivec4 high, uvec4 diagonalLow,
+                         ivec4 diagonalHigh, uvec4 offDiagonalLow, ivec4 offDiagonalHigh) {
+  bool hasProduct = nonzero(low, high);
+  bool hasBlock = nonzero(diagonalLow, diagonalHigh) || nonzero(offDiagonalLow, offDiagonalHigh);
+  if (!hasProduct && !hasBlock) return;
+  int address = stencilNodeAddress(blocks, offset);
+  if (address < 0) return;
+  if (hasProduct) addProductToNode(uint(address), low, high);
+  if (hasBlock) addStiffnessBlockToNode(uint(address), diagonalLow, diagonalHigh, offDiagonalLow, offDiagonalHigh);
+}
+#else
+void addRegionSumsToNode(StencilBlocks blocks, ivec3 offset, uvec4 low, ivec4 high) {
+  if (!nonzero(low, high)) return;
+  int address = stencilNodeAddress(blocks, offset);
+  if (address >= 0) addProductToNode(uint(address), low, high);
+}
+#endif

@@ -47,16 +47,11 @@ void addStiffnessBlockToRegion(ivec3 offset, uvec3 diagonalLow, ivec3 diagonalHi
 void loadRegion(ivec3 firstBase) {
   StencilBlocks blocks = stencilBlocks(firstBase);
   for (int i = 0; i < REGION_NODES; ++i) {
-    int address = stencilNodeAddress(blocks, regionOffset(i));
-    vec3 u = vec3(0.0);
+    regionVector[i] = productVectorOfNode(stencilNodeAddress(blocks, regionOffset(i)));
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
-    if (address >= 0) u = solverNodes[address].direction.xyz;
     regionDiagonalLow[i] = regionOffDiagonalLow[i] = uvec3(0u);
     regionDiagonalHigh[i] = regionOffDiagonalHigh[i] = ivec3(0);
-#else
-    if (address >= 0) u = solverNodes[address].preconditioned.xyz;
 #endif
-    regionVector[i] = u;
     regionLow[i] = uvec3(0u);
     regionHigh[i] = ivec3(0);
   }
@@ -79,22 +74,12 @@ void main() {
   }
   StencilBlocks blocks = stencilBlocks(firstBase);
   for (int i = 0; i < REGION_NODES; ++i) {
-    bool hasProduct = nonzero(regionLow[i], regionHigh[i]);
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
-    bool hasBlock = nonzero(regionDiagonalLow[i], regionDiagonalHigh[i]) ||
-                    nonzero(regionOffDiagonalLow[i], regionOffDiagonalHigh[i]);
+    addRegionSumsToNode(blocks, regionOffset(i), uvec4(regionLow[i], 0u), ivec4(regionHigh[i], 0),
+                        uvec4(regionDiagonalLow[i], 0u), ivec4(regionDiagonalHigh[i], 0),
+                        uvec4(regionOffDiagonalLow[i], 0u), ivec4(regionOffDiagonalHigh[i], 0));
 #else
-    const bool hasBlock = false;
-#endif
-    if (!hasProduct && !hasBlock) continue;
-    int address = stencilNodeAddress(blocks, regionOffset(i));
-    if (address < 0) continue;
-    if (hasProduct) addProductToNode(uint(address), uvec4(regionLow[i], 0u), ivec4(regionHigh[i], 0));
-#ifdef FIRN_SOLVER_FIRST_PRODUCT
-    if (hasBlock) {
-      addStiffnessBlockToNode(uint(address), uvec4(regionDiagonalLow[i], 0u), ivec4(regionDiagonalHigh[i], 0),
-                              uvec4(regionOffDiagonalLow[i], 0u), ivec4(regionOffDiagonalHigh[i], 0));
-    }
+    addRegionSumsToNode(blocks, regionOffset(i), uvec4(regionLow[i], 0u), ivec4(regionHigh[i], 0));
 #endif
   }
   if (!fits) reportOverflow(nodeIndex(firstBase), CHANNEL_SOLVER);

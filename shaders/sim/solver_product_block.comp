@@ -70,14 +70,7 @@ void main() {
   ivec3 blockFirstNode = blockCoordinates(slots[slot].block) * BLOCK_WIDTH;
   StencilBlocks blocks = stencilBlocks(blockFirstNode);
   for (uint i = local; i < uint(BLOCK_REGION_NODES); i += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
-    int address = stencilNodeAddress(blocks, blockRegionOffset(int(i)));
-    vec3 u = vec3(0.0);
-#ifdef FIRN_SOLVER_FIRST_PRODUCT
-    if (address >= 0) u = solverNodes[address].direction.xyz;
-#else
-    if (address >= 0) u = solverNodes[address].preconditioned.xyz;
-#endif
-    regionVector[i] = u;
+    regionVector[i] = productVectorOfNode(stencilNodeAddress(blocks, blockRegionOffset(int(i))));
   }
   for (uint i = local; i < uint(PRODUCT_CHANNELS * BLOCK_REGION_NODES); i += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
     regionLow[i] = 0u;
@@ -102,22 +95,14 @@ void main() {
     uvec4 low;
     ivec4 high;
     regionSums(node, 0, low, high);
-    bool hasProduct = nonzero(low, high);
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
     uvec4 diagonalLow, offLow;
     ivec4 diagonalHigh, offHigh;
     regionSums(node, 3, diagonalLow, diagonalHigh);
     regionSums(node, 6, offLow, offHigh);
-    bool hasBlock = nonzero(diagonalLow, diagonalHigh) || nonzero(offLow, offHigh);
+    addRegionSumsToNode(blocks, blockRegionOffset(node), low, high, diagonalLow, diagonalHigh, offLow, offHigh);
 #else
-    const bool hasBlock = false;
-#endif
-    if (!hasProduct && !hasBlock) continue;
-    int address = stencilNodeAddress(blocks, blockRegionOffset(node));
-    if (address < 0) continue;  // a block past the pool's capacity: the host sees the count and grows the pool
-    if (hasProduct) addProductToNode(uint(address), low, high);
-#ifdef FIRN_SOLVER_FIRST_PRODUCT
-    if (hasBlock) addStiffnessBlockToNode(uint(address), diagonalLow, diagonalHigh, offLow, offHigh);
+    addRegionSumsToNode(blocks, blockRegionOffset(node), low, high);
 #endif
   }
 }
