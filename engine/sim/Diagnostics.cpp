@@ -32,7 +32,8 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
       solver_(scene.solver), maxNodeValue_(fixedPoint.maxNodeValue()),
-      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies) {
+      kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies),
+      rigidBodies_(!scene.rigidBodies.empty()) {
   double fastestMPerS = 0;
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     const double speed = fastestColliderSpeedMPerS(scene, scene.colliders[c]);
@@ -118,11 +119,18 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
     return;
   }
 
-  // A semi-implicit step is not bounded by the elastic wave, an explicit one is.
-  const std::string stiffness = solver_.semiImplicit()
-                                    ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
-                                    : "the elastic wave bound is dt < h / c = " + format("%.4g", stableDtS_) +
-                                          " s for the stiffest material (scene dt " + format("%.4g", dtS_) + " s)";
+  // A semi-implicit step is not bounded by the elastic wave, an explicit one is; rigid bodies, coupled explicitly in
+  // either, may need less than that bound (docs/algorithm.md, Rigid bodies: the coupling's own step bound).
+  const std::string elasticBound = "h / c = " + format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
+                                   format("%.4g", dtS_) + " s)";
+  std::string stiffness = solver_.semiImplicit()
+                              ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
+                              : "the elastic wave bound is dt < " + elasticBound;
+  if (rigidBodies_) {
+    stiffness += std::string("; the rigid bodies move explicitly, and one much lighter than the snow it presses on "
+                             "rocks apart at steps well below ") +
+                 (solver_.semiImplicit() ? elasticBound : "that bound") + ": make it heavier or reduce time.dt";
+  }
   auto when = [&](std::uint32_t step) {
     return "step " + std::to_string(step) + " (t ≈ " + format("%.4g", double(step) * dtS_) + " s)";
   };

@@ -55,6 +55,7 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   step_ = gl::ComputePass(library, "sim/solver_step.comp", options);
   reduce_ = gl::ComputePass(library, "sim/solver_reduce.comp", options);
   finish_ = gl::ComputePass(library, "sim/solver_finish.comp", options);
+  if (!scene.rigidBodies.empty()) solution_ = gl::ComputePass(library, "sim/solver_solution.comp", options);
 }
 
 void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
@@ -142,7 +143,19 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   }
   // Not ended: max_iterations were taken, and the last residual is the solve's.
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
-  finish_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  const gl::Buffer& blockTable = state.grid().blockTable();
+  if (solution_) {
+    // The product of the solution, whose held components are the colliders' push that the rigid bodies take back
+    // (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.
+    solution_->runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+    const std::size_t dispatch = product.shape.kind == TransferShape::Kind::Tiles
+                                     ? offsetof(gpu::BlockTableHeader, tileDispatch)
+                                     : offsetof(gpu::BlockTableHeader, blockDispatch);
+    product.iteration.runIndirect(blockTable, dispatch, buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+  }
+  finish_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   glMemoryBarrier(gl::kStorage);
   return solved;
 }

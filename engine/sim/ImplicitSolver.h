@@ -6,6 +6,7 @@
 // and looks at the residual every few of them; the GPU stops doing work once it is below the tolerance.
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -69,6 +70,8 @@ class ImplicitSolver {
   gl::ComputePass step_;
   gl::ComputePass reduce_;
   gl::ComputePass finish_;
+  // With rigid bodies: the solution into z, for a last product of it (solver_solution.comp).
+  std::optional<gl::ComputePass> solution_;
 };
 
 }  // namespace firn

@@ -92,12 +92,6 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
                      " does not offer; use \"fixed\"");
   }
-  // The bodies take the snow's push from the explicit grid update's collider response (eq. 35); the semi-implicit
-  // solve holds nodes at the colliders inside its iterations, where that push is not one impulse per node.
-  if (!scene.rigidBodies.empty() && scene.solver.semiImplicit()) {
-    throw InputError("rigid_bodies: bodies are coupled to the snow with the explicit step only; use "
-                     "\"solver\": {\"integrator\": \"explicit\"} or remove the rigid bodies");
-  }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
   // Both shapes of P2G are timed under one name, the tiles' (sim/p2g.comp): a step has one P2G.
@@ -123,6 +117,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
     rigidBodies_ = scene.rigidBodies.size();
+    firstRigidBody_ = scene.colliders.size();
   }
   if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options, candidates.shapes);
 }
@@ -174,12 +169,15 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   choice.particles = particles;
   if (implicitSolver_) {
     // The last round left the grid every shape's transfer leaves (they agree to the bit): the product is timed from
-    // the start x₀ the grid update makes of it.
+    // the start x₀ the grid update makes of it. That grid update pushes the rigid bodies as the step's will: their
+    // entries are put back as they were.
+    const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
     updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
                             state.bindings(), untimed);
     glMemoryBarrier(gl::kStorage);
     choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
     choice.productShape = implicitSolver_->productShape();
+    if (!bodies.empty()) state.writeColliders(bodies, firstRigidBody_);
   }
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
   transferToGrid(state, particles, untimed);

@@ -79,6 +79,7 @@ class StepPipeline {
   gl::ComputePass mirrorStress_;      // scenes with rigid bodies
   gl::ComputePass integrateBodies_;   // scenes with rigid bodies
   std::size_t rigidBodies_ = 0;
+  std::size_t firstRigidBody_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
   std::optional<ImplicitSolver> implicitSolver_;
 };
 

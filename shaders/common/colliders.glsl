@@ -133,8 +133,9 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg) {
 // held component takes in the solve, which v* alone cannot tell — v* carries the explicit elastic force, up to
 // (c Δt / h)² times too large beyond the explicit bound, and Coulomb friction on it stopped or even reversed a
 // landing body's slide. Returns SolverNode.constraint (the normal held, and the CONSTRAINT_* bits); `approachMPerS`
-// is the normal speed into the colliders that the response removed.
-vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMPerS) {
+// is the normal speed into the colliders that the response removed. A rigid body takes the opposite of the change in
+// the node's momentum (`massKg` times the change in v), as collideWithColliders gives it.
+vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out float approachMPerS) {
   int code = 0;
   vec3 heldNormal = vec3(0.0);
   approachMPerS = 0.0;
@@ -155,7 +156,11 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
       heldNormal = normal;
       approachMPerS = max(-normalSpeed, 0.0);
     }
-    v = boundaryResponse(v, normal, boundaryVelocity, 0.0, boundary);
+    vec3 response = boundaryResponse(v, normal, boundaryVelocity, 0.0, boundary);
+#ifdef FIRN_HAS_RIGID_BODIES
+    if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
+#endif
+    v = response;
   }
 #endif
   return vec4(heldNormal, float(code));
@@ -165,8 +170,10 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, out float approachMP
 // velocity relative to that collider shortens by μ times the collider's normal impulse over the node's mass,
 // `normalImpulseMPerS` (SolverNode.residual.w), and stops at 0, so it never reverses; a pull (an impulse below 0)
 // brings no friction. The held normal component is already the collider's, so the relative velocity is all
-// tangential. With β = 0 this is boundaryResponse's friction to the bit, for colliders at rest.
-vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constraint, float normalImpulseMPerS) {
+// tangential. With β = 0 this is boundaryResponse's friction to the bit, for colliders at rest. A rigid body takes the
+// opposite of the friction's change in the node's momentum (`massKg` times the change in v).
+vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, float massKg, vec4 constraint,
+                                 float normalImpulseMPerS) {
 #ifdef FIRN_HAS_COLLIDERS
   int code = int(constraint.w);
   if ((code & CONSTRAINT_NORMAL) == 0 || (code & CONSTRAINT_FIXED) != 0) return v;  // no collider's normal, or all held
@@ -180,11 +187,44 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, vec4 constrain
     float tangentialSpeed = length(tangential);
     float frictionLoss = c.velocityFriction.w * max(normalImpulseMPerS, 0.0);
     tangential = tangentialSpeed <= frictionLoss ? vec3(0.0) : tangential * (1.0 - frictionLoss / tangentialSpeed);
-    return tangential + boundaryVelocity;
+    vec3 response = tangential + boundaryVelocity;
+#ifdef FIRN_HAS_RIGID_BODIES
+    if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
+#endif
+    return response;
   }
 #endif
   return v;
 }
+
+#ifdef FIRN_HAS_RIGID_BODIES
+// Newton's third law for the solve's constraints (docs/algorithm.md, eq. 35 in the semi-implicit step): at a node the
+// constraints hold, the solution x keeps the held components of v*, and the rows the projection drops from
+// (M + β Δt² H) x = M v* are the impulse λ the colliders gave the snow there, λ = (A x − M v*) on the held
+// components = β Δt² (H x) on them (`heldProductKgMPerS`, the product of x less its free components). Each rigid
+// body whose solid holds the node takes the opposite of its part: a sticky body all of λ, a slip or separating body
+// the component along its normal, where the constraint holds that normal (a node two colliders hold whole: each
+// body's normal component of λ).
+void pushRigidBodiesAfterSolve(vec3 probe, float timeS, vec4 constraint, vec3 heldProductKgMPerS) {
+  int code = int(constraint.w);
+  if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) return;  // no collider holds the node
+  for (uint i = 0u; i < colliderCount; ++i) {
+    if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, probe, timeS)) continue;
+    ColliderParams c = colliders[i];
+    vec3 normal;
+    if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
+    vec3 share;
+    if (c.shapeBoundary.y == BOUNDARY_STICKY) {
+      share = heldProductKgMPerS;
+    } else if ((code & CONSTRAINT_FIXED) != 0 || normal == constraint.xyz) {
+      share = dot(heldProductKgMPerS, normal) * normal;
+    } else {
+      continue;  // a separating body the node was leaving when the grid update met it
+    }
+    if (share != vec3(0.0)) pushRigidBody(i, probe, timeS, share);
+  }
+}
+#endif
 
 // The axes on which the domain walls hold a node whose velocity before their response is v: CONSTRAINT_WALL_X
 // shifted by the axis.

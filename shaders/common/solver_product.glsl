@@ -5,7 +5,9 @@
 // if the nodes moved Δt u), takes δP Fᵀ from its stiffness (common/material_hessians.glsl; δP = ∂²Ψ/∂F² : δF) and
 // adds β Δt V0 δP Fᵀ ∇wᵢₚ to each node, as P2G adds the force of τ (Stomakhin 2013 §6 and eq. 9). Plasticity is held
 // fixed for the step: F is F_E. The first product of a step (FIRN_SOLVER_FIRST_PRODUCT, of the start x₀) also adds
-// β Δt² Hᵢᵢ, the Hessian's 3×3 block at each node, for the block preconditioner.
+// β Δt² Hᵢᵢ, the Hessian's 3×3 block at each node, for the block preconditioner. Where the scene has rigid bodies a
+// last product takes the solution x, which solver_solution.comp leaves in z: at the nodes the colliders hold, its held
+// components are the constraints' push on the snow (solver_finish.comp, common/colliders.glsl).
 //
 // Each contribution to a node is rounded to the solve's 64-bit fixed point on its own (productToFixed64) and the
 // region sums them as 64-bit integers, exact in any order: the two shapes write the same bytes, as P2G's do

@@ -24,15 +24,25 @@ void main() {
   ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
+#ifdef FIRN_HAS_RIGID_BODIES
+  // β Δt² H x, the product of the solution (ImplicitSolver: a product after the solve where the scene has rigid
+  // bodies), taken at every node so that no sums carry into the next step's.
+  vec3 product = takeProduct(i);
+#endif
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   if (velocityMass.w <= 0.0) return;
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
+#ifdef FIRN_HAS_RIGID_BODIES
+  // Its held components are the constraints' push on the snow, whose opposite the bodies take.
+  pushRigidBodiesAfterSolve(x, timeS, solverNodes[i].constraint, product - constrain(product, solverNodes[i].constraint));
+#endif
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) {
     velocity = collideWithColliders(x, velocity, timeS, velocityMass.w);
   } else {
-    velocity = collidersFrictionAfterSolve(x, velocity, timeS, solverNodes[i].constraint, solverNodes[i].residual.w);
+    velocity = collidersFrictionAfterSolve(x, velocity, timeS, velocityMass.w, solverNodes[i].constraint,
+                                           solverNodes[i].residual.w);
   }
   velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
   gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));

@@ -43,7 +43,7 @@ void main() {
 #endif
     vec3 x = nodePosition(node);
 #ifdef FIRN_SEMI_IMPLICIT
-    constraint = collideForSolve(x, velocity, timeS, approachMPerS);
+    constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS);
 #else
     velocity = collideWithColliders(x, velocity, timeS, massKg);
 #endif

@@ -74,9 +74,17 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
           << "force difference " << kernel << " " << transfer;
       for (const char* pass : {"sim/update_grid.comp", "sim/g2p.comp", "sim/solver_prepare.comp", "sim/solver_begin.comp",
                                "sim/solver_product.comp", "sim/solver_residual.comp", "sim/solver_apply.comp",
-                               "sim/solver_step.comp", "sim/solver_reduce.comp", "sim/solver_finish.comp"}) {
+                               "sim/solver_step.comp", "sim/solver_reduce.comp", "sim/solver_finish.comp",
+                               "sim/solver_solution.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, semiImplicit))
             << pass << " semi-implicit " << kernel << " " << transfer;
+      }
+      // The passes that push rigid bodies in the semi-implicit step.
+      firn::gl::ShaderOptions withBodies = semiImplicit;
+      withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}});
+      for (const char* pass : {"sim/update_grid.comp", "sim/solver_finish.comp"}) {
+        EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, withBodies))
+            << pass << " semi-implicit with rigid bodies " << kernel << " " << transfer;
       }
       // The product in both shapes, the first product's too (its block shape holds the most shared memory).
       for (const char* groupSize : {"", "64", "256"}) {
