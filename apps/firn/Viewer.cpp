@@ -74,10 +74,8 @@ RigidBody spareBall(const Scene& scene) {
   return ball;
 }
 
-// The scene the viewer simulates: the file's, with the spare balls after its own rigid bodies (bodies couple to the
-// explicit step only: a semi-implicit scene gets none).
+// The scene the viewer simulates: the file's, with the spare balls after its own rigid bodies.
 Scene withSpareBalls(Scene scene) {
-  if (scene.solver.semiImplicit()) return scene;
   scene.rigidBodies.insert(scene.rigidBodies.end(), kRigidBallCapacity, spareBall(scene));
   return scene;
 }
@@ -453,10 +451,6 @@ class Viewer {
 
   // Sets the next parked ball going, as a snowball is thrown, unturned and not spinning.
   void throwRigidBall() {
-    if (scene_.rigidBodies.size() == firstSpareBall_) {
-      std::fprintf(stderr, "firn view: rigid balls couple to the explicit step only; this scene is semi-implicit\n");
-      return;
-    }
     if (ballsThrown_ == kRigidBallCapacity) {
       std::fprintf(stderr, "firn view: no ball left to throw (%zu thrown; press R to reset)\n", kRigidBallCapacity);
       return;
