@@ -12,7 +12,7 @@ layout(std430, binding = FIRN_BINDING_VELOCITY_VOLUME) buffer VelocityVolumeBuff
 layout(std430, binding = FIRN_BINDING_ELASTIC_DEFORMATION) buffer ElasticDeformationBuffer { mat3 elasticDeformation[]; };
 #endif
 layout(std430, binding = FIRN_BINDING_KIRCHHOFF_STRESS) buffer KirchhoffStressBuffer { mat3 kirchhoffStress[]; };
-#ifdef FIRN_TRANSFER_APIC
+#if defined(FIRN_TRANSFER_APIC) && !defined(FIRN_WITHOUT_AFFINE)
 layout(std430, binding = FIRN_BINDING_AFFINE) buffer AffineBuffer { mat3 affine[]; };
 #endif
 

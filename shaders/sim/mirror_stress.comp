@@ -11,6 +11,9 @@
 // where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
 // Reads: particle state, the block table and map, the list in particleRanks, the collider table. Writes: grid sums,
 // the bodies' entries' sums, the watchdog.
+// The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
+// the semi-implicit step's impulse sums (docs/platform.md).
+#define FIRN_WITHOUT_AFFINE
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"

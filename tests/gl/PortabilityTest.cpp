@@ -115,7 +115,7 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   semiImplicitFloat.solver.integrator = Integrator::SemiImplicit;
   semiImplicitFloat.solver.atomics = Atomics::Float;
   scenes.emplace_back(semiImplicitFloat, MaterialPrograms::SceneModels);
-  // Objects: a mesh collider alone (the distance fields), then with a rigid body (the bodies' pushes and pass).
+  // Objects: a mesh collider alone (the distance fields), then with a rigid body (the bodies' pushes and passes).
   Scene withMeshCollider = base;
   Collider mesh;
   mesh.shape = ColliderShape::Mesh;
@@ -126,6 +126,10 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   ball.radiusM = 0.1;
   withRigidBody.rigidBodies.push_back(ball);
   scenes.emplace_back(withRigidBody, MaterialPrograms::SceneModels);
+  // The semi-implicit step's pushes to a rigid body (solver_solution.comp and the passes that push).
+  Scene semiImplicitWithRigidBody = withModels(withRigidBody, withHessian);
+  semiImplicitWithRigidBody.solver.integrator = Integrator::SemiImplicit;
+  scenes.emplace_back(semiImplicitWithRigidBody, MaterialPrograms::SceneModels);
   return scenes;
 }
 

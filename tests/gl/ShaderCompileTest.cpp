@@ -79,10 +79,14 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, semiImplicit))
             << pass << " semi-implicit " << kernel << " " << transfer;
       }
-      // The passes that push rigid bodies in the semi-implicit step.
+      // The rigid bodies' passes and those that push them, in the semi-implicit step (with APIC and the step's impulse
+      // sums, the mirror pass is one storage block from llvmpipe's 16).
       firn::gl::ShaderOptions withBodies = semiImplicit;
-      withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}});
-      for (const char* pass : {"sim/update_grid.comp", "sim/solver_finish.comp"}) {
+      withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
+                                                           {"FIRN_HAS_RIGID_BODIES", "1"}});
+      for (const char* pass : {"sim/update_grid.comp", "sim/solver_finish.comp", "sim/list_mirror_blocks.comp",
+                               "sim/list_mirrored.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
+                               "sim/integrate_bodies.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, withBodies))
             << pass << " semi-implicit with rigid bodies " << kernel << " " << transfer;
       }
