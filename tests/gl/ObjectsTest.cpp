@@ -413,7 +413,8 @@ double sphereVolumeBelow(double radiusM, double centerM, double levelM) {
 // A sphere of density 500 (r = 5 cm, 4 cells) in water of density 1000 comes to rest floating. Archimedes puts it half
 // submerged; this coupling rests it deeper (docs/algorithm.md, Rigid bodies, the known limit: the water next to the
 // body is layered, and the water the kernel smears into its nodes weighs on it; measured on llvmpipe, quadratic
-// APIC: 73% at rest from 0.3 s on, cubic 70%). What the test holds is what the mirrored stress (eq. 38) changed: without
+// APIC: 73% at rest from 0.3 s on, cubic 70%; the error shrinks as the sphere is resolved, frictionless about 58% at 6
+// cells in radius, but that is 55k particles). What the test holds is what the mirrored stress (eq. 38) changed: without
 // it the same sphere was 85% submerged at 0.5 s and still sinking at 5–8 mm/s, on its way to the bottom. Bounds:
 // submerged between 45% (Archimedes' 50% less the 5%) and 80%, and from 0.5 s to 0.8 s it moves less than
 // 1 mm (measured 0.2 mm, the bob of its settling; the sinking sphere moved 2.4 mm). The submerged part is the
