@@ -34,13 +34,17 @@ struct ObjectCase {
   std::size_t triangles = 0;
 };
 
-const char* placementName(Placement placement) {
-  return placement == Placement::UnderTheBunny ? "under the bunny" : "into the bunny";
+// Where the case's box sits; the bunny without an object has no placement (its row is timed against the analytic box
+// under the bunny).
+const char* placementName(const ObjectCase& object) {
+  if (object.object == "none") return "";
+  return object.placement == Placement::UnderTheBunny ? "under the bunny" : "into the bunny";
 }
 
 // "thesis bunny with rigid box under the bunny": the configuration's name and its summary line's start.
 std::string caseName(const ObjectCase& object) {
-  return "thesis bunny with " + object.object + " " + placementName(object.placement);
+  if (object.object == "none") return "thesis bunny with no object";
+  return "thesis bunny with " + object.object + " " + placementName(object);
 }
 
 // The box the objects share: 2 m wide, centred under the bunny on the floor of its domain; under the bunny it ends a
@@ -133,7 +137,7 @@ void measureObjects(BenchRun& run) {
   for (std::size_t i = 0; i < timed.size(); ++i) {
     CsvTable::Row& row = table.addRow();
     row.setText("object", cases[i].object)
-        .setText("placement", placementName(cases[i].placement))
+        .setText("placement", placementName(cases[i]))
         .setCount("triangles", std::int64_t(cases[i].triangles))
         .setText("transfer_shape", timed[i].transferShape)
         .setCount("particles", std::int64_t(timed[i].particles))

@@ -73,7 +73,7 @@ void measurePasses(BenchRun& run) {
       }
       run.progress("passes: " + shares);
       run.addSummary("passes (" + grouped(seeds.size()) + " particles, " + kernel + ", PIC/FLIP, " + atomics +
-                     " atomics, P2G by " + shape + ", " + integrator + (integrator == "explicit" ? "" : ", dt 1e-3 s") +
+                     " atomics, P2G by " + shape + ", " + integrator + (integrator == "explicit" ? "" : ", dt " + formatNumber(kThesisDtS) + " s") +
                      "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
     } catch (const SimulationError& error) {
