@@ -7,8 +7,11 @@
 // meets them as update_grid.comp's nodes do. A node the solve did not change meets them unchanged, so with β = 0 the
 // step is the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c).
 // A work group per active block, an invocation per node.
-// Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders. Writes: the grid's
-// velocities.
+// With rigid bodies, each body whose solid holds a node takes its part of the constraints' push in the solve (eq. 35a,
+// from the product of the solution: common/colliders.glsl, pushRigidBodiesAfterSolve) and of the friction.
+// Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders, the product sums
+// (with rigid bodies). Writes: the grid's velocities, the product sums (cleared) and the bodies' sums (with rigid
+// bodies).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

@@ -80,7 +80,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
             << pass << " semi-implicit " << kernel << " " << transfer;
       }
       // The rigid bodies' passes and those that push them, in the semi-implicit step (with APIC and the step's impulse
-      // sums, the mirror pass is one storage block from llvmpipe's 16).
+      // sums the mirror pass declares 16 storage blocks, llvmpipe's limit).
       firn::gl::ShaderOptions withBodies = semiImplicit;
       withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
                                                            {"FIRN_HAS_RIGID_BODIES", "1"}});
