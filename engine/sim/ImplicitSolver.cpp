@@ -149,10 +149,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
     // (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.
     solution_->runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
     glMemoryBarrier(gl::kStorage);
-    const std::size_t dispatch = product.shape.kind == TransferShape::Kind::Tiles
-                                     ? offsetof(gpu::BlockTableHeader, tileDispatch)
-                                     : offsetof(gpu::BlockTableHeader, blockDispatch);
-    product.iteration.runIndirect(blockTable, dispatch, buffers, timer);
+    product.iteration.runIndirect(blockTable, blockTableDispatch(product.shape), buffers, timer);
     glMemoryBarrier(gl::kStorage);
   }
   finish_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);

@@ -127,10 +127,7 @@ namespace {
 // P2G in `shape`: tiles take the transfers' dispatch, blocks a work group per active block.
 void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
                        gl::PassTimer& timer) {
-  const std::size_t dispatch = shape.kind == TransferShape::Kind::Tiles
-                                   ? offsetof(gpu::BlockTableHeader, tileDispatch)
-                                   : offsetof(gpu::BlockTableHeader, blockDispatch);
-  pass.runIndirect(state.grid().blockTable(), dispatch, state.bindings(), timer);
+  pass.runIndirect(state.grid().blockTable(), blockTableDispatch(shape), state.bindings(), timer);
   glMemoryBarrier(gl::kStorage);
 }
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "Error.h"
+#include "gpu/GpuLayout.h"
 
 namespace firn {
 
@@ -31,6 +32,11 @@ std::vector<TransferShape> everyShape() {
 
 std::string transferShapeName(const TransferShape& shape) {
   return shape.kind == TransferShape::Kind::Tiles ? "tiles" : "blocks-" + std::to_string(shape.groupSize);
+}
+
+std::size_t blockTableDispatch(const TransferShape& shape) {
+  return shape.kind == TransferShape::Kind::Tiles ? offsetof(gpu::BlockTableHeader, tileDispatch)
+                                                  : offsetof(gpu::BlockTableHeader, blockDispatch);
 }
 
 std::vector<TransferShape> transferShapes(const Scene& scene) {

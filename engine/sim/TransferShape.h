@@ -31,6 +31,10 @@ struct TransferShape {
 // "tiles", "blocks-64", "blocks-128", "blocks-256": the names FIRN_TRANSFER_SHAPE takes and the tables print.
 std::string transferShapeName(const TransferShape& shape);
 
+// Where in the block table a pass of this shape finds its indirect dispatch: tiles take the transfers' tiles, blocks
+// a work group per active block (the step's own dispatches, which the solve's iterations copy and may empty).
+std::size_t blockTableDispatch(const TransferShape& shape);
+
 // The shapes a scene's P2G can take: tiles, and with fixed-point sums blocks of each group size (float sums depend
 // on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
 std::vector<TransferShape> transferShapes(const Scene& scene);
