@@ -76,6 +76,12 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
          format("%.4g", position.y) + ", " + format("%.4g", position.z) + ") m";
 }
 
+std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
+  if (!rigidBodies_) return "";
+  return "; the rigid bodies move explicitly, and one much lighter than the snow it presses on rocks apart at steps "
+         "well below " + bound + ": make it heavier or reduce time.dt";
+}
+
 // Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}
 // without limit, and once its wave outruns the step the step is unstable although the scene's bound, taken at
 // J_P = 1 − θc, held. Named is the snow particle whose hardened wave is fastest, in its last finite state (the
@@ -84,7 +90,7 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
   const std::string generic = "Reduce time.dt or youngs_modulus; the elastic wave bound is dt < h / c = " +
                               format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
-                              format("%.4g", dtS_) + " s).";
+                              format("%.4g", dtS_) + " s)" + rigidBodyHint("that bound") + ".";
   if (solver_.semiImplicit() || dtS_ > stableDtS_) return generic;
   const std::vector<float> plasticJ = state.particles().read(liveParticles()).plasticJ;
   std::size_t stiffest = plasticJ.size();
@@ -109,7 +115,7 @@ std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
          " m/s, whose bound h / c = " + format("%.4g", boundS) + " s is below time.dt = " + format("%.4g", dtS_) +
          " s (the scene's bound, " + format("%.4g", stableDtS_) + " s, holds down to J_P = 1 - critical_compression). "
          "Set time.adaptive (its steps follow the hardened wave speed), lower the impact's speed or the hardening, "
-         "or reduce time.dt.";
+         "or reduce time.dt" + rigidBodyHint("the scene's bound") + ".";
 }
 
 void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
@@ -126,11 +132,7 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
   std::string stiffness = solver_.semiImplicit()
                               ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
                               : "the elastic wave bound is dt < " + elasticBound;
-  if (rigidBodies_) {
-    stiffness += std::string("; the rigid bodies move explicitly, and one much lighter than the snow it presses on "
-                             "rocks apart at steps well below ") +
-                 (solver_.semiImplicit() ? elasticBound : "that bound") + ": make it heavier or reduce time.dt";
-  }
+  stiffness += rigidBodyHint(solver_.semiImplicit() ? elasticBound : "that bound");
   auto when = [&](std::uint32_t step) {
     return "step " + std::to_string(step) + " (t ≈ " + format("%.4g", double(step) * dtS_) + " s)";
   };

@@ -40,6 +40,9 @@ class Diagnostics {
   std::string describeNode(std::int32_t node) const;
   std::string describeParticle(std::int32_t particle, const GpuState& state) const;
   std::string nonFiniteCause(const GpuState& state) const;
+  // "; the rigid bodies move explicitly …" in a scene with rigid bodies (docs/algorithm.md, Rigid bodies: the
+  // coupling's own step bound), naming `bound` as the step they may need to stay well below; empty without them.
+  std::string rigidBodyHint(const std::string& bound) const;
 
   GridSpec grid_;
   double dtS_ = 0;

@@ -386,6 +386,33 @@ TEST_F(ObjectsTest, RunsWithRigidBodiesAreBitwiseRepeatableAndResumable) {
   }
 }
 
+// When a step with rigid bodies comes apart, every event the watchdog lists says that the bodies bound the step too
+// (docs/algorithm.md, Rigid bodies: the coupling's own step bound): a ball of snow too stiff for the scene's dt
+// (E = 1e7 Pa: h / c = 0.26 ms against dt = 1 ms) falls on a rigid box. Its particles break the CFL bound (step 7),
+// go non-finite (step 32) and overflow a node sum (step 36); the non-finite event's message lacked the hint before.
+TEST_F(ObjectsTest, AnUnstableStepWithRigidBodiesSaysTheyBoundTheStepToo) {
+  const Scene scene = firn::parseScene(R"({
+    "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+    "time": { "dt": 1e-3, "frame_rate": 50, "frames": 1 },
+    "solver": { "kernel": "quadratic", "transfer": "apic" },
+    "materials": { "snow": { "preset": "stomakhin", "youngs_modulus": 1e7 } },
+    "bodies": [ { "shape": "sphere", "center": [0.6, 0.5, 0.6], "radius": 0.1, "material": "snow",
+                  "velocity": [0, -3, 0] } ],
+    "rigid_bodies": [ { "shape": "box", "center": [0.6, 0.25, 0.6], "size": [0.4, 0.1, 0.4], "density": 400 } ]
+  })", "stiff ball on a rigid box");
+  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  simulation.advanceTo(0.05);
+  try {
+    simulation.checkWatchdog();
+    FAIL() << "expected the watchdog to stop the run";
+  } catch (const firn::SimulationError& error) {
+    const std::string message = error.what();
+    const std::size_t nonFinite = message.find("became non-finite");
+    ASSERT_NE(nonFinite, std::string::npos);
+    EXPECT_NE(message.find("the rigid bodies move explicitly", nonFinite), std::string::npos);
+  }
+}
+
 // The volume of the part of a sphere of radius r centred at height c that lies below the level L (m³).
 double sphereVolumeBelow(double radiusM, double centerM, double levelM) {
   const double cap = std::clamp(levelM - (centerM - radiusM), 0.0, 2.0 * radiusM);
