@@ -420,14 +420,13 @@ double sphereVolumeBelow(double radiusM, double centerM, double levelM) {
 }
 
 // A sphere of density 500 (r = 5 cm, 4 cells) in water of density 1000 comes to rest floating. Archimedes puts it half
-// submerged; this coupling rests it deeper (docs/algorithm.md, Rigid bodies, the known limit: the water next to the
-// body is layered, and the water the kernel smears into its nodes weighs on it; measured on llvmpipe, quadratic
-// APIC: 73% at rest from 0.3 s on, cubic 70%; the error shrinks as the sphere is resolved, frictionless about 58% at 6
-// cells in radius, but that is 55k particles). What the test holds is what the mirrored stress (eq. 38) changed: without
-// it the same sphere was 85% submerged at 0.5 s and still sinking at 5–8 mm/s, on its way to the bottom. Bounds:
-// submerged between 45% (Archimedes' 50% less the issue's 5%) and 80%, and from 0.5 s to 0.8 s it moves less than
-// 1 mm (measured 0.2 mm, the bob of its settling; the sinking sphere moved 2.4 mm). The submerged part is the
-// sphere's cap below the water's level, taken from the mass of the water beyond 8.5 cm of the sphere's axis.
+// submerged; this coupling rests it deeper (docs/algorithm.md, Rigid bodies, the known limit; measured on llvmpipe,
+// quadratic APIC: 66% at 0.8 s against the level beside it, 73% against the level the whole far field's mass gave,
+// which the walls' denser bands raise by 5 mm). What the test holds is what the mirrored stress (eq. 38) changed:
+// without it the same sphere was 85% submerged (far-field level) at 0.5 s and still sinking at 5–8 mm/s, on its way to
+// the bottom. Bounds: submerged between 45% (Archimedes' 50% less the issue's 5%) and 80%, and from 0.5 s to 0.8 s it
+// moves less than 1 mm (measured 0.2 mm, the bob of its settling; the sinking sphere moved 2.4 mm). The submerged
+// part is the sphere's cap below the water's level.
 TEST_F(ObjectsTest, ASphereOfHalfTheWatersDensityComesToRestFloating) {
   const Scene scene = firn::parseScene(R"({
     "grid": { "origin": [0, 0, 0], "cells": [24, 20, 24], "cell_size": 0.0125 },
@@ -440,21 +439,27 @@ TEST_F(ObjectsTest, ASphereOfHalfTheWatersDensityComesToRestFloating) {
   })", "floating sphere");
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   const double radiusM = 0.05, sphereM3 = 4.0 / 3.0 * glm::pi<double>() * std::pow(radiusM, 3);
-  const auto levelM = [](const firn::ParticleSnapshot& s) {
-    const double farM = 0.085, areaM2 = 0.25 * 0.25 - glm::pi<double>() * farM * farM;
+  // The water's level beside the sphere: the mass above 9 cm in the ring 6 to 10 cm from its axis, as water of
+  // 1000 kg/m³ (2 cm below its bottom, clear of it, and 2.5 cm or more from the tank's walls, whose bands of denser
+  // packed particles hold more mass per area: the whole far field's mass read the level 5 mm higher).
+  const auto levelM = [](const firn::ParticleSnapshot& s, glm::dvec3 centerM) {
+    const double innerM = 0.06, outerM = 0.10, baseM = 0.09;
+    const double areaM2 = glm::pi<double>() * (outerM * outerM - innerM * innerM);
     double massKg = 0;
     for (std::size_t i = 0; i < s.size(); ++i) {
-      const double dx = s.positionMass[i].x - 0.15, dz = s.positionMass[i].z - 0.15;
-      if (dx * dx + dz * dz > farM * farM) massKg += s.positionMass[i].w;
+      const double dx = s.positionMass[i].x - centerM.x, dz = s.positionMass[i].z - centerM.z;
+      const double r2 = dx * dx + dz * dz;
+      if (r2 > innerM * innerM && r2 < outerM * outerM && s.positionMass[i].y >= baseM) massKg += s.positionMass[i].w;
     }
-    return 0.025 + massKg / (1000.0 * areaM2);  // the tank's floor is the domain's wall at 2 cells
+    return baseM + massKg / (1000.0 * areaM2);
   };
   simulation.advanceTo(0.5);
   const double centerEarlyM = simulation.rigidBodyPoses()[0].positionM.y;
   simulation.advanceTo(0.8);
   simulation.checkWatchdog();
-  const double centerM = simulation.rigidBodyPoses()[0].positionM.y;
-  const double level = levelM(simulation.snapshot());
+  const glm::dvec3 sphereM = simulation.rigidBodyPoses()[0].positionM;
+  const double centerM = sphereM.y;
+  const double level = levelM(simulation.snapshot(), sphereM);
   const double submerged = sphereVolumeBelow(radiusM, centerM, level) / sphereM3;
   std::printf("centre %.5f m at 0.5 s, %.5f m at 0.8 s; water level %.5f m; submerged %.3f\n", centerEarlyM, centerM,
               level, submerged);
