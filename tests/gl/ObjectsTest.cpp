@@ -440,8 +440,8 @@ TEST_F(ObjectsTest, ASphereOfHalfTheWatersDensityComesToRestFloating) {
   Simulation simulation(scene, firn::sampleBodies(scene), gl());
   const double radiusM = 0.05, sphereM3 = 4.0 / 3.0 * glm::pi<double>() * std::pow(radiusM, 3);
   // The water's level beside the sphere: the mass above 9 cm in the ring 6 to 10 cm from its axis, as water of
-  // 1000 kg/m³ (2 cm below its bottom, clear of it, and 2.5 cm or more from the tank's walls, whose bands of denser
-  // packed particles hold more mass per area: the whole far field's mass read the level 5 mm higher).
+  // 1000 kg/m³. The ring clears the sphere and keeps 2.5 cm or more from the tank's walls, and the 9 cm from the floor:
+  // along walls and floor the particles pack denser, and the whole far field's mass read the level 5 mm higher.
   const auto levelM = [](const firn::ParticleSnapshot& s, glm::dvec3 centerM) {
     const double innerM = 0.06, outerM = 0.10, baseM = 0.09;
     const double areaM2 = glm::pi<double>() * (outerM * outerM - innerM * innerM);
