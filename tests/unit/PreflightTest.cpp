@@ -45,6 +45,33 @@ TEST(Preflight, StepWithinTheBoundsRunsQuietly) {
   EXPECT_TRUE(contains(report.notes, "bodies[0]: 8 particles per cell"));
 }
 
+// Each body's particles and mass, and where a sphere's or a box's particles hold more than its shape: the test tank's
+// water, a box of 0.25 × 0.25 × 0.1 m at 4 particles per cell of 12.5 mm, is filled with whole lattice cells of
+// s = 12.5 mm / ∛4 = 7.87 mm from the grid's origin, 32 × 32 × 13 of them (the box's 31.75 × 31.75 × 12.7 rounded to
+// the cells whose centres lie inside), each holding 1000 s³ kg: 6.5 kg, 4.0% more than the box's 6.25 kg. The ball
+// above (radius 6 cells of s = 2.5 cm) holds 919 cells of 400 s³ kg, 5.744 kg against its sphere's 5.655 kg; a box
+// whose faces lie on the lattice's cell faces (0.2 × 0.1 × 0.2 m: 8 × 4 × 8 cells) holds exactly its own mass and says
+// nothing more.
+TEST(Preflight, NotesEachBodysParticlesAndMassAgainstItsShape) {
+  const Scene tank = parseScene(R"({
+    "grid": { "origin": [0, 0, 0], "cells": [24, 20, 24], "cell_size": 0.0125 },
+    "time": { "dt": 2e-4, "frame_rate": 10, "frames": 1 },
+    "materials": { "water": { "model": "water", "density": 1000, "bulk_modulus": 1e5, "gamma": 7 } },
+    "bodies": [ { "shape": "box", "min": [0.025, 0.025, 0.025], "max": [0.275, 0.125, 0.275], "material": "water",
+                  "particles_per_cell": 4 } ] })", "tank.json");
+  const PreflightReport report = preflight(tank, sampleBodies(tank));
+  EXPECT_TRUE(contains(report.notes, "bodies[0]: 4 particles per cell, 13,312 particles, 6.5 kg (+4.0% against its "
+                                     "box's 6.25 kg: the particles fill it with whole lattice cells of 0.00787 m"));
+  const Scene ball = sceneWith("1e-3", kBall);
+  EXPECT_TRUE(contains(preflight(ball, sampleBodies(ball)).notes,
+                       "bodies[0]: 8 particles per cell, 919 particles, 5.744 kg (+1.6% against its sphere's 5.655 kg"));
+  const Scene box = sceneWith(
+      "1e-3", R"({ "shape": "box", "min": [0.2, 0.2, 0.2], "max": [0.4, 0.3, 0.4], "material": "snow" })");
+  const PreflightReport boxReport = preflight(box, sampleBodies(box));
+  EXPECT_TRUE(contains(boxReport.notes, "bodies[0]: 8 particles per cell, 256 particles, 1.6 kg"));
+  EXPECT_FALSE(contains(boxReport.notes, "against its box"));
+}
+
 TEST(Preflight, StepBeyondTheBoundWarnsAndFarBeyondStops) {
   const Scene beyond = sceneWith("4e-3", kBall);  // 1.8 times h / c
   const PreflightReport report = preflight(beyond, sampleBodies(beyond));
