@@ -150,7 +150,6 @@ void warnAboutSheets(const Scene& scene, const std::vector<ParticleSeed>& partic
   }
 }
 
-// Each distance field's lattice and memory (scene/FieldLattice.h), and each rigid body's mass, volume and inertia.
 // "bodies[i]: 4 particles per cell, 13,312 particles, 6.5 kg", and for a sphere or a box whose particles hold more
 // than 1% more or less than its shape at the material's density, by how much and why: each sample of the lattice
 // (or each Poisson-disk sample's share of it, voxelizer/Samplers.h) carries its density times a lattice cell, and
@@ -180,6 +179,7 @@ std::string describeBodyMass(const Scene& scene, const std::vector<ParticleSeed>
   return note;
 }
 
+// Each distance field's lattice and memory (scene/FieldLattice.h), and each rigid body's mass, volume and inertia.
 void noteObjects(const Scene& scene, PreflightReport& report) {
   for (const FieldLattice& field : fieldLattices(scene)) {
     report.notes.push_back(field.object + ": distance field of " + field.path + ", " + format("%.0f", field.samples.x) +
