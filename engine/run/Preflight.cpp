@@ -8,7 +8,6 @@
 #include <string>
 
 #include <glm/common.hpp>
-#include <glm/gtc/constants.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
@@ -150,33 +149,34 @@ void warnAboutSheets(const Scene& scene, const std::vector<ParticleSeed>& partic
   }
 }
 
-// "bodies[i]: 4 particles per cell, 13,312 particles, 6.5 kg", and for a sphere or a box whose particles hold more
-// than 1% more or less than its shape at the material's density, by how much and why: each sample of the lattice
-// (or each Poisson-disk sample's share of it, voxelizer/Samplers.h) carries its density times a lattice cell, and
-// the lattice fills the shape with whole cells, so the body's density is exact and its volume is the lattice's.
-std::string describeBodyMass(const Scene& scene, const std::vector<ParticleSeed>& particles, std::size_t bodyIndex) {
-  const Body& body = scene.bodies[bodyIndex];
-  std::size_t count = 0;
-  double massKg = 0;
+// Each body's particles per cell, particles and mass ("bodies[i]: 4 particles per cell, 13,312 particles, 6.5 kg"),
+// and for a sphere or a box whose particles hold more than 1% more or less than its shape at the material's density,
+// by how much and why: each sample of the lattice (or each Poisson-disk sample's share of it, voxelizer/Samplers.h)
+// carries its density times a lattice cell, and the lattice fills the shape with whole cells, so the body's density
+// is exact and its volume is the lattice's.
+void noteBodyMasses(const Scene& scene, const std::vector<ParticleSeed>& particles, PreflightReport& report) {
+  std::vector<std::size_t> counts(scene.bodies.size(), 0);
+  std::vector<double> massesKg(scene.bodies.size(), 0.0);
   for (const ParticleSeed& seed : particles) {
-    if (seed.bodyIndex != static_cast<int>(bodyIndex)) continue;
-    ++count;
-    massKg += double(seed.massKg);
+    if (seed.bodyIndex < 0 || std::size_t(seed.bodyIndex) >= scene.bodies.size()) continue;
+    ++counts[std::size_t(seed.bodyIndex)];
+    massesKg[std::size_t(seed.bodyIndex)] += double(seed.massKg);
   }
-  std::string note = "bodies[" + std::to_string(bodyIndex) + "]: " + format("%.3g", body.particlesPerCell) +
-                     " particles per cell, " + withThousands(double(count)) + " particles, " + format("%.4g kg", massKg);
-  const glm::dvec3 boxM = body.maxM - body.minM;
-  const double shapeM3 = body.shape == BodyShape::Sphere ? 4.0 / 3.0 * glm::pi<double>() * std::pow(body.radiusM, 3)
-                         : body.shape == BodyShape::Box  ? boxM.x * boxM.y * boxM.z
-                                                         : 0.0;
-  const double shapeKg = scene.materials[std::size_t(body.materialIndex)].densityKgPerM3 * body.massScale * shapeM3;
-  if (shapeKg > 0 && std::abs(massKg / shapeKg - 1) > 0.01) {
-    note += " (" + format("%+.1f%%", 100 * (massKg / shapeKg - 1)) + " against its " +
-            (body.shape == BodyShape::Sphere ? "sphere" : "box") + "'s " + format("%.4g kg", shapeKg) +
-            ": the particles fill it with whole lattice cells of " + format("%.3g m", particleSpacingM(body, scene.grid)) +
-            ", each at the material's density)";
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& body = scene.bodies[i];
+    std::string note = "bodies[" + std::to_string(i) + "]: " + format("%.3g", body.particlesPerCell) +
+                       " particles per cell, " + withThousands(double(counts[i])) + " particles, " +
+                       format("%.4g kg", massesKg[i]);
+    const double shapeKg =
+        scene.materials[std::size_t(body.materialIndex)].densityKgPerM3 * body.massScale * shapeVolumeM3(body);
+    if (shapeKg > 0 && std::abs(massesKg[i] / shapeKg - 1) > 0.01) {
+      note += " (" + format("%+.1f%%", 100 * (massesKg[i] / shapeKg - 1)) + " against its " +
+              (body.shape == BodyShape::Sphere ? "sphere" : "box") + "'s " + format("%.4g kg", shapeKg) +
+              ": the particles fill it with whole lattice cells of " +
+              format("%.3g m", particleSpacingM(body, scene.grid)) + ", each at the material's density)";
+    }
+    report.notes.push_back(note);
   }
-  return note;
 }
 
 // Each distance field's lattice and memory (scene/FieldLattice.h), and each rigid body's mass, volume and inertia.
@@ -380,7 +380,7 @@ PreflightReport preflight(const Scene& scene, const std::vector<ParticleSeed>& p
 
   // Particles per cell, each body's particles and mass, and the fixed-point resolution that leaves
   // (sim/FixedPoint.h; fixed-point atomics only).
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) report.notes.push_back(describeBodyMass(scene, particles, i));
+  noteBodyMasses(scene, particles, report);
   if (scene.solver.atomics == Atomics::FixedPoint) {
     const FixedPointScale fixedPoint = fixedPointScaleFor(scene, particles);
     report.notes.push_back("fixed point: " + std::to_string(fixedPoint.fractionBits) + " fraction bits (resolution " +

@@ -109,6 +109,15 @@ double particleSpacingM(const Body& body, const GridSpec& grid) {
   return grid.cellSizeM / std::cbrt(body.particlesPerCell);
 }
 
+double shapeVolumeM3(const Body& body) {
+  const glm::dvec3 extentM = body.maxM - body.minM;
+  switch (body.shape) {
+    case BodyShape::Sphere: return 4.0 / 3.0 * pi * body.radiusM * body.radiusM * body.radiusM;
+    case BodyShape::Box: return extentM.x * extentM.y * extentM.z;
+    default: return 0;
+  }
+}
+
 std::string bodyName(const Scene& scene, std::size_t bodyIndex) {
   return sceneFileName(scene) + ": bodies[" + std::to_string(bodyIndex) + "]";
 }
@@ -126,10 +135,10 @@ BodyEstimate estimateBody(const Body& body, const GridSpec& grid) {
     estimate = voxelizer::estimateVoxelize(*body.mesh, options);
   } else if (body.shape == BodyShape::Sphere) {
     const double r = body.radiusM;
-    estimate = voxelizer::estimateSamples(box, 4.0 / 3.0 * pi * r * r * r, 4 * pi * r * r, options);
+    estimate = voxelizer::estimateSamples(box, shapeVolumeM3(body), 4 * pi * r * r, options);
   } else {
     const glm::dvec3 e = body.maxM - body.minM;
-    estimate = voxelizer::estimateSamples(box, e.x * e.y * e.z, 2 * (e.x * e.y + e.y * e.z + e.z * e.x), options);
+    estimate = voxelizer::estimateSamples(box, shapeVolumeM3(body), 2 * (e.x * e.y + e.y * e.z + e.z * e.x), options);
   }
   return {estimate.points, estimate.insideTests};
 }

@@ -25,6 +25,9 @@ std::vector<BodyEstimate> estimateBodies(const Scene& scene);
 // The particle spacing s = cell_size / ∛particles_per_cell of sphere, box and mesh bodies.
 double particleSpacingM(const Body& body, const GridSpec& grid);
 
+// The volume of a sphere or box body's shape (m³); 0 for a mesh or a points body, whose samples are their volume.
+double shapeVolumeM3(const Body& body);
+
 struct SamplingLimits {
   // All bodies together; sampling a body past it stops at once, as bad input naming the body and `reason`.
   std::size_t maxParticles = 0;
