@@ -54,8 +54,8 @@ void writeNumber(long value) {
 void reportFatalSignal(int signal) {
   writeText("\nfirn_gl_tests: fatal signal ");
   writeNumber(signal);
-  writeText(" (");
-  writeText(strsignal(signal));
+  writeText(" (SIG");
+  writeText(sigabbrev_np(signal));  // a static table, unlike strsignal's translated text
   writeText(") during ");
   writeText(runningTest);
   writeText(", on thread ");
