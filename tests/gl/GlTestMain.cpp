@@ -37,30 +37,28 @@ void writeText(const char* text) {
   (void)ignored;
 }
 
-void writeNumber(long value) {
+void writeNumber(unsigned long value) {
   char digits[24];
   int at = int(sizeof digits) - 1;
   digits[at] = '\0';
-  const bool negative = value < 0;
-  unsigned long magnitude = negative ? 0ul - static_cast<unsigned long>(value) : static_cast<unsigned long>(value);
   do {
-    digits[--at] = char('0' + magnitude % 10);
-    magnitude /= 10;
-  } while (magnitude != 0 && at > 1);
-  if (negative) digits[--at] = '-';
+    digits[--at] = char('0' + value % 10);
+    value /= 10;
+  } while (value != 0);
   writeText(digits + at);
 }
 
 void reportFatalSignal(int signal) {
   writeText("\nfirn_gl_tests: fatal signal ");
-  writeNumber(signal);
+  writeNumber(static_cast<unsigned long>(signal));
   writeText(" (SIG");
   writeText(sigabbrev_np(signal));  // a static table, unlike strsignal's translated text
   writeText(") during ");
   writeText(runningTest);
+  const pid_t thread = pid_t(syscall(SYS_gettid));
   writeText(", on thread ");
-  writeNumber(long(syscall(SYS_gettid)));
-  writeText(getpid() == pid_t(syscall(SYS_gettid)) ? " (the main thread)" : " (not the main thread)");
+  writeNumber(static_cast<unsigned long>(thread));
+  writeText(thread == getpid() ? " (the main thread)" : " (not the main thread)");
   writeText("; its stack:\n");
   void* frames[64];
   backtrace_symbols_fd(frames, backtrace(frames, 64), STDERR_FILENO);
