@@ -98,15 +98,15 @@ struct StencilBlocks {
 // The slot of a block that may lie past the domain's last block (−1 there).
 int blockSlotInDomain(ivec3 block) { return all(lessThan(block, blocksPerAxis())) ? blockSlot(block) : -1; }
 
+// Each slot written out: a vector's component written at a variable index costs NVIDIA's compiler a chain of branches.
 StencilBlocks stencilBlocks(ivec3 baseNode) {
   StencilBlocks b;
   b.baseInBlock = baseNode % BLOCK_WIDTH;
   ivec3 block = baseNode / BLOCK_WIDTH;
-  for (int k = 0; k < 4; ++k) {
-    ivec3 offset = ivec3(k & 1, k >> 1, 0);
-    b.slotsNear[k] = blockSlotInDomain(block + offset);
-    b.slotsFar[k] = blockSlotInDomain(block + offset + ivec3(0, 0, 1));
-  }
+  b.slotsNear = ivec4(blockSlotInDomain(block), blockSlotInDomain(block + ivec3(1, 0, 0)),
+                      blockSlotInDomain(block + ivec3(0, 1, 0)), blockSlotInDomain(block + ivec3(1, 1, 0)));
+  b.slotsFar = ivec4(blockSlotInDomain(block + ivec3(0, 0, 1)), blockSlotInDomain(block + ivec3(1, 0, 1)),
+                     blockSlotInDomain(block + ivec3(0, 1, 1)), blockSlotInDomain(block + ivec3(1, 1, 1)));
   return b;
 }
 

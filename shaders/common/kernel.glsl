@@ -59,34 +59,86 @@ vec3 cellCoordinates(vec3 positionM) {
   return positionInCells;
 }
 
+// An axis's weights and slopes, N(d_k) and dN/dx (1/m) with d_k = positionInCells − (baseNode + k), each written
+// out: a vector's component written at a variable index costs NVIDIA's compiler a chain of branches.
+void axisWeights(float positionInCells, int baseNode, out vec4 weight, out vec4 slope) {
+  precise vec4 offsetInCells = vec4(positionInCells - float(baseNode), positionInCells - float(baseNode + 1),
+                                    positionInCells - float(baseNode + 2), positionInCells - float(baseNode + 3));
+  weight = vec4(kernelWeight(offsetInCells.x), kernelWeight(offsetInCells.y), kernelWeight(offsetInCells.z), 0.0);
+  precise vec4 slopes =
+      vec4(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z), 0.0) * cellsPerM;
+#if defined(FIRN_KERNEL_CUBIC)
+  weight.w = kernelWeight(offsetInCells.w);
+  slopes.w = kernelSlope(offsetInCells.w) * cellsPerM;
+#endif
+  slope = slopes;
+}
+
 Stencil particleStencil(vec3 positionM) {
   precise vec3 positionInCells = cellCoordinates(positionM);
   precise Stencil stencil;
   stencil.baseNode = stencilBaseNode(positionInCells);
-  stencil.weightX = stencil.weightY = stencil.weightZ = vec4(0.0);
-  stencil.slopeX = stencil.slopeY = stencil.slopeZ = vec4(0.0);
-  for (int k = 0; k < KERNEL_WIDTH; ++k) {
-    precise vec3 offsetInCells = positionInCells - vec3(stencil.baseNode + k);
-    stencil.weightX[k] = kernelWeight(offsetInCells.x);
-    stencil.weightY[k] = kernelWeight(offsetInCells.y);
-    stencil.weightZ[k] = kernelWeight(offsetInCells.z);
-    precise vec3 slope =
-        vec3(kernelSlope(offsetInCells.x), kernelSlope(offsetInCells.y), kernelSlope(offsetInCells.z)) * cellsPerM;
-    stencil.slopeX[k] = slope.x;
-    stencil.slopeY[k] = slope.y;
-    stencil.slopeZ[k] = slope.z;
-  }
+  axisWeights(positionInCells.x, stencil.baseNode.x, stencil.weightX, stencil.slopeX);
+  axisWeights(positionInCells.y, stencil.baseNode.y, stencil.weightY, stencil.slopeY);
+  axisWeights(positionInCells.z, stencil.baseNode.z, stencil.weightZ, stencil.slopeZ);
   return stencil;
 }
 
-// w_ip = N(dx) N(dy) N(dz) and its gradient (Stomakhin 2013 eq. 4–5).
-float stencilWeight(Stencil s, ivec3 k) {
-  precise float w = s.weightX[k.x] * s.weightY[k.y] * s.weightZ[k.z];
+// w_ip = N(dx) N(dy) N(dz) and its gradient (Stomakhin 2013 eq. 4–5), from the node's weights and slopes per axis.
+float weightProduct(float wx, float wy, float wz) {
+  precise float w = wx * wy * wz;
   return w;
 }
-vec3 stencilGradient(Stencil s, ivec3 k) {
-  precise vec3 gradient = vec3(s.slopeX[k.x] * s.weightY[k.y] * s.weightZ[k.z],
-                               s.weightX[k.x] * s.slopeY[k.y] * s.weightZ[k.z],
-                               s.weightX[k.x] * s.weightY[k.y] * s.slopeZ[k.z]);
+vec3 gradientProduct(float wx, float wy, float wz, float sx, float sy, float sz) {
+  precise vec3 gradient = vec3(sx * wy * wz, wx * sy * wz, wx * wy * sz);
   return gradient;
+}
+
+// The stencil's node k (an offset from its base node), for loops that fix k.x: the tile passes write each row out.
+float stencilWeight(Stencil s, ivec3 k) { return weightProduct(s.weightX[k.x], s.weightY[k.y], s.weightZ[k.z]); }
+vec3 stencilGradient(Stencil s, ivec3 k) {
+  return gradientProduct(s.weightX[k.x], s.weightY[k.y], s.weightZ[k.z], s.slopeX[k.x], s.slopeY[k.y], s.slopeZ[k.z]);
+}
+
+// A walk over the stencil's nodes in the order of stencilOffset (x fastest), for the loops that visit every node in
+// one loop: each axis's weights and slopes turn past their first component as its offset steps, so the node's
+// are always component x. A variable index would cost NVIDIA's compiler a chain of branches per read (P2G by blocks
+// and G2P spent most of their time there); a CPU renderer pays a select either way. Gives stencilWeight's and
+// stencilGradient's bits: the same products of the same factors.
+struct StencilWalk {
+  ivec3 k;                          // the node's offset from the base node
+  vec4 weightX, weightY, weightZ;   // turned: component x is the node's
+  vec4 slopeX, slopeY, slopeZ;
+};
+
+StencilWalk beginStencilWalk(Stencil s) {
+  return StencilWalk(ivec3(0), s.weightX, s.weightY, s.weightZ, s.slopeX, s.slopeY, s.slopeZ);
+}
+
+// The axis's next node first: KERNEL_WIDTH turns bring the vector back.
+vec4 turnAxis(vec4 v) {
+#if defined(FIRN_KERNEL_CUBIC)
+  return v.yzwx;
+#else
+  return v.yzxw;
+#endif
+}
+
+float walkWeight(StencilWalk w) { return weightProduct(w.weightX.x, w.weightY.x, w.weightZ.x); }
+vec3 walkGradient(StencilWalk w) {
+  return gradientProduct(w.weightX.x, w.weightY.x, w.weightZ.x, w.slopeX.x, w.slopeY.x, w.slopeZ.x);
+}
+
+void advanceStencilWalk(inout StencilWalk w) {
+  w.weightX = turnAxis(w.weightX);
+  w.slopeX = turnAxis(w.slopeX);
+  if (++w.k.x < KERNEL_WIDTH) return;
+  w.k.x = 0;
+  w.weightY = turnAxis(w.weightY);
+  w.slopeY = turnAxis(w.slopeY);
+  if (++w.k.y < KERNEL_WIDTH) return;
+  w.k.y = 0;
+  w.weightZ = turnAxis(w.weightZ);
+  w.slopeZ = turnAxis(w.slopeZ);
+  ++w.k.z;
 }

@@ -117,9 +117,10 @@ bool scatterProductParticle(uint p, ivec3 regionFirstNode) {
 #ifdef FIRN_SOLVER_FIRST_PRODUCT
   precise float blockUnits = implicitRatio * dtS * dtS * volume * massUnitsPerKg;
   StiffnessBlockForm form = stiffnessBlockForm(stiffness);
+  StencilWalk walk = beginStencilWalk(stencil);
   for (int n = 0; n < KERNEL_NODES; ++n) {
-    ivec3 k = stencilOffset(n);
-    fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, stencilGradient(stencil, k), base + k) && fits;
+    fits = scatterToNodeWithBlock(stressUnits, blockUnits, form, walkGradient(walk), base + walk.k) && fits;
+    advanceStencilWalk(walk);
   }
 #else
   for (int yz = 0; yz < KERNEL_WIDTH * KERNEL_WIDTH; ++yz) {

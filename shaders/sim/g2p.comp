@@ -32,20 +32,22 @@ void advanceParticle(uint p) {
 #else
   vec3 flipIncrement = vec3(0.0);
 #endif
+  StencilWalk walk = beginStencilWalk(stencil);
   for (int n = 0; n < KERNEL_NODES; ++n) {
-    ivec3 k = stencilOffset(n);
+    ivec3 k = walk.k;
     ivec3 node = stencil.baseNode + k;
     int address = stencilNodeAddress(blocks, k);
-    float w = stencilWeight(stencil, k);
+    float w = walkWeight(walk);
     // Every node a particle reaches has a block, unless the pool ran out (the host then redoes the frame).
     vec3 vi = address < 0 ? vec3(0.0) : nodeVelocity(uint(address));
     picVelocity += w * vi;
-    velocityGradient += outerProduct(vi, stencilGradient(stencil, k));  // ∇v_p = Σ v_i ∇w_ipᵀ
+    velocityGradient += outerProduct(vi, walkGradient(walk));  // ∇v_p = Σ v_i ∇w_ipᵀ
 #ifdef FIRN_TRANSFER_APIC
     affineMoment += w * outerProduct(vi, nodePosition(node) - x);
 #else
     flipIncrement += w * (vi - (address < 0 ? vec3(0.0) : nodeVelocityBeforeForces(uint(address))));
 #endif
+    advanceStencilWalk(walk);
   }
 
 #ifdef FIRN_TRANSFER_APIC

@@ -28,20 +28,21 @@ const int REGION_CHANNELS = 4;
 shared int regionSums[REGION_CHANNELS * BLOCK_REGION_NODES];
 shared int regionOverflow[REGION_CHANNELS];
 
-// Adds the quantized `values` to channels [firstChannel, firstChannel + channels) of region node i, and marks the
-// channels whose contribution was too large to quantize (`tooLarge`, from quantize) or whose partial sum overflowed.
-void addToRegion(int i, int firstChannel, int channels, ivec4 values, ivec4 tooLarge) {
-  for (int c = 0; c < channels; ++c) {
-    int over = tooLarge[c];
-    if (values[c] != 0) {
-      int previous = atomicAdd(regionSums[(firstChannel + c) * BLOCK_REGION_NODES + i], values[c]);
-      int total = previous + values[c];
-      over |= (previous ^ total) & (values[c] ^ total);
-    }
-    if (over < 0) atomicOr(regionOverflow[firstChannel + c], over);
-  }
+// Adds `value` to channel `channel` of region node i; returns the partial sum's overflow in its sign bit.
+int addToRegion(int channel, int i, int value) {
+  int previous = atomicAdd(regionSums[channel * BLOCK_REGION_NODES + i], value);
+  int total = previous + value;
+  return (previous ^ total) & (value ^ total);
 }
 
+// Marks the channel for the block's report when `overflow` has its sign bit set.
+void markRegionOverflow(int channel, int overflow) {
+  if (overflow < 0) atomicOr(regionOverflow[channel], overflow);
+}
+
+// The particle's contributions to its stencil's nodes, each channel written out (a vector's component at a variable
+// index costs NVIDIA's compiler a chain of branches). The overflows are gathered, sign bit per channel, and marked
+// once after the last node, so that no atomic's result holds up the next.
 void scatterParticle(uint p, ivec3 blockFirstNode) {
   Contribution contribution = particleContribution(p);
   if (!contribution.finite) {
@@ -50,23 +51,36 @@ void scatterParticle(uint p, ivec3 blockFirstNode) {
   }
   Stencil stencil = particleStencil(contribution.x);
   ivec3 baseInRegion = stencil.baseNode - blockFirstNode;
+  ivec4 momentumMassOverflow = ivec4(0);  // too large to quantize, or a partial sum overflowed
+#ifdef FIRN_GRID_IMPULSE
+  ivec4 impulseOverflow = ivec4(0);
+#endif
+  StencilWalk walk = beginStencilWalk(stencil);
   for (int n = 0; n < KERNEL_NODES; ++n) {
-    ivec3 k = stencilOffset(n);
     vec4 nodeMomentumMass;
     vec3 nodeImpulse;
-    contributionToNode(contribution, stencil.baseNode + k, stencilWeight(stencil, k), stencilGradient(stencil, k),
+    contributionToNode(contribution, stencil.baseNode + walk.k, walkWeight(walk), walkGradient(walk),
                        nodeMomentumMass, nodeImpulse);
     float dither = contributionDither(contribution.particleU, n);
-    int i = blockRegionIndex(baseInRegion + k);
-    ivec4 tooLarge = ivec4(0);
-    ivec4 momentumMass = quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, tooLarge);
-    addToRegion(i, 0, 4, momentumMass, tooLarge);
+    int i = blockRegionIndex(baseInRegion + walk.k);
+    ivec4 momentumMass = quantize(nodeMomentumMass, MOMENTUM_MASS_CHANNELS, dither, momentumMassOverflow);
+    momentumMassOverflow |= ivec4(addToRegion(0, i, momentumMass.x), addToRegion(1, i, momentumMass.y),
+                                  addToRegion(2, i, momentumMass.z), addToRegion(3, i, momentumMass.w));
 #ifdef FIRN_GRID_IMPULSE
-    tooLarge = ivec4(0);
-    ivec4 impulse = quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, tooLarge);
-    addToRegion(i, 4, 3, impulse, tooLarge);
+    ivec4 impulse = quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow);
+    impulseOverflow |= ivec4(addToRegion(4, i, impulse.x), addToRegion(5, i, impulse.y), addToRegion(6, i, impulse.z), 0);
 #endif
+    advanceStencilWalk(walk);
   }
+  markRegionOverflow(0, momentumMassOverflow.x);
+  markRegionOverflow(1, momentumMassOverflow.y);
+  markRegionOverflow(2, momentumMassOverflow.z);
+  markRegionOverflow(3, momentumMassOverflow.w);
+#ifdef FIRN_GRID_IMPULSE
+  markRegionOverflow(4, impulseOverflow.x);
+  markRegionOverflow(5, impulseOverflow.y);
+  markRegionOverflow(6, impulseOverflow.z);
+#endif
 }
 
 void main() {
