@@ -25,6 +25,7 @@ BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& libr
       countBlocks_(library, "sim/count_blocks.comp", options),
       binCount_(library, "sim/bin_count.comp", options),
       binScan_(library, "sim/bin_scan.comp", options),
+      binScanBlock_(library, "sim/bin_scan_block.comp", options),
       blockOffsets_(library, "sim/block_offsets.comp", options),
       binPlace_(library, "sim/bin_place.comp", options),
       orderTiles_(library, "sim/order_tiles.comp", options),
@@ -63,7 +64,8 @@ BlockUsage BlockGrid::usage() const {
   return usage;
 }
 
-void BlockGrid::sortParticles(std::size_t particles, const gl::BufferBindings& buffers, gl::PassTimer& timer) const {
+void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::BufferBindings& buffers,
+                              gl::PassTimer& timer) const {
   const gl::Buffer& table = blockTable_;
   prepareBlocks_.runOnce(buffers, timer);
   glMemoryBarrier(gl::kStorageAndCommands);
@@ -75,12 +77,18 @@ void BlockGrid::sortParticles(std::size_t particles, const gl::BufferBindings& b
   glMemoryBarrier(gl::kStorageAndCommands);
   binCount_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
-  binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
+  if (sortFor == SortFor::Tiles) {
+    binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
+  } else {
+    binScanBlock_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  }
   glMemoryBarrier(gl::kStorage);
   blockOffsets_.runOnce(buffers, timer);
   glMemoryBarrier(gl::kStorage);
   binPlace_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  if (sortFor == SortFor::Tiles) {
+    orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  }
   glMemoryBarrier(gl::kStorageAndCommands);
 }
 

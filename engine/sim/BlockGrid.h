@@ -70,9 +70,15 @@ class BlockGrid {
   void allocateParticles(std::size_t particleCapacity);
   BlockUsage usage() const;
 
+  // What the sort leaves for the transfers: the particles by block and base node for every shape, and for the tile
+  // passes (P2G's and the Hessian product's tiles, sim/TransferShape.h) also the tiles in order of fill.
+  enum class SortFor { Blocks, Tiles };
   // The blocks the particles' stencils reach claim slots of the pool (last step's are released first), and the
-  // particles are sorted by block and base node; `buffers` must hold the grid's, the particles' and the step's.
-  void sortParticles(std::size_t particles, const gl::BufferBindings& buffers, gl::PassTimer& timer) const;
+  // particles are sorted by block and base node; `buffers` must hold the grid's, the particles' and the step's. The
+  // bins are scanned in the shape of the transfers that read them: a work group per block for blocks, an
+  // invocation per block (and the tiles' buckets of fill) for tiles.
+  void sortParticles(std::size_t particles, SortFor sortFor, const gl::BufferBindings& buffers,
+                     gl::PassTimer& timer) const;
 
   // The block table: its header holds the per-block passes' indirect dispatches (gpu::BlockTableHeader).
   const gl::Buffer& blockTable() const { return blockTable_; }
@@ -126,6 +132,7 @@ class BlockGrid {
   gl::ComputePass countBlocks_;
   gl::ComputePass binCount_;
   gl::ComputePass binScan_;
+  gl::ComputePass binScanBlock_;
   gl::ComputePass blockOffsets_;
   gl::ComputePass binPlace_;
   gl::ComputePass orderTiles_;

@@ -136,10 +136,22 @@ constexpr int kTransferShapeRounds = 3;
 // The shapes are timed again when the particles have grown this many times since they were last timed.
 constexpr std::size_t kTransferShapeRetimeGrowth = 4;
 
+
+BlockGrid::SortFor sortForShape(const TransferShape& shape) {
+  return shape.kind == TransferShape::Kind::Tiles ? BlockGrid::SortFor::Tiles : BlockGrid::SortFor::Blocks;
+}
+
 }  // namespace
 
+BlockGrid::SortFor StepPipeline::sortFor() const {
+  if (implicitSolver_ && sortForShape(implicitSolver_->productShape()) == BlockGrid::SortFor::Tiles) {
+    return BlockGrid::SortFor::Tiles;
+  }
+  return sortForShape(particleToGrid_[chosen_].first);
+}
+
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
-  state.grid().sortParticles(particles, state.bindings(), timer);
+  state.grid().sortParticles(particles, sortFor(), state.bindings(), timer);
   const auto& [shape, pass] = particleToGrid_[chosen_];
   runParticleToGrid(shape, pass, state, timer);
 }
@@ -149,11 +161,13 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   if (transferChoice_ && particles < kTransferShapeRetimeGrowth * transferChoice_->particles) return false;
   gl::PassTimer untimed;
   const auto timeOne = [&](std::size_t i) {
-    // Each P2G adds to the sums the sort has just emptied (release_blocks.comp), so every round ends as one
-    // transferToGrid would.
-    state.grid().sortParticles(particles, state.bindings(), untimed);
+    // A round is the sort the shape reads and its P2G, which adds to the sums the sort has just emptied
+    // (release_blocks.comp), so every round ends as one transferToGrid would.
     const auto& [shape, pass] = particleToGrid_[i];
-    return gl::msToFinish([&] { runParticleToGrid(shape, pass, state, untimed); });
+    return gl::msToFinish([&] {
+      state.grid().sortParticles(particles, sortForShape(shape), state.bindings(), untimed);
+      runParticleToGrid(shape, pass, state, untimed);
+    });
   };
   const std::vector<double> fastestMs = fastestOfRounds(particleToGrid_.size(), kTransferShapeRounds, timeOne);
   TransferShapeChoice choice;
@@ -165,9 +179,11 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   choice.shape = choice.productShape = particleToGrid_[chosen_].first;
   choice.particles = particles;
   if (implicitSolver_) {
-    // The last round left the grid every shape's transfer leaves (they agree to the bit): the product is timed from
-    // the start x₀ the grid update makes of it. That grid update pushes the rigid bodies as the step's will: their
-    // entries are put back as they were.
+    // The product is timed from the start x₀ the grid update makes of a transfer (every shape's leaves the same
+    // grid, to the bit), sorted for tiles too, which the product's tiles read. That grid update pushes the rigid
+    // bodies as the step's will: their entries are put back as they were.
+    state.grid().sortParticles(particles, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
+    runParticleToGrid(particleToGrid_[chosen_].first, particleToGrid_[chosen_].second, state, untimed);
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
     updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
                             state.bindings(), untimed);

@@ -46,8 +46,8 @@ class StepPipeline {
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
   // to grid in the chosen shape.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
-  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state` and runs the
-  // fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
+  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, each with the sort
+  // it reads, and runs the fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
   // Times them once a run has particles (a scene of emitters: at its first), and again each time its particles have
   // grown fourfold since (the faster shape can change with the count). A semi-implicit scene's Hessian product is
   // timed in each shape too, on its own, and may take another. Returns whether it timed them now. Leaves the grid as
@@ -71,6 +71,8 @@ class StepPipeline {
   std::size_t chosen_ = 0;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
+  // The sort the step's transfers read: for tiles where P2G or the Hessian product runs by tiles.
+  BlockGrid::SortFor sortFor() const;
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;

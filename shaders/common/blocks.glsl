@@ -8,15 +8,16 @@
 //
 // A particle's base node is the first node of its stencil (kernel.glsl); its block is the base node's. Particles
 // are sorted by block, then by base node (the base node's "bin"), by a counting sort each step: bin_count.comp
-// counts each bin and gives each particle its rank, bin_scan.comp and block_offsets.comp turn counts into
-// offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
+// counts each bin and gives each particle its rank, bin_scan.comp (for the tiles) or bin_scan_block.comp (for the
+// blocks) and block_offsets.comp turn counts into offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
 // result depends on it: fixed-point sums are exact and each particle's update is its own.
 //
 // The transfers take a tile of TILE_WIDTH × TILE_HEIGHT base nodes (x, y) per invocation: a tile's particles reach
 // the nodes of its region, (TILE_WIDTH + KERNEL_WIDTH − 1) × (TILE_HEIGHT + KERNEL_WIDTH − 1) × KERNEL_WIDTH, at
 // most two blocks per axis, whose slots are looked up once per tile. An invocation loops over its tile's particles
 // bin by bin, so the invocations a CPU renderer runs side by side as one vector wait for the fullest: the tiles
-// are taken in order of fill, fullest first (order_tiles.comp), so that tiles of alike fill run side by side.
+// are taken in order of fill, fullest first (order_tiles.comp), so that tiles of alike fill run side by side. The
+// sort files the tiles only where a tile pass runs (sim/BlockGrid.h, SortFor).
 
 #include "common/kernel.glsl"
 

@@ -18,6 +18,7 @@
 #include "gpu/GpuFunctions.h"
 #include "scene/Scene.h"
 #include "sim/Simulation.h"
+#include "sim/TransferShape.h"
 
 namespace {
 
@@ -227,6 +228,7 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
 // whole; one fuller stops the run with what to change, rather than dropping particles. Cubic kernel (the most loop
 // iterations per particle): a box of 4 × 1 × 1 cells whose particles' base nodes fill one tile.
 TEST_F(BlockGrid, FullestTileIsScatteredWholeAndFullerIsReported) {
+  const firn::ForcedTransferShape tiles("tiles");  // the limit is the tiles' (P2G by blocks has none)
   const unsigned limit = firn::gpu::maxTileParticles(4);
   for (const double fill : {0.98, 1.2}) {
     // Cells 9–12 along x: cubic base nodes 8–11, the third tile of a block row; y and z one cell.

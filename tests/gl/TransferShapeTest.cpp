@@ -65,7 +65,8 @@ bool sameGrid(const std::vector<firn::GridNodeSums>& a, const std::vector<firn::
 // Every shape against tiles, on scenes that between them take each kernel with each transfer, every material model,
 // each collider kind, rigid bodies, emitters, the adaptive steps' momentum unit and the semi-implicit solve (its
 // Hessian product in the same shape): the first transfer's node sums and the particles after 12 steps, to the bit
-// (integer sums either agree or they do not).
+// (integer sums either agree or they do not). Each shape reads its own sort (the bins scanned by a work group per
+// block for blocks, an invocation per block for tiles), so a wrong offset in either would scatter wrong particles.
 TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
   std::vector<std::pair<std::string, Scene>> scenes;
   for (const char* name : {"snowball_wall.json", "bunny_small.json", "mixed_materials.json", "sand_column.json",
