@@ -151,7 +151,12 @@ BlockGrid::SortFor StepPipeline::sortFor() const {
 }
 
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
-  state.grid().sortParticles(particles, sortFor(), state.bindings(), timer);
+  transferToGrid(state, particles, sortFor(), timer);
+}
+
+void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor,
+                                  gl::PassTimer& timer) const {
+  state.grid().sortParticles(particles, sortFor, state.bindings(), timer);
   const auto& [shape, pass] = particleToGrid_[chosen_];
   runParticleToGrid(shape, pass, state, timer);
 }
@@ -182,8 +187,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     // The product is timed from the start x₀ the grid update makes of a transfer (every shape's leaves the same
     // grid, to the bit), sorted for tiles too, which the product's tiles read. That grid update pushes the rigid
     // bodies as the step's will: their entries are put back as they were.
-    state.grid().sortParticles(particles, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
-    runParticleToGrid(particleToGrid_[chosen_].first, particleToGrid_[chosen_].second, state, untimed);
+    transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
     updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
                             state.bindings(), untimed);

@@ -46,6 +46,8 @@ class StepPipeline {
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
   // to grid in the chosen shape.
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
+  // The same with the sort `sortFor` asks (the tiles for a tile product while P2G runs by blocks).
+  void transferToGrid(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
   // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, each with the sort
   // it reads, and runs the fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
   // Times them once a run has particles (a scene of emitters: at its first), and again each time its particles have

@@ -55,7 +55,9 @@ void SimulationProbe::prepare(HessianProduct product) {
   Simulation& s = simulation_;
   GpuState& state = s.state_;
   state.writeStepUniforms(stepUniforms(s.scene_, s.fixedPoint_, s.scene_.time.dtS, s.timeS_, s.particleCount_, s.steps_));
-  s.pipeline_.transferToGrid(state, s.particleCount_, s.passTimer_);
+  // The probe's products are the tiles' (products_'s first): the sort files the tiles for them whatever shape the
+  // run chose.
+  s.pipeline_.transferToGrid(state, s.particleCount_, BlockGrid::SortFor::Tiles, s.passTimer_);
   const gl::BufferBindings& buffers = state.bindings();
   const ImplicitSolver& implicitSolver = solver();
   const gl::ComputePass& pass = product == HessianProduct::Unprojected ? unprojectedPrepare_ : implicitSolver.prepare_;
