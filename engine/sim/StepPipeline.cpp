@@ -136,7 +136,6 @@ constexpr int kTransferShapeRounds = 3;
 // The shapes are timed again when the particles have grown this many times since they were last timed.
 constexpr std::size_t kTransferShapeRetimeGrowth = 4;
 
-
 BlockGrid::SortFor sortForShape(const TransferShape& shape) {
   return shape.kind == TransferShape::Kind::Tiles ? BlockGrid::SortFor::Tiles : BlockGrid::SortFor::Blocks;
 }

@@ -48,12 +48,12 @@ class StepPipeline {
   void transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The same with the sort `sortFor` asks (the tiles for a tile product while P2G runs by blocks).
   void transferToGrid(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
-  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, each with the sort
-  // it reads, and runs the fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums) there is nothing to time.
-  // Times them once a run has particles (a scene of emitters: at its first), and again each time its particles have
-  // grown fourfold since (the faster shape can change with the count). A semi-implicit scene's Hessian product is
-  // timed in each shape too, on its own, and may take another. Returns whether it timed them now. Leaves the grid as
-  // transferToGrid does.
+  // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, each with the
+  // sort it reads, and runs the fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums)
+  // there is nothing to time. Times them once a run has particles (a scene of emitters: at its first), and again each
+  // time its particles have grown fourfold since (the faster shape can change with the count). A semi-implicit scene's
+  // Hessian product is timed in each shape too, on its own, and may take another. Returns whether it timed them now.
+  // Leaves the grid as transferToGrid does.
   bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }

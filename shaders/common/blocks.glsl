@@ -6,11 +6,11 @@
 // per block of the domain, gives a block's slot + 1 (0: not active); the slots of last step's blocks are released
 // at the start of the next (release_blocks.comp), so nothing costs in proportion to the domain.
 //
-// A particle's base node is the first node of its stencil (kernel.glsl); its block is the base node's. Particles
-// are sorted by block, then by base node (the base node's "bin"), by a counting sort each step: bin_count.comp
-// counts each bin and gives each particle its rank, bin_scan.comp (for the tiles) or bin_scan_block.comp (for the
-// blocks) and block_offsets.comp turn counts into offsets, bin_place.comp writes the sorted order. The order within a bin follows the count's atomics, but no
-// result depends on it: fixed-point sums are exact and each particle's update is its own.
+// A particle's base node is the first node of its stencil (kernel.glsl); its block is the base node's. Particles are
+// sorted by block, then by base node (the base node's "bin"), by a counting sort each step: bin_count.comp counts each
+// bin and gives each particle its rank, bin_scan.comp (for the tiles) or bin_scan_block.comp (for the blocks) and
+// block_offsets.comp turn counts into offsets, bin_place.comp writes the sorted order. The order within a bin follows
+// the count's atomics, but no result depends on it: fixed-point sums are exact and each particle's update is its own.
 //
 // The transfers take a tile of TILE_WIDTH × TILE_HEIGHT base nodes (x, y) per invocation: a tile's particles reach
 // the nodes of its region, (TILE_WIDTH + KERNEL_WIDTH − 1) × (TILE_HEIGHT + KERNEL_WIDTH − 1) × KERNEL_WIDTH, at

@@ -68,7 +68,8 @@ void scatterParticle(uint p, ivec3 blockFirstNode) {
                                   addToRegion(2, i, momentumMass.z), addToRegion(3, i, momentumMass.w));
 #ifdef FIRN_GRID_IMPULSE
     ivec4 impulse = quantize(vec4(nodeImpulse, 0.0), IMPULSE_CHANNELS, dither, impulseOverflow);
-    impulseOverflow |= ivec4(addToRegion(4, i, impulse.x), addToRegion(5, i, impulse.y), addToRegion(6, i, impulse.z), 0);
+    impulseOverflow |=
+        ivec4(addToRegion(4, i, impulse.x), addToRegion(5, i, impulse.y), addToRegion(6, i, impulse.z), 0);
 #endif
     advanceStencilWalk(walk);
   }
