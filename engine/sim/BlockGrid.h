@@ -2,7 +2,7 @@
 // The block-sparse grid (common/blocks.glsl, docs/numerics.md "The block-sparse grid"): the one structure every
 // grid pass shares. Nodes are stored by blocks of BLOCK_WIDTH³, claimed each step where the particles' stencils
 // reach from a pool of slots (the block table) through a map over the domain; the particles are sorted by block and
-// base node into bins, and the bins' rows into tiles in order of fill. It owns those buffers, published at the grid
+// base node into bins, and for the tile passes the bins' rows into tiles in order of fill. It owns those buffers, published at the grid
 // bindings of the GPU contract (FIRN_GRID_BINDINGS_FIRST to _END), and the passes that rebuild them each step.
 #include <algorithm>
 #include <cstddef>
