@@ -67,14 +67,15 @@ class StepPipeline {
   void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
 
  private:
+  // The sort the step's transfers read: for tiles where P2G or the Hessian product runs by tiles.
+  BlockGrid::SortFor sortFor() const;
+
   int maxWorkGroupsX_ = 65535;
   // P2G in each shape the scene can take (or FIRN_TRANSFER_SHAPE names), and the one that runs.
   std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
   std::size_t chosen_ = 0;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
-  // The sort the step's transfers read: for tiles where P2G or the Hessian product runs by tiles.
-  BlockGrid::SortFor sortFor() const;
   gl::ComputePass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
