@@ -9,6 +9,7 @@
 // Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
 // vectors. Writes: the solver's product sums, the watchdog.
 #define FIRN_WITHOUT_SOLVER_PRECONDITIONER
+#define FIRN_PRODUCT_BY_ROWS  // common/solver_product.glsl: the stencil row by row, for CPU renderers
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/blocks.glsl"
