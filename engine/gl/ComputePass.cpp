@@ -30,13 +30,18 @@ void ComputePass::runOnce(const BufferBindings& buffers, PassTimer& timer) const
 
 void ComputePass::runOver(std::size_t items, int maxWorkGroupsX, const BufferBindings& buffers,
                           PassTimer& timer) const {
-  const GLuint groups = static_cast<GLuint>((items + groupSize_ - 1) / groupSize_);
+  runGroups((items + groupSize_ - 1) / groupSize_, maxWorkGroupsX, buffers, timer);
+}
+
+void ComputePass::runGroups(std::size_t groups, int maxWorkGroupsX, const BufferBindings& buffers,
+                            PassTimer& timer) const {
+  const GLuint count = static_cast<GLuint>(groups);
   const GLuint maxX = static_cast<GLuint>(maxWorkGroupsX);
   prepare(buffers, timer);
-  if (groups <= maxX) {
-    glDispatchCompute(groups, 1, 1);
+  if (count <= maxX) {
+    glDispatchCompute(count, 1, 1);
   } else {
-    glDispatchCompute(maxX, (groups + maxX - 1) / maxX, 1);
+    glDispatchCompute(maxX, (count + maxX - 1) / maxX, 1);
   }
   timer.end(phase_);
 }

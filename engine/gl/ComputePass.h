@@ -38,6 +38,8 @@ class ComputePass {
   // One invocation per item, in groups of the program's work-group size (x). More groups than one dimension allows
   // (`maxWorkGroupsX`) are laid out in rows, which the shader folds back into one index.
   void runOver(std::size_t items, int maxWorkGroupsX, const BufferBindings& buffers, PassTimer& timer) const;
+  // `groups` work groups, laid out in rows as runOver's.
+  void runGroups(std::size_t groups, int maxWorkGroupsX, const BufferBindings& buffers, PassTimer& timer) const;
   // The group counts at `offsetBytes` in `commands` (a glDispatchComputeIndirect record).
   void runIndirect(const Buffer& commands, std::size_t offsetBytes, const BufferBindings& buffers,
                    PassTimer& timer) const;

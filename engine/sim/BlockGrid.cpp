@@ -57,6 +57,8 @@ BlockUsage BlockGrid::usage() const {
   const gpu::BlockTableHeader header = blockTable_.read<gpu::BlockTableHeader>(1)[0];
   BlockUsage usage;
   usage.lastStep = std::min<std::size_t>(header.blockCounts.x, capacity_);
+  // A step with no blocks (the particles all gone, or none yet) leaves the count as it was: any count is correct.
+  if (usage.lastStep > 0) countedBlocks_ = usage.lastStep;
   usage.mostInAStep = std::max(header.blockCounts.x, header.blockCounts.w);
   usage.capacity = capacity_;
   usage.poolBytes = momentumMass_.bytes() + impulseSums_.bytes() + bins_.bytes() + tileOrder_.bytes() + blockTable_.bytes();
@@ -68,8 +70,8 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
                               gl::PassTimer& timer) const {
   const gl::Buffer& table = blockTable_;
   prepareBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(gl::kStorageAndCommands);
-  releaseBlocks_.runIndirect(table, offsetof(gpu::BlockTableHeader, releaseDispatch), buffers, timer);
+  glMemoryBarrier(gl::kStorage);
+  runOverBlocks(releaseBlocks_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
@@ -80,7 +82,7 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
   if (sortFor == SortFor::Tiles) {
     binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
   } else {
-    binScanBlock_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+    runOverBlocks(binScanBlock_, buffers, timer);
   }
   glMemoryBarrier(gl::kStorage);
   blockOffsets_.runOnce(buffers, timer);
@@ -90,6 +92,12 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
     orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   }
   glMemoryBarrier(gl::kStorageAndCommands);
+}
+
+void BlockGrid::runOverBlocks(const gl::ComputePass& pass, const gl::BufferBindings& buffers,
+                              gl::PassTimer& timer) const {
+  const std::size_t blocks = countedBlocks_ == 0 ? capacity_ : std::min(countedBlocks_ + countedBlocks_ / 8, capacity_);
+  pass.runGroups(std::max<std::size_t>(blocks, 1), maxWorkGroupsX_, buffers, timer);
 }
 
 void BlockGrid::publish(gl::BufferBindings& bindings) const {

@@ -79,8 +79,13 @@ class BlockGrid {
   // invocation per block (and the tiles' buckets of fill) for tiles.
   void sortParticles(std::size_t particles, SortFor sortFor, const gl::BufferBindings& buffers,
                      gl::PassTimer& timer) const;
+  // Runs `pass`, whose work groups stride over the step's blocks (common/blocks.glsl, workGroupCount), dispatched
+  // directly: as many groups as the blocks of the last step the host counted (usage()), an eighth more for their
+  // growth, and at most the pool's capacity (the capacity itself before any count).
+  void runOverBlocks(const gl::ComputePass& pass, const gl::BufferBindings& buffers, gl::PassTimer& timer) const;
 
-  // The block table: its header holds the per-block passes' indirect dispatches (gpu::BlockTableHeader).
+  // The block table: its header holds the tile, solve and rigid-body passes' indirect dispatches
+  // (gpu::BlockTableHeader).
   const gl::Buffer& blockTable() const { return blockTable_; }
   void publish(gl::BufferBindings& bindings) const;
 
@@ -114,6 +119,8 @@ class BlockGrid {
 
   glm::ivec3 blocksPerAxis_;
   std::size_t capacity_ = 0;
+  // The blocks of the last step usage() read, which runOverBlocks dispatches for (0 before the first read).
+  mutable std::size_t countedBlocks_ = 0;
   bool withImpulse_;
   int maxWorkGroupsX_;
 

@@ -124,10 +124,14 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
 
 namespace {
 
-// P2G in `shape`: tiles take the transfers' dispatch, blocks a work group per active block.
+// P2G in `shape`: tiles take the transfers' dispatch from the block table, blocks work groups over the active blocks.
 void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
                        gl::PassTimer& timer) {
-  pass.runIndirect(state.grid().blockTable(), blockTableDispatch(shape), state.bindings(), timer);
+  if (shape.kind == TransferShape::Kind::Tiles) {
+    pass.runIndirect(state.grid().blockTable(), blockTableDispatch(shape), state.bindings(), timer);
+  } else {
+    state.grid().runOverBlocks(pass, state.bindings(), timer);
+  }
   glMemoryBarrier(gl::kStorage);
 }
 
@@ -188,8 +192,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     // bodies as the step's will: their entries are put back as they were.
     transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
-    updateGrid_.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, blockDispatch),
-                            state.bindings(), untimed);
+    state.grid().runOverBlocks(updateGrid_, state.bindings(), untimed);
     glMemoryBarrier(gl::kStorage);
     choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
     choice.productShape = implicitSolver_->productShape();
@@ -214,7 +217,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorage);
   }
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
-  updateGrid_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
+  state.grid().runOverBlocks(updateGrid_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;
   if (implicitSolver_) {

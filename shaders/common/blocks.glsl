@@ -68,13 +68,20 @@ int nodeAddress(ivec3 node) {
   return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(node));
 }
 
-// The per-block passes run a work group per active block, laid out in rows of 65,535 (the least maximum
-// GL_MAX_COMPUTE_WORK_GROUP_COUNT allows) when there are more.
+// The per-block passes that read their dispatch from the block table run a work group per active block, laid out in
+// rows of 65,535 (the least maximum GL_MAX_COMPUTE_WORK_GROUP_COUNT allows) when there are more.
 uvec4 blockWorkGroups(uint blocks) {
   const uint ROW = 65535u;
   return uvec4(min(blocks, ROW), (blocks + ROW - 1u) / ROW, 1u, 0u);
 }
 uint workGroupSlot() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
+
+// The passes every step runs on a GPU over its blocks (release_blocks, bin_scan_block, p2g_block, update_grid) are
+// dispatched directly, not from the block table: NVIDIA's GL took about 20 µs more for a pass dispatched indirectly
+// (docs/platform.md). The host dispatches about as many work groups as the blocks it last counted
+// (BlockGrid::dispatchBlocks), and each group takes the slots from its own, workGroupCount() apart, so that any count
+// of blocks is covered.
+uint workGroupCount() { return gl_NumWorkGroups.x * gl_NumWorkGroups.y; }
 
 // The particles of the sorted order (block_offsets.comp counts them).
 uint sortedParticleCount() { return tileCounts.y; }

@@ -1,9 +1,10 @@
 #version 430 core
-// Particle to grid, shaped for GPUs: a work group per active block, an invocation per particle of it (in the sorted
-// order, common/blocks.glsl). Each invocation adds its particle's contributions (common/scatter.glsl), each
-// quantized on its own (common/grid.glsl), to the block's region in shared memory with integer atomics; then the
-// group adds each region node's sums to the grid with one global atomic per channel. A block's particles have their
-// base nodes in it, so their stencils reach the BLOCK_REGION_WIDTH³ nodes from its first node on.
+// Particle to grid, shaped for GPUs: work groups over the active blocks (common/blocks.glsl, workGroupCount), an
+// invocation per particle of a block (in the sorted order). Each invocation adds its particle's contributions
+// (common/scatter.glsl), each quantized on its own (common/grid.glsl), to the block's region in shared memory with
+// integer atomics; then the group adds each region node's sums to the grid with one global atomic per channel. A
+// block's particles have their base nodes in it, so their stencils reach the BLOCK_REGION_WIDTH³ nodes from its first
+// node on.
 //
 // The sums are the tile pass's (p2g.comp): the same quantized contributions, added in another order, and integer
 // sums do not depend on the order. Which of the two runs is chosen by timing both (sim/TransferShape.h), never by
@@ -84,9 +85,7 @@ void scatterParticle(uint p, ivec3 blockFirstNode) {
 #endif
 }
 
-void main() {
-  uint slot = workGroupSlot();
-  if (slot >= activeBlocks()) return;  // the whole group: no barrier is left waiting
+void transferBlock(uint slot) {
   uint local = gl_LocalInvocationIndex;
   for (uint i = local; i < uint(REGION_CHANNELS * BLOCK_REGION_NODES); i += uint(FIRN_P2G_BLOCK_GROUP_SIZE)) {
     regionSums[i] = 0;
@@ -130,5 +129,13 @@ void main() {
 #ifdef FIRN_GRID_IMPULSE
     addImpulseToNode(uint(address), impulse, blockFirstNode + offset);
 #endif
+  }
+}
+
+void main() {
+  // The slots are the group's alike: every invocation meets every barrier.
+  for (uint slot = workGroupSlot(); slot < activeBlocks(); slot += workGroupCount()) {
+    transferBlock(slot);
+    barrier();  // the region's sums added to the grid before the next block's clear them
   }
 }

@@ -1,5 +1,6 @@
 #version 430 core
-// Grid update: a work group per active block, an invocation per node of it (common/blocks.glsl).
+// Grid update: work groups over the active blocks, an invocation per node of a block (common/blocks.glsl,
+// workGroupCount).
 // v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
 // walls. Nodes without mass stay zero. A semi-implicit step meets the colliders without friction here and takes it
 // after the solve (common/colliders.glsl, collideForSolve).
@@ -17,9 +18,7 @@
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
-void main() {
-  uint slot = workGroupSlot();
-  if (slot >= activeBlocks()) return;
+void updateNode(uint slot) {
   ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
@@ -72,4 +71,8 @@ void main() {
 #ifndef FIRN_TRANSFER_APIC
   gridImpulse[i] = floatsToStored(vec4(velocityBeforeForces, 0.0));
 #endif
+}
+
+void main() {
+  for (uint slot = workGroupSlot(); slot < activeBlocks(); slot += workGroupCount()) updateNode(slot);
 }

@@ -185,16 +185,24 @@ TEST_F(BlockGrid, LonelyParticleFallsLikeTheBody) {
 // made with room for 16. The first step leaves the blocks past the pool out; advanceFrame sees it, grows the pool
 // and redoes the frame from its start, so every particle is scattered and the log says so. A step run on its own
 // is reported by the watchdog instead, with the counts. Particles added while running grow the pool at once.
-TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
-  // Volumes from the material's density: no P2G before the first step.
-  const Scene s = sceneFromJson(scene(160, R"({"kernel": "quadratic", "transfer": "apic", "particle_volume": "material_density"})",
-                                      "[" + box(glm::dvec3(0.3), glm::dvec3(0.4), glm::dvec3(0.0)) + "]"));
+// A small box of snow in a 160-cell domain (blocks of 4 cells, 0.2 m), volumes from the material's density (no P2G
+// before the first step), and 2,000 light particles, one in each block of a 20 × 10 × 10 lattice away from the box.
+Scene boxInALargeDomain() {
+  return sceneFromJson(scene(160, R"({"kernel": "quadratic", "transfer": "apic", "particle_volume": "material_density"})",
+                             "[" + box(glm::dvec3(0.3), glm::dvec3(0.4), glm::dvec3(0.0)) + "]"));
+}
+std::vector<firn::ParticleSeed> oneParticleInEachOf2000Blocks() {
   std::vector<firn::ParticleSeed> scattered;
   for (int i = 0; i < 2000; ++i) {
-    // One in each block of 4 cells (0.2 m) of a 20 × 10 × 10 lattice, away from the body.
     const glm::vec3 x(0.55f + 0.2f * float(i % 20), 0.55f + 0.2f * float((i / 20) % 10), 0.55f + 0.2f * float(i / 200));
     scattered.push_back({x, glm::vec3(0.0f), 1e-5f, 0, -1});
   }
+  return scattered;
+}
+
+TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
+  const Scene s = boxInALargeDomain();
+  const std::vector<firn::ParticleSeed> scattered = oneParticleInEachOf2000Blocks();
   std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(s);
   seeds.insert(seeds.end(), scattered.begin(), scattered.end());
   for (const bool whole : {true, false}) {
@@ -222,6 +230,28 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
   simulation.step(s.time.dtS);
   simulation.checkWatchdog();
   expectGridHoldsEveryParticle(simulation, "after addParticles");
+}
+
+// The passes a GPU runs over the blocks every step (release_blocks, bin_scan_block, p2g_block, update_grid) take as
+// many work groups as the blocks the host last counted, each group striding over the rest (common/blocks.glsl,
+// workGroupCount). Counted at the box's few blocks, then 2,000 particles more, each in a block of its own: every group
+// takes hundreds of blocks in turn, and the grid still holds every particle whole, in every shape (a block left out,
+// or left uncleared, would be a whole particle's mass, 1e-5 kg, against a tolerance of about 1e-9 kg).
+TEST_F(BlockGrid, BlocksPastTheHostsCountAreTransferredWhole) {
+  const Scene s = boxInALargeDomain();
+  for (const char* shape : {"tiles", "blocks-64", "blocks-256"}) {
+    const firn::ForcedTransferShape forced(shape);
+    Simulation simulation(s, firn::sampleBodies(s), gl(), 4000);
+    simulation.step(s.time.dtS);
+    const std::size_t counted = simulation.blockUsage().lastStep;  // the count the dispatches take from here on
+    ASSERT_GT(counted, 0u) << shape;
+    ASSERT_LT(counted, 30u) << shape;
+    simulation.addParticles(oneParticleInEachOf2000Blocks());
+    for (int step = 0; step < 2; ++step) simulation.step(s.time.dtS);
+    simulation.checkWatchdog();
+    expectGridHoldsEveryParticle(simulation, shape);
+    EXPECT_GT(simulation.blockUsage().lastStep, 2000u) << shape;
+  }
 }
 
 // A tile of base nodes as full as a transfer takes on llvmpipe (maxTileParticles: its loop limit) is scattered
