@@ -83,7 +83,7 @@ static_assert(sizeof(Mat3x4) == 48, "std430 mat3 is 48 bytes");
 static_assert(sizeof(ParticlePlasticState) == 16, "std430 ParticlePlasticState");
 static_assert(sizeof(MaterialParams) == 64, "std430 MaterialParams");
 static_assert(sizeof(ColliderParams) == 304, "std430 ColliderParams");
-static_assert(sizeof(BlockTableHeader) == 128 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
+static_assert(sizeof(BlockTableHeader) == 144 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 16, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
 static_assert(sizeof(StepUniforms) == 112, "std140 StepUniforms");

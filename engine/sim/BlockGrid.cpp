@@ -20,7 +20,7 @@ BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& libr
       withImpulse_(layout.impulse),
       maxWorkGroupsX_(gl.maxComputeWorkGroupCountX),
       prepareBlocks_(library, "sim/prepare_blocks.comp", options),
-      releaseBlocks_(library, "sim/release_blocks.comp", options),
+      releaseBlocks_(library, "sim/release_blocks.comp", options, offsetof(gpu::BlockTableHeader, releaseDispatch)),
       markBlocks_(library, "sim/mark_blocks.comp", options),
       countBlocks_(library, "sim/count_blocks.comp", options),
       binCount_(library, "sim/bin_count.comp", options),
@@ -70,8 +70,8 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
                               gl::PassTimer& timer) const {
   const gl::Buffer& table = blockTable_;
   prepareBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(gl::kStorage);
-  runOverBlocks(releaseBlocks_, buffers, timer);
+  glMemoryBarrier(sortFor == SortFor::Tiles ? gl::kStorageAndCommands : gl::kStorage);  // the release's dispatch
+  run(releaseBlocks_, sortFor, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
@@ -98,6 +98,23 @@ void BlockGrid::runOverBlocks(const gl::ComputePass& pass, const gl::BufferBindi
                               gl::PassTimer& timer) const {
   const std::size_t blocks = countedBlocks_ == 0 ? capacity_ : std::min(countedBlocks_ + countedBlocks_ / 8, capacity_);
   pass.runGroups(std::max<std::size_t>(blocks, 1), maxWorkGroupsX_, buffers, timer);
+}
+
+BlockGrid::StepPass::StepPass(const gl::ShaderLibrary& library, const std::string& shader,
+                              const gl::ShaderOptions& options, std::size_t tableDispatch)
+    : fromTable(library, shader, options), tableDispatch(tableDispatch) {
+  gl::ShaderOptions stridingOptions = options;
+  stridingOptions.defines.emplace_back("FIRN_STRIDE_OVER_BLOCKS", "1");
+  striding = gl::ComputePass(library, shader, stridingOptions);
+}
+
+void BlockGrid::run(const StepPass& pass, SortFor sortFor, const gl::BufferBindings& buffers,
+                    gl::PassTimer& timer) const {
+  if (sortFor == SortFor::Blocks) {
+    runOverBlocks(pass.striding, buffers, timer);
+  } else {
+    pass.fromTable.runIndirect(blockTable_, pass.tableDispatch, buffers, timer);
+  }
 }
 
 void BlockGrid::publish(gl::BufferBindings& bindings) const {

@@ -108,7 +108,8 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     only.forced = candidates.forced;
     transferChoice_ = std::move(only);
   }
-  updateGrid_ = gl::ComputePass(library, "sim/update_grid.comp", options);
+  updateGrid_ = BlockGrid::StepPass(library, "sim/update_grid.comp", options,
+                                    offsetof(gpu::BlockTableHeader, blockDispatch));
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   if (!scene.rigidBodies.empty()) {
@@ -192,7 +193,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     // bodies as the step's will: their entries are put back as they were.
     transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
-    state.grid().runOverBlocks(updateGrid_, state.bindings(), untimed);
+    state.grid().run(updateGrid_, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
     glMemoryBarrier(gl::kStorage);
     choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
     choice.productShape = implicitSolver_->productShape();
@@ -217,7 +218,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorage);
   }
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
-  state.grid().runOverBlocks(updateGrid_, buffers, timer);
+  state.grid().run(updateGrid_, sortFor(), buffers, timer);
   glMemoryBarrier(gl::kStorage);
   SolveReport solve;
   if (implicitSolver_) {

@@ -76,7 +76,7 @@ class StepPipeline {
   std::size_t chosen_ = 0;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
-  gl::ComputePass updateGrid_;
+  BlockGrid::StepPass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
   gl::ComputePass listMirrorBlocks_;  // scenes with rigid bodies

@@ -222,9 +222,10 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 // of the pool follows it.
 //   blockCounts      x: blocks claimed this step (may exceed the capacity), y: the pool's capacity (host-written),
 //                    z: blocks claimed last step, released at the start of this one, w: the most claimed in a step
-//   blockDispatch    xyz: work groups of the per-block passes of the tiles, the solve and the rigid bodies, one per
-//                    active block (glDispatchComputeIndirect; the others are dispatched directly: common/blocks.glsl)
+//   blockDispatch    xyz: work groups of the per-block passes, one per active block (glDispatchComputeIndirect), but
+//                    those of a step sorted for blocks, dispatched directly (common/blocks.glsl, workGroupCount)
 //   blockRunDispatch xyz: work groups of the passes that take an invocation per active block, BLOCK_NODES each
+//   releaseDispatch  xyz: work groups of the pass releasing last step's blocks, where the step sorts for tiles
 //   tileCounts       x: tiles holding particles this step, y: particles in the sorted order
 //   tileDispatch     xyz: work groups of the transfers, FIRN_TILE_GROUP_SIZE tiles each
 //   mirrorBlocks     xyz: work groups of list_mirrored.comp, one per block list_mirror_blocks.comp listed (those
@@ -237,6 +238,7 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
   member(uvec4, blockCounts)                   \
   member(uvec4, blockDispatch)                 \
   member(uvec4, blockRunDispatch)              \
+  member(uvec4, releaseDispatch)               \
   member(uvec4, tileCounts)                    \
   member(uvec4, tileDispatch)                  \
   member(uvec4, mirrorBlocks)                  \

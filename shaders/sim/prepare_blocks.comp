@@ -1,8 +1,8 @@
 #version 430 core
 // Prepare blocks: one invocation, first in the step (common/blocks.glsl). Last step's active blocks become the
-// ones to release; this step's counts of blocks and rows start at zero.
+// ones to release, their count the release pass's dispatch; this step's counts of blocks and rows start at zero.
 // Resets the watchdog's fastest signal, which this step's G2P finds afresh (adaptive steps).
-// Reads: blockCounts. Writes: blockCounts, tileCounts, mirrorBlocks, mirrorDispatch,
+// Reads: blockCounts. Writes: blockCounts, releaseDispatch, tileCounts, mirrorBlocks, mirrorDispatch,
 // tileBuckets, maxSpeedBits.
 #include "common/bindings.glsl"
 #include "common/watchdog.glsl"
@@ -15,6 +15,7 @@ void main() {
   blockCounts.z = previous;
   blockCounts.w = max(blockCounts.w, blockCounts.x);
   blockCounts.x = 0u;
+  releaseDispatch = blockWorkGroups(previous);
   tileCounts = uvec4(0u);
   mirrorBlocks = uvec4(0u, 1u, 1u, 0u);
   mirrorDispatch = uvec4(0u, 1u, 1u, 0u);

@@ -1,6 +1,6 @@
 #version 430 core
-// Grid update: work groups over the active blocks, an invocation per node of a block (common/blocks.glsl,
-// workGroupCount).
+// Grid update: a work group per active block (striding over them: common/blocks.glsl, FIRN_STRIDE_OVER_BLOCKS), an
+// invocation per node of it.
 // v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
 // walls. Nodes without mass stay zero. A semi-implicit step meets the colliders without friction here and takes it
 // after the solve (common/colliders.glsl, collideForSolve).
@@ -74,5 +74,10 @@ void updateNode(uint slot) {
 }
 
 void main() {
+#ifdef FIRN_STRIDE_OVER_BLOCKS
   for (uint slot = workGroupSlot(); slot < activeBlocks(); slot += workGroupCount()) updateNode(slot);
+#else
+  uint slot = workGroupSlot();
+  if (slot < activeBlocks()) updateNode(slot);
+#endif
 }
