@@ -2,8 +2,9 @@
 // The block-sparse grid (common/blocks.glsl, docs/numerics.md "The block-sparse grid"): the one structure every
 // grid pass shares. Nodes are stored by blocks of BLOCK_WIDTH³, claimed each step where the particles' stencils
 // reach from a pool of slots (the block table) through a map over the domain; the particles are sorted by block and
-// base node into bins, and for the tile passes the bins' rows into tiles in order of fill. It owns those buffers, published at the grid
-// bindings of the GPU contract (FIRN_GRID_BINDINGS_FIRST to _END), and the passes that rebuild them each step.
+// base node into bins, and for the tile passes the bins' rows into tiles in order of fill. It owns those buffers,
+// published at the grid bindings of the GPU contract (FIRN_GRID_BINDINGS_FIRST to _END), and the passes that rebuild
+// them each step.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -84,10 +85,9 @@ class BlockGrid {
   // directly: as many groups as the blocks of the last step the host counted (usage()), an eighth more for their
   // growth, and at most the pool's capacity (the capacity itself before any count).
   void runOverBlocks(const gl::ComputePass& pass, const gl::BufferBindings& buffers, gl::PassTimer& timer) const;
-  // A pass over the blocks that every step runs, in the dispatch of each sort: a work group per block from the block
-  // table's dispatch at `tableDispatch` (tiles: CPU renderers, where a loop over the blocks cost llvmpipe 40%), and
-  // work groups striding over them, built with FIRN_STRIDE_OVER_BLOCKS (blocks: GPUs, where an indirect dispatch cost
-  // about 20 µs).
+  // A pass over the blocks that every step runs, in the dispatch of each sort (why: common/blocks.glsl,
+  // workGroupCount): for tiles a work group per block from the block table's dispatch at `tableDispatch`, for blocks
+  // work groups striding over them (built with FIRN_STRIDE_OVER_BLOCKS, run by runOverBlocks).
   struct StepPass {
     gl::ComputePass fromTable;
     gl::ComputePass striding;

@@ -188,8 +188,8 @@ TEST_F(BlockGrid, LonelyParticleFallsLikeTheBody) {
 // A small box of snow in a 160-cell domain (blocks of 4 cells, 0.2 m), volumes from the material's density (no P2G
 // before the first step), and 2,000 light particles, one in each block of a 20 × 10 × 10 lattice away from the box.
 Scene boxInALargeDomain() {
-  return sceneFromJson(scene(160, R"({"kernel": "quadratic", "transfer": "apic", "particle_volume": "material_density"})",
-                             "[" + box(glm::dvec3(0.3), glm::dvec3(0.4), glm::dvec3(0.0)) + "]"));
+  const std::string solver = R"({"kernel": "quadratic", "transfer": "apic", "particle_volume": "material_density"})";
+  return sceneFromJson(scene(160, solver, "[" + box(glm::dvec3(0.3), glm::dvec3(0.4), glm::dvec3(0.0)) + "]"));
 }
 std::vector<firn::ParticleSeed> oneParticleInEachOf2000Blocks() {
   std::vector<firn::ParticleSeed> scattered;
