@@ -29,6 +29,19 @@ uvec3 regionOffDiagonalLow[REGION_NODES];  // and their entries yz, zx, xy
 ivec3 regionOffDiagonalHigh[REGION_NODES];
 #endif
 
+void loadRegion(ivec3 firstBase) {
+  StencilBlocks blocks = stencilBlocks(firstBase);
+  for (int i = 0; i < REGION_NODES; ++i) {
+    regionVector[i] = productVectorOfNode(stencilNodeAddress(blocks, regionOffset(i)));
+#ifdef FIRN_SOLVER_FIRST_PRODUCT
+    regionDiagonalLow[i] = regionOffDiagonalLow[i] = uvec3(0u);
+    regionDiagonalHigh[i] = regionOffDiagonalHigh[i] = ivec3(0);
+#endif
+    regionLow[i] = uvec3(0u);
+    regionHigh[i] = ivec3(0);
+  }
+}
+
 vec3 productVectorAt(ivec3 offset) { return regionVector[regionIndex(offset)]; }
 
 void addProductToRegion(ivec3 offset, uvec3 low, ivec3 high) {
@@ -44,19 +57,6 @@ void addStiffnessBlockToRegion(ivec3 offset, uvec3 diagonalLow, ivec3 diagonalHi
   addFixed64(regionOffDiagonalLow[r], regionOffDiagonalHigh[r], offDiagonalLow, offDiagonalHigh);
 }
 #endif
-
-void loadRegion(ivec3 firstBase) {
-  StencilBlocks blocks = stencilBlocks(firstBase);
-  for (int i = 0; i < REGION_NODES; ++i) {
-    regionVector[i] = productVectorOfNode(stencilNodeAddress(blocks, regionOffset(i)));
-#ifdef FIRN_SOLVER_FIRST_PRODUCT
-    regionDiagonalLow[i] = regionOffDiagonalLow[i] = uvec3(0u);
-    regionDiagonalHigh[i] = regionOffDiagonalHigh[i] = ivec3(0);
-#endif
-    regionLow[i] = uvec3(0u);
-    regionHigh[i] = ivec3(0);
-  }
-}
 
 void main() {
   uint entry = workGroupSlot() * uint(FIRN_TILE_GROUP_SIZE) + gl_LocalInvocationIndex;
