@@ -12,6 +12,7 @@
 #include "Error.h"
 #include "Experiments.h"
 #include "io/AtomicFile.h"
+#include "io/EnergyPlot.h"
 #include "io/OutputFolder.h"
 
 namespace firn::bench {
@@ -19,6 +20,14 @@ namespace firn::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The rows of a CSV table below its header (0 for a file that is not there).
+std::size_t readCsvRows(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::size_t lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  return lines > 0 ? lines - 1 : 0;
+}
 
 std::string sizeName(BenchSize size) {
   switch (size) {
@@ -162,6 +171,12 @@ bool makePlots(const std::filesystem::path& dir, std::ostream& log) {
   }
   const int status = std::system(("bash " + shellQuoted(script.string()) + " " + shellQuoted(dir.string())).c_str());
   if (status != 0) throw std::runtime_error(script.string() + " failed on " + dir.string());
+  // The energy budget over time of the trade-off table's baseline bar, as `firn run --plot` draws a run's.
+  const std::filesystem::path energy = dir / "energy.csv";
+  if (readCsvRows(energy) > 0) {
+    plotEnergy(energy, dir, "The elastic bar's energy (tradeoff.csv's baseline)");
+    log << "firn bench: wrote " << (dir / "energy.png").string() << "\n";
+  }
   return true;
 }
 

@@ -110,6 +110,8 @@ BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& g
   int crossings = 0;
   double previousQ = 0, halfCyclePeak = 0, firstPeak = 0;
   std::vector<double> peaks;  // |q| per step
+  const int auditEverySteps = std::max(1, maxSteps / 32);
+  result.energy.emplace_back(0.0, simulation.energyBudget());
   for (int step = 1; step <= maxSteps && crossings < crossingsWanted; ++step) {
     glFinish();
     const auto start = std::chrono::steady_clock::now();
@@ -131,8 +133,19 @@ BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& g
     halfCyclePeak = std::max(halfCyclePeak, std::abs(q));
     peaks.push_back(std::abs(q));
     previousQ = q;
+    if (step % auditEverySteps == 0) {
+      simulation.checkWatchdog();
+      result.energy.emplace_back(simulation.timeS(), simulation.energyBudget());
+    }
   }
   simulation.checkWatchdog();
+  result.energy.emplace_back(simulation.timeS(), simulation.energyBudget());
+  // Of the modified energy the explicit step keeps, whose energy shown swings about it by the step's term.
+  const auto modifiedJ = [](const EnergyBudget& budget) { return budget.totalJ() + budget.stepTermJ; };
+  const double startJ = modifiedJ(result.energy.front().second);
+  if (startJ > 0 && simulation.timeS() > 0) {
+    result.energyDriftPerS = (modifiedJ(result.energy.back().second) - startJ) / (startJ * simulation.timeS());
+  }
   if (result.periodS <= 0 && peaks.size() >= 2) {
     const auto middle = peaks.begin() + std::ptrdiff_t(peaks.size() / 2);
     const double firstHalf = *std::max_element(peaks.begin(), middle);

@@ -65,6 +65,12 @@ struct BarVibration {
   std::size_t particles = 0;
   std::vector<double> stepWallMs;  // each step's wall time, dispatch to glFinish (the readbacks excluded)
   std::string transferShape;       // the P2G shape the run chose (sim/TransferShape.h)
+  // The energy audit (sim/EnergyAudit.h) at the start and every 32nd of the steps, with its time (s): the bar has no
+  // gravity and nothing enters, so its energy can only be dissipated, or made by an unstable step.
+  std::vector<std::pair<double, EnergyBudget>> energy;
+  // How fast its energy changed (the modified energy an explicit step keeps: EnergyBudget::stepTermJ), as a fraction
+  // of its energy at the start per simulated second (< 0: dissipated).
+  double energyDriftPerS = 0;
 };
 
 // Steps the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero

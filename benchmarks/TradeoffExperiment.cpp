@@ -2,7 +2,9 @@
 // configuration (kernel, transfer, atomics, particle volumes, dt, particles per cell, cell size, integrator), the
 // error of its period against T/√κ, how much of its amplitude it keeps, and the cost of a simulated second. The
 // semi-implicit rows step 1, 4, 16 and 64 times the elastic bound h / c (the bar's period is 36 h / c: 16 and 64
-// cannot resolve it, and show how a long step damps what it cannot resolve). The summary gives the Pareto front.
+// cannot resolve it, and show how a long step damps what it cannot resolve). Each row also gives the energy audit's
+// drift per simulated second (sim/EnergyAudit.h), which a scene without a reference still has; the baseline's budget
+// over time goes to energy.csv, for energy.png. The summary gives the Pareto front.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -151,7 +153,11 @@ void measureTradeoff(BenchRun& run) {
                   "transfer_shape", "dt_s", "dt_fraction",
                   "particles_per_cell", "cell_size_m", "particles", "steps", "ms_per_step",
                   "ms_per_simulated_second", "period_s", "error", "signed_error", "uncorrected_error",
-                  "amplitude_retained", "solver_iterations", "kappa", "pareto", "status", "renderer"});
+                  "amplitude_retained", "energy_drift_per_s", "solver_iterations", "kappa", "pareto", "status",
+                  "renderer"});
+  // The baseline's energy budget over time, in stats.csv's columns (io/EnergyPlot.h draws it).
+  CsvTable energy({"time_s", "kinetic_energy_j", "potential_energy_j", "elastic_energy_j", "bodies_kinetic_energy_j",
+                   "bodies_potential_energy_j", "step_energy_j", "walls_removed_j", "dissipated_energy_j"});
   std::vector<TradeoffResult> results;
   const double analyticPeriodS = barAnalyticPeriodS();
   for (const TradeoffCase& configuration : tradeoffCases(run.options().size, run.sizes().barPeriods)) {
@@ -182,7 +188,22 @@ void measureTradeoff(BenchRun& run) {
           .set("ms_per_step", msPerStep)
           .set("ms_per_simulated_second", msPerStep / bar.dtS)
           .set("kappa", bar.kappa)
-          .set("amplitude_retained", bar.amplitudeRetained);
+          .set("amplitude_retained", bar.amplitudeRetained)
+          .set("energy_drift_per_s", bar.energyDriftPerS);
+      if (configuration.name == "baseline") {
+        for (const auto& [timeS, budget] : bar.energy) {
+          energy.addRow()
+              .set("time_s", timeS)
+              .set("kinetic_energy_j", budget.kineticJ)
+              .set("potential_energy_j", budget.potentialJ)
+              .set("elastic_energy_j", budget.elasticJ)
+              .set("bodies_kinetic_energy_j", budget.bodiesKineticJ)
+              .set("bodies_potential_energy_j", budget.bodiesPotentialJ)
+              .set("step_energy_j", budget.stepTermJ)
+              .set("walls_removed_j", budget.wallsRemovedJ)
+              .set("dissipated_energy_j", budget.dissipatedJ);
+        }
+      }
       if (setup.integrator != "explicit") row.set("solver_iterations", bar.meanSolverIterations);
       if (bar.periodS <= 0) {
         row.setText("status", "no_period");
@@ -221,6 +242,7 @@ void measureTradeoff(BenchRun& run) {
                  " s per simulated s, error " + formatNumber(result->error) + ")";
   }
   run.write(table, "tradeoff");
+  run.write(energy, "energy");
   run.addSummary("tradeoff (elastic bar, period error against T/sqrt(kappa)): Pareto front " +
                  (frontText.empty() ? std::string("empty") : frontText));
 }

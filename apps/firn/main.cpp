@@ -20,6 +20,7 @@
 #include "OptionChecks.h"
 #include "Viewer.h"
 #include "gl/Context.h"
+#include "io/EnergyPlot.h"
 #include "io/OutputPath.h"
 #include "io/Ply.h"
 #include "io/Text.h"
@@ -58,6 +59,9 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
                            "--png writes the frames without it");
   }
   if (!options.videoPath.empty()) firn::checkWritableFile(options.videoPath, "--mp4");
+  if (options.writePlot && !firn::canPlot()) {
+    throw firn::InputError("--plot: the gnuplot program is not on the PATH (Debian: apt-get install gnuplot-nox)");
+  }
   options.showProgress = true;
   const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, writer ? std::cerr : silent,
@@ -322,8 +326,8 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   std::string videoPath;
   bool noPly = false;
   CLI::App* run = app.add_subcommand(
-      "run", "Simulate a scene headless (EGL) and write stats.csv and PLY frames, bodies.csv where objects move, and if "
-             "asked pictures, surface and object meshes and VDB caches");
+      "run", "Simulate a scene headless (EGL) and write stats.csv, run.json and PLY frames, bodies.csv where objects "
+             "move, and if asked pictures, surface and object meshes, VDB caches and the energy budget's plot");
   run->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
   run->add_option("--frames", runOptions.frames, "Number of frames after frame 0 (default: the scene's time.frames)")
       ->check(firn::cli::inRange(0, 1000000));
@@ -349,6 +353,8 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   run->add_flag("--vdb", runOptions.writeVdb,
                 "Also write frame_NNNN.vdb (OpenVDB): a density grid and a level set of the snow's surface");
   run->add_option("--mp4", videoPath, "Render the frames (as --png) and assemble them into this video with ffmpeg");
+  run->add_flag("--plot", runOptions.writePlot,
+                "Also draw energy.png, the energy budget over time as stacked areas, with gnuplot (and energy.gp)");
   run->add_option("--checkpoint-every", runOptions.checkpointEvery,
                   "Write checkpoint_NNNN.firn (the complete state) every K frames")
       ->check(firn::cli::inRange(1, 1000000));
@@ -469,6 +475,7 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       runOptions.writePly = !noPly;
       runOptions.videoPath = videoPath;
       runOptions.resumePath = resumePath;
+      runOptions.commandLine.assign(argv, argv + argc);
       if (runRender->count() > 0) runOptions.renderMode = runRenderMode;
       return runCommand(scenePath, runOptions, world, rebalanceEveryFrames);
     }

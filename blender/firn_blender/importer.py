@@ -84,7 +84,7 @@ def read_frame_rate(stats_path):
     if not os.path.exists(stats_path):
         raise FirnRunError(f"{stats_path}: missing (Firn writes it with every run; it holds the frames' times)")
     with open(stats_path, newline="") as f:
-        for row in csv.DictReader(line for line in f if not line.startswith("#")):  # the comment: how it ran
+        for row in csv.DictReader(f):
             frame, time_s = int(row["frame"]), float(row["time_s"])
             if frame > 0 and time_s > 0:
                 return frame / time_s

@@ -51,7 +51,7 @@ class FirnJob:
         if not os.path.exists(stats):
             return 0
         with open(stats) as f:
-            return max(0, sum(1 for line in f if not line.startswith("#")) - 1)  # the comment skipped, less the header
+            return max(0, sum(1 for _ in f) - 1)  # less the header
 
     def _last_log_line(self):
         with open(self._log_path, errors="replace") as f:

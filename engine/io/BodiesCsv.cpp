@@ -31,7 +31,7 @@ std::vector<std::string> cellsOf(const std::string& line) {
 
 const char* BodiesCsvWriter::header() {
   return "frame,time_s,object,kind,x_m,y_m,z_m,qw,qx,qy,qz,vx_m_per_s,vy_m_per_s,vz_m_per_s,wx_rad_per_s,"
-         "wy_rad_per_s,wz_rad_per_s";
+         "wy_rad_per_s,wz_rad_per_s,fx_n,fy_n,fz_n,work_j";
 }
 
 BodiesCsvWriter::BodiesCsvWriter(const std::filesystem::path& path) : file_(path, header(), "bodies file") {}
@@ -44,7 +44,7 @@ BodiesCsvWriter::BodiesCsvWriter(const std::filesystem::path& path, int firstFra
     const std::size_t end = kept.find('\n', start);
     const std::vector<std::string> cells = cellsOf(kept.substr(start, end - start));
     start = end + 1;
-    if (cells.size() != 17) continue;  // a row this version would not write: no sign to keep
+    if (cells.size() != 21) continue;  // a row this version would not write: no sign to keep
     glm::dquat q;
     q.w = std::strtod(cells[7].c_str(), nullptr);
     q.x = std::strtod(cells[8].c_str(), nullptr);
@@ -70,7 +70,9 @@ void BodiesCsvWriter::write(const std::vector<ObjectFrameRow>& rows) {
                              row.positionM.z,     q.w,                 q.x,
                              q.y,                 q.z,                 row.velocityMPerS.x,
                              row.velocityMPerS.y, row.velocityMPerS.z, row.angularVelocityRadPerS.x,
-                             row.angularVelocityRadPerS.y, row.angularVelocityRadPerS.z};
+                             row.angularVelocityRadPerS.y, row.angularVelocityRadPerS.z,
+                             row.forceN.x,        row.forceN.y,        row.forceN.z,
+                             row.workJ};
     for (double value : values) {
       if (!std::isfinite(value)) {
         throw std::invalid_argument("bodies row of " + row.object + " for frame " + std::to_string(row.frame) +

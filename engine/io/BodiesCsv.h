@@ -24,6 +24,8 @@ struct ObjectFrameRow {
   glm::dquat orientation{1, 0, 0, 0};      // unit
   glm::dvec3 velocityMPerS{0.0};           // of the frame's origin
   glm::dvec3 angularVelocityRadPerS{0.0};  // world axes
+  glm::dvec3 forceN{0.0};  // the snow's mean force on the object over the steps since the previous frame
+  double workJ = 0;        // the work the object did on the snow since the start (the energy audit's)
 };
 
 class BodiesCsvWriter {

@@ -79,6 +79,11 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
   append(out, checkpoint.particleCount);
   append(out, checkpoint.releasedEmitterParticles);
   append(out, checkpoint.fastestSpeedMPerS);
+  for (const std::int64_t value : checkpoint.energyIntegers) append(out, value);
+  for (const double value : checkpoint.energyReals) append(out, value);
+  append(out, static_cast<std::uint64_t>(checkpoint.objectLoads.size()));
+  for (const std::int64_t value : checkpoint.objectLoads) append(out, value);
+  append(out, checkpoint.objectLoadDurationS);
   append(out, static_cast<std::uint64_t>(checkpoint.buffers.size()));
   for (const std::string& buffer : checkpoint.buffers) append(out, static_cast<std::uint64_t>(buffer.size()));
   append(out, crc32Of(out.data(), out.size()));
@@ -111,6 +116,16 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
   checkpoint.particleCount = reader.next<std::uint64_t>();
   checkpoint.releasedEmitterParticles = reader.next<std::uint64_t>();
   checkpoint.fastestSpeedMPerS = reader.next<double>();
+  for (std::int64_t& value : checkpoint.energyIntegers) value = reader.next<std::int64_t>();
+  for (double& value : checkpoint.energyReals) value = reader.next<double>();
+  const auto loads = reader.next<std::uint64_t>();
+  // Each load precedes the header's checksum, which covers it: a count that could not be right is a damaged header.
+  if (loads > reader.remaining() / sizeof(std::int64_t)) {
+    failCorrupt(path, "the header lists " + std::to_string(loads) + " object loads, more than a checkpoint of " +
+                          std::to_string(bytes.size()) + " bytes can hold");
+  }
+  for (std::uint64_t i = 0; i < loads; ++i) checkpoint.objectLoads.push_back(reader.next<std::int64_t>());
+  checkpoint.objectLoadDurationS = reader.next<double>();
   const auto bufferCount = reader.next<std::uint64_t>();
   // The count precedes the header's checksum, which covers it: a count that could not be right is a damaged header.
   if (bufferCount > kMostBuffers || bufferCount * sizeof(std::uint64_t) + sizeof(std::uint32_t) > reader.remaining()) {

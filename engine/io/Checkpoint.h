@@ -3,6 +3,7 @@
 // in a versioned binary file, so that `firn run --resume FILE` continues bit for bit as if never interrupted.
 // The simulation has no random state at run time (the dithered rounding hashes step and position), so nothing
 // else is needed.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -14,7 +15,8 @@ struct Checkpoint {
   // 2: the block-sparse grid keeps no active region between steps, so a checkpoint holds one buffer fewer.
   // 3: the header lists every buffer's size, and the header and each buffer end in their CRC-32.
   // 4: a mesh collider's entry of the collider table (held with rigid bodies) holds its field's steepest slope.
-  static constexpr std::uint32_t kVersion = 4;
+  // 5: the energy audit's account, and its ledger after the watchdog's status.
+  static constexpr std::uint32_t kVersion = 5;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;
@@ -22,6 +24,14 @@ struct Checkpoint {
   std::uint64_t particleCount = 0;
   std::uint64_t releasedEmitterParticles = 0;
   double fastestSpeedMPerS = 0;
+  // The energy audit's account (sim/EnergyAudit.h, EnergyAccount: packEnergyAccount), as the run kept it: its integer
+  // sums, and its values in joules and metres per second.
+  std::array<std::int64_t, 10> energyIntegers{};
+  std::array<double, 10> energyReals{};
+  // Per entry of the collider table: the impulse its last frame gave the snow (x, y, z) and its work since the start,
+  // in the units of gpu::ObjectLoad (Simulation::objectLoads); then that frame's duration (s), as the run kept them.
+  std::vector<std::int64_t> objectLoads;
+  double objectLoadDurationS = 0;
   std::vector<std::string> buffers;    // the GPU buffers' bytes, in the simulation's order
 };
 

@@ -11,18 +11,17 @@
 
 namespace firn {
 
-FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what,
-                   const std::string& comment)
+FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what)
     : path_(path), what_(what) {
-  start(comment, header);
+  start(header);
 }
 
 FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header, const std::string& what,
-                   int firstFrame, const std::string& comment)
+                   int firstFrame)
     : path_(path), what_(what) {
   std::error_code error;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, error))) {
-    start(comment, header);
+    start(header);
     return;
   }
   requireRegularFile(path, what);
@@ -30,7 +29,7 @@ FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header,
   if (!in) throw InputError(path.string() + ": cannot read " + what + " (" + std::strerror(errno) + ")");
   std::string line;
   int lineNumber = 1;
-  while (std::getline(in, line) && line.rfind('#', 0) == 0) ++lineNumber;  // the earlier run's comments
+  std::getline(in, line);
   if (line != header) {
     throw InputError(path.string() + ": its header is not the one this version of Firn writes, so its rows before "
                      "frame " + std::to_string(firstFrame) + " cannot be kept; move it away to resume without them");
@@ -49,12 +48,11 @@ FrameCsv::FrameCsv(const std::filesystem::path& path, const std::string& header,
   }
   if (in.bad()) throw InputError(path.string() + ": cannot read " + what + " (" + std::strerror(errno) + ")");
   in.close();
-  start(comment, header);
+  start(header);
 }
 
-void FrameCsv::start(const std::string& comment, const std::string& header) {
-  const std::string commentLine = comment.empty() ? comment : "# " + comment + '\n';
-  writeFileAtomically(path_, commentLine + header + '\n' + keptRows_, what_);
+void FrameCsv::start(const std::string& header) {
+  writeFileAtomically(path_, header + '\n' + keptRows_, what_);
   out_.open(path_, std::ios::app);
   if (!out_) throw InputError(path_.string() + ": cannot write " + what_ + " (" + std::strerror(errno) + ")");
 }

@@ -167,6 +167,12 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
     }
   }
   grid.writeBlockSums(heldSlots, sums);
+  // The energy the collisions at a shared block's nodes move is counted by the lowest rank holding it.
+  std::vector<std::uint32_t> auditedBelow;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    if (heldBelow[i]) auditedBelow.push_back(mine[i].slot);
+  }
+  grid.markAuditedElsewhere(auditedBelow);
 
   ++traffic_.steps;
   traffic_.haloBytes += sent.size() * sizeof(glm::ivec4);
@@ -305,6 +311,10 @@ bool MpiShare::any(bool flag) {
   int mine = flag ? 1 : 0, result = 0;
   MPI_Allreduce(&mine, &result, 1, MPI_INT, MPI_LOR, comm_);
   return result != 0;
+}
+
+void MpiShare::sumExactly(std::vector<std::int64_t>& values) {
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), int(values.size()), MPI_INT64_T, MPI_SUM, comm_);
 }
 
 std::vector<std::string> MpiShare::gatherRecords(const std::vector<std::string>& records,

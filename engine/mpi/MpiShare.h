@@ -65,6 +65,7 @@ class MpiShare final : public DomainShare {
                        const MakeRoom& makeRoom) override;
   double largest(double value) override;
   bool any(bool flag) override;
+  void sumExactly(std::vector<std::int64_t>& values) override;
   bool writesOutput() const override { return rank_ == 0; }
   std::vector<std::string> gatherRecords(const std::vector<std::string>& records, const std::vector<std::size_t>& strides,
                                          const std::vector<std::uint32_t>& ids) override;

@@ -15,6 +15,7 @@
 #include "Error.h"
 #include "gl/Context.h"
 #include "io/BodiesCsv.h"
+#include "io/EnergyPlot.h"
 #include "io/Checkpoint.h"
 #include "io/OutputFolder.h"
 #include "io/Ply.h"
@@ -24,6 +25,7 @@
 #include "io/Vdb.h"
 #include "io/Video.h"
 #include "run/Progress.h"
+#include "run/RunRecord.h"
 #include "run/SimulationSession.h"
 #include "scene/SceneObjects.h"
 #include "sim/DomainShare.h"
@@ -93,9 +95,9 @@ PointCache toPointCache(const ParticleSnapshot& particles) {
   return cache;
 }
 
-// Mass, momentum, kinetic energy, centre of mass, mean J_P and the particles at the walls of a snapshot,
-// summed in double.
-FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid) {
+// Mass, momentum, centre of mass, mean J_P and the particles at the walls of a snapshot, summed in double; the
+// energies are the audit's (sim/EnergyAudit.h).
+FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid, const EnergyBudget& energy) {
   FrameStats stats;
   // The walls act on grid nodes, so the particles they stop come to rest up to a cell short of the interior's
   // bounds (about half a cell for the quadratic kernel).
@@ -109,7 +111,6 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
     const glm::dvec3 velocity(particles.velocityVolume[i]);
     stats.massKg += mass;
     stats.momentumKgMPerS += mass * velocity;
-    stats.kineticEnergyJ += 0.5 * mass * glm::dot(velocity, velocity);
     weightedPosition += mass * glm::dvec3(particles.positionMass[i]);
     plasticJSum += particles.plasticJ[i];
     const glm::dvec3 position(particles.positionMass[i]);
@@ -121,6 +122,20 @@ FrameStats measureFrame(const ParticleSnapshot& particles, const GridSpec& grid)
     stats.meanPlasticJ = plasticJSum / double(particles.size());
     stats.centerOfMassM = weightedPosition / stats.massKg;
   }
+  stats.kineticEnergyJ = energy.kineticJ;
+  stats.potentialEnergyJ = energy.potentialJ;
+  stats.elasticEnergyJ = energy.elasticJ;
+  stats.bodiesKineticEnergyJ = energy.bodiesKineticJ;
+  stats.bodiesPotentialEnergyJ = energy.bodiesPotentialJ;
+  stats.colliderWorkJ = energy.colliderWorkJ;
+  stats.arrivedEnergyJ = energy.arrivedJ;
+  stats.wallsRemovedJ = energy.wallsRemovedJ;
+  stats.hardeningEnergyJ = energy.hardeningJ;
+  stats.couplingEnergyJ = energy.couplingJ;
+  stats.stepEnergyJ = energy.stepTermJ;
+  stats.dissipatedEnergyJ = energy.dissipatedJ;
+  stats.energyCreatedJ = energy.createdJ;
+  stats.energyToleranceJ = energy.toleranceJ;
   return stats;
 }
 
@@ -251,7 +266,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const ParticleSnapshot particles = simulation.snapshot();
     const std::size_t activeBlocks = share ? share->activeBlocksInAll() : simulation.blockUsage().lastStep;
     if (!writer) return;
-    FrameStats row = measureFrame(particles, scene.grid);
+    FrameStats row = measureFrame(particles, scene.grid, simulation.energyBudget());
     row.frame = frame;
     row.timeS = simulation.timeS();
     row.steps = steps;
@@ -262,6 +277,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     row.solverResidual = solves.largestResidual;
     stats->write(row);
     if (bodies) {
+      const std::vector<Simulation::ObjectLoadReading> loads = simulation.objectLoads();
       std::vector<ObjectFrameRow> rows;
       for (std::size_t i = 0; i < objects.size(); ++i) {
         ObjectFrameRow& objectRow = rows.emplace_back();
@@ -273,6 +289,11 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
         objectRow.orientation = poses[i].orientation;
         objectRow.velocityMPerS = poses[i].velocityMPerS;
         objectRow.angularVelocityRadPerS = poses[i].angularVelocityRadPerS;
+        // The collider table holds the colliders, then the rigid bodies.
+        const std::size_t entry = std::size_t(objects[i].index) +
+                                  (objects[i].kind == ObjectKind::RigidBody ? scene.colliders.size() : 0);
+        objectRow.forceN = loads[entry].forceN;
+        objectRow.workJ = loads[entry].workJ;
       }
       bodies->write(rows);
     }
@@ -317,8 +338,6 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   int firstFrame = 0;
   const std::filesystem::path statsPath = options.outputDir / "stats.csv";
   const std::filesystem::path bodiesPath = options.outputDir / "bodies.csv";
-  // stats.csv's comment: the transfers' shape this run timed fastest (which changes no number in it).
-  const std::string transfers = transfersLine(simulation.transferShapeChoice());
   if (checkpoint) {
     simulation.resume(*checkpoint, options.resumePath);
     firstFrame = checkpoint->frame;
@@ -333,48 +352,84 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
     const bool ownFolder = std::filesystem::equivalent(std::filesystem::absolute(options.resumePath).parent_path(),
                                                        options.outputDir, error);
     if (ownFolder) {
-      stats.emplace(statsPath, firstFrame, transfers);
+      stats.emplace(statsPath, firstFrame);
       if (!objects.empty()) bodies.emplace(bodiesPath, firstFrame);
     }
   }
-  if (!stats && writer) stats.emplace(statsPath, transfers);
+  if (!stats && writer) stats.emplace(statsPath);
   if (!bodies && !objects.empty() && writer) bodies.emplace(bodiesPath);
-  writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
-  // Each frame shows on a terminal; a log gets a line every few seconds.
-  constexpr double progressAtOnceS = 0;
-  std::optional<ProgressLine> progress;
-  if (options.showProgress && writer) progress.emplace(stderr, progressAtOnceS);
-  for (int frame = firstFrame + 1; frame <= frames; ++frame) {
-    const auto frameStart = Clock::now();
-    const int steps = simulation.advanceFrame(frame / scene.time.frameRateHz, log);
-    summary.simulationWallS += secondsSince(frameStart);
-    summary.steps += static_cast<std::uint64_t>(steps);
-    writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
-    if (options.checkpointEvery > 0 && frame % options.checkpointEvery == 0) {
-      const Checkpoint checkpoint = simulation.checkpoint(frame);  // over several processes, gathered by all
-      if (writer) writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, ".firn"), checkpoint);
-    }
-    summary.frames = frame;
-    if (progress) {
-      const double stepsPerS = double(summary.steps) / summary.simulationWallS;
-      const double etaS = summary.simulationWallS / (frame - firstFrame) * (frames - frame);
-      progress->show(progressText(frame, frames, simulation.timeS(), stepsPerS, etaS), frame == frames);
-    }
+  // run.json: written now, as the run starts, and again when it ends, saying how.
+  std::optional<RunRecord> record;
+  if (writer) {
+    record.emplace(options.outputDir / "run.json", scene, options.commandLine, context.info(),
+                   share ? share->shares() : 1);
+    record->setSceneFingerprint(simulation.fingerprint());
+    record->setTransfers(simulation.transferShapeChoice());
+    record->setProgress(firstFrame, firstFrame, 0, summary.particles, secondsSince(runStart));
+    record->write();
   }
-  progress.reset();
-  if (options.passTimes) {
-    log << "firn: time per pass (GPU: GL_TIME_ELAPSED; wall: dispatch to glFinish), mean over " << summary.steps << " steps:\n";
-    logPassTimes(simulation.passTimes(), double(std::max<std::uint64_t>(summary.steps, 1)), log);
-    if (snowSurface) {
-      const int framesWritten = summary.frames - summary.firstFrame + 1;
-      log << "firn: the surface's passes, mean over " << framesWritten << " frames:\n";
-      logPassTimes(snowSurface->passTimes(), double(framesWritten), log);
+  // The end, however it comes: run.json's exit, and the plot of the energy up to there (a run that failed keeps its
+  // own error: a plot that cannot be drawn then is said, not thrown).
+  const auto finish = [&](int status, const std::string& message) {
+    if (!writer) return;
+    record->setTransfers(simulation.transferShapeChoice());
+    record->setProgress(summary.firstFrame, summary.frames, summary.steps, summary.particles, secondsSince(runStart));
+    record->setExit(status, message);
+    record->write();
+    if (!options.writePlot) return;
+    try {
+      plotEnergy(statsPath, options.outputDir, (scene.name.empty() ? sceneFileName(scene) : scene.name) + ": energy");
+      log << "firn: wrote " << (options.outputDir / "energy.png").string() << "\n";
+    } catch (const InputError& error) {
+      if (status == 0) throw;
+      log << "firn: " << error.what() << "\n";
     }
+  };
+  try {
+    writeFrame(firstFrame, 0, secondsSince(runStart) * 1e3);
+    // Each frame shows on a terminal; a log gets a line every few seconds.
+    constexpr double progressAtOnceS = 0;
+    std::optional<ProgressLine> progress;
+    if (options.showProgress && writer) progress.emplace(stderr, progressAtOnceS);
+    for (int frame = firstFrame + 1; frame <= frames; ++frame) {
+      const auto frameStart = Clock::now();
+      const int steps = simulation.advanceFrame(frame / scene.time.frameRateHz, log);
+      summary.simulationWallS += secondsSince(frameStart);
+      summary.steps += static_cast<std::uint64_t>(steps);
+      writeFrame(frame, static_cast<std::uint64_t>(steps), secondsSince(frameStart) * 1e3);
+      if (options.checkpointEvery > 0 && frame % options.checkpointEvery == 0) {
+        const Checkpoint checkpoint = simulation.checkpoint(frame);  // over several processes, gathered by all
+        if (writer) writeCheckpoint(options.outputDir / numberedFileName("checkpoint", frame, ".firn"), checkpoint);
+      }
+      summary.frames = frame;
+      if (progress) {
+        const double stepsPerS = double(summary.steps) / summary.simulationWallS;
+        const double etaS = summary.simulationWallS / (frame - firstFrame) * (frames - frame);
+        progress->show(progressText(frame, frames, simulation.timeS(), stepsPerS, etaS), frame == frames);
+      }
+    }
+    progress.reset();
+    if (options.passTimes) {
+      log << "firn: time per pass (GPU: GL_TIME_ELAPSED; wall: dispatch to glFinish), mean over " << summary.steps << " steps:\n";
+      logPassTimes(simulation.passTimes(), double(std::max<std::uint64_t>(summary.steps, 1)), log);
+      if (snowSurface) {
+        const int framesWritten = summary.frames - summary.firstFrame + 1;
+        log << "firn: the surface's passes, mean over " << framesWritten << " frames:\n";
+        logPassTimes(snowSurface->passTimes(), double(framesWritten), log);
+      }
+    }
+    if (!options.videoPath.empty() && writer) {
+      assembleVideo(options.outputDir, summary.frames + 1, scene.time.frameRateHz, options.videoPath);
+      log << "firn: wrote " << options.videoPath.string() << "\n";
+    }
+  } catch (const Error& error) {
+    finish(int(error.code()), error.what());
+    throw;
+  } catch (const std::exception& error) {
+    finish(1, std::string("internal error: ") + error.what());
+    throw;
   }
-  if (!options.videoPath.empty() && writer) {
-    assembleVideo(options.outputDir, summary.frames + 1, scene.time.frameRateHz, options.videoPath);
-    log << "firn: wrote " << options.videoPath.string() << "\n";
-  }
+  finish(0, "");
   summary.wallS = secondsSince(runStart);
   return summary;
 }

@@ -1,11 +1,12 @@
 #pragma once
-// `firn run`: a scene simulated headless, writing stats.csv, PLY frames, bodies.csv where objects move and, if asked,
-// pictures, the snow's surface and the moving objects as meshes, and VDB caches.
+// `firn run`: a scene simulated headless, writing stats.csv, run.json, PLY frames, bodies.csv where objects move and,
+// if asked, pictures, the snow's surface and the moving objects as meshes, VDB caches and the energy budget's plot.
 #include <filesystem>
 #include <iosfwd>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -35,6 +36,8 @@ struct RunOptions {
   int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
   std::filesystem::path resumePath;  // non-empty: continue from this checkpoint (of the same scene)
   int gpuOrdinal = 0;              // without FIRN_EGL_DEVICE, which of the machine's GPUs (gl::HeadlessContext)
+  bool writePlot = false;          // energy.png, the energy budget over time, when the run ends (io/EnergyPlot.h)
+  std::vector<std::string> commandLine;  // as run.json records it
 };
 
 struct RunSummary {
@@ -48,8 +51,9 @@ struct RunSummary {
 };
 
 // Frame N is the state at N / frame_rate; frame 0 is the initial state. A resumed run writes stats.csv, bodies.csv
-// and the frames from the checkpoint's frame on. Throws InputError (bad scene or
-// output), SimulationError (unstable: the frames written so far stay on disk) or NoOpenGLError.
+// and the frames from the checkpoint's frame on. Throws InputError (bad scene or output), SimulationError (unstable:
+// the frames written so far stay on disk) or NoOpenGLError; run.json, written as the run starts, then says how it
+// ended, and with `writePlot` energy.png shows the budget up to there.
 // With a `share` this process simulates its part of the domain (sim/DomainShare.h) and every share calls it alike;
 // the share that writes the output writes the files a single process would, byte for byte.
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share = nullptr);

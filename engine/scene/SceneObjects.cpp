@@ -62,6 +62,11 @@ voxelizer::TriangleMesh bodyMesh(const RigidBody& body) {
 
 }  // namespace
 
+bool colliderMoves(const Collider& collider) {
+  return collider.shape != ColliderShape::Plane &&
+         (!collider.keyframes.empty() || collider.velocityMPerS != glm::dvec3(0.0));
+}
+
 std::vector<SceneObject> sceneObjects(const Scene& scene) {
   std::vector<SceneObject> objects;
   for (std::size_t i = 0; i < scene.colliders.size(); ++i) {
@@ -70,8 +75,7 @@ std::vector<SceneObject> sceneObjects(const Scene& scene) {
     object.kind = ObjectKind::Collider;
     object.index = int(i);
     object.name = "colliders[" + std::to_string(i) + "]";
-    object.moves = collider.shape != ColliderShape::Plane &&
-                   (!collider.keyframes.empty() || collider.velocityMPerS != glm::dvec3(0.0));
+    object.moves = colliderMoves(collider);
     object.meshM = colliderMesh(scene, collider);
   }
   for (std::size_t i = 0; i < scene.rigidBodies.size(); ++i) {

@@ -35,6 +35,10 @@ struct SceneObject {
   voxelizer::TriangleMesh meshM;
 };
 
+// Whether a collider moves as an object bodies.csv follows: one with keyframes or a velocity, but not a plane (planes
+// are the ground and walls: a moving one still does work on the snow, which the energy audit counts).
+bool colliderMoves(const Collider& collider);
+
 // Every collider, then every rigid body, in the scene's order.
 std::vector<SceneObject> sceneObjects(const Scene& scene);
 

@@ -190,6 +190,15 @@ void BlockGrid::writeBlockSums(const std::vector<std::uint32_t>& slots, const st
   });
 }
 
+void BlockGrid::markAuditedElsewhere(const std::vector<std::uint32_t>& slots) {
+  const std::uint32_t elsewhere = 1;
+  for (const std::uint32_t slot : slots) {
+    blockTable_.upload(sizeof(gpu::BlockTableHeader) + slot * sizeof(gpu::BlockSlot) +
+                           offsetof(gpu::BlockSlot, auditedElsewhere),
+                       sizeof elsewhere, &elsewhere);
+  }
+}
+
 std::vector<glm::ivec3> BlockGrid::activeNodes() const {
   const glm::ivec3 blocks = blocksPerAxis_;
   std::vector<glm::ivec3> nodes;

@@ -122,6 +122,9 @@ class BlockGrid {
   std::size_t sumsPerBlock() const { return (withImpulse_ ? 2 : 1) * std::size_t(gpu::BLOCK_NODES); }
   std::vector<glm::ivec4> readBlockSums(const std::vector<std::uint32_t>& slots) const;
   void writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums);
+  // Marks the blocks in `slots` as audited by another share of the domain (BlockSlot::auditedElsewhere): the energy
+  // their nodes' collisions move is that share's to count (common/energy.glsl).
+  void markAuditedElsewhere(const std::vector<std::uint32_t>& slots);
 
  private:
   // The particles a pass listed in particleRanks, as many as the block table's counter at `counterOffset` says, in

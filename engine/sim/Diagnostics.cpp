@@ -87,7 +87,7 @@ std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
 // J_P = 1 − θc, held. Named is the snow particle whose hardened wave is fastest, in its last finite state (the
 // watchdog rejects a non-finite update), which is often not the first particle to fail. Beyond the scene's bound
 // that bound is the cause, and what an unstable step leaves in J_P (≤ 0, even) tells nothing.
-std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
+std::string Diagnostics::instabilityCause(const GpuState& state) const {
   const std::string generic = "Reduce time.dt or youngs_modulus; the elastic wave bound is dt < h / c = " +
                               format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
                               format("%.4g", dtS_) + " s)" + rigidBodyHint("that bound") + ".";
@@ -118,10 +118,31 @@ std::string Diagnostics::nonFiniteCause(const GpuState& state) const {
          "or reduce time.dt" + rigidBodyHint("the scene's bound") + ".";
 }
 
+std::string Diagnostics::energyCarrier(const GpuState& state) const {
+  const ParticleSnapshot particles = state.particles().read(liveParticles());
+  std::vector<double> kineticJ(materials_.size(), 0.0);
+  double totalJ = 0, fastestMPerS = -1;
+  std::size_t fastest = 0;
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const glm::dvec3 v(particles.velocityVolume[p]);
+    const double energyJ = 0.5 * double(particles.positionMass[p].w) * glm::dot(v, v);
+    kineticJ[std::size_t(particleMaterial_[noteOf(p)])] += energyJ;
+    totalJ += energyJ;
+    if (glm::length(v) > fastestMPerS) std::tie(fastest, fastestMPerS) = std::pair(p, glm::length(v));
+  }
+  if (!(totalJ > 0)) return "";
+  const std::size_t most = std::size_t(std::max_element(kineticJ.begin(), kineticJ.end()) - kineticJ.begin());
+  return " The particles of material \"" + materials_[most].name + "\" carry " +
+         format("%.3g", 100 * kineticJ[most] / totalJ) + "% of the particles' kinetic energy (" +
+         format("%.4g", kineticJ[most]) + " J); the fastest, " + describeParticle(std::int32_t(fastest), state) +
+         ", moves at " + format("%.4g", fastestMPerS) + " m/s.";
+}
+
 void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
-                        std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure) const {
+                        std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure,
+                        const std::optional<EnergyEvent>& energy) const {
   if (status.overflowCount == 0 && status.nonFiniteCount == 0 && status.cflCount == 0 && blocksNeeded == 0 &&
-      !solverFailure) {
+      !solverFailure && !energy) {
     return;
   }
 
@@ -179,7 +200,7 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
     events.emplace_back(status.nonFiniteStep,
                         when(status.nonFiniteStep) + ": " + describeParticle(status.nonFiniteParticle, state) +
                             " became non-finite (NaN or Inf; " + std::to_string(status.nonFiniteCount) +
-                            " particle updates rejected). " + nonFiniteCause(state));
+                            " particle updates rejected). " + instabilityCause(state));
   }
   if (status.cflCount > 0) {
     events.emplace_back(status.cflStep,
@@ -205,6 +226,26 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
                             "solver.max_iterations (now " + std::to_string(solver_.maxIterations) +
                             "), raise solver.tolerance, reduce time.dt, or lower solver.implicit_ratio towards "
                             "0.5.");
+  }
+  if (energy) {
+    // Known at the audit that ends the stretch, it may have begun at its first step: listed there, before what
+    // followed from it.
+    const EnergyCreation& made = energy->creation;
+    const std::uint32_t first = std::uint32_t(energy->firstStep);
+    const std::string steps = "steps " + std::to_string(energy->firstStep) + "–" +
+                              std::to_string(std::max(energy->endStep, energy->firstStep + 1) - 1) + " (t ≈ " +
+                              format("%.4g", double(energy->firstStep) * dtS_) + "–" +
+                              format("%.4g", double(energy->endStep) * dtS_) + " s)";
+    const std::string what =
+        made.beyondLimit > 0
+            ? std::to_string(made.beyondLimit) + " particles or collisions held more energy than the scene could give "
+              "any stable step (the energy audit's bound, docs/numerics.md)"
+            : "the energy grew by " + format("%.4g", made.createdJ) + " J that nothing gave it (the particles' kinetic "
+              "energy went from " + format("%.4g", made.kineticBeforeJ) + " to " + format("%.4g", made.kineticJ) +
+              " J; float rounding and the step's truncation allow " + format("%.3g", made.toleranceJ) + " J)";
+    const std::string cause =
+        solver_.semiImplicit() ? "The semi-implicit step is unstable: " + stiffness + "." : instabilityCause(state);
+    events.emplace_back(first, steps + ": " + what + "." + energyCarrier(state) + " " + cause);
   }
   std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string message = "the simulation became unstable:";

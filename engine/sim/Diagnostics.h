@@ -9,12 +9,20 @@
 
 #include "gpu/GpuLayout.h"
 #include "scene/Scene.h"
+#include "sim/EnergyAudit.h"
 #include "sim/FixedPoint.h"
 #include "sim/SolveReport.h"
 
 namespace firn {
 
 class GpuState;
+
+// Energy a stretch of steps made from nothing (the energy audit, sim/EnergyAudit.h): steps [firstStep, endStep).
+struct EnergyEvent {
+  EnergyCreation creation;
+  std::uint64_t firstStep = 0;
+  std::uint64_t endStep = 0;
+};
 
 class Diagnostics {
  public:
@@ -31,15 +39,19 @@ class Diagnostics {
 
   // Throws SimulationError (exit 3) listing, in the order they happened, the fixed-point overflows, non-finite
   // values and CFL violations `status` records, a step that needed `blocksNeeded` blocks of the grid when its
-  // pool held `blockCapacity` (0: none did), and a semi-implicit solve that failed; `state` gives the positions of
-  // the particles it names.
+  // pool held `blockCapacity` (0: none did), a semi-implicit solve that failed, and energy made from nothing;
+  // `state` gives the positions of the particles it names.
   void check(const gpu::WatchdogStatus& status, const GpuState& state, std::size_t blocksNeeded,
-             std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure) const;
+             std::size_t blockCapacity, const std::optional<SolverFailure>& solverFailure,
+             const std::optional<EnergyEvent>& energy = std::nullopt) const;
 
  private:
   std::string describeNode(std::int32_t node) const;
   std::string describeParticle(std::int32_t particle, const GpuState& state) const;
-  std::string nonFiniteCause(const GpuState& state) const;
+  // Why an explicit step went unstable, and the step to use (a non-finite particle, energy made from nothing).
+  std::string instabilityCause(const GpuState& state) const;
+  // Which material's particles hold the kinetic energy, and the fastest of them.
+  std::string energyCarrier(const GpuState& state) const;
   // "; the rigid bodies move explicitly …" in a scene with rigid bodies (docs/algorithm.md, Rigid bodies: the
   // coupling's own step bound), naming `bound` as the step they may need to stay well below; empty without them.
   std::string rigidBodyHint(const std::string& bound) const;

@@ -48,7 +48,9 @@ class DomainShare {
   // Whether a particle at `positionM` starts in this share: the seeds, and the emitters' particles as they join.
   virtual bool owns(const glm::vec3& positionM) const = 0;
   // After P2G: adds to the sums of this share's active nodes what the other shares summed at the same nodes, so
-  // that every share holding a node holds its whole sum. Every share calls it at the same point of the same step.
+  // that every share holding a node holds its whole sum, and marks the blocks a share of a lower rank holds too
+  // (BlockSlot::auditedElsewhere), whose nodes' energy flows that share counts. Every share calls it at the same point
+  // of the same step.
   virtual void sumSharedNodes(BlockGrid& grid) = 0;
   // After a step: hands the particles that left this share's region to the shares they entered and appends those
   // that entered it, after `makeRoom(n)` has made room for n particles in the state's buffers; `ids` (each
@@ -63,6 +65,9 @@ class DomainShare {
   // Decisions every share takes alike: the largest of all shares' values, whether any share's flag is set.
   virtual double largest(double value) = 0;
   virtual bool any(bool flag) = 0;
+  // Each value summed over all shares, in integers: exact, so every share ends with the sums one process would have
+  // made (the energy audit's ledger, sim/EnergyAudit.h).
+  virtual void sumExactly(std::vector<std::int64_t>& values) = 0;
 
   // The output, which one share writes: whether this is it. Every share calls the rest together.
   virtual bool writesOutput() const = 0;

@@ -25,6 +25,11 @@ struct FixedPointScale {
   // k_H: the semi-implicit solve's 64-bit Hessian product sums store a momentum unit as 2^k_H (solverFractionBits).
   int solverFractionBits = 0;
 
+  // The energy audit's ledger (sim/EnergyAudit.h): its units per joule, a power of two (exact in the GPU's float),
+  // and the most units one particle may hold in a sum, so that no sum of all the particles leaves 64 bits.
+  double energyUnitsPerJ = 0;
+  double particleEnergyLimit = 0;
+
   double unitsPerValue() const;    // 2^k
   double maxNodeValue() const;     // the largest nondimensional sum int32 holds: 2^(31 − k)
   double resolution() const;       // 2^−k

@@ -1,5 +1,7 @@
 #include "sim/GpuState.h"
 
+#include <cstring>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -112,8 +114,13 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
   }
   colliderFields_ = gl::BufferTexture(colliderFields);
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms)).labelled("step uniforms");
-  const gpu::WatchdogStatus clearWatchdog{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
-  watchdog_ = gl::Buffer(sizeof clearWatchdog, &clearWatchdog).labelled("watchdog");
+  // The watchdog's status, then the energy ledger and a load per entry of the collider table, empty (gpu_contract.h,
+  // EnergyLedger, ObjectLoad).
+  const gpu::WatchdogStatus clearStatus{0, -1, 0, 0, 0, -1, 0, 0, -1, 0, 0.0f, 0};
+  objectCount_ = colliders.size();
+  std::string contents(sizeof clearStatus + energyBytes(), '\0');
+  std::memcpy(contents.data(), &clearStatus, sizeof clearStatus);
+  watchdog_ = gl::Buffer(contents.size(), contents.data()).labelled("watchdog, energy ledger and object loads");
   allocateBlockPool(gl);
 }
 
@@ -204,6 +211,31 @@ std::vector<gpu::ColliderParams> GpuState::readColliders(std::size_t first, std:
 }
 
 gpu::WatchdogStatus GpuState::watchdog() const { return watchdog_.read<gpu::WatchdogStatus>(1)[0]; }
+
+std::size_t GpuState::energyBytes() const { return sizeof(gpu::EnergyLedger) + objectCount_ * sizeof(gpu::ObjectLoad); }
+
+gpu::EnergyLedger GpuState::energyLedger() const {
+  gpu::EnergyLedger ledger{};
+  watchdog_.download(sizeof(gpu::WatchdogStatus), sizeof ledger, &ledger);
+  return ledger;
+}
+
+std::vector<gpu::ObjectLoad> GpuState::objectLoads() const {
+  return watchdog_.read<gpu::ObjectLoad>(objectCount_,
+                                         (sizeof(gpu::WatchdogStatus) + sizeof(gpu::EnergyLedger)) / sizeof(gpu::ObjectLoad));
+}
+
+std::string GpuState::energyRecords() const {
+  std::string bytes(energyBytes(), '\0');
+  watchdog_.download(sizeof(gpu::WatchdogStatus), bytes.size(), bytes.data());
+  return bytes;
+}
+
+void GpuState::writeEnergyRecords(const std::string& bytes) {
+  const std::string empty(energyBytes(), '\0');
+  const std::string& contents = bytes.empty() ? empty : bytes;
+  watchdog_.upload(sizeof(gpu::WatchdogStatus), contents.size(), contents.data());
+}
 
 double GpuState::fastestSignalMPerS() const {
   std::uint32_t bits = 0;

@@ -60,6 +60,13 @@ class GpuState {
   void writeColliders(const std::vector<gpu::ColliderParams>& colliders, std::size_t first = 0);
   std::vector<gpu::ColliderParams> readColliders(std::size_t first, std::size_t count) const;
   gpu::WatchdogStatus watchdog() const;
+  // The energy audit's ledger, after the status in the watchdog's buffer (sim/EnergyAudit.h), and the collider
+  // table's entries' loads after it (gpu::ObjectLoad).
+  gpu::EnergyLedger energyLedger() const;
+  std::vector<gpu::ObjectLoad> objectLoads() const;
+  // Both as bytes, and back (none: emptied, for the next frame).
+  std::string energyRecords() const;
+  void writeEnergyRecords(const std::string& bytes = "");
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
 
@@ -91,6 +98,8 @@ class GpuState {
   gl::Buffer colliders_;
   gl::BufferTexture colliderFields_;  // the mesh colliders' and bodies' distance fields, the bodies' probes
   gl::Buffer watchdog_;
+  std::size_t objectCount_ = 0;  // the collider table's entries, each with a load in the watchdog's buffer
+  std::size_t energyBytes() const;
   gl::Buffer stepUniforms_;
   gl::BufferBindings bindings_;
   std::vector<gl::Buffer> saved_;  // save()'s copies, in the order of stateBuffers

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gpu/GpuLayout.h"
+#include "sim/StepPipeline.h"
 
 namespace firn {
 
@@ -55,7 +56,7 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   step_ = gl::ComputePass(library, "sim/solver_step.comp", options);
   reduce_ = gl::ComputePass(library, "sim/solver_reduce.comp", options);
   finish_ = gl::ComputePass(library, "sim/solver_finish.comp", options);
-  if (!scene.rigidBodies.empty()) solution_ = gl::ComputePass(library, "sim/solver_solution.comp", options);
+  if (needsSolutionProduct(scene)) solution_ = gl::ComputePass(library, "sim/solver_solution.comp", options);
 }
 
 void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
@@ -145,8 +146,8 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
   const gl::Buffer& blockTable = state.grid().blockTable();
   if (solution_) {
-    // The product of the solution, whose held components are the colliders' push that the rigid bodies take back
-    // (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.
+    // The product of the solution, whose held components are the colliders' push that the rigid bodies take back and
+    // the moving colliders do work with (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.
     solution_->runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
     glMemoryBarrier(gl::kStorage);
     product.iteration.runIndirect(blockTable, blockTableDispatch(product.shape), buffers, timer);

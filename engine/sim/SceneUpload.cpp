@@ -160,7 +160,7 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
   entry.shapeBoundary.z = 1;
   entry.shapeBoundary.w = body.parked ? 0 : 1;
   entry.bodyMass = glm::vec4(float(body.massKg), body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f, 0, 0);
-  entry.bodyProbes = glm::ivec4(fields.bodyProbes.at(index), 0, 0);
+  entry.bodyProbes = glm::ivec4(fields.bodyProbes.at(index), 1, 0);  // z: its load goes to bodies.csv
   // L = R I Rᵀ ω: the inertia is the body's own frame's, ω the world's.
   const glm::dmat3 turn = glm::mat3_cast(pose.orientation);
   entry.angularMomentum =
@@ -200,6 +200,7 @@ std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const Colli
               c.friction, segment.segmentStartS);
     out.shapeBoundary.y = boundaryCode(c.boundary);
     out.shapeBoundary.w = 1;
+    out.bodyProbes.z = colliderMoves(c) ? 1 : 0;  // its load goes to bodies.csv
   }
   return colliders;
 }

@@ -116,6 +116,13 @@ std::size_t initialBlockCapacity(const Scene& scene, const std::vector<ParticleS
   return poolCapacity(scene, reached, std::max<std::size_t>(4 * reached, 256), gl);
 }
 
+// The fixed-point scales of a scene, its seeds and the particle capacity of one process: P2G's and the energy ledger's.
+FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<ParticleSeed>& seeds, std::size_t capacity) {
+  FixedPointScale scale = fixedPointScaleFor(scene, seeds);
+  deriveEnergyScale(scale, scene, seeds, capacity);
+  return scale;
+}
+
 // When the pool is this full at the end of a frame, it doubles for the frames to come.
 constexpr double kBlockPoolGrowthFullness = 0.75;
 // A frame that needed more blocks than the pool held is redone with a pool grown to fit, up to this many times.
@@ -141,9 +148,10 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
                                       needsDeformationGradient(scene_, programs)),
              materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
              stepShaderOptions(scene_, programs)),
-      fixedPoint_(fixedPointScaleFor(scene_, seeds)),
+      fixedPoint_(fixedPointScaleFor(scene_, seeds, std::max(particleCapacity, seeds.size()))),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
+      energy_(scene_, fixedPoint_),
       gl_(gl),
       totalCapacity_(std::max(particleCapacity, seeds.size())),
       sceneFingerprint_(sceneFingerprint(scene_, totalCapacity_, materialTable_, colliderFields_, seeds)),
@@ -180,6 +188,12 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
   // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
   // its first step with particles, and every run times the shapes again as its particles grow (Simulation::step).
   pipeline_.chooseTransferShape(state_, particleCount_);
+  // The energy account starts from what the first particles and the bodies hold.
+  energy_.start(readEnergySums(), bodyPosesInPlay());
+  state_.writeEnergyRecords();
+  const std::size_t objects = scene_.colliders.size() + scene_.rigidBodies.size();
+  loadImpulses_.assign(objects, {0, 0, 0});
+  objectWork_.assign(objects, 0);
 }
 
 void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles) {
@@ -201,6 +215,7 @@ std::vector<ParticleSeed> Simulation::ownParticles(const std::vector<ParticleSee
 void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
   appendParticles(particles);
+  energy_.noteArrival(arrivingEnergyJ(scene_, particles));
   // The blocks they reach, on top of the most a step has needed, must fit three quarters of the pool: the pool is
   // grown now rather than a step leaving them out (a window throwing snowballs has no frame to redo).
   const BlockUsage usage = state_.blockUsage();
@@ -240,6 +255,8 @@ void Simulation::releaseDueParticles() {
   while (nextPending_ < pendingParticles_.size() && pendingParticles_[nextPending_].releaseTimeS <= nowS) {
     due.push_back(pendingParticles_[nextPending_++]);
   }
+  if (due.empty()) return;
+  energy_.noteArrival(arrivingEnergyJ(scene_, due));  // all shares' alike: every share knows every emitter's particles
   appendParticles(ownParticles(due, firstId));
 }
 
@@ -257,6 +274,9 @@ void Simulation::step(double dtS) {
   if (share_) particleCount_ = share_->migrate(state_, particleCount_, ids_, [this](std::size_t n) { growParticles(n); });
   timeS_ += dtS;
   ++steps_;
+  largestDtSinceAudit_ = std::max(largestDtSinceAudit_, dtS);
+  lastDtS_ = dtS;
+  gridHoldsVelocities_ = true;
 }
 
 void Simulation::noteSolve(const SolveReport& solve) {
@@ -353,8 +373,8 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_, steps_, particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(), solverSummary_,
-            solverFailure_};
+  saved_ = {timeS_,         steps_,         particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(),
+            solverSummary_, solverFailure_, energy_.pendingArrivalJ(), largestDtSinceAudit_};
 }
 
 void Simulation::restoreState() {
@@ -369,6 +389,8 @@ void Simulation::restoreState() {
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
   solverSummary_ = saved_.solverSummary;
   solverFailure_ = saved_.solverFailure;
+  energy_.setPendingArrivalJ(saved_.pendingArrivalJ);
+  largestDtSinceAudit_ = saved_.largestDtSinceAudit;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {
@@ -380,6 +402,12 @@ Checkpoint Simulation::checkpoint(int frame) const {
   checkpoint.particleCount = particleCount_;
   checkpoint.releasedEmitterParticles = nextPending_;
   checkpoint.fastestSpeedMPerS = stepping_.fastestSignalMPerS();
+  packEnergyAccount(energy_.account(), checkpoint);
+  for (std::size_t i = 0; i < objectWork_.size(); ++i) {
+    checkpoint.objectLoads.insert(checkpoint.objectLoads.end(),
+                                  {loadImpulses_[i][0], loadImpulses_[i][1], loadImpulses_[i][2], objectWork_[i]});
+  }
+  checkpoint.objectLoadDurationS = loadDurationS_;
   checkpoint.buffers = state_.stateBytes();
   if (!share_) return checkpoint;
   // Every share's particles in one process's order, and the watchdogs as one, on the writing share: the bytes of
@@ -410,12 +438,19 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
                      "one); resume it with the scene it came from");
   }
   state_.checkStateBytes(checkpoint.buffers, source.string(), totalCapacity_);
+  if (checkpoint.objectLoads.size() != 4 * objectWork_.size()) {
+    throw InputError(source.string() + ": the checkpoint was written for another scene (or another version of this "
+                     "one); resume it with the scene it came from");
+  }
   if (checkpoint.particleCount > totalCapacity_ || checkpoint.releasedEmitterParticles > pendingParticles_.size()) {
     throw InputError(source.string() + ": the checkpoint holds more particles than the scene makes");
   }
-  if (!std::isfinite(checkpoint.timeS) || !std::isfinite(checkpoint.fastestSpeedMPerS)) {
-    throw InputError(source.string() + ": the checkpoint's time or speed estimate is not finite; a run never "
-                     "checkpoints such a state, so this file cannot be resumed");
+  if (!std::isfinite(checkpoint.timeS) || !std::isfinite(checkpoint.fastestSpeedMPerS) ||
+      !std::isfinite(checkpoint.objectLoadDurationS) ||
+      !std::all_of(checkpoint.energyReals.begin(), checkpoint.energyReals.end(),
+                   [](double value) { return std::isfinite(value); })) {
+    throw InputError(source.string() + ": the checkpoint's time, speed estimate or energy account is not finite; a "
+                     "run never checkpoints such a state, so this file cannot be resumed");
   }
   state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
   viewGathered_ = false;
@@ -443,7 +478,20 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   }
   timeS_ = checkpoint.timeS;
   steps_ = checkpoint.steps;
+  auditedSteps_ = steps_;
   stepping_.setFastestSignalMPerS(checkpoint.fastestSpeedMPerS);
+  energy_.setAccount(unpackEnergyAccount(checkpoint));
+  for (std::size_t i = 0; i < objectWork_.size(); ++i) {
+    const std::int64_t* load = checkpoint.objectLoads.data() + 4 * i;
+    loadImpulses_[i] = {load[0], load[1], load[2]};
+    objectWork_[i] = load[3];
+  }
+  loadDurationS_ = checkpoint.objectLoadDurationS;
+  auditedTimeS_ = checkpoint.timeS;
+  gridHoldsVelocities_ = false;
+  energy_.setPendingArrivalJ(0);
+  largestDtSinceAudit_ = 0;
+  state_.writeEnergyRecords();  // a checkpoint is taken with the ledger empty; the account holds what it summed
   // The particles present: the first ones, then the emitters' in the order they were released.
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
   diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
@@ -451,11 +499,56 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   particleCount_ = share_ ? ids_.size() : checkpoint.particleCount;
 }
 
-void Simulation::checkWatchdog() const {
+EnergySums Simulation::readEnergySums() {
+  // The uniforms of the last step's dt (the step's term) and of the particles now (some may have been added).
+  state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, lastDtS_ > 0 ? lastDtS_ : scene_.time.dtS, timeS_,
+                                        particleCount_, steps_));
+  pipeline_.auditEnergy(state_, particleCount_, gridHoldsVelocities_, passTimer_);
+  EnergySums sums = energySums(state_.energyLedger());
+  if (share_) {
+    std::vector<std::int64_t> values = {sums.particles[0], sums.particles[1], sums.particles[2],
+                                        sums.stepTerm,     sums.flows[0],     sums.flows[1],
+                                        sums.flows[2],     sums.flows[3],     std::int64_t(sums.beyondLimit)};
+    share_->sumExactly(values);
+    sums.particles = {values[0], values[1], values[2]};
+    sums.stepTerm = values[3];
+    sums.flows = {values[4], values[5], values[6], values[7]};
+    sums.beyondLimit = std::uint64_t(values[8]);
+  }
+  return sums;
+}
+
+void Simulation::checkWatchdog() {
+  // The energy audit first: over several processes its sums are all shares', which every share reads here alike.
+  const EnergyAudit::Reading energy =
+      energy_.read(readEnergySums(), bodyPosesInPlay(), steps_ - auditedSteps_, largestDtSinceAudit_,
+                   initialParticles_ + nextPending_);
+  // The objects' loads since: per entry its impulse x, y, z and its work, all shares' summed.
+  std::vector<std::int64_t> loads;
+  const std::vector<gpu::ObjectLoad> objectLoads = state_.objectLoads();
+  for (std::size_t i = 0; i < objectWork_.size(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      loads.push_back(std::int64_t(std::uint64_t(std::uint32_t(objectLoads[i].high[c])) << 32 |
+                                   std::uint64_t(objectLoads[i].low[c])));
+    }
+  }
+  if (share_ && !loads.empty()) share_->sumExactly(loads);
+  std::optional<EnergyEvent> energyEvent;
+  if (energy.creation) energyEvent = EnergyEvent{*energy.creation, auditedSteps_, steps_};
   const BlockUsage usage = state_.blockUsage();
   const std::size_t blocksNeeded =
       std::max(blocksBeyondPool_, usage.mostInAStep > usage.capacity ? usage.mostInAStep : std::size_t(0));
-  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_);
+  diagnostics_.check(state_.watchdog(), state_, blocksNeeded, usage.capacity, solverFailure_, energyEvent);
+  energy_.commit(energy);
+  state_.writeEnergyRecords();
+  for (std::size_t i = 0; i < objectWork_.size(); ++i) {
+    loadImpulses_[i] = {loads[4 * i], loads[4 * i + 1], loads[4 * i + 2]};
+    objectWork_[i] += loads[4 * i + 3];
+  }
+  loadDurationS_ = timeS_ - auditedTimeS_;
+  auditedTimeS_ = timeS_;
+  auditedSteps_ = steps_;
+  largestDtSinceAudit_ = 0;
 }
 
 ParticleSnapshot Simulation::snapshot() const {
@@ -508,6 +601,7 @@ GridTotals Simulation::transferToGrid() {
 }
 
 std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
+  gridHoldsVelocities_ = false;
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, scene_.time.dtS, timeS_, particleCount_, steps_));
   pipeline_.transferToGrid(state_, particleCount_, passTimer_);
   std::vector<GridNodeSums> nodes;
@@ -519,6 +613,29 @@ std::vector<GridNodeSums> Simulation::readGridAfterTransfer() {
     nodes.push_back({stored.node, sums.w * fixedPoint_.referenceMassKg, glm::dvec3(sums) * fixedPoint_.momentumUnitKgMPerS});
   }
   return nodes;
+}
+
+std::vector<Simulation::ObjectLoadReading> Simulation::objectLoads() const {
+  // gpu::ObjectLoad's units: 2^−24 m_ref h / s of impulse, the energy ledger's of work.
+  const double kgMPerSPerUnit = std::ldexp(fixedPoint_.referenceMassKg * scene_.grid.cellSizeM, -24);
+  std::vector<ObjectLoadReading> readings(objectWork_.size());
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const glm::dvec3 onSnowKgMPerS(double(loadImpulses_[i][0]), double(loadImpulses_[i][1]), double(loadImpulses_[i][2]));
+    if (loadDurationS_ > 0) readings[i].forceN = -onSnowKgMPerS * kgMPerSPerUnit / loadDurationS_;
+    readings[i].workJ = double(objectWork_[i]) * energy_.joulesPerUnit();
+  }
+  return readings;
+}
+
+std::vector<std::optional<ObjectPose>> Simulation::bodyPosesInPlay() const {
+  std::vector<std::optional<ObjectPose>> poses;
+  if (scene_.rigidBodies.empty()) return poses;
+  const std::vector<gpu::ColliderParams> entries = state_.readColliders(scene_.colliders.size(), scene_.rigidBodies.size());
+  const std::vector<ObjectPose> all = rigidBodyPoses();
+  for (std::size_t b = 0; b < all.size(); ++b) {
+    poses.push_back(entries[b].shapeBoundary.w != 0 ? std::optional<ObjectPose>(all[b]) : std::nullopt);
+  }
+  return poses;
 }
 
 std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
@@ -538,6 +655,8 @@ std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
 void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
   RigidBody body = scene_.rigidBodies.at(index);
   body.parked = false;
+  energy_.noteArrival(rigidBodyKineticEnergyJ(body, pose) +
+                      potentialEnergyJ(scene_.gravityMPerS2, potentialFloorM(scene_), body.massKg, pose.positionM));
   state_.writeColliders({rigidBodyEntry(body, colliderFields_, index, pose, timeS_)},
                         scene_.colliders.size() + index);
 }

@@ -4,7 +4,9 @@
 //   StepPipeline    the compute passes of one step, in paper order (sim/StepPipeline.h)
 //   SteppingPolicy  fixed or adaptive steps, and retries (sim/SteppingPolicy.h)
 //   Diagnostics     what the watchdog saw, in words (sim/Diagnostics.h)
+//   EnergyAudit     the run's energy account, and whether a frame made energy from nothing (sim/EnergyAudit.h)
 // and the scene's conversion into buffers (sim/SceneUpload.h, gpu/Materials.h).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
@@ -24,6 +26,7 @@
 #include "scene/SceneObjects.h"
 #include "sim/Diagnostics.h"
 #include "sim/DomainShare.h"
+#include "sim/EnergyAudit.h"
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/SceneUpload.h"
@@ -103,9 +106,15 @@ class Simulation {
   void resume(const Checkpoint& checkpoint, const std::filesystem::path& source);
 
   // Throws SimulationError (exit 3) saying when, where and what to change if the GPU watchdog saw a
-  // fixed-point overflow, a non-finite value or a CFL violation since the start, or a semi-implicit solve ended
-  // with a residual above kSolverFailureFactor times its tolerance.
-  void checkWatchdog() const;
+  // fixed-point overflow, a non-finite value or a CFL violation since the start, a semi-implicit solve ended
+  // with a residual above kSolverFailureFactor times its tolerance, or the steps since the last check made energy
+  // beyond what float rounding and their truncation allow (the energy audit: sim/EnergyAudit.h). Otherwise the energy
+  // account takes those steps (energyBudget). With a share, every share calls it at the same point.
+  void checkWatchdog();
+
+  // The energy budget at the last checkWatchdog (or the start): what the particles and bodies hold, what entered and
+  // left since the start, and what was dissipated (sim/EnergyAudit.h).
+  EnergyBudget energyBudget() const { return energy_.budget(); }
 
   // The solves since the last call (or the start), and a fresh count from here.
   SolverSummary takeSolverSummary();
@@ -119,6 +128,13 @@ class Simulation {
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
+  // What each entry of the collider table (the scene's colliders, then its rigid bodies) did to the snow, as of the last
+  // checkWatchdog, where bodies.csv follows the object (a rigid body, a collider that moves; 0 for the others).
+  struct ObjectLoadReading {
+    glm::dvec3 forceN{0.0};  // the snow's mean force on the object over the steps before that check
+    double workJ = 0;        // the work the object did on the snow since the start
+  };
+  std::vector<ObjectLoadReading> objectLoads() const;
   // Sets parked rigid body `index` (Scene::rigidBodies, RigidBody::parked) going from the start of the next step at
   // `pose`: its position, orientation, velocity and angular velocity. A restart parks it again.
   void launchRigidBody(std::size_t index, const ObjectPose& pose);
@@ -144,6 +160,8 @@ class Simulation {
   // P2G's shape and the times that chose it, last timed; none until the run has had particles (sim/TransferShape.h).
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return pipeline_.transferShapeChoice(); }
   const Scene& scene() const { return scene_; }
+  // The scene's and its particles' fingerprint, which its checkpoints carry (sim/SceneUpload.h).
+  std::uint64_t fingerprint() const { return sceneFingerprint_; }
 
   // GPU time per pass from GL_TIME_ELAPSED queries, summed over the steps since timing was switched on.
   // Timing waits for each pass, so it is for benchmarks, not for production runs.
@@ -167,6 +185,11 @@ class Simulation {
   void releaseDueParticles();
   // With a share: room in its particle buffers for `needed` particles, and some more (never beyond one process's).
   void growParticles(std::size_t needed);
+  // The energy audit's sums of the steps since the last check and of the particles now (audit_energy.comp), all
+  // shares' summed.
+  EnergySums readEnergySums();
+  // Each rigid body's pose, none for a parked one (outside the simulation until launched): what the audit counts.
+  std::vector<std::optional<ObjectPose>> bodyPosesInPlay() const;
   // Adds a semi-implicit step's solve to the summary, and notes the first that failed (kSolverFailureFactor).
   void noteSolve(const SolveReport& solve);
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
@@ -185,6 +208,17 @@ class Simulation {
   FixedPointScale fixedPoint_;
   SteppingPolicy stepping_;
   Diagnostics diagnostics_;
+  EnergyAudit energy_;
+  std::uint64_t auditedSteps_ = 0;     // the steps the energy account has taken
+  double auditedTimeS_ = 0;            // and the time they reached
+  // Per entry of the collider table: the impulse its last audited steps gave the snow (x, y, z, in gpu::ObjectLoad's
+  // units) and the steps' duration; the work it did since the start (the energy ledger's units).
+  std::vector<std::array<std::int64_t, 3>> loadImpulses_;
+  double loadDurationS_ = 0;
+  std::vector<std::int64_t> objectWork_;
+  double largestDtSinceAudit_ = 0;     // the largest step since
+  double lastDtS_ = 0;                 // the last step's
+  bool gridHoldsVelocities_ = false;   // the grid holds the last step's velocities (audit_energy.comp's step term)
   gl::PassTimer passTimer_;
   gl::ContextInfo gl_;
   std::size_t totalCapacity_ = 0;  // one process's particle capacity (a share's buffers hold its own particles)
@@ -216,6 +250,8 @@ class Simulation {
     double fastestSignalMPerS = 0;
     SolverSummary solverSummary;
     std::optional<SolverFailure> solverFailure;
+    double pendingArrivalJ = 0;
+    double largestDtSinceAudit = 0;
   };
   SavedCounters saved_;
 };

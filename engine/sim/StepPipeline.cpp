@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "Error.h"
+#include "sim/EnergyAudit.h"
 
 namespace firn {
 
@@ -21,6 +22,7 @@ gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms program
                                          [](const Collider& c) { return c.shape == ColliderShape::Mesh; });
   if (meshColliders || !scene.rigidBodies.empty()) options.defines.emplace_back("FIRN_HAS_COLLIDER_FIELDS", "1");
   if (!scene.rigidBodies.empty()) options.defines.emplace_back("FIRN_HAS_RIGID_BODIES", "1");
+  if (scene.solver.semiImplicit() && needsSolutionProduct(scene)) options.defines.emplace_back("FIRN_SOLUTION_PRODUCT", "1");
   // Only the material models present are compiled in, and F only where one of them needs it.
   for (const auto& [model, define] : {std::pair{MaterialModel::Snow, "FIRN_MATERIAL_SNOW"},
                                       std::pair{MaterialModel::FixedCorotated, "FIRN_MATERIAL_FIXED_COROTATED"},
@@ -41,6 +43,13 @@ gl::ShaderOptions stepShaderOptions(const Scene& scene, MaterialPrograms program
     options.extensions.push_back("GL_NV_shader_atomic_float");
   }
   return options;
+}
+
+bool needsSolutionProduct(const Scene& scene) {
+  return !scene.rigidBodies.empty() ||
+         std::any_of(scene.colliders.begin(), scene.colliders.end(), [](const Collider& collider) {
+           return !collider.keyframes.empty() || collider.velocityMPerS != glm::dvec3(0.0);
+         });
 }
 
 bool needsDeformationGradient(const Scene& scene, MaterialPrograms programs) {
@@ -75,6 +84,11 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   uniforms.massUnitsPerKg = float(1.0 / fixedPoint.referenceMassKg);
   uniforms.momentumUnitsPerKgMPerS = float(1.0 / momentumUnitKgMPerS);
   uniforms.impulseUnitsPerPaM3 = float(-dtS / momentumUnitKgMPerS);
+  // The energy audit's (common/energy.glsl, sim/EnergyAudit.h).
+  uniforms.potentialFloorM = glm::vec3(potentialFloorM(scene));
+  uniforms.energyUnitsPerJ = float(fixedPoint.energyUnitsPerJ);
+  uniforms.particleEnergyLimit = float(fixedPoint.particleEnergyLimit);
+  uniforms.apicInertiaM2 = float(1.0 / double(uniforms.apicInverseInertiaPerM2));
   uniforms.fixedPointFractionBits = fixedPoint.fractionBits;
   uniforms.colliderCount = static_cast<std::uint32_t>(scene.colliders.size() + scene.rigidBodies.size());
   uniforms.rigidBodyCount = static_cast<std::uint32_t>(scene.rigidBodies.size());
@@ -112,6 +126,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
                                     offsetof(gpu::BlockTableHeader, blockDispatch));
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
+  auditEnergy_ = gl::ComputePass(library, "sim/audit_energy.comp", options);
   if (!scene.rigidBodies.empty()) {
     listMirrorBlocks_ = gl::ComputePass(library, "sim/list_mirror_blocks.comp", options);
     listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
@@ -190,14 +205,17 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   if (implicitSolver_) {
     // The product is timed from the start x₀ the grid update makes of a transfer (every shape's leaves the same
     // grid, to the bit), sorted for tiles too, which the product's tiles read. That grid update pushes the rigid
-    // bodies as the step's will: their entries are put back as they were.
+    // bodies as the step's will, and adds the energy its collisions move to the ledger: the bodies' entries and the
+    // ledger are put back as they were.
     transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
+    const std::string energy = state.energyRecords();
     state.grid().run(updateGrid_, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
     glMemoryBarrier(gl::kStorage);
     choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
     choice.productShape = implicitSolver_->productShape();
     if (!bodies.empty()) state.writeColliders(bodies, firstRigidBody_);
+    state.writeEnergyRecords(energy);
   }
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
   transferToGrid(state, particles, untimed);
@@ -231,6 +249,11 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorage);
   }
   return solve;
+}
+
+void StepPipeline::auditEnergy(GpuState& state, std::size_t particles, bool gridVelocities, gl::PassTimer& timer) const {
+  auditEnergy_.set("gridVelocities", gridVelocities ? 1u : 0u).runOver(particles, maxWorkGroupsX_, state.bindings(), timer);
+  glMemoryBarrier(gl::kStorage);
 }
 
 void StepPipeline::computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {

@@ -27,6 +27,10 @@ namespace firn {
 // uses), or every model with F for all, as one general build would: for measuring what that costs.
 enum class MaterialPrograms { SceneModels, EveryModel };
 
+// Whether a semi-implicit step takes the product of its solution after the solve (FIRN_SOLUTION_PRODUCT): its held
+// components are the colliders' push on the snow, which rigid bodies take back and moving colliders do work with.
+bool needsSolutionProduct(const Scene& scene);
+
 // Whether the scene's particles carry a deformation gradient F (every model but water needs one).
 bool needsDeformationGradient(const Scene& scene, MaterialPrograms programs);
 
@@ -65,6 +69,9 @@ class StepPipeline {
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
   void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
+  // The energy audit's sums over the particles into the ledger (audit_energy.comp; sim/EnergyAudit.h); with
+  // `gridVelocities` (the grid holds the last step's velocities) also the explicit step's term.
+  void auditEnergy(GpuState& state, std::size_t particles, bool gridVelocities, gl::PassTimer& timer) const;
 
  private:
   // The sort the step's transfers read: for tiles where P2G or the Hessian product runs by tiles.
@@ -79,6 +86,7 @@ class StepPipeline {
   BlockGrid::StepPass updateGrid_;
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
+  gl::ComputePass auditEnergy_;
   gl::ComputePass listMirrorBlocks_;  // scenes with rigid bodies
   gl::ComputePass listMirrored_;      // scenes with rigid bodies
   gl::ComputePass mirrorStress_;      // scenes with rigid bodies

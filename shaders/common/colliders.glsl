@@ -6,6 +6,8 @@
 // Outside the #ifdef below: the shader library includes a file once, wherever it first appears, and the
 // preprocessor's branches come after that (a later include of it in an active branch would find nothing).
 #include "common/fixed64.glsl"
+// The work and loads the colliders' responses move (common/energy.glsl).
+#include "common/energy.glsl"
 
 #ifdef FIRN_HAS_RIGID_BODIES
 // The bodies' entries gather the snow's impulses (pushRigidBody).
@@ -104,20 +106,33 @@ vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction
   return tangential + boundaryVelocity;
 }
 
+// An impulse `impulseKgMPerS` the collider of entry i gave the snow at a point of its surface moving at
+// `surfaceVelocity`: the collider's work with it is the impulse times the surface's velocity (in the frame of the
+// surface a response only removes energy: docs/numerics.md, The energy audit). Both go to its load where bodies.csv
+// follows it (gpu::ObjectLoad), and the work is returned as work from outside the snow unless it is a rigid body's: a
+// body takes the impulse back, and its own energy is audited.
+float colliderImpulse(uint i, ColliderParams c, vec3 impulseKgMPerS, vec3 surfaceVelocity) {
+  float workJ = dot(impulseKgMPerS, surfaceVelocity);
+  if (c.bodyProbes.z != 0) addObjectLoad(i, impulseKgMPerS, workJ);
+  return c.shapeBoundary.z != 0 ? 0.0 : workJ;
+}
+
 // Applies every collider whose solid contains `probe` (a node, or a particle's predicted position) to its velocity;
-// a rigid body takes the opposite of the change in the probe's momentum (`massKg` times the change in v).
-vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg) {
+// a rigid body takes the opposite of the change in the probe's momentum (`massKg` times the change in v). Adds the
+// work the moving colliders did to `workJ`.
+vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg, inout float workJ) {
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
     if (!colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
-      vec3 response = boundaryResponse(v, normal, colliderVelocity(c, probe, timeS), c.velocityFriction.w,
-                                       c.shapeBoundary.y);
+      vec3 surfaceVelocity = colliderVelocity(c, probe, timeS);
+      vec3 response = boundaryResponse(v, normal, surfaceVelocity, c.velocityFriction.w, c.shapeBoundary.y);
 #ifdef FIRN_HAS_RIGID_BODIES
       if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
 #endif
+      if (response != v) workJ += colliderImpulse(i, c, massKg * (response - v), surfaceVelocity);
       v = response;
     }
   }
@@ -134,8 +149,9 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg) {
 // (c Δt / h)² times too large beyond the explicit bound, and Coulomb friction on it stopped or even reversed a
 // landing body's slide. Returns SolverNode.constraint (the normal held, and the CONSTRAINT_* bits); `approachMPerS`
 // is the normal speed into the colliders that the response removed. A rigid body takes the opposite of the change in
-// the node's momentum (`massKg` times the change in v), as collideWithColliders gives it.
-vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out float approachMPerS) {
+// the node's momentum (`massKg` times the change in v), as collideWithColliders gives it, and the moving colliders'
+// work is added to `workJ`.
+vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out float approachMPerS, inout float workJ) {
   int code = 0;
   vec3 heldNormal = vec3(0.0);
   approachMPerS = 0.0;
@@ -160,6 +176,7 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out fl
 #ifdef FIRN_HAS_RIGID_BODIES
     if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
 #endif
+    if (response != v) workJ += colliderImpulse(i, c, massKg * (response - v), boundaryVelocity);
     v = response;
   }
 #endif
@@ -171,9 +188,10 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out fl
 // `normalImpulseMPerS` (SolverNode.residual.w), and stops at 0, so it never reverses; a pull (an impulse below 0)
 // brings no friction. The held normal component is already the collider's, so the relative velocity is all
 // tangential. With β = 0 this is boundaryResponse's friction to the bit, for colliders at rest. A rigid body takes the
-// opposite of the friction's change in the node's momentum (`massKg` times the change in v).
+// opposite of the friction's change in the node's momentum (`massKg` times the change in v); a moving collider's work
+// is added to `workJ`.
 vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, float massKg, vec4 constraint,
-                                 float normalImpulseMPerS) {
+                                 float normalImpulseMPerS, inout float workJ) {
 #ifdef FIRN_HAS_COLLIDERS
   int code = int(constraint.w);
   if ((code & CONSTRAINT_NORMAL) == 0 || (code & CONSTRAINT_FIXED) != 0) return v;  // no collider's normal, or all held
@@ -191,25 +209,30 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, float massKg, 
 #ifdef FIRN_HAS_RIGID_BODIES
     if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
 #endif
+    if (response != v) workJ += colliderImpulse(i, c, massKg * (response - v), boundaryVelocity);
     return response;
   }
 #endif
   return v;
 }
 
-#ifdef FIRN_HAS_RIGID_BODIES
+#ifdef FIRN_SOLUTION_PRODUCT
 // Newton's third law for the solve's constraints (docs/algorithm.md, eq. 35 in the semi-implicit step): at a node the
 // constraints hold, the solution x keeps the held components of v*, and the rows the projection drops from
 // (M + β Δt² H) x = M v* are the impulse λ the colliders gave the snow there, λ = (A x − M v*) on the held
-// components = β Δt² (H x) on them (`heldProductKgMPerS`, the product of x less its free components). Each rigid
-// body whose solid holds the node takes the opposite of its part: a sticky body all of λ, a slip or separating body
-// the component along its normal, where the constraint holds that normal (a node two colliders hold whole: each
-// body's normal component of λ).
-void pushRigidBodiesAfterSolve(vec3 probe, float timeS, vec4 constraint, vec3 heldProductKgMPerS) {
+// components = β Δt² (H x) on them (`heldProductKgMPerS`, the product of x less its free components). Each collider
+// whose solid holds the node has its part: a sticky one all of λ, a slip or separating one the component along its
+// normal, where the constraint holds that normal (a node two colliders hold whole: each one's normal component of λ).
+// A rigid body takes the opposite of its part; a moving collider's part, times its surface's velocity, is its work on
+// the snow, added to `workJ` (colliderImpulse). Colliders at rest do none.
+void constraintsAfterSolve(vec3 probe, float timeS, vec4 constraint, vec3 heldProductKgMPerS, inout float workJ) {
   int code = int(constraint.w);
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) return;  // no collider holds the node
   for (uint i = 0u; i < colliderCount; ++i) {
-    if (colliders[i].shapeBoundary.z == 0 || !colliderWithinReach(i, probe, timeS)) continue;
+    // A body, a collider moving now, or one whose load bodies.csv reports (a keyframed one may rest a while).
+    bool counted = colliders[i].velocityFriction.xyz != vec3(0.0) || colliders[i].angularVelocity.xyz != vec3(0.0) ||
+                   colliders[i].bodyProbes.z != 0;
+    if (!counted || !colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) > 0.0) continue;
@@ -219,9 +242,13 @@ void pushRigidBodiesAfterSolve(vec3 probe, float timeS, vec4 constraint, vec3 he
     } else if ((code & CONSTRAINT_FIXED) != 0 || normal == constraint.xyz) {
       share = dot(heldProductKgMPerS, normal) * normal;
     } else {
-      continue;  // a separating body the node was leaving when the grid update met it
+      continue;  // a separating collider the node was leaving when the grid update met it
     }
-    if (share != vec3(0.0)) pushRigidBody(i, probe, timeS, share);
+    if (share == vec3(0.0)) continue;
+#ifdef FIRN_HAS_RIGID_BODIES
+    if (c.shapeBoundary.z != 0) pushRigidBody(i, probe, timeS, share);
+#endif
+    workJ += colliderImpulse(i, c, share, colliderVelocity(c, probe, timeS));
   }
 }
 #endif

@@ -192,7 +192,8 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 // A rigid body's entry also holds its dynamics and the snow's push on it this step:
 //   bodyMass          x the mass (kg), y the contact radius of its probes (m: a sphere's radius, else 0)
 //   bodyProbes        x the first of its contact probes in the field buffer (3 floats each, in its own frame, m),
-//                     y their number
+//                     y their number; z (any entry): 1 where the object's load goes to bodies.csv (a rigid body, or
+//                     a collider that moves: scene/SceneObjects.h, colliderMoves; gpu::ObjectLoad)
 //   angularMomentum   xyz L about the centre of mass (kg·m²/s, world axes)
 //   inverseInertia    the columns of I⁻¹ in the body's own frame (1/(kg·m²))
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
@@ -248,16 +249,19 @@ FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 
 // BlockSlot: one slot of the pool, in use this step.
-//   block          the block's linear index in the domain
-//   firstParticle  its first particle in the sorted order
-//   particles      its particles
-//   mirrorBlock    the k-th slot's: the slot of the k-th block list_mirror_blocks.comp listed this step
-//                  (k < BlockTableHeader.mirrorBlocks.w)
+//   block            the block's linear index in the domain
+//   firstParticle    its first particle in the sorted order
+//   particles        its particles
+//   mirrorBlock      the k-th slot's: the slot of the k-th block list_mirror_blocks.comp listed this step
+//                    (k < BlockTableHeader.mirrorBlocks.w)
+//   auditedElsewhere 1 where a share of the domain of a lower rank holds the block too (docs/distributed.md), which
+//                    then counts the energy its nodes' collisions move (common/energy.glsl); 0 from its claim
 #define FIRN_BLOCK_SLOT(member, array) \
   member(uint, block)                  \
   member(uint, firstParticle)          \
   member(uint, particles)              \
-  member(uint, mirrorBlock)
+  member(uint, mirrorBlock)            \
+  member(uint, auditedElsewhere)
 FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 
 // The semi-implicit solve (common/solver.glsl, docs/numerics.md "The semi-implicit solve"): how a grid node's
@@ -378,7 +382,41 @@ FIRN_STRUCT(SolverStatus, FIRN_SOLVER_STATUS)
   member(uint, maxSpeedBits)
 FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 
-// StepUniforms: the uniform block written before every step (std140, 112 bytes: each 16 bytes a vec3 and a scalar, or
+// EnergyLedger: the energy audit's sums (common/energy.glsl, docs/numerics.md "The energy audit"), in the watchdog's
+// buffer after its WatchdogStatus: the passes that collide nodes and particles have that buffer bound already, and
+// llvmpipe holds a shader to 16 storage blocks (docs/platform.md). Each sum is a 64-bit integer (low, high words:
+// common/fixed64.glsl), exact and so independent of the order of the GPU's additions; energies are in units of
+// 1 / StepUniforms.energyUnitsPerJ. The host empties the ledger at the end of every frame it accepts
+// (Simulation::checkWatchdog).
+//   stateLow/High   what audit_energy.comp summed over the particles: x kinetic (APIC: with its affine part),
+//                   y gravitational potential above the domain's floor, z elastic strain energy Σ V⁰ ψ(F_E),
+//                   w the explicit step's energy term −(Δt/2) Σ V⁰ τ : ∇v, what the energy shown at a step's end
+//                   differs by from the modified energy symplectic Euler keeps (docs/numerics.md)
+//   counts          x the values left out of any sum for passing StepUniforms.particleEnergyLimit
+//   flowLow/High    what the frame's steps moved in and out of the snow: x the work of moving colliders on the snow and
+//                   on the rigid bodies, y the kinetic energy the domain walls removed from the snow, z the energy the
+//                   rigid bodies' explicit coupling gave, w the energy snow's hardening gave the strain it holds
+//                   (docs/numerics.md): summed at the nodes and particles the collisions changed, the particles whose
+//                   J_P changed, and by integrate_bodies.comp
+#define FIRN_ENERGY_LEDGER(member, array) \
+  member(uvec4, stateLow)                 \
+  member(ivec4, stateHigh)                \
+  member(uvec4, flowLow)                  \
+  member(ivec4, flowHigh)                 \
+  member(uvec4, counts)
+FIRN_STRUCT(EnergyLedger, FIRN_ENERGY_LEDGER)
+
+// ObjectLoad: what one moving collider or rigid body did to the snow since the frame began (bodies.csv's force and
+// work), one per entry of the collider table, after the ledger in the watchdog's buffer (common/energy.glsl). 64-bit
+// integers, summed at every node and particle the object's response changed.
+//   low/high   xyz the impulse the object gave the snow, in units of 2^−24 m_ref h / s, w the work it did on the snow,
+//              in the energy ledger's units
+#define FIRN_OBJECT_LOAD(member, array) \
+  member(uvec4, low)                    \
+  member(ivec4, high)
+FIRN_STRUCT(ObjectLoad, FIRN_OBJECT_LOAD)
+
+// StepUniforms: the uniform block written before every step (std140, 144 bytes: each 16 bytes a vec3 and a scalar, or
 // four scalars, so that std140 and C++ place every member alike).
 //   gridOriginM, cellSizeM         the grid's origin and cell size h (m)
 //   gridNodes, particleCount       nodes per axis; the live particles
@@ -400,6 +438,13 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //                                  the host: a GLSL division may be 2.5 ulp off and need not round alike in two
 //                                  programs (an NVIDIA driver's did not), where a product is exact to the ulp; every
 //                                  pass then finds a particle in the same cell, and P2G's two shapes add the same bits
+//   potentialFloorM                the point of the domain lowest along gravity, from which the energy audit
+//                                  measures the gravitational potential −m g·(x − floor) (common/energy.glsl)
+//   energyUnitsPerJ                the energy ledger's units per joule (EnergyLedger), 2^54 / the scene's energy bound
+//                                  (sim/EnergyAudit.cpp)
+//   particleEnergyLimit            the most energy units one particle may hold in a sum: 2^62 over the particle
+//                                  capacity, so that no sum of all particles leaves 64 bits
+//   apicInertiaM2                  APIC's D (m²), the inverse of apicInverseInertiaPerM2, for the affine kinetic energy
 #define FIRN_STEP_UNIFORMS(member, array)  \
   member(vec3, gridOriginM)                \
   member(float, cellSizeM)                 \
@@ -422,7 +467,13 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
   member(float, cellsPerM)                 \
   member(float, massUnitsPerKg)            \
   member(float, momentumUnitsPerKgMPerS)   \
-  member(float, impulseUnitsPerPaM3)
+  member(float, impulseUnitsPerPaM3)      \
+  member(vec3, potentialFloorM)            \
+  member(float, energyUnitsPerJ)           \
+  member(float, particleEnergyLimit)       \
+  member(float, apicInertiaM2)             \
+  member(uint, unusedUniform0)             \
+  member(uint, unusedUniform1)
 FIRN_STRUCT(StepUniforms, FIRN_STEP_UNIFORMS)
 
 #endif

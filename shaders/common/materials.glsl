@@ -9,6 +9,10 @@ struct MaterialUpdate {
   float state;             // ParticlePlasticState.plasticJ: snow J_P, water J, sand q
   float volumeCorrection;  // ParticlePlasticState.volumeCorrection: sand V_c
   mat3 kirchhoffStress;    // τ (Pa)
+  // Snow: what the change of J_P's hardening did to the elastic energy density the new F_E holds (J/m³), Ψ₀(F_E)
+  // (e^{ξ(1−J_P')} − e^{ξ(1−J_P)}): energy the model's hardening gives (compaction) or takes (loosening), which the
+  // energy audit counts as such (common/energy.glsl). 0 for the other models.
+  float hardeningEnergyDensity;
 };
 
 mat3 diagonal(vec3 d) { return mat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
@@ -56,6 +60,12 @@ MaterialUpdate updateSnow(mat3 F, float plasticJ, mat3 velocityGradient, float d
   result.volumeCorrection = 0.0;
   vec2 lame = hardenedLameParameters(m, result.state);
   result.kirchhoffStress = fixedCorotatedStress(result.deformation, U, clamped, lame.x, lame.y);
+  result.hardeningEnergyDensity = 0.0;
+  if (result.state != plasticJ) {
+    result.hardeningEnergyDensity =
+        fixedCorotatedEnergyDensity(m.elastic.x, m.elastic.y, clamped.x, clamped.y, clamped.z) *
+        (snowHardening(m.elastic.z, result.state) - snowHardening(m.elastic.z, plasticJ));
+  }
   return result;
 }
 #endif
@@ -67,6 +77,7 @@ MaterialUpdate elasticUpdate(mat3 F, mat3 kirchhoffStress) {
   result.state = 1.0;
   result.volumeCorrection = 0.0;
   result.kirchhoffStress = kirchhoffStress;
+  result.hardeningEnergyDensity = 0.0;
   return result;
 }
 
@@ -107,6 +118,7 @@ MaterialUpdate updateWater(float J, mat3 velocityGradient, float dtS, MaterialPa
   result.deformation = mat3(1.0);
   result.state = newJ;
   result.volumeCorrection = 0.0;
+  result.hardeningEnergyDensity = 0.0;
   return result;
 }
 #endif
@@ -158,6 +170,7 @@ MaterialUpdate updateDruckerPrager(mat3 F, float q, float volumeCorrection, mat3
                             (logSigma.x + logSigma.y + logSigma.z);
   result.state = q + plasticIncrement;
   result.kirchhoffStress = U * diagonal(2.0 * mu * logSigma + lambda * (logSigma.x + logSigma.y + logSigma.z)) * transpose(U);
+  result.hardeningEnergyDensity = 0.0;  // sand's hardening moves its cone, not its elastic moduli
   return result;
 }
 #endif
@@ -169,6 +182,27 @@ float waveSpeed(MaterialParams m, float state) {
   if (m.model.x == MODEL_WATER) return waterWaveSpeed(m.fluid.x, m.fluid.y, m.elastic.w);
   float stiffening = m.model.x == MODEL_SNOW ? snowHardening(m.elastic.z, state) : 1.0;
   return pressureWaveSpeed(m.elastic.y, m.elastic.x, stiffening, m.elastic.w);
+}
+
+// The elastic strain energy density Ψ (J/m³) of the particle's state, of which its Kirchhoff stress is the derivative
+// (shared_functions.h): snow's and the fixed corotated's from F's singular values (snow's moduli hardened at its J_P),
+// the neo-Hookean's from tr FᵀF and ln J, water's from its J, sand's Hencky energy from F_E's (held at 1e-4 and above,
+// as its update holds them). `F` is ignored by water. For the energy audit (common/energy.glsl), once a frame.
+float strainEnergyDensity(mat3 F, ParticlePlasticState state, MaterialParams m) {
+  if (m.model.x == MODEL_WATER) return waterEnergyDensity(m.fluid.x, m.fluid.y, logAccurate(state.plasticJ));
+  if (m.model.x == MODEL_NEO_HOOKEAN) {
+    float traceFtF = dot(F[0], F[0]) + dot(F[1], F[1]) + dot(F[2], F[2]);
+    return neoHookeanEnergyDensity(m.elastic.x, m.elastic.y, traceFtF, logAccurate(determinant(F)));
+  }
+  mat3 U, V;
+  vec3 sigma;
+  svd3(F, U, sigma, V);
+  if (m.model.x == MODEL_DRUCKER_PRAGER) {
+    vec3 logSigma = logAccurate(max(sigma, vec3(1e-4)));
+    return henckyEnergyDensity(m.elastic.x, m.elastic.y, logSigma.x, logSigma.y, logSigma.z);
+  }
+  vec2 lame = m.model.x == MODEL_SNOW ? hardenedLameParameters(m, state.plasticJ) : m.elastic.xy;
+  return fixedCorotatedEnergyDensity(lame.x, lame.y, sigma.x, sigma.y, sigma.z);
 }
 
 // The update of the particle's material; `F` is ignored by water.
@@ -197,5 +231,6 @@ MaterialUpdate updateMaterial(mat3 F, ParticlePlasticState state, mat3 velocityG
   unchanged.state = state.plasticJ;
   unchanged.volumeCorrection = state.volumeCorrection;
   unchanged.kirchhoffStress = mat3(0.0);
+  unchanged.hardeningEnergyDensity = 0.0;
   return unchanged;
 }

@@ -34,6 +34,51 @@ FIRN_GENERIC Real waterWaveSpeed(Real bulkModulusPa, Real gamma, Real densityKgP
   return sqrt(bulkModulusPa * gamma / densityKgPerM3);
 }
 
+// The elastic strain energy densities Ψ (J per m³ of the undeformed material) of the models, whose derivatives are
+// the stresses of common/materials.glsl (docs/numerics.md, The energy audit): the GPU's audit sums V⁰ Ψ over the
+// particles (common/energy.glsl), and tests/unit/MaterialsTest.cpp checks each derivative against its stress.
+// Fixed corotated (Stomakhin et al. 2013 eq. 5; snow with μ and λ hardened at J_P): μ Σ (σᵢ − 1)² + λ/2 (J − 1)².
+FIRN_GENERIC Real fixedCorotatedEnergyDensity(Real muPa, Real lambdaPa, Real sigma1, Real sigma2, Real sigma3) {
+  Real J = sigma1 * sigma2 * sigma3;
+  return muPa * ((sigma1 - Real(1)) * (sigma1 - Real(1)) + (sigma2 - Real(1)) * (sigma2 - Real(1)) +
+                 (sigma3 - Real(1)) * (sigma3 - Real(1))) +
+         Real(0.5) * lambdaPa * (J - Real(1)) * (J - Real(1));
+}
+
+// Neo-Hookean (Blažević 2022 eq. 4.4): μ/2 (tr FᵀF − 3) − μ ln J + λ/2 (ln J)².
+FIRN_GENERIC Real neoHookeanEnergyDensity(Real muPa, Real lambdaPa, Real traceFtF, Real logJ) {
+  return Real(0.5) * muPa * (traceFtF - Real(3)) - muPa * logJ + Real(0.5) * lambdaPa * logJ * logJ;
+}
+
+// Hencky's, of Drucker–Prager sand's elastic part (Blažević 2022 eq. 4.12), from the logarithms of F_E's singular
+// values: μ Σ (ln σᵢ)² + λ/2 (Σ ln σᵢ)².
+FIRN_GENERIC Real henckyEnergyDensity(Real muPa, Real lambdaPa, Real logSigma1, Real logSigma2, Real logSigma3) {
+  Real traceLog = logSigma1 + logSigma2 + logSigma3;
+  return muPa * (logSigma1 * logSigma1 + logSigma2 * logSigma2 + logSigma3 * logSigma3) +
+         Real(0.5) * lambdaPa * traceLog * traceLog;
+}
+
+// Water's equation of state p = k (J^−γ − 1) as an energy (Blažević 2022 §4.1): Ψ(J) = −∫₁ᴶ p dJ
+// = k ((J − 1) − (J^(1−γ) − 1) / (1 − γ)), from l = ln J. Near J = 1 the two terms cancel to k γ l² / 2, so there
+// it is summed as the series k Σₙ₌₂ (1 − a^(n−1)) lⁿ / n!, a = 1 − γ, whose terms past n = 8 are below 1e-7 of the
+// first while |l| < 1/8 and |a l| < 1/2; elsewhere the two exponentials (a = 0: ln J itself) lose nothing.
+FIRN_GENERIC Real waterEnergyDensity(Real bulkModulusPa, Real gamma, Real logJ) {
+  Real a = Real(1) - gamma;
+  if (abs(logJ) < Real(0.125) && abs(a * logJ) < Real(0.5)) {
+    Real sum = Real(0);
+    Real term = logJ;         // lⁿ / n!
+    Real power = Real(1);     // a^(n−1)
+    for (int n = 2; n <= 8; ++n) {
+      term *= logJ / Real(n);
+      power *= a;
+      sum += (Real(1) - power) * term;
+    }
+    return bulkModulusPa * sum;
+  }
+  Real scaled = abs(a) > Real(0) ? (exp(a * logJ) - Real(1)) / a : logJ;
+  return bulkModulusPa * ((exp(logJ) - Real(1)) - scaled);
+}
+
 // The most particles a transfer's tile of base nodes may hold (common/blocks.glsl): llvmpipe ends a shader
 // invocation's loops after 65,535 iterations in all, silently (docs/platform.md), and a transfer spends one per row
 // of the stencil along x and particle (KERNEL_WIDTH²), a few more per particle (the particle loop, the SVD's sweeps,

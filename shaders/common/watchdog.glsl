@@ -1,8 +1,14 @@
 // GPU-side detection of the failures that must stop a run loudly (docs/numerics.md, "The watchdog"): fixed-point
 // overflow, non-finite particle state, and particles moving more than a cell per step (CFL). Counting is an atomic
 // on a rarely touched buffer; the first event of each kind is recorded by the invocation that claims its slot.
+// The same buffer holds the energy audit's ledger and the moving objects' loads after the watchdog's status
+// (common/energy.glsl).
 
-layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer { FIRN_MEMBERS(FIRN_WATCHDOG_STATUS) };
+layout(std430, binding = FIRN_BINDING_WATCHDOG) coherent buffer WatchdogBuffer {
+  FIRN_MEMBERS(FIRN_WATCHDOG_STATUS)
+  FIRN_MEMBERS(FIRN_ENERGY_LEDGER)
+  ObjectLoad objectLoads[];  // an entry per entry of the collider table
+};
 
 void reportOverflow(uint node, uint channel) {
   atomicAdd(overflowCount, 1u);

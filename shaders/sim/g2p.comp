@@ -2,11 +2,12 @@
 // Grid to particle: one invocation per particle, in the sorted order (common/blocks.glsl), so that the invocations
 // side by side read the same nodes. Gathers the new velocity (PIC/FLIP blend or APIC) and the velocity gradient
 // from the blocks its stencil reaches, updates the particle's material (F or F_E, its scalar state, and the stress:
-// materials.glsl), collides the particle, advects it (x += Δt v), and feeds the watchdog. A particle whose new
+// materials.glsl), collides the particle, advects it (x += Δt v), and feeds the watchdog and the energy ledger's flows
+// (the moving colliders' work and what the walls took: common/energy.glsl). A particle whose new
 // state is not finite keeps its old state and is reported, so no non-finite value ever reaches a buffer or an
 // output.
 // Reads: grid velocities, the block map, sortedParticles, particle state, materials, colliders.
-// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine.
+// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine, the ledger.
 #ifdef FIRN_TRANSFER_APIC
 #define FIRN_WITHOUT_GRID_IMPULSE  // APIC reads no velocity before forces (common/grid.glsl)
 #endif
@@ -16,6 +17,7 @@
 #include "common/blocks.glsl"
 #include "common/colliders.glsl"
 #include "common/materials.glsl"
+#include "common/energy.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -69,8 +71,13 @@ void advanceParticle(uint p) {
   // Particle collisions at the predicted position, at the end of the step.
   float endTimeS = timeS + dtS;
   vec3 predicted = x + dtS * velocity;
-  velocity = collideWithColliders(predicted, velocity, endTimeS, positionMass[p].w);
+  float massKg = positionMass[p].w;
+  float workJ = 0.0;
+  velocity = collideWithColliders(predicted, velocity, endTimeS, massKg, workJ);
+  vec3 beforeWalls = velocity;
   velocity = collideWithDomainWalls(predicted, velocity, interiorMin(), interiorMax());
+  vec4 flowsJ = vec4(workJ, wallsRemovedJ(massKg, beforeWalls, velocity), 0.0,
+                     velocityVolume[p].w * material.hardeningEnergyDensity);
   // Keep the stencil on the grid whatever happens: cubic needs x/h ∈ [1, nodes − 2).
   vec3 newPosition = clamp(x + dtS * velocity, gridOriginM + cellSizeM,
                            gridOriginM + (vec3(gridNodes) - 2.001) * cellSizeM);
@@ -95,6 +102,7 @@ void advanceParticle(uint p) {
   reportSpeed(length(velocity) + waveSpeed(materials[state.materialIndex], material.state));
 #endif
 
+  addEnergyFlows(flowsJ);
   positionMass[p].xyz = newPosition;
   velocityVolume[p].xyz = velocity;
 #ifdef FIRN_HAS_DEFORMATION_GRADIENT

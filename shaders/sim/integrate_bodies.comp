@@ -4,12 +4,14 @@
 // gravity, then its contacts with the scene's colliders and the domain walls (eq. 36), and moves: symplectic Euler,
 // v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Its entry's pose, velocities and sums are
 // rewritten for the next step.
-// Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, and with adaptive steps
-// the watchdog's fastest speed.
+// The energy ledger takes the work the moving colliders do on the body through its contacts, and the energy the
+// explicit coupling gives it (common/energy.glsl; docs/numerics.md, The energy audit).
+// Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, the ledger's flows, and
+// with adaptive steps the watchdog's fastest speed.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
-#include "common/watchdog.glsl"
+#include "common/energy.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
@@ -84,6 +86,10 @@ void main() {
   mat3 turn = rotationMatrix(q);
   mat3 inverseInertia = turn * restInverseInertia * transpose(turn);
   vec3 omega = inverseInertia * angularMomentum;
+  // The snow met the body's surface moving as it moved before the push, which the body takes only now: the push's own
+  // energy, |J|² / 2M + K · I⁻¹ K / 2, is what this explicit coupling adds to the snow's and the body's (≥ 0).
+  float couplingJ = 0.5 * dot(impulse, impulse) / massKg + 0.5 * dot(angularImpulse, inverseInertia * angularImpulse);
+  float workJ = 0.0;  // of the moving colliders through the contacts
 
   // Contacts (eq. 36): at each probe the end of the step would carry into a collider or a wall, the impulse that
   // stops its approach, j_n = −u_n / (1/m + n · (I⁻¹ (r × n)) × r), and Coulomb friction up to μ j_n against the
@@ -112,6 +118,7 @@ void main() {
       }
       v += contactImpulse / massKg;
       angularMomentum += cross(contactR, contactImpulse);
+      workJ += dot(contactImpulse, surfaceVelocity);
       omega = inverseInertia * angularMomentum;
     }
   }
@@ -137,6 +144,7 @@ void main() {
   colliders[i].impulseHigh = ivec4(0);
   colliders[i].angularLow = uvec4(0u);
   colliders[i].angularHigh = ivec4(0);
+  addEnergyFlows(vec4(workJ, 0.0, couplingJ, 0.0));
 #ifdef FIRN_ADAPTIVE_DT
   // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest point
   // moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.angularVelocity.w).

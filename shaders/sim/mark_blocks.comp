@@ -3,7 +3,8 @@
 // particle's stencil reaches (at most two per axis) that no other particle has claimed yet: the first to swap the
 // block's map entry from 0 takes the next slot and lists the block there. Blocks past the pool's capacity stay
 // unlisted: their particles are left out of this step, and the host sees the count and grows the pool.
-// Reads: positionMass. Writes: blockMap, blockCounts.x, slots[].block, the watchdog (non-finite positions).
+// Reads: positionMass. Writes: blockMap, blockCounts.x, slots[].block and .auditedElsewhere, the watchdog (non-finite
+// positions).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/watchdog.glsl"
@@ -17,6 +18,7 @@ void claimBlock(ivec3 block) {
   uint slot = atomicAdd(blockCounts.x, 1u);
   if (slot >= blockCounts.y) return;
   slots[slot].block = index;
+  slots[slot].auditedElsewhere = 0u;  // a share of the domain marks it after summing (DomainShare::sumSharedNodes)
   blockMap[index] = slot + 1u;
 }
 

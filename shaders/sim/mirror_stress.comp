@@ -66,7 +66,10 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     nodesTook += stored;
     bodyMomentKgM2PerS += cross(nodeM - pivotM, -storedToNondimensional(stored).xyz * momentumUnitKgMPerS);
   }
-  addToRigidBody(i, -storedToNondimensional(nodesTook).xyz * momentumUnitKgMPerS, bodyMomentKgM2PerS);
+  vec3 tookKgMPerS = storedToNondimensional(nodesTook).xyz * momentumUnitKgMPerS;
+  addToRigidBody(i, -tookKgMPerS, bodyMomentKgM2PerS);
+  // The body's load (bodies.csv): the push it gave the snow here, at its surface's velocity where the particle is.
+  addObjectLoad(i, tookKgMPerS, dot(tookKgMPerS, colliderVelocity(body, x, timeS)));
 }
 
 void main() {

@@ -8,16 +8,19 @@
 // step is the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c).
 // A work group per active block, an invocation per node.
 // With rigid bodies, each body whose solid holds a node takes its part of the constraints' push in the solve (eq. 35a,
-// from the product of the solution: common/colliders.glsl, pushRigidBodiesAfterSolve) and of the friction.
+// from the product of the solution: common/colliders.glsl, constraintsAfterSolve) and of the friction; with moving
+// colliders, their part of that push, the friction and the collisions are their work on the snow, and the walls' the
+// energy they take, for the energy audit (common/energy.glsl).
 // Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders, the product sums
-// (with rigid bodies). Writes: the grid's velocities, the product sums (cleared) and the bodies' sums (with rigid
-// bodies).
+// (with rigid bodies or moving colliders). Writes: the grid's velocities, the product sums (cleared), the bodies' sums
+// (with rigid bodies) and the energy ledger's flows.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/colliders.glsl"
 #include "common/solver.glsl"
+#include "common/energy.glsl"
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
@@ -27,9 +30,9 @@ void main() {
   ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
 
-#ifdef FIRN_HAS_RIGID_BODIES
+#ifdef FIRN_SOLUTION_PRODUCT
   // β Δt² H x, the product of the solution (ImplicitSolver: a product after the solve where the scene has rigid
-  // bodies), taken at every node so that no sums carry into the next step's.
+  // bodies or moving colliders), taken at every node so that no sums carry into the next step's.
   vec3 product = takeProduct(i);
 #endif
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
@@ -37,16 +40,20 @@ void main() {
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
-#ifdef FIRN_HAS_RIGID_BODIES
+  float workJ = 0.0;
+#ifdef FIRN_SOLUTION_PRODUCT
   // Its held components are the constraints' push on the snow, whose opposite the bodies take.
-  pushRigidBodiesAfterSolve(x, timeS, solverNodes[i].constraint, product - constrain(product, solverNodes[i].constraint));
+  constraintsAfterSolve(x, timeS, solverNodes[i].constraint, product - constrain(product, solverNodes[i].constraint),
+                        workJ);
 #endif
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) {
-    velocity = collideWithColliders(x, velocity, timeS, velocityMass.w);
+    velocity = collideWithColliders(x, velocity, timeS, velocityMass.w, workJ);
   } else {
     velocity = collidersFrictionAfterSolve(x, velocity, timeS, velocityMass.w, solverNodes[i].constraint,
-                                           solverNodes[i].residual.w);
+                                           solverNodes[i].residual.w, workJ);
   }
+  vec3 beforeWalls = velocity;
   velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
   gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));
+  if (slots[slot].auditedElsewhere == 0u) addEnergyFlows(vec4(workJ, wallsRemovedJ(velocityMass.w, beforeWalls, velocity), 0.0, 0.0));
 }

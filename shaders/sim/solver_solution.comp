@@ -1,7 +1,8 @@
 #version 430 core
-// After the semi-implicit solve, where the scene has rigid bodies: the solution x, held components and all, into z,
-// for one more Hessian product (common/solver_product.glsl) whose held components at the nodes the colliders hold are
-// the constraints' push on the snow, which the bodies take back (solver_finish.comp; docs/algorithm.md, Rigid bodies).
+// After the semi-implicit solve, where the scene has rigid bodies or moving colliders: the solution x, held components
+// and all, into z, for one more Hessian product (common/solver_product.glsl) whose held components at the nodes the
+// colliders hold are the constraints' push on the snow, which the bodies take back and the moving colliders do work
+// with (solver_finish.comp; docs/algorithm.md, Rigid bodies; docs/numerics.md, The energy audit).
 // A work group per active block, an invocation per node.
 // Reads: the grid's velocities. Writes: preconditioned.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS

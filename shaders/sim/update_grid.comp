@@ -6,7 +6,7 @@
 // after the solve (common/colliders.glsl, collideForSolve).
 // Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
 // PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
-// (solver.glsl).
+// (solver.glsl). The energy ledger's flows: the moving colliders' work and what the walls took (common/energy.glsl).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -15,6 +15,7 @@
 #ifdef FIRN_SEMI_IMPLICIT
 #include "common/solver.glsl"
 #endif
+#include "common/energy.glsl"
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
@@ -41,10 +42,11 @@ void updateNode(uint slot) {
     velocity = sums.xyz * unitsToVelocity + dtS * gravityMPerS2;  // impulse already in the momentum
 #endif
     vec3 x = nodePosition(node);
+    float workJ = 0.0;
 #ifdef FIRN_SEMI_IMPLICIT
-    constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS);
+    constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS, workJ);
 #else
-    velocity = collideWithColliders(x, velocity, timeS, massKg);
+    velocity = collideWithColliders(x, velocity, timeS, massKg, workJ);
 #endif
 #ifdef FIRN_SEMI_IMPLICIT
     int walls = wallConstraint(x, velocity, interiorMin(), interiorMax());
@@ -52,7 +54,10 @@ void updateNode(uint slot) {
     if (walls != 0 && (int(constraint.w) & CONSTRAINT_NORMAL) != 0) constraint.w = float(CONSTRAINT_FIXED);
     constraint.w = float(int(constraint.w) | walls);
 #endif
+    vec3 beforeWalls = velocity;
     velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
+    // A node that another process holds too is counted there (docs/distributed.md).
+    if (slots[slot].auditedElsewhere == 0u) addEnergyFlows(vec4(workJ, wallsRemovedJ(massKg, beforeWalls, velocity), 0.0, 0.0));
   }
 #ifdef FIRN_SEMI_IMPLICIT
   solverNodes[i].constraint = constraint;

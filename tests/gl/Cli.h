@@ -41,14 +41,12 @@ inline std::filesystem::path writeScene(const std::filesystem::path& directory, 
   return path;
 }
 
-// A CSV file's rows (RFC 4180): a quoted cell may hold commas, and "" stands for a quote. Lines beginning with "#"
-// are comments (stats.csv's first).
+// A CSV file's rows (RFC 4180): a quoted cell may hold commas, and "" stands for a quote.
 inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& path) {
   std::vector<std::vector<std::string>> rows;
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind('#', 0) == 0) continue;
     std::vector<std::string> cells(1);
     bool quoted = false;
     for (std::size_t i = 0; i < line.size(); ++i) {

@@ -50,6 +50,11 @@ std::vector<SharedStruct> sharedStructs() {
       {"common/particles.glsl", GL_BUFFER_VARIABLE, "plasticState[0].",
        FIRN_MEMBER_LIST(ParticlePlasticState, FIRN_PARTICLE_PLASTIC_STATE)},
       {"common/watchdog.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(WatchdogStatus, FIRN_WATCHDOG_STATUS)},
+      // The energy ledger follows the watchdog's status, and the objects' loads follow the ledger.
+      {"common/watchdog.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(EnergyLedger, FIRN_ENERGY_LEDGER),
+       sizeof(WatchdogStatus)},
+      {"common/watchdog.glsl", GL_BUFFER_VARIABLE, "objectLoads[0].", FIRN_MEMBER_LIST(ObjectLoad, FIRN_OBJECT_LOAD),
+       sizeof(WatchdogStatus) + sizeof(EnergyLedger)},
       {"common/colliders.glsl", GL_BUFFER_VARIABLE, "colliders[0].",
        FIRN_MEMBER_LIST(ColliderParams, FIRN_COLLIDER_PARAMS)},
       {"common/blocks.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)},
@@ -136,6 +141,7 @@ TEST(GpuContract, ArraysStrideAsTheHostWritesThem) {
                 {"common/particles.glsl", "plasticState[0].plasticJ", sizeof(ParticlePlasticState)},
                 {"common/colliders.glsl", "colliders[0].shapeA", sizeof(ColliderParams)},
                 {"common/blocks.glsl", "slots[0].block", sizeof(BlockSlot)},
+                {"common/watchdog.glsl", "objectLoads[0].low", sizeof(ObjectLoad)},
                 {"surface/vertices.glsl", "vertices[0].positionM", sizeof(SurfaceVertex)},
                 {"surface/node_sums.glsl", "nodeSums[0].color", sizeof(SurfaceNodeSums)}};
   for (const auto& array : arrays) {
@@ -172,8 +178,9 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       {"common/bindings.glsl", "gridNodes", GL_UNIFORM_BLOCK, "StepUniformsBlock", FIRN_BINDING_STEP_UNIFORMS,
        sizeof(StepUniforms)},
       {"common/bindings.glsl", "materials[0].model", GL_SHADER_STORAGE_BLOCK, "MaterialBuffer", FIRN_BINDING_MATERIALS, 0},
+      // The status and the ledger, then the objects' loads: the driver counts one element of that array.
       {"common/watchdog.glsl", "overflowCount", GL_SHADER_STORAGE_BLOCK, "WatchdogBuffer", FIRN_BINDING_WATCHDOG,
-       sizeof(WatchdogStatus)},
+       sizeof(WatchdogStatus) + sizeof(EnergyLedger) + sizeof(ObjectLoad)},
       {"common/colliders.glsl", "colliders[0].shapeA", GL_SHADER_STORAGE_BLOCK, "ColliderBuffer",
        FIRN_BINDING_COLLIDERS, 0},
       {"common/particles.glsl", "positionMass[0]", GL_SHADER_STORAGE_BLOCK, "PositionMassBuffer",

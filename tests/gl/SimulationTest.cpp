@@ -54,7 +54,7 @@ Totals particleTotals(const firn::ParticleSnapshot& s) {
 }
 
 // The watchdog's message, or a test failure if the watchdog saw nothing.
-std::string watchdogMessage(const Simulation& simulation) {
+std::string watchdogMessage(Simulation& simulation) {
   try {
     simulation.checkWatchdog();
   } catch (const firn::SimulationError& error) {

@@ -41,7 +41,8 @@ TEST(BodiesCsv, RowsHoldTheFrameTheObjectAndItsPose) {
     firn::BodiesCsvWriter bodies(path);
     bodies.write({row(1, "colliders[1]", {0.5, 0.5, 0.5, 0.5})});
   }
-  EXPECT_EQ(fileBytes(path), header() + "1,0.1,colliders[1],collider,0.1,0.2,0.3,0.5,0.5,0.5,0.5,1,0,-1,0,0.5,0\n");
+  EXPECT_EQ(fileBytes(path),
+            header() + "1,0.1,colliders[1],collider,0.1,0.2,0.3,0.5,0.5,0.5,0.5,1,0,-1,0,0.5,0,0,0,0,0\n");
 }
 
 // q and −q are the same turn; a DCC that interpolates the components would turn the long way between a frame's q

@@ -141,6 +141,10 @@ firn::Checkpoint sampleCheckpoint() {
   checkpoint.particleCount = 3;
   checkpoint.releasedEmitterParticles = 1;
   checkpoint.fastestSpeedMPerS = 2.5;
+  for (std::size_t i = 0; i < checkpoint.energyIntegers.size(); ++i) checkpoint.energyIntegers[i] = -1000 * int(i) - 7;
+  for (std::size_t i = 0; i < checkpoint.energyReals.size(); ++i) checkpoint.energyReals[i] = 0.25 * double(i) + 0.1;
+  checkpoint.objectLoads = {1, -2, 3, 4, 5, -6, 7, 8};  // two objects' loads
+  checkpoint.objectLoadDurationS = 0.0333;
   for (int b = 0; b < 3; ++b) {
     std::string bytes;
     for (int i = 0; i < 16 * (b + 1); ++i) bytes += char(i * 7 + b);
@@ -161,6 +165,10 @@ TEST(CheckpointFile, ReadsBackWhatWasWritten) {
   EXPECT_EQ(read.particleCount, written.particleCount);
   EXPECT_EQ(read.releasedEmitterParticles, written.releasedEmitterParticles);
   EXPECT_EQ(read.fastestSpeedMPerS, written.fastestSpeedMPerS);
+  EXPECT_EQ(read.energyIntegers, written.energyIntegers);
+  EXPECT_EQ(read.energyReals, written.energyReals);
+  EXPECT_EQ(read.objectLoads, written.objectLoads);
+  EXPECT_EQ(read.objectLoadDurationS, written.objectLoadDurationS);
   EXPECT_EQ(read.buffers, written.buffers);
 }
 
@@ -171,7 +179,9 @@ TEST(CheckpointFile, EveryFlippedByteIsRefusedNamingTheFile) {
   const fs::path path = folder / "checkpoint_0012.firn";
   firn::writeCheckpoint(path, sampleCheckpoint());
   const std::string bytes = fileBytes(path);
-  const std::size_t headerBytes = 8 + 4 + 8 + 4 + 8 + 8 + 8 + 8 + 8 + 8 + 3 * 8;  // as docs/command-line.md lists
+  // As docs/command-line.md lists: to the speed estimate, the energy account (10 integers, 10 reals), the objects'
+  // loads (their count, 8 of them, their duration), then the buffers' count and sizes.
+  const std::size_t headerBytes = 8 + 4 + 8 + 4 + 8 + 8 + 8 + 8 + 8 + 10 * 8 + 10 * 8 + 8 + 8 * 8 + 8 + 8 + 3 * 8;
   ASSERT_EQ(bytes.size(), headerBytes + 4 + (16 + 4) + (32 + 4) + (48 + 4));
   const fs::path flipped = folder / "flipped.firn";
   for (std::size_t i = 0; i < bytes.size(); ++i) {
@@ -207,7 +217,7 @@ TEST(CheckpointFile, EarlierFormatVersionIsRefusedClearly) {
   std::memcpy(bytes.data() + 8, &version, sizeof version);
   writeBytes(path, bytes);
   EXPECT_EQ(inputErrorOf([&] { firn::readCheckpoint(path); }),
-            path.string() + ": checkpoint format version 2, written by an earlier Firn; this build reads version 4 "
+            path.string() + ": checkpoint format version 2, written by an earlier Firn; this build reads version 5 "
                             "only, so run the scene again from frame 0 to make new checkpoints");
 }
 
@@ -225,7 +235,9 @@ TEST(CheckpointFile, CutOrExtendedFilesAreRefused) {
 
 // ----- stats.csv of a resumed run -----
 
-std::string statsRow(int frame) { return std::to_string(frame) + ",0.1,10,100,1,0,0,0,0,5.000,0,0,0,1,0,1,0,0\n"; }
+std::string statsRow(int frame) {
+  return std::to_string(frame) + ",0.1,10,100,1,0,0,0,0,5.000,0,0,0,1,0,1,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n";
+}
 
 // Resumed at frame 3, the file keeps the rows of frames 0 to 2 as they were, drops those of 3 on (the run writes
 // them again) and a last row cut short by a killed run, and appends the new rows after the kept ones.
@@ -246,26 +258,13 @@ TEST(StatsCsvResume, KeepsTheRowsBeforeTheCheckpointsFrame) {
   EXPECT_FALSE(fs::exists(path.string() + ".part"));
 }
 
-// The comment line (the transfers' shape the run timed) is the resumed run's: the earlier run's is replaced, its rows
-// before the checkpoint's frame kept.
-TEST(StatsCsvResume, TheResumedRunsCommentReplacesTheEarlierOne) {
-  const fs::path path = freshDirectory("stats_comment") / "stats.csv";
-  const std::string header = std::string(firn::StatsCsvWriter::header()) + "\n";
-  writeBytes(path, "# transfers: P2G by tiles, 1.20x faster than blocks-64\n" + header + statsRow(0) + statsRow(1) +
-                       statsRow(2));
-  firn::StatsCsvWriter stats(path, 2, "transfers: P2G by blocks-128, 1.10x faster than tiles");
-  EXPECT_EQ(fileBytes(path),
-            "# transfers: P2G by blocks-128, 1.10x faster than tiles\n" + header + statsRow(0) + statsRow(1));
-}
-
-// A row without a frame number is refused naming its line, the comment counted, and the file is left as it was.
+// A row without a frame number is refused naming its line, and the file is left as it was.
 TEST(StatsCsvResume, ARowWithoutAFrameNumberIsRefusedNamingItsLine) {
   const fs::path path = freshDirectory("stats_bad_row") / "stats.csv";
-  const std::string text = "# transfers: P2G by tiles\n" + std::string(firn::StatsCsvWriter::header()) + "\n" +
-                           statsRow(0) + "x,0.1\n" + statsRow(2);
+  const std::string text = std::string(firn::StatsCsvWriter::header()) + "\n" + statsRow(0) + "x,0.1\n" + statsRow(2);
   writeBytes(path, text);
   EXPECT_EQ(inputErrorOf([&] { firn::StatsCsvWriter stats(path, 2); }),
-            path.string() + ": line 4: no frame number, so the rows before frame 2 cannot be kept; move it away to "
+            path.string() + ": line 3: no frame number, so the rows before frame 2 cannot be kept; move it away to "
                             "resume without them");
   EXPECT_EQ(fileBytes(path), text);
 }
