@@ -27,7 +27,7 @@ struct Checkpoint {
   // The energy audit's account (sim/EnergyAudit.h, EnergyAccount: packEnergyAccount), as the run kept it: its integer
   // sums, and its values in joules and metres per second.
   std::array<std::int64_t, 10> energyIntegers{};
-  std::array<double, 10> energyReals{};
+  std::array<double, 12> energyReals{};
   // Per entry of the collider table: the impulse its last frame gave the snow (x, y, z) and its work since the start,
   // in the units of gpu::ObjectLoad (Simulation::objectLoads); then that frame's duration (s), as the run kept them.
   std::vector<std::int64_t> objectLoads;

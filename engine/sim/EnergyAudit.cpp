@@ -93,6 +93,7 @@ EnergyAudit::EnergyAudit(const Scene& scene, const FixedPointScale& scale)
     : rigidBodies_(scene.rigidBodies), gravityMPerS2_(scene.gravityMPerS2), floorM_(potentialFloorM(scene)),
       joulesPerUnit_(1.0 / scale.energyUnitsPerJ),
       wavesPerStep_(stiffestBody(scene).waveSpeedMPerS / scene.grid.cellSizeM),
+      waveSpeedSquared_(stiffestBody(scene).waveSpeedMPerS * stiffestBody(scene).waveSpeedMPerS),
       semiImplicit_(scene.solver.semiImplicit()), solverTolerance_(scene.solver.tolerance) {}
 
 std::array<double, 2> EnergyAudit::bodiesEnergyJ(const std::vector<std::optional<ObjectPose>>& bodyPoses) const {
@@ -115,7 +116,8 @@ void EnergyAudit::start(const EnergySums& sums, const std::vector<std::optional<
   account_.bodiesPotentialJ = bodies[1];
   account_.initialJ = budgetOf(account_).totalJ();
   const EnergyBudget budget = budgetOf(account_);
-  account_.reference = EnergyReference{budget.dissipatedJ + budget.wallsRemovedJ, mechanicalJ(budget), 0.0, 0.0, 0};
+  account_.reference =
+      EnergyReference{budget.dissipatedJ + budget.wallsRemovedJ, mechanicalJ(budget), 0.0, 0.0, 0, 0.0};
   pendingArrivalJ_ = 0;
 }
 
@@ -134,17 +136,28 @@ EnergyBudget EnergyAudit::budgetOf(const EnergyAccount& account) const {
   budget.arrivedJ = account.arrivedJ;
   budget.createdJ = account.createdJ;
   budget.toleranceJ = account.toleranceJ;
-  // The coupling's energy is no input: it is energy the explicit coupling made, which the residual shows. The residual
-  // is the modified energy's (the energy shown plus the step's term, which an explicit step keeps).
-  budget.dissipatedJ = account.initialJ + budget.colliderWorkJ + budget.arrivedJ + budget.hardeningJ -
-                       budget.wallsRemovedJ - budget.totalJ() - budget.stepTermJ;
+  // The residual is the modified energy's (the energy shown plus the step's term, which an explicit step keeps). What
+  // the rigid bodies' explicit coupling made is counted apart, as it is measured: the energy the snow's own step makes
+  // is what the watchdog judges.
+  budget.dissipatedJ = account.initialJ + budget.colliderWorkJ + budget.arrivedJ + budget.hardeningJ +
+                       budget.couplingJ - budget.wallsRemovedJ - budget.totalJ() - budget.stepTermJ;
   return budget;
+}
+
+double quantizationEnergyJ(const FixedPointScale& scale, double momentumUnitKgMPerS, double inverseMassSum) {
+  const double quantumKgMPerS = momentumUnitKgMPerS * scale.resolution();
+  return 6.75 * quantumKgMPerS * quantumKgMPerS * inverseMassSum;
 }
 
 double EnergyAudit::toleranceJ(const EnergyReference& reference, double magnitudeJ, std::size_t particles) const {
   // Float rounding: every energy is a float's few ulps per particle (2^−24 each), and the state it measures is float
-  // too: 2^−20 of all that is summed leaves 16 ulps; and each particle's values round to the ledger's units.
-  const double roundingJ = std::ldexp(magnitudeJ, -20) + 4.0 * double(particles) * joulesPerUnit_;
+  // too: 2^−20 of all that is summed leaves 16 ulps; each particle's values round to the ledger's units; and P2G's
+  // fixed-point rounding makes what the steps since have summed (quantizationEnergyJ).
+  // and a strain of 2^−18 (64 ulps of a float near 1, what F's products and the SVD keep through the steps) in all
+  // the particles' mass at the stiffest wave, ½ M c² ε²: the elastic energy of a body at rest is no finer than that.
+  const double strainJ = std::ldexp(reference.massKg * waveSpeedSquared_, -37);
+  const double roundingJ = std::ldexp(magnitudeJ, -20) + 4.0 * double(particles) * joulesPerUnit_ +
+                           reference.quantizationJ + strainJ;
   const double mechanicalJ = reference.mechanicalJ + reference.inputJ;
   if (semiImplicit_) return roundingJ + 2 * double(reference.steps) * solverTolerance_ * mechanicalJ;
   const double theta = wavesPerStep_ * reference.largestDtS;
@@ -154,7 +167,8 @@ double EnergyAudit::toleranceJ(const EnergyReference& reference, double magnitud
 
 EnergyAudit::Reading EnergyAudit::read(const EnergySums& frameSums,
                                        const std::vector<std::optional<ObjectPose>>& bodyPoses, std::uint64_t steps,
-                                       double largestDtS, std::size_t particles) const {
+                                       double largestDtS, double quantizationJ, std::size_t particles,
+                                       double massKg) const {
   Reading reading;
   EnergyAccount& next = reading.account;
   next = account_;
@@ -172,13 +186,14 @@ EnergyAudit::Reading EnergyAudit::read(const EnergySums& frameSums,
   // The steps since the reference, and what entered meanwhile.
   EnergyReference& reference = next.reference;
   reference.inputJ += std::max(after.colliderWorkJ - before.colliderWorkJ, 0.0) + (after.arrivedJ - before.arrivedJ) +
-                      std::max(after.hardeningJ - before.hardeningJ, 0.0);
+                      std::max(after.hardeningJ - before.hardeningJ, 0.0) +
+                      std::max(after.couplingJ - before.couplingJ, 0.0);
   reference.largestDtS = std::max(reference.largestDtS, largestDtS);
   reference.steps += steps;
+  reference.quantizationJ += quantizationJ;
+  reference.massKg = massKg;
   // What left the modified energy other than by work, arrivals and hardening: the dissipated energy with what the
-  // walls took. A wall takes, each step, the velocity that step's forces gave the nodes pressed into it, which had
-  // moved nothing yet: where stiff snow presses on a wall that is more than it took of the snow's kinetic energy, and
-  // only their sum is the energy that left.
+  // walls took.
   const double modifiedDissipatedJ = after.dissipatedJ + after.wallsRemovedJ;
   const double createdJ = reference.dissipatedJ - modifiedDissipatedJ;
   const double magnitudeJ = std::abs(after.totalJ()) + std::abs(after.colliderWorkJ) + std::abs(after.wallsRemovedJ) +
@@ -200,7 +215,7 @@ EnergyAudit::Reading EnergyAudit::read(const EnergySums& frameSums,
   }
   // The dissipated energy's new greatest: the reference from here.
   if (modifiedDissipatedJ >= reference.dissipatedJ) {
-    reference = EnergyReference{modifiedDissipatedJ, mechanicalJ(after), 0.0, 0.0, 0};
+    reference = EnergyReference{modifiedDissipatedJ, mechanicalJ(after), 0.0, 0.0, 0, 0.0, massKg};
   }
   return reading;
 }
@@ -213,7 +228,7 @@ void packEnergyAccount(const EnergyAccount& account, Checkpoint& checkpoint) {
   checkpoint.energyReals = {account.bodiesKineticJ,        account.bodiesPotentialJ,      account.arrivedJ,
                             account.initialJ,              account.reference.dissipatedJ, account.reference.mechanicalJ,
                             account.reference.inputJ,      account.reference.largestDtS,  account.createdJ,
-                            account.toleranceJ};
+                            account.toleranceJ,            account.reference.quantizationJ, account.reference.massKg};
 }
 
 EnergyAccount unpackEnergyAccount(const Checkpoint& checkpoint) {
@@ -235,6 +250,8 @@ EnergyAccount unpackEnergyAccount(const Checkpoint& checkpoint) {
   account.reference.largestDtS = r[7];
   account.createdJ = r[8];
   account.toleranceJ = r[9];
+  account.reference.quantizationJ = r[10];
+  account.reference.massKg = r[11];
   return account;
 }
 

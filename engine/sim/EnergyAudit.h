@@ -63,6 +63,8 @@ struct EnergyReference {
   double inputJ = 0;        // what entered since: positive work, arrivals, hardening
   double largestDtS = 0;    // the largest step since
   std::uint64_t steps = 0;  // the steps since
+  double quantizationJ = 0; // what P2G's fixed-point rounding can have made since (quantizationEnergyJ)
+  double massKg = 0;        // the particles' mass at the latest audit since
 };
 
 // The run's energy account: what the particles hold at the last audit, what entered and left since the start (the
@@ -80,10 +82,10 @@ struct EnergyAccount {
 };
 
 // stats.csv's energy columns (J) at an audit: what the particles and bodies hold, and what entered and left since
-// the start. The dissipated energy is the residual, initial + work + arrived + hardening − walls − now − the step's
-// term: ≥ 0 in a stable run (docs/numerics.md states what it holds for each transfer and integrator). What the rigid
-// bodies' explicit coupling gave is energy that coupling made, not an input: the residual holds it, and `couplingJ`
-// shows it.
+// the start. The dissipated energy is the residual, initial + work + arrived + hardening + coupling − walls − now − the
+// step's term: ≥ 0 in a stable run (docs/numerics.md states what it holds for each transfer and integrator). What the
+// rigid bodies' explicit coupling made (`couplingJ`) is energy from nothing too, but the coupling's own, measured apart:
+// the watchdog judges what the rest makes.
 struct EnergyBudget {
   double kineticJ = 0;
   double potentialJ = 0;
@@ -118,6 +120,15 @@ struct EnergyCreation {
   std::uint64_t beyondLimit = 0;  // particles or flows beyond the scene's bound (EnergySums::beyondLimit)
 };
 
+// What one step's P2G rounding to fixed point can make (J): dithered rounding gives each contribution an error of
+// mean 0 and variance q²/6 (q = 2^−k of the momentum unit m_ref h / Δt), which a particle alone at its nodes takes back
+// whole from all 27 of them (quadratic; the cubic kernel's 64 nodes share more particles): its velocity's error has a
+// variance of 3 × 27/6 q² / m², and its kinetic energy gains half of that times m on average, 6.75 q² / m — a
+// systematic gain, though the rounding is unbiased, since the error's square is never negative. Summed over the
+// particles: `inverseMassSum` is Σ 1/m. Far smaller than anything else for particles of the reference mass at a
+// few per cell; what a sprinkle of light particles makes.
+double quantizationEnergyJ(const FixedPointScale& scale, double momentumUnitKgMPerS, double inverseMassSum);
+
 // The account as a checkpoint carries it (Checkpoint::energyIntegers, energyReals), and back.
 void packEnergyAccount(const EnergyAccount& account, Checkpoint& checkpoint);
 EnergyAccount unpackEnergyAccount(const Checkpoint& checkpoint);
@@ -129,13 +140,16 @@ class EnergyAudit {
   // An audit's reading: the account it would make if its frame is accepted, and the energy its frame made beyond the
   // tolerance, if it did. `frameSums` are the ledger's (all shares' summed): the particles' energy now and the
   // frame's flows; `bodyPoses` every rigid body's pose (none parked: a parked body is outside the simulation);
-  // `steps` and `largestDtS` the steps since the last reading and the largest of them.
+  // `steps` and `largestDtS` the steps since the last reading and the largest of them, `quantizationJ` what their
+  // fixed-point rounding can have made (quantizationEnergyJ); `particles` and `massKg` the particles in the run (all
+  // shares').
   struct Reading {
     EnergyAccount account;
     std::optional<EnergyCreation> creation;
   };
   Reading read(const EnergySums& frameSums, const std::vector<std::optional<ObjectPose>>& bodyPoses,
-               std::uint64_t steps, double largestDtS, std::size_t particles) const;
+               std::uint64_t steps, double largestDtS, double quantizationJ, std::size_t particles,
+               double massKg) const;
   // The first reading, of the initial state: the account's start.
   void start(const EnergySums& sums, const std::vector<std::optional<ObjectPose>>& bodyPoses);
   // Energy that joined during the frame (arrivingEnergyJ, a launched body's), part of the next reading.
@@ -151,9 +165,9 @@ class EnergyAudit {
   double joulesPerUnit() const { return joulesPerUnit_; }
 
   // What the steps since `reference` may make from nothing and still be stable (docs/numerics.md, The energy audit):
-  // the float rounding of `magnitudeJ` (the energies summed) and of the `particles`' values, and the step's
-  // truncation: an explicit step's energy can grow by 2θ / (1 − θ) of the mechanical energy and what entered, θ its
-  // Courant number c Δt / h (none at θ ≥ 1); a semi-implicit step's, by its solve's tolerance twice a step.
+  // the float rounding of `magnitudeJ` (the energies summed), of the `particles`' values and of their strain, and the
+  // step's truncation: an explicit step's energy can grow by 2θ / (1 − θ) of the mechanical energy and what entered,
+  // θ its Courant number c Δt / h (none at θ ≥ 1); a semi-implicit step's, by its solve's tolerance twice a step.
   double toleranceJ(const EnergyReference& reference, double magnitudeJ, std::size_t particles) const;
 
  private:
@@ -166,6 +180,7 @@ class EnergyAudit {
   glm::dvec3 floorM_;
   double joulesPerUnit_ = 0;
   double wavesPerStep_ = 0;           // c / h of the stiffest material: θ = c Δt / h
+  double waveSpeedSquared_ = 0;       // c², m²/s²
   bool semiImplicit_ = false;
   double solverTolerance_ = 0;
   EnergyAccount account_;

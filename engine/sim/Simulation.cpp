@@ -123,6 +123,18 @@ FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<Particl
   return scale;
 }
 
+// Σ 1/m and Σ m over `particles`.
+double inverseMassSum(const std::vector<ParticleSeed>& particles) {
+  double sum = 0;
+  for (const ParticleSeed& particle : particles) sum += 1.0 / double(particle.massKg);
+  return sum;
+}
+double massSum(const std::vector<ParticleSeed>& particles) {
+  double sum = 0;
+  for (const ParticleSeed& particle : particles) sum += double(particle.massKg);
+  return sum;
+}
+
 // When the pool is this full at the end of a frame, it doubles for the frames to come.
 constexpr double kBlockPoolGrowthFullness = 0.75;
 // A frame that needed more blocks than the pool held is redone with a pool grown to fit, up to this many times.
@@ -160,6 +172,8 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       share_(share) {
   const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
   initialParticles_ = initial.size();
+  initialInverseMassSum_ = inverseMassSum_ = inverseMassSum(initial);
+  initialMassKg_ = massKg_ = massSum(initial);
   if (share_) {
     // The diagnostics know every particle of the scene, in one process's order: the first, then the emitters'.
     diagnostics_.noteParticles(initial);
@@ -216,6 +230,8 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
   appendParticles(particles);
   energy_.noteArrival(arrivingEnergyJ(scene_, particles));
+  inverseMassSum_ += inverseMassSum(particles);
+  massKg_ += massSum(particles);
   // The blocks they reach, on top of the most a step has needed, must fit three quarters of the pool: the pool is
   // grown now rather than a step leaving them out (a window throwing snowballs has no frame to redo).
   const BlockUsage usage = state_.blockUsage();
@@ -257,6 +273,8 @@ void Simulation::releaseDueParticles() {
   }
   if (due.empty()) return;
   energy_.noteArrival(arrivingEnergyJ(scene_, due));  // all shares' alike: every share knows every emitter's particles
+  inverseMassSum_ += inverseMassSum(due);
+  massKg_ += massSum(due);
   appendParticles(ownParticles(due, firstId));
 }
 
@@ -276,6 +294,11 @@ void Simulation::step(double dtS) {
   ++steps_;
   largestDtSinceAudit_ = std::max(largestDtSinceAudit_, dtS);
   lastDtS_ = dtS;
+  if (scene_.solver.atomics == Atomics::FixedPoint) {
+    const double momentumUnitKgMPerS = scene_.time.adaptive ? fixedPoint_.referenceMassKg * scene_.grid.cellSizeM / dtS
+                                                            : fixedPoint_.momentumUnitKgMPerS;
+    quantizationSinceAudit_ += quantizationEnergyJ(fixedPoint_, momentumUnitKgMPerS, inverseMassSum_);
+  }
   gridHoldsVelocities_ = true;
 }
 
@@ -374,7 +397,8 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 void Simulation::saveState() {
   state_.save();
   saved_ = {timeS_,         steps_,         particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(),
-            solverSummary_, solverFailure_, energy_.pendingArrivalJ(), largestDtSinceAudit_};
+            solverSummary_, solverFailure_, energy_.pendingArrivalJ(), largestDtSinceAudit_, inverseMassSum_,
+            massKg_,  quantizationSinceAudit_};
 }
 
 void Simulation::restoreState() {
@@ -391,6 +415,9 @@ void Simulation::restoreState() {
   solverFailure_ = saved_.solverFailure;
   energy_.setPendingArrivalJ(saved_.pendingArrivalJ);
   largestDtSinceAudit_ = saved_.largestDtSinceAudit;
+  inverseMassSum_ = saved_.inverseMassSum;
+  massKg_ = saved_.massKg;
+  quantizationSinceAudit_ = saved_.quantizationSinceAudit;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {
@@ -491,6 +518,12 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   gridHoldsVelocities_ = false;
   energy_.setPendingArrivalJ(0);
   largestDtSinceAudit_ = 0;
+  quantizationSinceAudit_ = 0;
+  // The initial particles', and the emitters' that had joined by then.
+  const std::vector<ParticleSeed> joined(
+      pendingParticles_.begin(), pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles));
+  inverseMassSum_ = initialInverseMassSum_ + inverseMassSum(joined);
+  massKg_ = initialMassKg_ + massSum(joined);
   state_.writeEnergyRecords();  // a checkpoint is taken with the ledger empty; the account holds what it summed
   // The particles present: the first ones, then the emitters' in the order they were released.
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
@@ -522,7 +555,7 @@ void Simulation::checkWatchdog() {
   // The energy audit first: over several processes its sums are all shares', which every share reads here alike.
   const EnergyAudit::Reading energy =
       energy_.read(readEnergySums(), bodyPosesInPlay(), steps_ - auditedSteps_, largestDtSinceAudit_,
-                   initialParticles_ + nextPending_);
+                   quantizationSinceAudit_, initialParticles_ + nextPending_, massKg_);
   // The objects' loads since: per entry its impulse x, y, z and its work, all shares' summed.
   std::vector<std::int64_t> loads;
   const std::vector<gpu::ObjectLoad> objectLoads = state_.objectLoads();
@@ -549,6 +582,7 @@ void Simulation::checkWatchdog() {
   auditedTimeS_ = timeS_;
   auditedSteps_ = steps_;
   largestDtSinceAudit_ = 0;
+  quantizationSinceAudit_ = 0;
 }
 
 ParticleSnapshot Simulation::snapshot() const {

@@ -218,6 +218,11 @@ class Simulation {
   std::vector<std::int64_t> objectWork_;
   double largestDtSinceAudit_ = 0;     // the largest step since
   double lastDtS_ = 0;                 // the last step's
+  double inverseMassSum_ = 0;          // Σ 1/m over the particles in the run (all shares'): quantizationEnergyJ
+  double initialInverseMassSum_ = 0;   // and over those present from the start
+  double massKg_ = 0;                  // their mass (all shares')
+  double initialMassKg_ = 0;
+  double quantizationSinceAudit_ = 0;  // what the steps since the audit's fixed-point rounding can have made (J)
   bool gridHoldsVelocities_ = false;   // the grid holds the last step's velocities (audit_energy.comp's step term)
   gl::PassTimer passTimer_;
   gl::ContextInfo gl_;
@@ -252,6 +257,9 @@ class Simulation {
     std::optional<SolverFailure> solverFailure;
     double pendingArrivalJ = 0;
     double largestDtSinceAudit = 0;
+    double inverseMassSum = 0;
+    double massKg = 0;
+    double quantizationSinceAudit = 0;
   };
   SavedCounters saved_;
 };

@@ -1,9 +1,10 @@
 // The energy audit (docs/numerics.md, "The energy audit"): the ledger's sums (gpu::EnergyLedger, after the watchdog's
 // status in its buffer) of what the particles hold, summed once a frame by audit_energy.comp, and of what the steps
-// move in and out of the snow: the work of moving colliders, the kinetic energy the domain walls take, the energy the
-// rigid bodies' explicit coupling gives, and what snow's hardening gives the strain it holds. Every value is rounded to the ledger's unit on its own and summed as a 64-bit
-// integer, so the sums are exact and do not depend on the order of the GPU's additions: a run's energy, like its
-// particles, is the same to the bit on any number of processes.
+// move in and out of the snow: the work of moving colliders, the kinetic energy the domain walls take from particles,
+// the energy the rigid bodies' explicit coupling gives, and what snow's hardening gives the strain it holds. Every
+// value is rounded to the ledger's unit on its own and summed as a 64-bit integer, so the sums are exact and do not
+// depend on the order of the GPU's additions: a run's energy, like its particles, is the same to the bit on any number
+// of processes.
 #include "common/fixed64.glsl"
 #include "common/watchdog.glsl"
 
@@ -32,7 +33,7 @@ void addEnergyFlows(vec4 flowsJ) {
   FIRN_ADD_FIXED64(flowLow, flowHigh, low, high)
 }
 
-// The kinetic energy (J) the domain walls took from a node or particle of `massKg` whose velocity they turned from
+// The kinetic energy (J) the domain walls took from a particle of `massKg` whose velocity they turned from
 // `before` to `after` (collideWithDomainWalls only ever removes a component moving out).
 float wallsRemovedJ(float massKg, vec3 before, vec3 after) {
   return 0.5 * massKg * (dot(before, before) - dot(after, after));

@@ -394,8 +394,9 @@ FIRN_STRUCT(WatchdogStatus, FIRN_WATCHDOG_STATUS)
 //                   differs by from the modified energy symplectic Euler keeps (docs/numerics.md)
 //   counts          x the values left out of any sum for passing StepUniforms.particleEnergyLimit
 //   flowLow/High    what the frame's steps moved in and out of the snow: x the work of moving colliders on the snow and
-//                   on the rigid bodies, y the kinetic energy the domain walls removed from the snow, z the energy the
-//                   rigid bodies' explicit coupling gave, w the energy snow's hardening gave the strain it holds
+//                   on the rigid bodies, y the kinetic energy the domain walls removed from particles, z the energy the
+//                   rigid bodies' explicit coupling made (the push's second order, the images' work: mirror_stress.comp),
+//                   w the energy snow's hardening gave the strain it holds
 //                   (docs/numerics.md): summed at the nodes and particles the collisions changed, the particles whose
 //                   J_P changed, and by integrate_bodies.comp
 #define FIRN_ENERGY_LEDGER(member, array) \

@@ -5,7 +5,8 @@
 // v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Its entry's pose, velocities and sums are
 // rewritten for the next step.
 // The energy ledger takes the work the moving colliders do on the body through its contacts, and the energy the
-// explicit coupling gives it (common/energy.glsl; docs/numerics.md, The energy audit).
+// explicit coupling gives it (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
+// images' share).
 // Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, the ledger's flows, and
 // with adaptive steps the watchdog's fastest speed.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS

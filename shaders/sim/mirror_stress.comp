@@ -38,6 +38,9 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   vec3 pivotM = colliderPivot(body, timeS);
   GridVector nodesTook = GridVector(0);  // in the nodes' units: the body takes exactly their opposite
   vec3 bodyMomentKgM2PerS = vec3(0.0);
+  // The images' push is no force of the snow's own energy: what it does to the nodes, as they move relative to the
+  // body's surface, is energy the coupling makes (its first order, at the nodes' velocity before the step's forces).
+  float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
   vec3 baseM = nodePosition(stencil.baseNode);
@@ -64,12 +67,17 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     addToNode(uint(address), GridVector(stored.xyz, 0), node);
 #endif
     nodesTook += stored;
-    bodyMomentKgM2PerS += cross(nodeM - pivotM, -storedToNondimensional(stored).xyz * momentumUnitKgMPerS);
+    vec3 pushKgMPerS = storedToNondimensional(stored).xyz * momentumUnitKgMPerS;
+    bodyMomentKgM2PerS += cross(nodeM - pivotM, -pushKgMPerS);
+    vec4 sums = storedToNondimensional(gridMomentumMass[address]);
+    vec3 nodeVelocity = sums.w > 0.0 ? sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg)) : vec3(0.0);
+    madeJ += dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
   }
   vec3 tookKgMPerS = storedToNondimensional(nodesTook).xyz * momentumUnitKgMPerS;
   addToRigidBody(i, -tookKgMPerS, bodyMomentKgM2PerS);
   // The body's load (bodies.csv): the push it gave the snow here, at its surface's velocity where the particle is.
   addObjectLoad(i, tookKgMPerS, dot(tookKgMPerS, colliderVelocity(body, x, timeS)));
+  addEnergyFlows(vec4(0.0, 0.0, madeJ, 0.0));
 }
 
 void main() {

@@ -9,8 +9,8 @@
 // A work group per active block, an invocation per node.
 // With rigid bodies, each body whose solid holds a node takes its part of the constraints' push in the solve (eq. 35a,
 // from the product of the solution: common/colliders.glsl, constraintsAfterSolve) and of the friction; with moving
-// colliders, their part of that push, the friction and the collisions are their work on the snow, and the walls' the
-// energy they take, for the energy audit (common/energy.glsl).
+// colliders, their part of that push, the friction and the collisions are their work on the snow, for the energy
+// audit (common/energy.glsl).
 // Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders, the product sums
 // (with rigid bodies or moving colliders). Writes: the grid's velocities, the product sums (cleared), the bodies' sums
 // (with rigid bodies) and the energy ledger's flows.
@@ -37,6 +37,7 @@ void main() {
 #endif
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   if (velocityMass.w <= 0.0) return;
+  energyAuditedHere = slots[slot].auditedElsewhere == 0u;  // another process holding the node counts it
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;
@@ -52,8 +53,7 @@ void main() {
     velocity = collidersFrictionAfterSolve(x, velocity, timeS, velocityMass.w, solverNodes[i].constraint,
                                            solverNodes[i].residual.w, workJ);
   }
-  vec3 beforeWalls = velocity;
   velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
   gridMomentumMass[i] = floatsToStored(vec4(velocity, velocityMass.w));
-  if (slots[slot].auditedElsewhere == 0u) addEnergyFlows(vec4(workJ, wallsRemovedJ(velocityMass.w, beforeWalls, velocity), 0.0, 0.0));
+  addEnergyFlows(vec4(workJ, 0.0, 0.0, 0.0));
 }

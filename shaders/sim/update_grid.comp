@@ -6,7 +6,9 @@
 // after the solve (common/colliders.glsl, collideForSolve).
 // Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
 // PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
-// (solver.glsl). The energy ledger's flows: the moving colliders' work and what the walls took (common/energy.glsl).
+// (solver.glsl). The energy ledger's flows: the moving colliders' work (common/energy.glsl). What the walls take here
+// stays in the dissipated energy, as a collider at rest's does: a wall stops, each step, the velocity the step's forces
+// gave the nodes pressed into it, which had moved nothing, and that cancels only against the step's own truncation.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
@@ -31,6 +33,8 @@ void updateNode(uint slot) {
   vec4 constraint = vec4(0.0, 0.0, 0.0, float(CONSTRAINT_FIXED));  // a node without mass stays at rest
   float approachMPerS = 0.0;
 #endif
+  // A node that another process holds too is counted there (docs/distributed.md).
+  energyAuditedHere = slots[slot].auditedElsewhere == 0u;
   if (sums.w > 0.0) {
     massKg = sums.w * referenceMassKg;
     float unitsToVelocity = momentumUnitKgMPerS / massKg;
@@ -54,10 +58,8 @@ void updateNode(uint slot) {
     if (walls != 0 && (int(constraint.w) & CONSTRAINT_NORMAL) != 0) constraint.w = float(CONSTRAINT_FIXED);
     constraint.w = float(int(constraint.w) | walls);
 #endif
-    vec3 beforeWalls = velocity;
     velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
-    // A node that another process holds too is counted there (docs/distributed.md).
-    if (slots[slot].auditedElsewhere == 0u) addEnergyFlows(vec4(workJ, wallsRemovedJ(massKg, beforeWalls, velocity), 0.0, 0.0));
+    addEnergyFlows(vec4(workJ, 0.0, 0.0, 0.0));
   }
 #ifdef FIRN_SEMI_IMPLICIT
   solverNodes[i].constraint = constraint;

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "Cli.h"
 #include "io/Ply.h"
 
@@ -31,20 +33,20 @@ const char* const kSmallScene = R"({
   "materials": { "snow": { "preset": "stomakhin" } },
   "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15, "material": "snow" } ] })";
 
-// `firn run` with no scene runs the built-in one and writes stats.csv (a comment naming the transfers' shape, as the
-// run's log does, then header + frame 0 + N frames, frame N at N / frame_rate) and one PLY per frame with the
-// particles' state; mass never changes. The grid's active blocks follow the snowball: a ball of radius 6 cells and
-// its stencils span at most 16 nodes, 5 blocks a side.
+// `firn run` with no scene runs the built-in one and writes stats.csv (plain CSV: header + frame 0 + N frames, frame N
+// at N / frame_rate), one PLY per frame with the particles' state, and run.json, whose transfers are those the run's
+// log names; mass never changes. The grid's active blocks follow the snowball: a ball of radius 6 cells and its
+// stencils span at most 16 nodes, 5 blocks a side.
 TEST(Cli, DefaultSceneWritesStatsAndFrames) {
   const fs::path out = freshDirectory("default");
   const Result result = runFirn("run --frames 2 --out " + out.string());
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  std::string comment;
-  std::getline(std::ifstream(out / "stats.csv"), comment);
-  EXPECT_EQ(comment.rfind("# transfers: P2G by ", 0), 0u) << comment;
-  EXPECT_NE(comment.find("x faster than "), std::string::npos) << comment;  // fixed point: tiles and blocks timed
-  EXPECT_NE(result.output.find(comment.substr(2)), std::string::npos) << "the log's header says the same\n"
-                                                                       << result.output;
+  std::ifstream record(out / "run.json");
+  const std::string transfers = nlohmann::json::parse(record)["transfers"]["description"].get<std::string>();
+  EXPECT_EQ(transfers.rfind("P2G by ", 0), 0u) << transfers;
+  EXPECT_NE(transfers.find("x faster than "), std::string::npos) << transfers;  // fixed point: tiles and blocks timed
+  EXPECT_NE(result.output.find("transfers: " + transfers), std::string::npos) << "the log's header says the same\n"
+                                                                              << result.output;
   const auto rows = readCsv(out / "stats.csv");
   ASSERT_EQ(rows.size(), 4u);
   const std::vector<std::string> expectedColumns = {"frame", "time_s", "steps", "particles", "mass_kg", "momentum_x",

@@ -53,7 +53,8 @@ const glm::dvec3 kBallCentreM(0.15, 0.6, 0.15);
 const std::vector<std::string> kHeader = {
     "frame",      "time_s",     "object",     "kind",         "x_m",          "y_m",
     "z_m",        "qw",         "qx",         "qy",           "qz",           "vx_m_per_s",
-    "vy_m_per_s", "vz_m_per_s", "wx_rad_per_s", "wy_rad_per_s", "wz_rad_per_s"};
+    "vy_m_per_s", "vz_m_per_s", "wx_rad_per_s", "wy_rad_per_s", "wz_rad_per_s", "fx_n",         "fy_n",
+    "fz_n",       "work_j"};
 
 double degrees(double deg) { return deg * glm::pi<double>() / 180; }
 

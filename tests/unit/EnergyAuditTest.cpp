@@ -169,17 +169,17 @@ TEST_F(EnergyAccountTest, ExplicitStepsMayMakeWhatTheirTruncationAllows) {
   const double theta = 22.35 * 1e-3 / 0.05;
   const double allowedJ = 2 * theta / (1 - theta) * 2;
   EXPECT_NEAR(audit.toleranceJ(audit.account().reference, 0, 0), 0.0, 1e-12);  // nothing since the reference
-  const EnergyAudit::Reading within = audit.read(sums(2 + 0.95 * allowedJ, 10, 0), {}, 10, 1e-3, 100);
+  const EnergyAudit::Reading within = audit.read(sums(2 + 0.95 * allowedJ, 10, 0), {}, 10, 1e-3, 0, 100, 0);
   EXPECT_FALSE(within.creation);
   EXPECT_NEAR(within.account.toleranceJ, allowedJ, 1e-3 * allowedJ);
-  const EnergyAudit::Reading beyond = audit.read(sums(2 + 1.05 * allowedJ, 10, 0), {}, 10, 1e-3, 100);
+  const EnergyAudit::Reading beyond = audit.read(sums(2 + 1.05 * allowedJ, 10, 0), {}, 10, 1e-3, 0, 100, 0);
   ASSERT_TRUE(beyond.creation);
   EXPECT_NEAR(beyond.creation->createdJ, 1.05 * allowedJ, 1e-9);
   // The residual: what the particles lost is dissipated.
-  audit.commit(audit.read(sums(1.5, 10, 0.1), {}, 10, 1e-3, 100));
+  audit.commit(audit.read(sums(1.5, 10, 0.1), {}, 10, 1e-3, 0, 100, 0));
   EXPECT_NEAR(audit.budget().dissipatedJ, 0.4, 1e-9);
   // A step at the elastic bound or beyond explains no growth: the tolerance is the rounding alone.
-  const EnergyAudit::Reading longStep = audit.read(sums(1.5 + 1e-3, 10, 0.1), {}, 10, 2.5e-3, 100);
+  const EnergyAudit::Reading longStep = audit.read(sums(1.5 + 1e-3, 10, 0.1), {}, 10, 2.5e-3, 0, 100, 0);
   EXPECT_TRUE(longStep.creation);
 }
 
@@ -187,8 +187,8 @@ TEST_F(EnergyAccountTest, ExplicitStepsMayMakeWhatTheirTruncationAllows) {
 TEST_F(EnergyAccountTest, SemiImplicitStepsMayMakeWhatTheirSolveLeaves) {
   EnergyAudit audit(scene("semi_implicit"), scale());
   audit.start(sums(2, 10, 0), {});
-  EXPECT_FALSE(audit.read(sums(2.039, 10, 0), {}, 100, 1e-2, 100).creation);
-  EXPECT_TRUE(audit.read(sums(2.041, 10, 0), {}, 100, 1e-2, 100).creation);
+  EXPECT_FALSE(audit.read(sums(2.039, 10, 0), {}, 100, 1e-2, 0, 100, 0).creation);
+  EXPECT_TRUE(audit.read(sums(2.041, 10, 0), {}, 100, 1e-2, 0, 100, 0).creation);
 }
 
 // What arrives (an emitter's particles) and what the walls take are no creation; the checkpoint carries the account to
@@ -199,7 +199,7 @@ TEST_F(EnergyAccountTest, ArrivalsAndWallsBalanceAndTheAccountSurvivesACheckpoin
   audit.noteArrival(5);
   EnergySums walled = sums(2.5, 12, 0);
   walled.flows[1] = std::int64_t(std::ldexp(0.5, 40));  // the walls took 0.5 J of the 15 J
-  const EnergyAudit::Reading reading = audit.read(walled, {}, 10, 1e-3, 100);
+  const EnergyAudit::Reading reading = audit.read(walled, {}, 10, 1e-3, 0, 100, 0);
   EXPECT_FALSE(reading.creation);
   audit.commit(reading);
   const EnergyBudget budget = audit.budget();

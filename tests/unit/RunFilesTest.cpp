@@ -179,9 +179,9 @@ TEST(CheckpointFile, EveryFlippedByteIsRefusedNamingTheFile) {
   const fs::path path = folder / "checkpoint_0012.firn";
   firn::writeCheckpoint(path, sampleCheckpoint());
   const std::string bytes = fileBytes(path);
-  // As docs/command-line.md lists: to the speed estimate, the energy account (10 integers, 10 reals), the objects'
+  // As docs/command-line.md lists: to the speed estimate, the energy account (10 integers, 12 reals), the objects'
   // loads (their count, 8 of them, their duration), then the buffers' count and sizes.
-  const std::size_t headerBytes = 8 + 4 + 8 + 4 + 8 + 8 + 8 + 8 + 8 + 10 * 8 + 10 * 8 + 8 + 8 * 8 + 8 + 8 + 3 * 8;
+  const std::size_t headerBytes = 8 + 4 + 8 + 4 + 8 + 8 + 8 + 8 + 8 + 10 * 8 + 12 * 8 + 8 + 8 * 8 + 8 + 8 + 3 * 8;
   ASSERT_EQ(bytes.size(), headerBytes + 4 + (16 + 4) + (32 + 4) + (48 + 4));
   const fs::path flipped = folder / "flipped.firn";
   for (std::size_t i = 0; i < bytes.size(); ++i) {
