@@ -1,7 +1,7 @@
 #pragma once
 // stats.csv: plain CSV, a header and one row per frame (frame 0 included), flushed as it is written so a stopped run
 // keeps its rows. The rows are plain numbers; the run measures them (run/HeadlessRun.cpp). What describes the run
-// rather than a frame is in run.json beside it (io/RunJson.h).
+// rather than a frame is in run.json beside it (run/RunRecord.h).
 #include <cstdint>
 #include <filesystem>
 #include <string>

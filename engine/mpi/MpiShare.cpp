@@ -57,6 +57,24 @@ int commSize(MPI_Comm comm) {
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// A record of `bytes` bytes as one MPI element, so that counts and offsets count records: an int of bytes overflows
+// at 2 GiB (a gather of about 45M particles' positions, a migration of about 10M particles at once), an int of
+// records only at 2³¹ of them, beyond the particles' 32-bit ids.
+class RecordType {
+ public:
+  explicit RecordType(std::size_t bytes) {
+    MPI_Type_contiguous(int(bytes), MPI_BYTE, &type_);
+    MPI_Type_commit(&type_);
+  }
+  ~RecordType() { MPI_Type_free(&type_); }
+  RecordType(const RecordType&) = delete;
+  RecordType& operator=(const RecordType&) = delete;
+  MPI_Datatype get() const { return type_; }
+
+ private:
+  MPI_Datatype type_ = MPI_DATATYPE_NULL;
+};
+
 }  // namespace
 
 MpiShare::MpiShare(MPI_Comm comm, const Scene& scene, int rebalanceEveryFrames)
@@ -127,7 +145,7 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   std::vector<int> sendCounts(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
   std::vector<glm::ivec4> sent;
   for (int q = 0; q < size_; ++q) {
-    sendOffsets[std::size_t(q)] = int(sent.size()) * 4;
+    sendOffsets[std::size_t(q)] = int(sent.size());
     for (const std::size_t i : shared[std::size_t(q)]) {
       const glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
       std::uint64_t mask = 0;
@@ -142,17 +160,18 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
         for (std::size_t a = 0; a < arrays; ++a) sent.push_back(block[a * gpu::BLOCK_NODES + node]);
       }
     }
-    sendCounts[std::size_t(q)] = int(sent.size()) * 4 - sendOffsets[std::size_t(q)];
+    sendCounts[std::size_t(q)] = int(sent.size()) - sendOffsets[std::size_t(q)];
   }
   std::vector<int> receiveCounts(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
   MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
   std::exclusive_scan(receiveCounts.begin(), receiveCounts.end(), receiveOffsets.begin(), 0);
-  std::vector<glm::ivec4> received(std::size_t(receiveOffsets.back() + receiveCounts.back()) / 4);
-  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), MPI_INT, received.data(), receiveCounts.data(),
-                receiveOffsets.data(), MPI_INT, comm_);
+  std::vector<glm::ivec4> received(std::size_t(receiveOffsets.back()) + std::size_t(receiveCounts.back()));
+  const RecordType sumType(sizeof(glm::ivec4));
+  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), sumType.get(), received.data(),
+                receiveCounts.data(), receiveOffsets.data(), sumType.get(), comm_);
   // Integer sums: the order of the ranks' additions cannot matter, so every holder ends with the same bits.
   for (int q = 0; q < size_; ++q) {
-    const glm::ivec4* in = received.data() + receiveOffsets[std::size_t(q)] / 4;
+    const glm::ivec4* in = received.data() + receiveOffsets[std::size_t(q)];
     for (const std::size_t i : shared[std::size_t(q)]) {
       glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
       const std::uint64_t mask = std::uint64_t(std::uint32_t(in->x)) | std::uint64_t(std::uint32_t(in->y)) << 32;
@@ -229,25 +248,21 @@ std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<st
   }
   std::vector<int> receiveCounts(static_cast<std::size_t>(size_));
   MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
-  const std::size_t arriving = std::size_t(std::accumulate(receiveCounts.begin(), receiveCounts.end(), 0));
-  std::vector<int> sendBytes(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
-  std::vector<int> receiveBytes(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
-  for (int q = 0; q < size_; ++q) {
-    sendBytes[std::size_t(q)] = sendCounts[std::size_t(q)] * int(recordBytes);
-    receiveBytes[std::size_t(q)] = receiveCounts[std::size_t(q)] * int(recordBytes);
-  }
-  std::exclusive_scan(sendBytes.begin(), sendBytes.end(), sendOffsets.begin(), 0);
-  std::exclusive_scan(receiveBytes.begin(), receiveBytes.end(), receiveOffsets.begin(), 0);
+  const std::size_t arriving = std::accumulate(receiveCounts.begin(), receiveCounts.end(), std::size_t(0));
+  std::vector<int> sendOffsets(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
+  std::exclusive_scan(sendCounts.begin(), sendCounts.end(), sendOffsets.begin(), 0);
+  std::exclusive_scan(receiveCounts.begin(), receiveCounts.end(), receiveOffsets.begin(), 0);
   // The records by destination, each destination's in index order.
   std::vector<unsigned char> outgoing(leaving.size() * recordBytes), incoming(arriving * recordBytes);
-  std::vector<int> cursor = sendOffsets;
+  std::vector<std::size_t> cursor(sendOffsets.begin(), sendOffsets.end());  // in records
   for (std::size_t k = 0; k < leaving.size(); ++k) {  // records[k] is leaving[k]'s
-    int& at = cursor[std::size_t(destinations[k])];
-    std::memcpy(outgoing.data() + at, records.data() + k * recordBytes, recordBytes);
-    at += int(recordBytes);
+    std::size_t& at = cursor[std::size_t(destinations[k])];
+    std::memcpy(outgoing.data() + at * recordBytes, records.data() + k * recordBytes, recordBytes);
+    ++at;
   }
-  MPI_Alltoallv(outgoing.data(), sendBytes.data(), sendOffsets.data(), MPI_BYTE, incoming.data(), receiveBytes.data(),
-                receiveOffsets.data(), MPI_BYTE, comm_);
+  const RecordType record(recordBytes);
+  MPI_Alltoallv(outgoing.data(), sendCounts.data(), sendOffsets.data(), record.get(), incoming.data(),
+                receiveCounts.data(), receiveOffsets.data(), record.get(), comm_);
   const std::size_t kept = count - leaving.size();
   traffic_.particleSteps += kept + arriving;
   if (leaving.empty() && arriving == 0) {
@@ -324,7 +339,7 @@ std::vector<std::string> MpiShare::gatherRecords(const std::vector<std::string>&
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
   std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
-  const std::size_t total = rank_ == 0 ? std::size_t(offsets.back() + counts.back()) : 0;
+  const std::size_t total = rank_ == 0 ? std::size_t(offsets.back()) + std::size_t(counts.back()) : 0;
   std::vector<std::uint32_t> allIds(total);
   MPI_Gatherv(ids.data(), count, MPI_UINT32_T, allIds.data(), counts.data(), offsets.data(), MPI_UINT32_T, 0, comm_);
   // Every particle present has exactly one id below the total: the order of a single process.
@@ -334,14 +349,10 @@ std::vector<std::string> MpiShare::gatherRecords(const std::vector<std::string>&
   std::vector<std::string> ordered;
   for (std::size_t a = 0; a < records.size(); ++a) {
     const std::size_t stride = strides[a];
-    std::vector<int> byteCounts(counts.size()), byteOffsets(offsets.size());
-    for (std::size_t q = 0; q < counts.size(); ++q) {
-      byteCounts[q] = counts[q] * int(stride);
-      byteOffsets[q] = offsets[q] * int(stride);
-    }
+    const RecordType record(stride);
     std::string arrived(total * stride, '\0');
-    MPI_Gatherv(records[a].data(), count * int(stride), MPI_BYTE, arrived.data(), byteCounts.data(), byteOffsets.data(),
-                MPI_BYTE, 0, comm_);
+    MPI_Gatherv(records[a].data(), count, record.get(), arrived.data(), counts.data(), offsets.data(), record.get(), 0,
+                comm_);
     std::string& array = ordered.emplace_back(total * stride, '\0');
     for (std::size_t i = 0; i < total; ++i) {
       std::memcpy(array.data() + allIds[i] * stride, arrived.data() + i * stride, stride);

@@ -381,8 +381,14 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
       plotEnergy(statsPath, options.outputDir, (scene.name.empty() ? sceneFileName(scene) : scene.name) + ": energy");
       log << "firn: wrote " << (options.outputDir / "energy.png").string() << "\n";
     } catch (const InputError& error) {
-      if (status == 0) throw;
-      log << "firn: " << error.what() << "\n";
+      if (status != 0) {
+        log << "firn: " << error.what() << "\n";
+        return;
+      }
+      // A run that succeeded but could not draw ends with the plot's error, in run.json as in the exit status.
+      record->setExit(int(error.code()), error.what());
+      record->write();
+      throw;
     }
   };
   try {

@@ -151,10 +151,10 @@ double quantizationEnergyJ(const FixedPointScale& scale, double momentumUnitKgMP
 
 double EnergyAudit::toleranceJ(const EnergyReference& reference, double magnitudeJ, std::size_t particles) const {
   // Float rounding: every energy is a float's few ulps per particle (2^−24 each), and the state it measures is float
-  // too: 2^−20 of all that is summed leaves 16 ulps; each particle's values round to the ledger's units; and P2G's
-  // fixed-point rounding makes what the steps since have summed (quantizationEnergyJ).
-  // and a strain of 2^−18 (64 ulps of a float near 1, what F's products and the SVD keep through the steps) in all
-  // the particles' mass at the stiffest wave, ½ M c² ε²: the elastic energy of a body at rest is no finer than that.
+  // too: 2^−20 of all that is summed leaves 16 ulps; each particle's values round to the ledger's units; P2G's
+  // fixed-point rounding makes what the steps since have summed (quantizationEnergyJ); and a strain of 2^−18 (64 ulps
+  // of a float near 1, what F's products and the SVD keep through the steps) in all the particles' mass at the
+  // stiffest wave, ½ M c² ε², for the elastic energy of a body at rest is no finer than that.
   const double strainJ = std::ldexp(reference.massKg * waveSpeedSquared_, -37);
   const double roundingJ = std::ldexp(magnitudeJ, -20) + 4.0 * double(particles) * joulesPerUnit_ +
                            reference.quantizationJ + strainJ;
@@ -206,8 +206,6 @@ EnergyAudit::Reading EnergyAudit::read(const EnergySums& frameSums,
     EnergyCreation creation;
     creation.createdJ = createdJ;
     creation.toleranceJ = toleranceJ;
-    creation.couplingJ = after.couplingJ - before.couplingJ;
-    creation.totalJ = after.totalJ();
     creation.kineticJ = after.kineticJ;
     creation.kineticBeforeJ = before.kineticJ;
     creation.beyondLimit = frameSums.beyondLimit;

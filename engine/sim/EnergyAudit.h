@@ -113,8 +113,6 @@ struct EnergyBudget {
 struct EnergyCreation {
   double createdJ = 0;      // the growth beyond what entered since the reference: its fall in the dissipated energy
   double toleranceJ = 0;    // float rounding and the step's truncation (EnergyAudit::toleranceJ)
-  double couplingJ = 0;     // of it, what the rigid bodies' explicit coupling gave
-  double totalJ = 0;        // the particles' and bodies' energy at the frame's end
   double kineticJ = 0;      // the particles' kinetic energy then, and at the frame's start
   double kineticBeforeJ = 0;
   std::uint64_t beyondLimit = 0;  // particles or flows beyond the scene's bound (EnergySums::beyondLimit)

@@ -398,7 +398,8 @@ void Simulation::saveState() {
   state_.save();
   saved_ = {timeS_,         steps_,         particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(),
             solverSummary_, solverFailure_, energy_.pendingArrivalJ(), largestDtSinceAudit_, inverseMassSum_,
-            massKg_,  quantizationSinceAudit_};
+            massKg_,  quantizationSinceAudit_, energy_.account(), auditedSteps_, auditedTimeS_,
+            loadImpulses_, loadDurationS_, objectWork_};
 }
 
 void Simulation::restoreState() {
@@ -418,6 +419,12 @@ void Simulation::restoreState() {
   inverseMassSum_ = saved_.inverseMassSum;
   massKg_ = saved_.massKg;
   quantizationSinceAudit_ = saved_.quantizationSinceAudit;
+  energy_.setAccount(saved_.energyAccount);
+  auditedSteps_ = saved_.auditedSteps;
+  auditedTimeS_ = saved_.auditedTimeS;
+  loadImpulses_ = saved_.loadImpulses;
+  loadDurationS_ = saved_.loadDurationS;
+  objectWork_ = saved_.objectWork;
 }
 
 Checkpoint Simulation::checkpoint(int frame) const {

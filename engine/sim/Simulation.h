@@ -260,6 +260,14 @@ class Simulation {
     double inverseMassSum = 0;
     double massKg = 0;
     double quantizationSinceAudit = 0;
+    // The audit's, which a frame's share commits before all shares have accepted the frame (a frame another share
+    // rejects is redone, and must not count twice).
+    EnergyAccount energyAccount;
+    std::uint64_t auditedSteps = 0;
+    double auditedTimeS = 0;
+    std::vector<std::array<std::int64_t, 3>> loadImpulses;
+    double loadDurationS = 0;
+    std::vector<std::int64_t> objectWork;
   };
   SavedCounters saved_;
 };

@@ -232,6 +232,10 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorageAndCommands);
     listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
     glMemoryBarrier(gl::kStorageAndCommands);
+    mirrorStress_.set("measuringWork", 0u);
+    mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+    mirrorStress_.set("measuringWork", 1u);  // the energy the pushes gave, at the nodes' sums with all of them in
     mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
     glMemoryBarrier(gl::kStorage);
   }

@@ -9,8 +9,10 @@
 // nodes instead, for the grid update to pass on, would leave a slip or separating body's tangential share in nodes
 // of almost no mass.) Without the images the nodes a body holds see the kernel's transition χ = Σ_{i held} w_i only
 // where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
-// Reads: particle state, the block table and map, the list in particleRanks, the collider table. Writes: grid sums,
-// the bodies' entries' sums, the watchdog.
+// Dispatched twice: the images' pushes first, then (measuringWork) the energy they gave the nodes, at the nodes' sums
+// once every push is in them, which is the same whatever the order of the first dispatch's invocations.
+// Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums (second
+// dispatch). Writes: grid sums, the bodies' entries' sums (first dispatch), the watchdog.
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
 // the semi-implicit step's impulse sums (docs/platform.md).
 #define FIRN_WITHOUT_AFFINE
@@ -22,6 +24,8 @@
 #include "common/mirror.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+uniform uint measuringWork;  // 0: push the nodes and the body; 1: measure what the pushes did to the nodes
 
 // The image of particle p across body i's surface, whose signed distance at x is φ (0 < φ < the kernel's reach)
 // with outward normal n.
@@ -39,7 +43,9 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   GridVector nodesTook = GridVector(0);  // in the nodes' units: the body takes exactly their opposite
   vec3 bodyMomentKgM2PerS = vec3(0.0);
   // The images' push is no force of the snow's own energy: what it does to the nodes, as they move relative to the
-  // body's surface, is energy the coupling makes (its first order, at the nodes' velocity before the step's forces).
+  // body's surface, is energy the coupling makes: its first order, at the nodes' velocity as their sums stand after
+  // the first dispatch (the explicit step's with the step's forces and every push in; the semi-implicit step's before
+  // them, since it sums the impulses apart).
   float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
@@ -60,6 +66,13 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     vec3 impulse = impulseUnits * stencilGradient(stencil, k);
     ivec4 overflow = ivec4(0);
     GridVector stored = quantize(vec4(impulse, 0.0), IMPULSE_CHANNELS, contributionDither(particleU, n), overflow);
+    vec3 pushKgMPerS = storedToNondimensional(stored).xyz * momentumUnitKgMPerS;
+    if (measuringWork != 0u) {
+      vec4 sums = storedToNondimensional(gridMomentumMass[address]);
+      vec3 nodeVelocity = sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg));
+      madeJ += dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
+      continue;
+    }
     reportAccumulatorOverflow(overflow, node, IMPULSE_CHANNELS);
 #ifdef FIRN_GRID_IMPULSE
     addImpulseToNode(uint(address), stored.xyz, node);
@@ -67,17 +80,16 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     addToNode(uint(address), GridVector(stored.xyz, 0), node);
 #endif
     nodesTook += stored;
-    vec3 pushKgMPerS = storedToNondimensional(stored).xyz * momentumUnitKgMPerS;
     bodyMomentKgM2PerS += cross(nodeM - pivotM, -pushKgMPerS);
-    vec4 sums = storedToNondimensional(gridMomentumMass[address]);
-    vec3 nodeVelocity = sums.w > 0.0 ? sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg)) : vec3(0.0);
-    madeJ += dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
+  }
+  if (measuringWork != 0u) {
+    addEnergyFlows(vec4(0.0, 0.0, madeJ, 0.0));
+    return;
   }
   vec3 tookKgMPerS = storedToNondimensional(nodesTook).xyz * momentumUnitKgMPerS;
   addToRigidBody(i, -tookKgMPerS, bodyMomentKgM2PerS);
   // The body's load (bodies.csv): the push it gave the snow here, at its surface's velocity where the particle is.
   addObjectLoad(i, tookKgMPerS, dot(tookKgMPerS, colliderVelocity(body, x, timeS)));
-  addEnergyFlows(vec4(0.0, 0.0, madeJ, 0.0));
 }
 
 void main() {
