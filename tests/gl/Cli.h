@@ -3,10 +3,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 #include "support/TestFiles.h"
@@ -65,6 +67,24 @@ inline std::vector<std::vector<std::string>> readCsv(const std::filesystem::path
     rows.push_back(cells);
   }
   return rows;
+}
+
+// A CSV file read by column name (stats.csv, bodies.csv): its header, and its rows after it.
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::string text(std::size_t row, const std::string& column) const {
+    const auto found = std::find(header.begin(), header.end(), column);
+    if (found == header.end()) throw std::runtime_error("the table has no column " + column);
+    return rows.at(row).at(std::size_t(found - header.begin()));
+  }
+  double at(std::size_t row, const std::string& column) const { return std::stod(text(row, column)); }
+};
+
+inline Table readTable(const std::filesystem::path& path) {
+  const std::vector<std::vector<std::string>> csv = readCsv(path);
+  if (csv.empty()) return {};
+  return {csv.front(), {csv.begin() + 1, csv.end()}};
 }
 
 // Whether `program` is an executable on the PATH.

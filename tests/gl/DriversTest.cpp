@@ -18,7 +18,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
-using firn::test::readCsv;
+using firn::test::readTable;
+using firn::test::Table;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
@@ -35,29 +36,12 @@ constexpr double kFloatEpsilon = 1.1920928955078125e-7;
 // (about 2.3 ε), the built-in snow scene 1e-9.
 constexpr double kStepPrecision = 7 * 4.76837158203125e-7;
 
-struct Table {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-  double at(std::size_t row, const std::string& column) const {
-    const auto found = std::find(header.begin(), header.end(), column);
-    if (found == header.end()) throw std::runtime_error("stats.csv has no column " + column);
-    return std::stod(rows[row][std::size_t(found - header.begin())]);
-  }
-  std::string text(std::size_t row, const std::string& column) const {
-    const auto found = std::find(header.begin(), header.end(), column);
-    if (found == header.end()) throw std::runtime_error("stats.csv has no column " + column);
-    return rows[row][std::size_t(found - header.begin())];
-  }
-};
-
 Table run(const std::string& arguments, const std::string& driver, const fs::path& out, const std::string& renderer) {
   const Result result = runFirn(arguments + " --no-ply --out " + out.string(), driver);
   EXPECT_EQ(result.exitCode, 0) << driver << "\n" << result.output;
   // The closing line names the renderer ("… ms per step on zink (llvmpipe …)").
   EXPECT_NE(result.output.find("per step on " + renderer), std::string::npos) << driver << "\n" << result.output;
-  const auto csv = readCsv(out / "stats.csv");
-  if (csv.empty()) return {};
-  return {csv.front(), {csv.begin() + 1, csv.end()}};
+  return readTable(out / "stats.csv");
 }
 
 // Runs `arguments` under both drivers and holds Zink's stats.csv to llvmpipe's:

@@ -19,26 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
-using firn::test::readCsv;
+using firn::test::readTable;
+using firn::test::Table;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
-
-// A CSV table by column name.
-struct Table {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-  double at(std::size_t row, const std::string& column) const {
-    const auto found = std::find(header.begin(), header.end(), column);
-    EXPECT_NE(found, header.end()) << column;
-    return found == header.end() ? NAN : std::stod(rows.at(row).at(std::size_t(found - header.begin())));
-  }
-};
-Table table(const fs::path& path) {
-  const std::vector<std::vector<std::string>> csv = readCsv(path);
-  if (csv.empty()) return {};
-  return {csv.front(), {csv.begin() + 1, csv.end()}};
-}
 
 nlohmann::json runRecord(const fs::path& folder) {
   std::ifstream in(folder / "run.json");
@@ -64,7 +49,7 @@ TEST(EnergyCli, StepThreeTimesTheBoundStopsWhenItsEnergyGrows) {
   EXPECT_NE(result.output.find("the energy grew by"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("The particles of material \"snow\" carry"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("dt < h / c = 2.647e-05 s"), std::string::npos) << result.output;
-  const Table stats = table(out / "stats.csv");
+  const Table stats = readTable(out / "stats.csv");
   ASSERT_EQ(stats.rows.size(), 1u);  // frame 0 alone: the first frame is not written
   for (const auto& row : stats.rows) {
     for (const auto& cell : row) EXPECT_TRUE(std::isfinite(std::stod(cell))) << cell;
@@ -103,8 +88,8 @@ TEST(EnergyCli, MovingColliderWorkIsTheForceTimesItsVelocity) {
   std::getline(statsFile, firstLine);
   EXPECT_EQ(firstLine.rfind("frame,time_s,", 0), 0u) << firstLine;
 
-  const Table stats = table(out / "stats.csv");
-  const Table bodies = table(out / "bodies.csv");
+  const Table stats = readTable(out / "stats.csv");
+  const Table bodies = readTable(out / "bodies.csv");
   ASSERT_EQ(stats.rows.size(), 9u);
   ASSERT_EQ(bodies.rows.size(), 9u);  // the moving box alone: the plane stays
   double forceWorkJ = 0;
