@@ -22,10 +22,6 @@ constexpr int kEnergySumBits = 62;
 // The kinetic and elastic energy of an audit, the bodies' kinetic energy with it: what the step's truncation acts on.
 double mechanicalJ(const EnergyBudget& budget) { return budget.kineticJ + budget.elasticJ + budget.bodiesKineticJ; }
 
-std::int64_t sum64(std::uint32_t low, std::int32_t high) {
-  return std::int64_t(std::uint64_t(std::uint32_t(high)) << 32 | std::uint64_t(low));
-}
-
 }  // namespace
 
 void deriveEnergyScale(FixedPointScale& scale, const Scene& scene, const std::vector<ParticleSeed>& seeds,
@@ -51,9 +47,9 @@ void deriveEnergyScale(FixedPointScale& scale, const Scene& scene, const std::ve
 
 EnergySums energySums(const gpu::EnergyLedger& ledger) {
   EnergySums sums;
-  for (int c = 0; c < 3; ++c) sums.particles[std::size_t(c)] = sum64(ledger.stateLow[c], ledger.stateHigh[c]);
-  sums.stepTerm = sum64(ledger.stateLow.w, ledger.stateHigh.w);
-  for (int c = 0; c < 4; ++c) sums.flows[std::size_t(c)] = sum64(ledger.flowLow[c], ledger.flowHigh[c]);
+  for (int c = 0; c < 3; ++c) sums.particles[std::size_t(c)] = joinFixed64(ledger.stateLow[c], ledger.stateHigh[c]);
+  sums.stepTerm = joinFixed64(ledger.stateLow.w, ledger.stateHigh.w);
+  for (int c = 0; c < 4; ++c) sums.flows[std::size_t(c)] = joinFixed64(ledger.flowLow[c], ledger.flowHigh[c]);
   sums.beyondLimit = ledger.counts.x;
   return sums;
 }

@@ -4,6 +4,7 @@
 // moving one cell per step). Their bound is known from the scene, so the scale 2^k is chosen to fit it in
 // int32 with headroom, and every remaining bit is resolution.
 
+#include <cstdint>
 #include <vector>
 
 namespace firn {
@@ -47,5 +48,10 @@ FixedPointScale deriveFixedPointScale(double referenceMassKg, double maxParticle
 FixedPointScale fixedPointScaleFor(const Scene& scene, const std::vector<ParticleSeed>& particles);
 // The densest body's particles per cell.
 double maxParticlesPerCell(const Scene& scene);
+
+// A 64-bit fixed-point sum as the GPU keeps it (common/fixed64.glsl): its low word, unsigned, and its high word.
+inline std::int64_t joinFixed64(std::uint32_t low, std::int32_t high) {
+  return std::int64_t(std::uint64_t(std::uint32_t(high)) << 32 | std::uint64_t(low));
+}
 
 }  // namespace firn

@@ -568,8 +568,7 @@ void Simulation::checkWatchdog() {
   const std::vector<gpu::ObjectLoad> objectLoads = state_.objectLoads();
   for (std::size_t i = 0; i < objectWork_.size(); ++i) {
     for (int c = 0; c < 4; ++c) {
-      loads.push_back(std::int64_t(std::uint64_t(std::uint32_t(objectLoads[i].high[c])) << 32 |
-                                   std::uint64_t(objectLoads[i].low[c])));
+      loads.push_back(joinFixed64(objectLoads[i].low[c], objectLoads[i].high[c]));
     }
   }
   if (share_ && !loads.empty()) share_->sumExactly(loads);
