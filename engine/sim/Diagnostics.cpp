@@ -242,7 +242,10 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
               "any stable step (the energy audit's bound, docs/numerics.md)"
             : "the energy grew by " + format("%.4g", made.createdJ) + " J that nothing gave it (the particles' kinetic "
               "energy went from " + format("%.4g", made.kineticBeforeJ) + " to " + format("%.4g", made.kineticJ) +
-              " J; float rounding and the step's truncation allow " + format("%.3g", made.toleranceJ) + " J)";
+              " J; float rounding and the step's truncation allow " + format("%.3g", made.toleranceJ) + " J)" +
+              (made.couplingJ > 0 ? "; besides that, the rigid bodies' explicit coupling made " +
+                                        format("%.4g", made.couplingJ) + " J over the frame, counted apart"
+                                  : "");
     const std::string cause =
         solver_.semiImplicit() ? "The semi-implicit step is unstable: " + stiffness + "." : instabilityCause(state);
     events.emplace_back(first, steps + ": " + what + "." + energyCarrier(state) + " " + cause);

@@ -133,8 +133,8 @@ EnergyBudget EnergyAudit::budgetOf(const EnergyAccount& account) const {
   budget.createdJ = account.createdJ;
   budget.toleranceJ = account.toleranceJ;
   // The residual is the modified energy's (the energy shown plus the step's term, which an explicit step keeps). What
-  // the rigid bodies' explicit coupling made is counted apart, as it is measured: the energy the snow's own step makes
-  // is what the watchdog judges.
+  // the rigid bodies' explicit coupling made is counted apart, as it is measured: the watchdog judges the energy the
+  // snow's own step makes (docs/numerics.md, The rigid bodies' coupling).
   budget.dissipatedJ = account.initialJ + budget.colliderWorkJ + budget.arrivedJ + budget.hardeningJ +
                        budget.couplingJ - budget.wallsRemovedJ - budget.totalJ() - budget.stepTermJ;
   return budget;
@@ -204,6 +204,7 @@ EnergyAudit::Reading EnergyAudit::read(const EnergySums& frameSums,
     creation.toleranceJ = toleranceJ;
     creation.kineticJ = after.kineticJ;
     creation.kineticBeforeJ = before.kineticJ;
+    creation.couplingJ = after.couplingJ - before.couplingJ;
     creation.beyondLimit = frameSums.beyondLimit;
     reading.creation = creation;
   }

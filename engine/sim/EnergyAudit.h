@@ -60,7 +60,7 @@ double rigidBodyKineticEnergyJ(const RigidBody& body, const ObjectPose& pose);
 struct EnergyReference {
   double dissipatedJ = 0;   // the dissipated energy with the walls'
   double mechanicalJ = 0;   // the kinetic and elastic energy there, the bodies' kinetic energy with it
-  double inputJ = 0;        // what entered since: positive work, arrivals, hardening
+  double inputJ = 0;        // what entered since: positive work, arrivals, hardening, the coupling's
   double largestDtS = 0;    // the largest step since
   std::uint64_t steps = 0;  // the steps since
   double quantizationJ = 0; // what P2G's fixed-point rounding can have made since (quantizationEnergyJ)
@@ -85,7 +85,7 @@ struct EnergyAccount {
 // the start. The dissipated energy is the residual, initial + work + arrived + hardening + coupling − walls − now − the
 // step's term: ≥ 0 in a stable run (docs/numerics.md states what it holds for each transfer and integrator). What the
 // rigid bodies' explicit coupling made (`couplingJ`) is energy from nothing too, but the coupling's own, measured apart:
-// the watchdog judges what the rest makes.
+// the watchdog judges what the snow's step makes.
 struct EnergyBudget {
   double kineticJ = 0;
   double potentialJ = 0;
@@ -115,6 +115,7 @@ struct EnergyCreation {
   double toleranceJ = 0;    // float rounding and the step's truncation (EnergyAudit::toleranceJ)
   double kineticJ = 0;      // the particles' kinetic energy then, and at the frame's start
   double kineticBeforeJ = 0;
+  double couplingJ = 0;     // besides: what the rigid bodies' explicit coupling made over the frame, counted apart
   std::uint64_t beyondLimit = 0;  // particles or flows beyond the scene's bound (EnergySums::beyondLimit)
 };
 

@@ -232,12 +232,12 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorageAndCommands);
     listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
     glMemoryBarrier(gl::kStorageAndCommands);
-    mirrorStress_.set("measuringWork", 0u);
-    mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
-    mirrorStress_.set("measuringWork", 1u);  // the energy the pushes gave, at the nodes' sums with all of them in
-    mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
+    // The pushes' work on the nodes, half at their velocity before and half after (mirror_stress.comp).
+    for (const GLuint measuringWork : {1u, 0u, 1u}) {
+      mirrorStress_.set("measuringWork", measuringWork);
+      mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
+      glMemoryBarrier(gl::kStorage);
+    }
   }
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
   state.grid().run(updateGrid_, sortFor(), buffers, timer);

@@ -9,8 +9,9 @@
 // nodes instead, for the grid update to pass on, would leave a slip or separating body's tangential share in nodes
 // of almost no mass.) Without the images the nodes a body holds see the kernel's transition χ = Σ_{i held} w_i only
 // where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
-// Dispatched twice: the images' pushes first, then (measuringWork) the energy they gave the nodes, at the nodes' sums
-// once every push is in them, which is the same whatever the order of the first dispatch's invocations.
+// Dispatched three times: the energy the pushes give the nodes is measured (measuringWork) at the nodes' sums before
+// any push and again once every push is in them, each read the same whatever the order of the pushes' invocations;
+// the pushes themselves are the middle dispatch.
 // Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums (second
 // dispatch). Writes: grid sums, the bodies' entries' sums (first dispatch), the watchdog.
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
@@ -25,7 +26,7 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-uniform uint measuringWork;  // 0: push the nodes and the body; 1: measure what the pushes did to the nodes
+uniform uint measuringWork;  // 0: push the nodes and the body; 1: measure the pushes' work at the nodes' velocity
 
 // The image of particle p across body i's surface, whose signed distance at x is φ (0 < φ < the kernel's reach)
 // with outward normal n.
@@ -43,9 +44,10 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   GridVector nodesTook = GridVector(0);  // in the nodes' units: the body takes exactly their opposite
   vec3 bodyMomentKgM2PerS = vec3(0.0);
   // The images' push is no force of the snow's own energy: what it does to the nodes, as they move relative to the
-  // body's surface, is energy the coupling makes: its first order, at the nodes' velocity as their sums stand after
-  // the first dispatch (the explicit step's with the step's forces and every push in; the semi-implicit step's before
-  // them, since it sums the impulses apart).
+  // body's surface, is energy the coupling makes. A node of mass m at v⁻ that takes the pushes' sum J moves at
+  // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly, so each measuring dispatch adds half of Σ J_image · (v − v_s)
+  // at the velocity it reads: v⁻ before the pushes, v⁺ after (the explicit step's; the semi-implicit step sums the
+  // impulses apart, so it reads v⁻ twice, the first order, and its solve takes the rest).
   float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
@@ -70,7 +72,7 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     if (measuringWork != 0u) {
       vec4 sums = storedToNondimensional(gridMomentumMass[address]);
       vec3 nodeVelocity = sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg));
-      madeJ += dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
+      madeJ += 0.5 * dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
       continue;
     }
     reportAccumulatorOverflow(overflow, node, IMPULSE_CHANNELS);
