@@ -12,8 +12,8 @@
 // Dispatched three times: the energy the pushes give the nodes is measured (measuringWork) at the nodes' sums before
 // any push and again once every push is in them, each read the same whatever the order of the pushes' invocations;
 // the pushes themselves are the middle dispatch.
-// Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums (second
-// dispatch). Writes: grid sums, the bodies' entries' sums (first dispatch), the watchdog.
+// Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums
+// (measuring). Writes: grid sums, the bodies' entries' sums (pushing), the ledger's flows (measuring), the watchdog.
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
 // the semi-implicit step's impulse sums (docs/platform.md).
 #define FIRN_WITHOUT_AFFINE
@@ -47,7 +47,7 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   // body's surface, is energy the coupling makes. A node of mass m at v⁻ that takes the pushes' sum J moves at
   // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly, so each measuring dispatch adds half of Σ J_image · (v − v_s)
   // at the velocity it reads: v⁻ before the pushes, v⁺ after (the explicit step's; the semi-implicit step sums the
-  // impulses apart, so it reads v⁻ twice, the first order, and its solve takes the rest).
+  // impulses apart, so it reads v⁻ twice: the first order, its second left in the residual).
   float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
