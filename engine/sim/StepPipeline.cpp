@@ -232,11 +232,20 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     glMemoryBarrier(gl::kStorageAndCommands);
     listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
     glMemoryBarrier(gl::kStorageAndCommands);
-    // The pushes' work on the nodes, half at their velocity before and half after (mirror_stress.comp).
-    for (const GLuint measuringWork : {1u, 0u, 1u}) {
+    const auto scatterImages = [&](GLuint measuringWork) {
       mirrorStress_.set("measuringWork", measuringWork);
       mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
       glMemoryBarrier(gl::kStorage);
+    };
+    // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
+    // pushes change it; whole, once, where the semi-implicit step sums them apart.
+    if (implicitSolver_) {
+      scatterImages(0u);
+      scatterImages(2u);
+    } else {
+      scatterImages(1u);
+      scatterImages(0u);
+      scatterImages(1u);
     }
   }
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too

@@ -9,9 +9,10 @@
 // nodes instead, for the grid update to pass on, would leave a slip or separating body's tangential share in nodes
 // of almost no mass.) Without the images the nodes a body holds see the kernel's transition χ = Σ_{i held} w_i only
 // where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
-// Dispatched three times: the energy the pushes give the nodes is measured (measuringWork) at the nodes' sums before
-// any push and again once every push is in them, each read the same whatever the order of the pushes' invocations;
-// the pushes themselves are the middle dispatch.
+// Dispatched to push, and to measure (measuringWork) the energy the pushes give the nodes at the nodes' sums as no
+// push is changing them, which reads the same whatever the order of the pushes' invocations: the explicit step
+// measures half before the pushes and half after, the semi-implicit step, whose pushes leave the sums as they were,
+// once (StepPipeline::step).
 // Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums
 // (measuring). Writes: grid sums, the bodies' entries' sums (pushing), the ledger's flows (measuring), the watchdog.
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
@@ -26,7 +27,7 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-uniform uint measuringWork;  // 0: push the nodes and the body; 1: measure the pushes' work at the nodes' velocity
+uniform uint measuringWork;  // 0: push the nodes and the body; 1 or 2: measure half or all of the pushes' work
 
 // The image of particle p across body i's surface, whose signed distance at x is φ (0 < φ < the kernel's reach)
 // with outward normal n.
@@ -45,9 +46,9 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   vec3 bodyMomentKgM2PerS = vec3(0.0);
   // The images' push is no force of the snow's own energy: what it does to the nodes, as they move relative to the
   // body's surface, is energy the coupling makes. A node of mass m at v⁻ that takes the pushes' sum J moves at
-  // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly, so each measuring dispatch adds half of Σ J_image · (v − v_s)
-  // at the velocity it reads: v⁻ before the pushes, v⁺ after (the explicit step's; the semi-implicit step sums the
-  // impulses apart, so it reads v⁻ twice: the first order, its second left in the residual).
+  // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly: the explicit step measures half of Σ J_image · (v − v_s) at v⁻,
+  // before the pushes, and half at v⁺, after. The semi-implicit step sums the impulses apart, so its nodes' sums hold
+  // v⁻ throughout: it measures the first order once, whole, and leaves the second in the residual.
   float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.
@@ -72,7 +73,7 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     if (measuringWork != 0u) {
       vec4 sums = storedToNondimensional(gridMomentumMass[address]);
       vec3 nodeVelocity = sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg));
-      madeJ += 0.5 * dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
+      madeJ += 0.5 * float(measuringWork) * dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
       continue;
     }
     reportAccumulatorOverflow(overflow, node, IMPULSE_CHANNELS);
