@@ -46,7 +46,7 @@ plot file using "time_s":(0):(l1(0)) with filledcurves fc rgb "#9ecae1" title "p
      file using "time_s":(l5(0)):(l6(0)) with filledcurves fc rgb "#fee391" title "the explicit step's term (symplectic Euler)", \
      file using "time_s":(l6(0)):(l7(0)) with filledcurves fc rgb "#bdbdbd" title "removed by the domain walls", \
      file using "time_s":(l7(0)):(l8(0)) with filledcurves fc rgb "#756bb1" title "dissipated (plasticity, friction, transfers)", \
-     file using "time_s":(l8(0)) with lines lw 2 lc rgb "black" title "at the start, and entered since (work, arrivals, hardening)"
+     file using "time_s":(l8(0)) with lines lw 2 lc rgb "black" title "at the start, and entered since (work, arrivals, hardening, the bodies' coupling)"
 )gnuplot";
 
 }  // namespace
