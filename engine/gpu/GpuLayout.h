@@ -82,7 +82,7 @@ static_assert(FIRN_BLOCK_TILES == BLOCK_TILES, "order_tiles.comp takes an invoca
 static_assert(sizeof(Mat3x4) == 48, "std430 mat3 is 48 bytes");
 static_assert(sizeof(ParticlePlasticState) == 16, "std430 ParticlePlasticState");
 static_assert(sizeof(MaterialParams) == 64, "std430 MaterialParams");
-static_assert(sizeof(ColliderParams) == 304, "std430 ColliderParams");
+static_assert(sizeof(ColliderParams) == 560, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 144 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 20, "std430 BlockSlot");
 static_assert(sizeof(BlockTableHeader) % sizeof(BlockSlot) == 0, "the slots follow the header in whole slots");

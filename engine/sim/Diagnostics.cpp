@@ -78,8 +78,9 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 
 std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
   if (!rigidBodies_) return "";
-  return "; the rigid bodies move explicitly, and one much lighter than the snow it presses on rocks apart at steps "
-         "well below " + bound + ": make it heavier or reduce time.dt";
+  return "; the rigid bodies take the snow's mirrored stress explicitly (and move explicitly in the semi-implicit "
+         "step), and one much lighter than the snow it presses on can rock apart at steps below " + bound +
+         ": make it heavier or reduce time.dt";
 }
 
 // Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}

@@ -134,6 +134,12 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
     integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
     rigidBodies_ = scene.rigidBodies.size();
     firstRigidBody_ = scene.colliders.size();
+    if (!scene.solver.semiImplicit()) {
+      predictBodies_ = gl::ComputePass(library, "sim/predict_bodies.comp", options);
+      solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
+      coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
+                                         offsetof(gpu::BlockTableHeader, blockDispatch));
+    }
   }
   if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options, candidates.shapes);
 }
@@ -249,8 +255,19 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
     }
   }
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
+  const bool coupledSolve = rigidBodies_ > 0 && !implicitSolver_;
+  if (coupledSolve) {  // the bodies take gravity and the images' push before the nodes meet them (eq. 39)
+    predictBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+  }
   state.grid().run(updateGrid_, sortFor(), buffers, timer);
   glMemoryBarrier(gl::kStorage);
+  if (coupledSolve) {  // each body and the nodes it holds, solved together, then those nodes take its motion
+    solveCoupling_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+    state.grid().run(coupleNodes_, sortFor(), buffers, timer);
+    glMemoryBarrier(gl::kStorage);
+  }
   SolveReport solve;
   if (implicitSolver_) {
     solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);

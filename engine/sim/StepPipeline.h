@@ -91,6 +91,10 @@ class StepPipeline {
   gl::ComputePass listMirrored_;      // scenes with rigid bodies
   gl::ComputePass mirrorStress_;      // scenes with rigid bodies
   gl::ComputePass integrateBodies_;   // scenes with rigid bodies
+  // The explicit step's coupled solve of the bodies and the nodes they hold (docs/algorithm.md, eq. 39).
+  gl::ComputePass predictBodies_;
+  gl::ComputePass solveCoupling_;
+  BlockGrid::StepPass coupleNodes_;
   std::size_t rigidBodies_ = 0;
   std::size_t firstRigidBody_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
   std::optional<ImplicitSolver> implicitSolver_;

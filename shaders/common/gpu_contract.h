@@ -170,6 +170,11 @@ FIRN_STRUCT(ParticlePlasticState, FIRN_PARTICLE_PLASTIC_STATE)
   member(ivec4, model)
 FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 
+// The coupled solve's sums (ColliderParams.couplingLow/High): 21 + 6 values in 7 vec4s, 2^−20 their unit.
+#define COUPLING_WORDS 7
+FIRN_CONSTANT(int, COUPLING_SUMS, 27)
+FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
+
 // ColliderParams: one collider, a rigid motion of its shape at rest (common/colliders.glsl; docs/algorithm.md,
 // Colliders). The host writes its pose at the start of the segment of motion that holds the step (for a collider
 // without keyframes, at t = 0 for good); colliderDistance advances it rigidly by v and ω to the time it probes.
@@ -199,6 +204,14 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
 //                     momentumUnitKgMPerS · 2^−k, P2G's momentum units (common/fixed64.glsl)
 //   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · 2^−k · h
+// and, in the explicit step, its coupled solve with the nodes it holds (docs/algorithm.md, eq. 39):
+//   freeVelocity      xyz the body's velocity before the coupled solve, V* (m/s), which the snow's impulses after
+//                     the solve add to (predict_bodies.comp, integrate_bodies.comp)
+//   freeAngularVelocity  xyz its ω* before the solve (rad/s): a separating body's nodes are held where they approach
+//                     its surface moving so
+//   couplingLow/High  the solve's sums over the held nodes, 64-bit fixed point in units of 2^−COUPLING_FRACTION_BITS:
+//                     the upper triangle of Σ m Gᵀ P G, row by row (21), then Σ m Gᵀ P v (6), in P2G's nondimensional
+//                     units (mass m_ref, length h, time Δt_ref; update_grid.comp, solve_coupling.comp)
 #define FIRN_COLLIDER_PARAMS(member, array) \
   member(vec4, shapeA)                      \
   member(vec4, shapeB)                      \
@@ -216,7 +229,11 @@ FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
   member(uvec4, impulseLow)                 \
   member(ivec4, impulseHigh)                \
   member(uvec4, angularLow)                 \
-  member(ivec4, angularHigh)
+  member(ivec4, angularHigh)                \
+  member(vec4, freeVelocity)                \
+  member(vec4, freeAngularVelocity)         \
+  array(uvec4, couplingLow, COUPLING_WORDS) \
+  array(ivec4, couplingHigh, COUPLING_WORDS)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 
 // BlockTableHeader: the pool of blocks and this step's active ones (common/blocks.glsl); a BlockSlot per slot

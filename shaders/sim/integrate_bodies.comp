@@ -1,9 +1,10 @@
 #version 430 core
 // Rigid bodies (docs/algorithm.md, Rigid bodies): an invocation per body, after G2P. The body takes the snow's push
-// of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) and
-// gravity, then its contacts with the scene's colliders and the domain walls (eq. 36), and moves: symplectic Euler,
-// v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Its entry's pose, velocities and sums are
-// rewritten for the next step.
+// of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) — in the
+// explicit step, since its coupled solve, with gravity and the images' push taken before it (predict_bodies.comp);
+// in the semi-implicit step all of it, and gravity — then its contacts with the scene's colliders and the domain
+// walls (eq. 36), and moves: symplectic Euler, v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37).
+// Its entry's pose, velocities and sums are rewritten for the next step.
 // The energy ledger takes the work the moving colliders do on the body through its contacts, and the energy the
 // explicit coupling gives it (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
 // images' share).
@@ -12,6 +13,7 @@
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
+#include "common/bodies.glsl"
 #include "common/energy.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
@@ -19,11 +21,6 @@ layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
 // approach at every probe; a resting box settles within a few.
 const int CONTACT_PASSES = 4;
-
-mat3 rotationMatrix(vec4 q) {
-  return mat3(rotateByQuaternion(q, vec3(1.0, 0.0, 0.0)), rotateByQuaternion(q, vec3(0.0, 1.0, 0.0)),
-              rotateByQuaternion(q, vec3(0.0, 0.0, 1.0)));
-}
 
 vec3 probe(ColliderParams body, int k) {
   int first = body.bodyProbes.x + 3 * k;
@@ -74,22 +71,31 @@ void main() {
   float massKg = body.bodyMass.x;
   float probeRadiusM = body.bodyMass.y;
   float friction = body.velocityFriction.w;
-  mat3 restInverseInertia = mat3(body.inverseInertia[0].xyz, body.inverseInertia[1].xyz, body.inverseInertia[2].xyz);
-
-  // The snow's push (eq. 35) and gravity.
-  float kgMPerSPerUnit = ldexp(momentumUnitKgMPerS, -fixedPointFractionBits);
-  vec3 impulse = fixed64ToFloat(body.impulseLow, body.impulseHigh).xyz * kgMPerSPerUnit;
-  vec3 angularImpulse = fixed64ToFloat(body.angularLow, body.angularHigh).xyz * (kgMPerSPerUnit * cellSizeM);
   vec3 x = colliderPivot(body, timeS);
   vec4 q = body.rotation;
+  mat3 turn = rotationMatrix(q);
+  mat3 inverseInertia = worldInverseInertia(body, turn);
+  vec3 impulse, angularImpulse;
+  summedPush(body, impulse, angularImpulse);
+#ifdef FIRN_SEMI_IMPLICIT
+  // The snow's push (eq. 35) and gravity. The snow met the body's surface moving as it moved before the push, which
+  // the body takes only now: the push's own energy is what this explicit coupling adds to the snow's and the body's.
   vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
   vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
-  mat3 turn = rotationMatrix(q);
-  mat3 inverseInertia = turn * restInverseInertia * transpose(turn);
+  float couplingJ = pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse);
+#else
+  // The snow's impulses since the coupled solve (eq. 39), added to the body's velocities before it (V*, L*:
+  // predict_bodies.comp): the solve's own at the nodes it held, which take the body to the solved (V', ω') its entry
+  // moves at now, and the rest — friction, the particles G2P met — which the snow gave at the surface moving at
+  // (V', ω'): their energy beyond that is the departure's own, ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
+  vec3 v = body.freeVelocity.xyz + impulse / massKg;
+  vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
+  vec3 departure = v - body.velocityFriction.xyz;
+  vec3 turnDeparture = inverseInertia * angularMomentum - body.angularVelocity.xyz;
+  float couplingJ = 0.5 * massKg * dot(departure, departure) +
+                    0.5 * dot(turnDeparture, inverse(inverseInertia) * turnDeparture);
+#endif
   vec3 omega = inverseInertia * angularMomentum;
-  // The snow met the body's surface moving as it moved before the push, which the body takes only now: the push's own
-  // energy, |J|² / 2M + K · I⁻¹ K / 2, is what this explicit coupling adds to the snow's and the body's (≥ 0).
-  float couplingJ = 0.5 * dot(impulse, impulse) / massKg + 0.5 * dot(angularImpulse, inverseInertia * angularImpulse);
   float workJ = 0.0;  // of the moving colliders through the contacts
 
   // Contacts (eq. 36): at each probe the end of the step would carry into a collider or a wall, the impulse that
@@ -134,17 +140,14 @@ void main() {
                       probeRadiusM;
     if (distanceM < 0.0) x -= distanceM * normal;
   }
-  inverseInertia = turn * restInverseInertia * transpose(turn);
+  inverseInertia = worldInverseInertia(body, turn);
 
   colliders[i].pivotTime = vec4(x, endTimeS);
   colliders[i].rotation = q;
   colliders[i].velocityFriction.xyz = v;
   colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
   colliders[i].angularMomentum.xyz = angularMomentum;
-  colliders[i].impulseLow = uvec4(0u);
-  colliders[i].impulseHigh = ivec4(0);
-  colliders[i].angularLow = uvec4(0u);
-  colliders[i].angularHigh = ivec4(0);
+  clearPush(i);
   addEnergyFlows(vec4(workJ, 0.0, couplingJ, 0.0));
 #ifdef FIRN_ADAPTIVE_DT
   // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest point

@@ -4,6 +4,8 @@
 // v_i* = (Σ w m v)_i / m_i + Δt (f_i / m_i + g) (Stomakhin 2013 eq. 9–10, explicit), then colliders and the domain
 // walls. Nodes without mass stay zero. A semi-implicit step meets the colliders without friction here and takes it
 // after the solve (common/colliders.glsl, collideForSolve).
+// With rigid bodies (explicit step), the bodies wait for their coupled solve: this pass adds the nodes they hold to
+// their sums (common/colliders.glsl, addToCoupling) and couple_nodes.comp meets them after solve_coupling.comp.
 // Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
 // PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
 // (solver.glsl). The energy ledger's flows: the moving colliders' work (common/energy.glsl). What the walls take here
@@ -49,6 +51,15 @@ void updateNode(uint slot) {
     float workJ = 0.0;
 #ifdef FIRN_SEMI_IMPLICIT
     constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS, workJ);
+#elif defined(FIRN_HAS_RIGID_BODIES)
+    // The scene's colliders and the walls now; the bodies after their coupled solve (eq. 39): this node's share of
+    // each body's sums, and couple_nodes.comp gives it the motion solved.
+    uint firstBody = colliderCount - rigidBodyCount;
+    velocity = collideWithEntries(0u, firstBody, x, velocity, timeS, massKg, workJ);
+    velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
+    for (uint b = firstBody; b < colliderCount; ++b) {
+      if (colliderWithinReach(b, x, timeS)) addToCoupling(b, x, timeS, massKg, velocity);
+    }
 #else
     velocity = collideWithColliders(x, velocity, timeS, massKg, workJ);
 #endif

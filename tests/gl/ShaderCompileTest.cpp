@@ -90,6 +90,17 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, withBodies))
             << pass << " semi-implicit with rigid bodies " << kernel << " " << transfer;
       }
+      // The explicit step's, with its coupled solve of the bodies and the nodes they hold (docs/algorithm.md, eq. 39).
+      firn::gl::ShaderOptions explicitBodies = options;
+      explicitBodies.defines.insert(explicitBodies.defines.end(),
+                                    {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
+                                     {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_ADAPTIVE_DT", "1"}});
+      for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solve_coupling.comp",
+                               "sim/couple_nodes.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
+                               "sim/integrate_bodies.comp"}) {
+        EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, explicitBodies))
+            << pass << " explicit with rigid bodies " << kernel << " " << transfer;
+      }
       // The product in both shapes, the first product's too (its block shape holds the most shared memory).
       for (const char* groupSize : {"", "64", "256"}) {
         for (const bool first : {false, true}) {

@@ -1,0 +1,36 @@
+// What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation and inertia in
+// the world, and the snow's push summed in its entry (eq. 35).
+#include "common/fixed64.glsl"
+
+mat3 rotationMatrix(vec4 q) {
+  return mat3(rotateByQuaternion(q, vec3(1.0, 0.0, 0.0)), rotateByQuaternion(q, vec3(0.0, 1.0, 0.0)),
+              rotateByQuaternion(q, vec3(0.0, 0.0, 1.0)));
+}
+
+// I⁻¹ in the world's axes, R I_b⁻¹ Rᵀ, for the body's orientation `turn` (1/(kg·m²)).
+mat3 worldInverseInertia(ColliderParams body, mat3 turn) {
+  mat3 restInverseInertia = mat3(body.inverseInertia[0].xyz, body.inverseInertia[1].xyz, body.inverseInertia[2].xyz);
+  return turn * restInverseInertia * transpose(turn);
+}
+
+// The impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) summed in the body's entry.
+void summedPush(ColliderParams body, out vec3 impulseKgMPerS, out vec3 momentKgM2PerS) {
+  float kgMPerSPerUnit = ldexp(momentumUnitKgMPerS, -fixedPointFractionBits);
+  impulseKgMPerS = fixed64ToFloat(body.impulseLow, body.impulseHigh).xyz * kgMPerSPerUnit;
+  momentKgM2PerS = fixed64ToFloat(body.angularLow, body.angularHigh).xyz * (kgMPerSPerUnit * cellSizeM);
+}
+
+// The energy (J) a push J with moment K gives a body of mass M and inverse inertia I⁻¹ beyond what the snow's side
+// pays for it to first order (J · V + K · ω): |J|² / 2M + K · I⁻¹ K / 2 (docs/numerics.md, The energy audit).
+float pushOwnEnergyJ(float massKg, mat3 inverseInertia, vec3 impulseKgMPerS, vec3 momentKgM2PerS) {
+  return 0.5 * dot(impulseKgMPerS, impulseKgMPerS) / massKg +
+         0.5 * dot(momentKgM2PerS, inverseInertia * momentKgM2PerS);
+}
+
+// Empties the entry's sums of the snow's push.
+void clearPush(uint i) {
+  colliders[i].impulseLow = uvec4(0u);
+  colliders[i].impulseHigh = ivec4(0);
+  colliders[i].angularLow = uvec4(0u);
+  colliders[i].angularHigh = ivec4(0);
+}

@@ -1,0 +1,36 @@
+#version 430 core
+// Rigid bodies before their coupled solve (docs/algorithm.md, eq. 39), explicit step: an invocation per body, after
+// the images of the snow's stress (mirror_stress.comp) have pushed it and before the grid update. The body takes that
+// push and gravity, V* = V + J / M + Δt g and L* = L + K, and its entry moves at V* and ω* = I⁻¹ L* from here to the
+// solve: the grid update meets its surface moving so (a separating body holds the nodes approaching it then), and
+// integrate_bodies.comp adds the snow's impulses after the solve to V* (ColliderParams.freeVelocity).
+// The energy ledger takes the push's own energy, as integrate_bodies.comp takes the rest's (common/bodies.glsl).
+// Reads and writes: the bodies' entries. Writes: the ledger's flows.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/colliders.glsl"
+#include "common/bodies.glsl"
+#include "common/energy.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+void main() {
+  uint b = gl_GlobalInvocationID.x;
+  if (b >= rigidBodyCount) return;
+  uint i = colliderCount - rigidBodyCount + b;
+  ColliderParams body = colliders[i];
+  if (body.shapeBoundary.w == 0) return;  // parked
+  float massKg = body.bodyMass.x;
+  vec3 impulse, angularImpulse;
+  summedPush(body, impulse, angularImpulse);
+  vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
+  vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
+  mat3 inverseInertia = worldInverseInertia(body, rotationMatrix(body.rotation));
+  colliders[i].velocityFriction.xyz = v;
+  colliders[i].freeVelocity.xyz = v;
+  colliders[i].angularMomentum.xyz = angularMomentum;
+  colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
+  colliders[i].freeAngularVelocity.xyz = inverseInertia * angularMomentum;
+  clearPush(i);
+  addEnergyFlows(vec4(0.0, 0.0, pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse), 0.0));
+}

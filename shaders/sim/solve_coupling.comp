@@ -1,0 +1,93 @@
+#version 430 core
+// The explicit step's coupled solve (docs/algorithm.md, eq. 39): an invocation per rigid body, after the grid update
+// has summed the nodes it holds. The body's velocities u = (V, ω) and the nodes' held components move together:
+// with M_b = diag(M, I) and the sums Σ m Gᵀ P G and Σ m Gᵀ P v (ColliderParams.couplingLow/High),
+//   (M_b + Σ m Gᵀ P G) u' = M_b u* + Σ m Gᵀ P v,
+// the velocities that keep the body's and the held nodes' momentum and angular momentum, with the nodes' held
+// components moving with the body's surface: a perfectly inelastic collision of the body with the snow it holds,
+// whatever their masses' ratio. The body's entry then moves at u' for the rest of the step: couple_nodes.comp gives
+// the nodes that surface velocity and the body their impulses, which integrate_bodies.comp adds to u*. A body that
+// holds no node keeps u*.
+// Reads and writes: the bodies' entries.
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/colliders.glsl"
+#include "common/bodies.glsl"
+
+layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+
+const int N = 6;
+
+// Solves A x = b for a symmetric positive definite 6×6 A (its upper triangle, row by row) by Cholesky's A = L Lᵀ.
+void solveSymmetric(float upper[21], inout float x[N]) {
+  float l[N][N];
+  int k = 0;
+  float a[N][N];
+  for (int r = 0; r < N; ++r) {
+    for (int c = r; c < N; ++c) {
+      a[r][c] = upper[k];
+      a[c][r] = upper[k];
+      ++k;
+    }
+  }
+  for (int c = 0; c < N; ++c) {
+    float diagonal = a[c][c];
+    for (int j = 0; j < c; ++j) diagonal -= l[c][j] * l[c][j];
+    l[c][c] = sqrt(diagonal);
+    for (int r = c + 1; r < N; ++r) {
+      float value = a[r][c];
+      for (int j = 0; j < c; ++j) value -= l[r][j] * l[c][j];
+      l[r][c] = value / l[c][c];
+    }
+  }
+  for (int r = 0; r < N; ++r) {  // L y = b
+    for (int j = 0; j < r; ++j) x[r] -= l[r][j] * x[j];
+    x[r] /= l[r][r];
+  }
+  for (int r = N - 1; r >= 0; --r) {  // Lᵀ x = y
+    for (int j = r + 1; j < N; ++j) x[r] -= l[j][r] * x[j];
+    x[r] /= l[r][r];
+  }
+}
+
+void main() {
+  uint b = gl_GlobalInvocationID.x;
+  if (b >= rigidBodyCount) return;
+  uint i = colliderCount - rigidBodyCount + b;
+  ColliderParams body = colliders[i];
+  if (body.shapeBoundary.w == 0) return;  // parked
+  bool holds = false;
+  for (int w = 0; w < COUPLING_WORDS; ++w) holds = holds || nonzero(body.couplingLow[w], body.couplingHigh[w]);
+  if (!holds) return;
+  float sums[4 * COUPLING_WORDS];
+  float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
+  for (int w = 0; w < COUPLING_WORDS; ++w) {
+    vec4 values = fixed64ToFloat(body.couplingLow[w], body.couplingHigh[w]) * valuePerUnit;
+    for (int c = 0; c < 4; ++c) sums[4 * w + c] = values[c];
+    colliders[i].couplingLow[w] = uvec4(0u);
+    colliders[i].couplingHigh[w] = ivec4(0);
+  }
+  // The body in the sums' units: mass m_ref, length h, velocity h / Δt_ref, so ω in 1 / Δt_ref.
+  float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
+  float massUnits = body.bodyMass.x * massUnitsPerKg;
+  mat3 inertiaUnits = inverse(worldInverseInertia(body, rotationMatrix(body.rotation))) *
+                      (massUnitsPerKg * cellsPerM * cellsPerM);
+  vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
+  vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
+  vec3 angularMomentum = inertiaUnits * angularVelocity;
+  float upper[21];
+  for (int k = 0; k < 21; ++k) upper[k] = sums[k];
+  // M_b on the diagonal: the upper triangle's row r starts at 6r − r(r − 1)/2.
+  for (int r = 0; r < 3; ++r) upper[6 * r - r * (r - 1) / 2] += massUnits;
+  for (int r = 3; r < 6; ++r) {
+    for (int c = r; c < 6; ++c) upper[6 * r - r * (r - 1) / 2 + (c - r)] += inertiaUnits[c - 3][r - 3];
+  }
+  float x[N];
+  for (int k = 0; k < 3; ++k) {
+    x[k] = massUnits * velocity[k] + sums[21 + k];
+    x[3 + k] = angularMomentum[k] + sums[24 + k];
+  }
+  solveSymmetric(upper, x);
+  colliders[i].velocityFriction.xyz = vec3(x[0], x[1], x[2]) / velocityUnitsPerMPerS;
+  colliders[i].angularVelocity.xyz = vec3(x[3], x[4], x[5]) * (cellsPerM / velocityUnitsPerMPerS);
+}
