@@ -16,7 +16,8 @@ struct Checkpoint {
   // 3: the header lists every buffer's size, and the header and each buffer end in their CRC-32.
   // 4: a mesh collider's entry of the collider table (held with rigid bodies) holds its field's steepest slope.
   // 5: the energy audit's account, and its ledger after the watchdog's status.
-  static constexpr std::uint32_t kVersion = 5;
+  // 6: a collider table's entry holds its rigid body's coupled solve (velocities before it, and its sums).
+  static constexpr std::uint32_t kVersion = 6;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;

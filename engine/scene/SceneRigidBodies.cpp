@@ -155,8 +155,8 @@ std::vector<RigidBody> readRigidBodies(const Value& rigidBodies, const GridSpec&
                    (spheres ? "the two spheres intersect"
                             : "their bounding boxes, " + describeBox(box.minM, box.maxM) + " and " +
                                   describeBox(otherBox.minM, otherBox.maxM) + ", overlap") +
-                   "): contact between rigid bodies is not modelled, so they would pass through each other; move "
-                   "them apart");
+                   "): bodies meet each other at their surfaces, and two that start sharing space would be thrown "
+                   "apart; move them apart (touching is fine)");
     }
   }
   return bodies;

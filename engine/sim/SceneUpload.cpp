@@ -85,12 +85,18 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
   switch (body.shape) {
     case RigidShape::Sphere: return {glm::dvec3(0.0)};
     case RigidShape::Box: {
-      std::vector<glm::dvec3> corners;
-      for (int corner = 0; corner < 8; ++corner) {
-        const glm::dvec3 signs(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1);
-        corners.push_back(body.halfExtentsM * signs);
+      // The corners, the edges' midpoints and the faces' centres: a box set squarely on another of the same
+      // footprint has its corners on the other's edges, where the other's φ reads 0 along a side face, and meets it
+      // at its faces' centres and edges' midpoints.
+      std::vector<glm::dvec3> points;
+      for (int x = -1; x <= 1; ++x) {
+        for (int y = -1; y <= 1; ++y) {
+          for (int z = -1; z <= 1; ++z) {
+            if (x != 0 || y != 0 || z != 0) points.push_back(body.halfExtentsM * glm::dvec3(x, y, z));
+          }
+        }
       }
-      return corners;
+      return points;
     }
     case RigidShape::Mesh: break;
   }

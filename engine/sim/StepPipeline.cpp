@@ -275,7 +275,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   glMemoryBarrier(gl::kStorage);
   if (rigidBodies_ > 0) {
-    integrateBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
+    integrateBodies_.runOver(1, maxWorkGroupsX_, buffers, timer);  // one invocation for all: they meet each other
     glMemoryBarrier(gl::kStorage);
   }
   return solve;

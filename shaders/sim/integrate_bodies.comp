@@ -1,12 +1,13 @@
 #version 430 core
-// Rigid bodies (docs/algorithm.md, Rigid bodies): an invocation per body, after G2P. The body takes the snow's push
-// of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) — in the
-// explicit step, since its coupled solve, with gravity and the images' push taken before it (predict_bodies.comp);
-// in the semi-implicit step all of it, and gravity — then its contacts with the scene's colliders and the domain
-// walls (eq. 36), and moves: symplectic Euler, v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37).
-// Its entry's pose, velocities and sums are rewritten for the next step.
-// The energy ledger takes the work the moving colliders do on the body through its contacts, and the energy the
-// explicit coupling gives it (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
+// Rigid bodies (docs/algorithm.md, Rigid bodies): one invocation for every body, after G2P. Each body takes the snow's
+// push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) — in
+// the explicit step, since its coupled solve, with gravity and the images' push taken before it (predict_bodies.comp);
+// in the semi-implicit step all of it, and gravity. Then the bodies' contacts with the scene's colliders, the domain
+// walls and each other (eq. 36), and each moves: symplectic Euler, v and L first, then x by v and the orientation by
+// ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and sums are rewritten for the next step. One invocation, so
+// that a contact between two bodies changes both at once and the impulses run in one order on every run.
+// The energy ledger takes the work the moving colliders do on the bodies through their contacts, and the energy the
+// explicit coupling gives them (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
 // images' share).
 // Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, the ledger's flows, and
 // with adaptive steps the watchdog's fastest speed.
@@ -16,11 +17,11 @@
 #include "common/bodies.glsl"
 #include "common/energy.glsl"
 
-layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
+layout(local_size_x = 1) in;
 
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
 // approach at every probe; a resting box settles within a few.
-const int CONTACT_PASSES = 4;
+const int CONTACT_PASSES = 10;
 
 vec3 probe(ColliderParams body, int k) {
   int first = body.bodyProbes.x + 3 * k;
@@ -61,97 +62,191 @@ float deepestContact(vec3 x, float timeS, uint staticColliders, out vec3 normal,
   return deepest;
 }
 
-void main() {
-  uint b = gl_GlobalInvocationID.x;
-  if (b >= rigidBodyCount) return;
-  uint staticColliders = colliderCount - rigidBodyCount;
-  uint i = staticColliders + b;
-  ColliderParams body = colliders[i];
-  if (body.shapeBoundary.w == 0) return;  // parked
-  float massKg = body.bodyMass.x;
-  float probeRadiusM = body.bodyMass.y;
-  float friction = body.velocityFriction.w;
-  vec3 x = colliderPivot(body, timeS);
-  vec4 q = body.rotation;
-  mat3 turn = rotationMatrix(q);
-  mat3 inverseInertia = worldInverseInertia(body, turn);
-  vec3 impulse, angularImpulse;
-  summedPush(body, impulse, angularImpulse);
-#ifdef FIRN_SEMI_IMPLICIT
-  // The snow's push (eq. 35) and gravity. The snow met the body's surface moving as it moved before the push, which
-  // the body takes only now: the push's own energy is what this explicit coupling adds to the snow's and the body's.
-  vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
-  vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
-  float couplingJ = pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse);
-#else
-  // The snow's impulses since the coupled solve (eq. 39), added to the body's velocities before it (V*, L*:
-  // predict_bodies.comp): the solve's own at the nodes it held, which take the body to the solved (V', ω') its entry
-  // moves at now, and the rest — friction, the particles G2P met — which the snow gave at the surface moving at
-  // (V', ω'): their energy beyond that is the departure's own, ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
-  vec3 v = body.freeVelocity.xyz + impulse / massKg;
-  vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
-  vec3 departure = v - body.velocityFriction.xyz;
-  vec3 turnDeparture = inverseInertia * angularMomentum - body.angularVelocity.xyz;
-  float couplingJ = 0.5 * massKg * dot(departure, departure) +
-                    0.5 * dot(turnDeparture, inverse(inverseInertia) * turnDeparture);
-#endif
-  vec3 omega = inverseInertia * angularMomentum;
-  float workJ = 0.0;  // of the moving colliders through the contacts
+// The inverse of the effective mass a body of mass M and world inverse inertia I⁻¹ has along direction d at r from its
+// centre of mass: 1/M + d · (I⁻¹ (r × d)) × r.
+float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
+  return 1.0 / massKg + dot(d, cross(inverseInertia * cross(r, d), r));
+}
 
-  // Contacts (eq. 36): at each probe the end of the step would carry into a collider or a wall, the impulse that
-  // stops its approach, j_n = −u_n / (1/m + n · (I⁻¹ (r × n)) × r), and Coulomb friction up to μ j_n against the
-  // tangential slip.
+// The impulses the contacts have given this step, one slot per probe and what it may meet (the colliders and walls,
+// then each other body), numbered in the order the passes visit them: xyz the friction, w the normal impulse. Each
+// pass adds to a slot what makes its contact's approach zero and keeps its total within the contact's laws — the
+// normal total ≥ 0, the friction's within μ of it — so that a later pass can take back what an earlier one gave too
+// much (projected Gauss–Seidel with accumulated impulses, Catto 2005): a box landing flat on its 26 probes is not
+// turned by the first probe's taking the whole landing. Contacts beyond the slots take each pass's impulse alone.
+const int CONTACT_SLOTS = 128;
+vec4 accumulated[CONTACT_SLOTS];
+
+// The impulse this pass adds at contact `slot` on a body whose velocity relative to what it meets there is
+// `relative`, along the outward `normal` of what it meets: perfectly inelastic with Coulomb friction μ (eq. 36), given
+// the contact's inverse effective masses along the normal and along the slip's direction t (both bodies' summed, where
+// it meets another body).
+vec3 contactImpulse(int slot, vec3 relative, vec3 normal, float friction, float normalInverseMass,
+                    float tangentInverseMass, vec3 t) {
+  float approach = dot(relative, normal);
+  vec3 slip = relative - approach * normal;
+  vec3 frictionWanted = -length(slip) / tangentInverseMass * t;
+  if (slot >= CONTACT_SLOTS) {
+    if (approach >= 0.0) return vec3(0.0);
+    float normalImpulse = -approach / normalInverseMass;
+    float limit = friction * normalImpulse;
+    vec3 limited = length(frictionWanted) > limit ? normalize(frictionWanted) * limit : frictionWanted;
+    return normalImpulse * normal + limited;
+  }
+  vec4 before = accumulated[slot];
+  float normalTotal = max(before.w - approach / normalInverseMass, 0.0);
+  vec3 frictionTotal = before.xyz + frictionWanted;
+  float limit = friction * normalTotal;
+  if (length(frictionTotal) > limit) frictionTotal *= limit / length(frictionTotal);
+  accumulated[slot] = vec4(frictionTotal, normalTotal);
+  return (normalTotal - before.w) * normal + (frictionTotal - before.xyz);
+}
+
+// The direction of the tangential slip of a relative velocity, or 0 where there is none.
+vec3 slipDirection(vec3 relative, vec3 normal) {
+  vec3 slip = relative - dot(relative, normal) * normal;
+  return length(slip) > 0.0 ? normalize(slip) : vec3(0.0);
+}
+
+bool takesPart(uint i) { return colliders[i].shapeBoundary.w != 0; }  // a parked body does not
+
+// Body i's velocities as its entry holds them during the contacts: V, and L with ω = I⁻¹ L.
+void setVelocities(uint i, vec3 v, vec3 angularMomentum, mat3 inverseInertia) {
+  colliders[i].velocityFriction.xyz = v;
+  colliders[i].angularMomentum.xyz = angularMomentum;
+  colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
+}
+
+void main() {
+  if (gl_GlobalInvocationID.x != 0u) return;
+  uint staticColliders = colliderCount - rigidBodyCount;
+  float workJ = 0.0;      // of the moving colliders through the contacts
+  float couplingJ = 0.0;  // the explicit coupling's own energy
+
+  // The snow's push, and gravity where the coupled solve did not take it already.
+  for (uint i = staticColliders; i < colliderCount; ++i) {
+    if (!takesPart(i)) continue;
+    ColliderParams body = colliders[i];
+    float massKg = body.bodyMass.x;
+    mat3 inverseInertia = worldInverseInertia(body, rotationMatrix(body.rotation));
+    vec3 impulse, angularImpulse;
+    summedPush(body, impulse, angularImpulse);
+#ifdef FIRN_SEMI_IMPLICIT
+    // The snow met the body's surface moving as it moved before the push, which the body takes only now: the push's
+    // own energy is what this explicit coupling adds to the snow's and the body's.
+    vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
+    vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
+    couplingJ += pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse);
+#else
+    // The snow's impulses since the coupled solve (eq. 39), added to the body's velocities before it (V*, L*:
+    // predict_bodies.comp): the solve's own at the nodes it held, which take the body to the solved (V', ω') its
+    // entry moves at now, and the rest — friction, the particles G2P met — which the snow gave at the surface moving
+    // at (V', ω'): their energy beyond that is the departure's own, ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
+    vec3 v = body.freeVelocity.xyz + impulse / massKg;
+    vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
+    vec3 departure = v - body.velocityFriction.xyz;
+    vec3 turnDeparture = inverseInertia * angularMomentum - body.angularVelocity.xyz;
+    couplingJ += 0.5 * massKg * dot(departure, departure) +
+                 0.5 * dot(turnDeparture, inverse(inverseInertia) * turnDeparture);
+#endif
+    setVelocities(i, v, angularMomentum, inverseInertia);
+  }
+
+  // Contacts (eq. 36): at each probe the end of the step would carry into a collider, a wall or another body, the
+  // impulse that stops its approach, j_n = −u_n / k_n, and Coulomb friction up to μ j_n against the tangential slip,
+  // k the inverse effective mass along each direction: 1/M + n · (I⁻¹ (r × n)) × r, and the other body's beside it.
+  // Another body is met where it will be at the step's end (its entry moves by its V and ω from now), and takes the
+  // opposite impulse; two bodies' friction is the geometric mean of theirs.
   float endTimeS = timeS + dtS;
+  for (int slot = 0; slot < CONTACT_SLOTS; ++slot) accumulated[slot] = vec4(0.0);
   for (int pass = 0; pass < CONTACT_PASSES; ++pass) {
-    for (int k = 0; k < body.bodyProbes.y; ++k) {
-      vec3 r = turn * probe(body, k);
-      vec3 normal, surfaceVelocity;
-      float distanceM = deepestContact(x + dtS * v + r, endTimeS, staticColliders, normal, surfaceVelocity) -
-                        probeRadiusM;
-      if (distanceM >= 0.0) continue;
-      vec3 contactR = r - probeRadiusM * normal;
-      vec3 relative = v + cross(omega, contactR) - surfaceVelocity;
-      float approach = dot(relative, normal);
-      if (approach >= 0.0) continue;
-      float normalMass = 1.0 / massKg + dot(normal, cross(inverseInertia * cross(contactR, normal), contactR));
-      float normalImpulse = -approach / normalMass;
-      vec3 contactImpulse = normalImpulse * normal;
-      vec3 slip = relative - approach * normal;
-      float slipSpeed = length(slip);
-      if (slipSpeed > 0.0) {
-        vec3 t = slip / slipSpeed;
-        float tangentMass = 1.0 / massKg + dot(t, cross(inverseInertia * cross(contactR, t), contactR));
-        contactImpulse -= min(slipSpeed / tangentMass, friction * normalImpulse) * t;
+    int contactSlot = 0;
+    for (uint i = staticColliders; i < colliderCount; ++i) {
+      if (!takesPart(i)) continue;
+      ColliderParams body = colliders[i];
+      float massKg = body.bodyMass.x;
+      float probeRadiusM = body.bodyMass.y;
+      vec3 x = colliderPivot(body, timeS);
+      mat3 turn = rotationMatrix(body.rotation);
+      mat3 inverseInertia = worldInverseInertia(body, turn);
+      vec3 v = body.velocityFriction.xyz;
+      vec3 angularMomentum = body.angularMomentum.xyz;
+      vec3 omega = body.angularVelocity.xyz;
+      for (int k = 0; k < body.bodyProbes.y; ++k) {
+        vec3 r = turn * probe(body, k);
+        vec3 end = x + dtS * v + r;
+        vec3 normal, surfaceVelocity;
+        float distanceM = deepestContact(end, endTimeS, staticColliders, normal, surfaceVelocity) - probeRadiusM;
+        int slot = contactSlot++;
+        if (distanceM < 0.0) {
+          vec3 contactR = r - probeRadiusM * normal;
+          vec3 relative = v + cross(omega, contactR) - surfaceVelocity;
+          vec3 t = slipDirection(relative, normal);
+          vec3 j = contactImpulse(slot, relative, normal, body.velocityFriction.w,
+                                  inverseEffectiveMass(massKg, inverseInertia, contactR, normal),
+                                  inverseEffectiveMass(massKg, inverseInertia, contactR, t), t);
+          v += j / massKg;
+          angularMomentum += cross(contactR, j);
+          workJ += dot(j, surfaceVelocity);
+          omega = inverseInertia * angularMomentum;
+        }
+        for (uint o = staticColliders; o < colliderCount; ++o) {
+          if (o == i || !takesPart(o)) continue;
+          slot = contactSlot++;
+          if (!colliderWithinReach(o, end, endTimeS, probeRadiusM)) continue;
+          ColliderParams other = colliders[o];
+          distanceM = colliderDistance(other, end, endTimeS, normal) - probeRadiusM;
+          if (distanceM >= 0.0) continue;
+          vec3 contactR = r - probeRadiusM * normal;
+          vec3 point = end - probeRadiusM * normal;
+          vec3 otherR = point - colliderPivot(other, endTimeS);
+          vec3 relative = v + cross(omega, contactR) - colliderVelocity(other, point, endTimeS);
+          vec3 t = slipDirection(relative, normal);
+          float otherMassKg = other.bodyMass.x;
+          mat3 otherInverseInertia = worldInverseInertia(other, rotationMatrix(other.rotation));
+          vec3 j = contactImpulse(slot, relative, normal, sqrt(body.velocityFriction.w * other.velocityFriction.w),
+                                  inverseEffectiveMass(massKg, inverseInertia, contactR, normal) +
+                                      inverseEffectiveMass(otherMassKg, otherInverseInertia, otherR, normal),
+                                  inverseEffectiveMass(massKg, inverseInertia, contactR, t) +
+                                      inverseEffectiveMass(otherMassKg, otherInverseInertia, otherR, t),
+                                  t);
+          v += j / massKg;
+          angularMomentum += cross(contactR, j);
+          omega = inverseInertia * angularMomentum;
+          setVelocities(o, other.velocityFriction.xyz - j / otherMassKg,
+                        other.angularMomentum.xyz - cross(otherR, j), otherInverseInertia);
+        }
       }
-      v += contactImpulse / massKg;
-      angularMomentum += cross(contactR, contactImpulse);
-      workJ += dot(contactImpulse, surfaceVelocity);
-      omega = inverseInertia * angularMomentum;
+      setVelocities(i, v, angularMomentum, inverseInertia);
     }
   }
 
-  // Symplectic Euler (eq. 37), then out of whatever solid a probe still ends in, along its normal.
-  x += dtS * v;
-  q = normalize(composeTurns(q, turnOver(omega, dtS)));
-  turn = rotationMatrix(q);
-  for (int k = 0; k < body.bodyProbes.y; ++k) {
-    vec3 normal, surfaceVelocity;
-    float distanceM = deepestContact(x + turn * probe(body, k), endTimeS, staticColliders, normal, surfaceVelocity) -
-                      probeRadiusM;
-    if (distanceM < 0.0) x -= distanceM * normal;
-  }
-  inverseInertia = worldInverseInertia(body, turn);
-
-  colliders[i].pivotTime = vec4(x, endTimeS);
-  colliders[i].rotation = q;
-  colliders[i].velocityFriction.xyz = v;
-  colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
-  colliders[i].angularMomentum.xyz = angularMomentum;
-  clearPush(i);
-  addEnergyFlows(vec4(workJ, 0.0, couplingJ, 0.0));
+  // Symplectic Euler (eq. 37), then out of whatever collider or wall a probe still ends in, along its normal.
+  for (uint i = staticColliders; i < colliderCount; ++i) {
+    if (!takesPart(i)) continue;
+    ColliderParams body = colliders[i];
+    float probeRadiusM = body.bodyMass.y;
+    vec3 v = body.velocityFriction.xyz;
+    vec3 angularMomentum = body.angularMomentum.xyz;
+    vec3 x = colliderPivot(body, timeS) + dtS * v;
+    vec4 q = normalize(composeTurns(body.rotation, turnOver(body.angularVelocity.xyz, dtS)));
+    mat3 turn = rotationMatrix(q);
+    for (int k = 0; k < body.bodyProbes.y; ++k) {
+      vec3 normal, surfaceVelocity;
+      float distanceM = deepestContact(x + turn * probe(body, k), endTimeS, staticColliders, normal,
+                                       surfaceVelocity) - probeRadiusM;
+      if (distanceM < 0.0) x -= distanceM * normal;
+    }
+    mat3 inverseInertia = worldInverseInertia(body, turn);
+    colliders[i].pivotTime = vec4(x, endTimeS);
+    colliders[i].rotation = q;
+    colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
+    clearPush(i);
 #ifdef FIRN_ADAPTIVE_DT
-  // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest point
-  // moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.angularVelocity.w).
-  reportSpeed(length(v) + length(colliders[i].angularVelocity.xyz) * colliders[i].angularVelocity.w);
+    // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest
+    // point moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.angularVelocity.w).
+    reportSpeed(length(v) + length(colliders[i].angularVelocity.xyz) * colliders[i].angularVelocity.w);
 #endif
+  }
+  addEnergyFlows(vec4(workJ, 0.0, couplingJ, 0.0));
 }

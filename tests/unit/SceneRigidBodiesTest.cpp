@@ -233,11 +233,17 @@ TEST_F(SceneRigidBodies, BodiesOverlappingAtTheStartAreRefused) {
   expectError(withRigidBodies(R"([
     { "shape": "sphere", "center": [0.3, 0.3, 0.3], "radius": 0.1, "mass": 1 },
     { "shape": "sphere", "center": [0.4, 0.4, 0.3], "radius": 0.1, "mass": 1 } ])"),
-              "rigid_bodies[1]", "overlaps rigid_bodies[0] at the start (the two spheres intersect): contact between "
-                                 "rigid bodies is not modelled");
+              "rigid_bodies[1]", "overlaps rigid_bodies[0] at the start (the two spheres intersect): bodies meet "
+                                 "each other at their surfaces");
   EXPECT_EQ(parse(withRigidBodies(R"([
     { "shape": "sphere", "center": [0.3, 0.3, 0.3], "radius": 0.1, "mass": 1 },
     { "shape": "sphere", "center": [0.45, 0.45, 0.3], "radius": 0.1, "mass": 1 } ])")).rigidBodies.size(), 2u);
+  // Touching is fine: a stack of two boxes (binary fractions, so that the faces meet exactly).
+  EXPECT_EQ(parse(withRigidBodies(R"([
+    { "shape": "box", "center": [0.25, 0.25, 0.25], "size": [0.125, 0.125, 0.125], "mass": 1 },
+    { "shape": "box", "center": [0.25, 0.375, 0.25], "size": [0.125, 0.125, 0.125], "mass": 1 } ])"))
+                .rigidBodies.size(),
+            2u);
   // Any other pair by its bounding boxes, which the message says.
   expectError(withRigidBodies(R"([
     { "shape": "sphere", "center": [0.3, 0.3, 0.3], "radius": 0.1, "mass": 1 },
@@ -247,7 +253,7 @@ TEST_F(SceneRigidBodies, BodiesOverlappingAtTheStartAreRefused) {
   expectError(withRigidBodies(R"([
     { "shape": "box", "center": [0.3, 0.3, 0.3], "size": [0.2, 0.2, 0.2], "mass": 1 },
     { "shape": "box", "center": [0.54, 0.3, 0.3], "size": [0.2, 0.2, 0.2], "rotate_deg": [0, 0, 45], "mass": 1 } ])"),
-              "rigid_bodies[1]", "not modelled");
+              "rigid_bodies[1]", "would be thrown apart");
 }
 
 }  // namespace
