@@ -73,7 +73,7 @@ float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
 // pass adds to a slot what makes its contact's approach zero and keeps its total within the contact's laws — the
 // normal total ≥ 0, the friction's within μ of it — so that a later pass can take back what an earlier one gave too
 // much (projected Gauss–Seidel with accumulated impulses, Catto 2005): a box landing flat on its 26 probes is not
-// turned by the first probe's taking the whole landing. Contacts beyond the slots take each pass's impulse alone.
+// turned by the first probe's taking the whole landing. A contact beyond the slots starts each pass from nothing.
 const int CONTACT_SLOTS = 128;
 vec4 accumulated[CONTACT_SLOTS];
 
@@ -86,19 +86,12 @@ vec3 contactImpulse(int slot, vec3 relative, vec3 normal, float friction, float 
   float approach = dot(relative, normal);
   vec3 slip = relative - approach * normal;
   vec3 frictionWanted = -length(slip) / tangentInverseMass * t;
-  if (slot >= CONTACT_SLOTS) {
-    if (approach >= 0.0) return vec3(0.0);
-    float normalImpulse = -approach / normalInverseMass;
-    float limit = friction * normalImpulse;
-    vec3 limited = length(frictionWanted) > limit ? normalize(frictionWanted) * limit : frictionWanted;
-    return normalImpulse * normal + limited;
-  }
-  vec4 before = accumulated[slot];
+  vec4 before = slot < CONTACT_SLOTS ? accumulated[slot] : vec4(0.0);
   float normalTotal = max(before.w - approach / normalInverseMass, 0.0);
   vec3 frictionTotal = before.xyz + frictionWanted;
   float limit = friction * normalTotal;
   if (length(frictionTotal) > limit) frictionTotal *= limit / length(frictionTotal);
-  accumulated[slot] = vec4(frictionTotal, normalTotal);
+  if (slot < CONTACT_SLOTS) accumulated[slot] = vec4(frictionTotal, normalTotal);
   return (normalTotal - before.w) * normal + (frictionTotal - before.xyz);
 }
 

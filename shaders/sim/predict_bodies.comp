@@ -29,8 +29,9 @@ void main() {
   colliders[i].velocityFriction.xyz = v;
   colliders[i].freeVelocity.xyz = v;
   colliders[i].angularMomentum.xyz = angularMomentum;
-  colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
-  colliders[i].freeAngularVelocity.xyz = inverseInertia * angularMomentum;
+  vec3 omega = inverseInertia * angularMomentum;
+  colliders[i].angularVelocity.xyz = omega;
+  colliders[i].freeAngularVelocity.xyz = omega;
   clearPush(i);
   addEnergyFlows(vec4(0.0, 0.0, pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse), 0.0));
 }
