@@ -9,6 +9,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -229,21 +230,9 @@ class ClosestTriangles {
   // corners per triangle is still one surface): those of triangle t are neighbours_[neighboursBegin_[t],
   // neighboursBegin_[t + 1]), each once, t itself not among them.
   void linkTriangles(const TriangleMesh& mesh) {
-    std::vector<std::uint32_t> byPosition(mesh.vertices.size());
-    for (std::size_t v = 0; v < byPosition.size(); ++v) byPosition[v] = std::uint32_t(v);
-    const auto lexicographic = [&](std::uint32_t first, std::uint32_t second) {
-      const glm::dvec3& a = mesh.vertices[first];
-      const glm::dvec3& b = mesh.vertices[second];
-      return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : (a.z != b.z ? a.z < b.z : first < second));
-    };
-    std::sort(byPosition.begin(), byPosition.end(), lexicographic);
-    std::vector<std::uint32_t> welded(mesh.vertices.size());
-    std::uint32_t weldedCount = 0;
-    for (std::size_t rank = 0; rank < byPosition.size(); ++rank) {
-      if (rank > 0 && mesh.vertices[byPosition[rank]] != mesh.vertices[byPosition[rank - 1]]) ++weldedCount;
-      welded[byPosition[rank]] = weldedCount;
-    }
-    ++weldedCount;
+    const std::vector<std::uint32_t> welded = weldByPosition(mesh);
+    const std::uint32_t weldedCount =
+        welded.empty() ? 0 : *std::max_element(welded.begin(), welded.end()) + 1;
     // The triangles around each welded vertex, v's at aroundBegin[v] to aroundBegin[v + 1].
     std::vector<std::uint32_t> aroundBegin(std::size_t(weldedCount) + 1, 0);
     for (const glm::uvec3& corners : mesh.triangles) {
@@ -568,6 +557,74 @@ std::vector<std::uint8_t> classifyInside(const ClosestTriangles& field, const Wi
   return inside;
 }
 
+// Every triangle's features (TriangleFeatures), their normals outward as the baked samples' signs say.
+std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const ClosestTriangles& closest,
+                                           const std::vector<std::uint8_t>& inside) {
+  const std::vector<Triangle>& triangles = closest.triangles();
+  // Each sample within a spacing of its triangle's plane, more over it than beside it, votes for the side it lies.
+  std::vector<std::int64_t> votes(triangles.size(), 0);
+  const double bandM2 = closest.spacingM() * closest.spacingM();
+  for (std::size_t sample = 0; sample < closest.sampleCount(); ++sample) {
+    const std::int32_t t = closest.closest(sample);
+    const double squaredDistanceM2 = closest.squaredDistanceM2(sample);
+    if (t == noTriangle || !(squaredDistanceM2 <= bandM2)) continue;
+    const Triangle& triangle = triangles[std::size_t(t)];
+    if (triangle.inverseNormalSquared == 0) continue;
+    const double heightM = glm::dot(closest.positionM(closest.coordinates(sample)) - triangle.aM, triangle.normalM2) *
+                           std::sqrt(triangle.inverseNormalSquared);
+    if (heightM * heightM < 0.25 * squaredDistanceM2) continue;
+    votes[std::size_t(t)] += (heightM < 0) == (inside[sample] != 0) ? 1 : -1;
+  }
+  std::vector<TriangleFeatures> normals(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& triangle = triangles[t];
+    const double turn = votes[t] < 0 ? -1.0 : 1.0;
+    normals[t].face = triangle.normalM2 * (turn * std::sqrt(triangle.inverseNormalSquared));  // 0 for a flat one
+  }
+  // Edges and corners of welded vertices, so that a soup of separate triangles shares its features.
+  const std::vector<std::uint32_t> welded = weldByPosition(mesh);
+  const std::size_t pointCount = welded.empty() ? 0 : *std::max_element(welded.begin(), welded.end()) + 1;
+  std::vector<glm::dvec3> cornerSums(pointCount, glm::dvec3(0.0));
+  std::unordered_map<std::uint64_t, glm::dvec3> edgeSums;
+  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> edgeTriangles;
+  const auto edgeKey = [&](std::uint32_t a, std::uint32_t b) {
+    return std::uint64_t(std::min(a, b)) << 32 | std::uint64_t(std::max(a, b));
+  };
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const glm::uvec3& corners = mesh.triangles[t];
+    const glm::dvec3 at[3] = {triangles[t].aM, triangles[t].bM, triangles[t].cM};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
+      edgeSums[edge] += normals[t].face;
+      edgeTriangles[edge].push_back(std::int32_t(t));
+      const glm::dvec3 toNext = at[(k + 1) % 3] - at[k], toPrevious = at[(k + 2) % 3] - at[k];
+      const double lengths = glm::length(toNext) * glm::length(toPrevious);
+      const double angle = lengths > 0 ? std::acos(std::clamp(glm::dot(toNext, toPrevious) / lengths, -1.0, 1.0)) : 0.0;
+      cornerSums[welded[corners[k]]] += angle * normals[t].face;
+    }
+  }
+  // A feature whose faces cancel (a sheet folded flat, faces of both windings) keeps its own face's normal.
+  const auto unit = [](const glm::dvec3& sum, const glm::dvec3& fallback) {
+    const double length = glm::length(sum);
+    return length > 0 ? sum / length : fallback;
+  };
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const glm::uvec3& corners = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
+      normals[t].edges[k] = unit(edgeSums[edge], normals[t].face);
+      for (const std::int32_t other : edgeTriangles[edge]) {
+        if (other != std::int32_t(t)) {
+          normals[t].across[k] = other;  // the first other, where more than two share the edge
+          break;
+        }
+      }
+      normals[t].corners[k] = unit(cornerSums[welded[corners[k]]], normals[t].face);
+    }
+  }
+  return normals;
+}
+
 }  // namespace
 
 glm::dvec3 distanceFieldSamples(const Bounds& meshBox, double spacingM, double marginM) {
@@ -611,8 +668,9 @@ DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, doubl
 
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM, unsigned threadCount) {
   if (mesh.triangles.empty()) throw MeshError("distance field: the mesh has no triangles");
-  if (mesh.triangles.size() > std::size_t(std::numeric_limits<std::int32_t>::max())) {
-    throw MeshError("distance field: more than 2^31 - 1 triangles");
+  // The GPU reads each sample's nearest triangle as a float, exact up to 2^24.
+  if (mesh.triangles.size() > std::size_t(1) << 24) {
+    throw MeshError("distance field: more than 2^24 (16,777,216) triangles");
   }
   std::vector<Triangle> triangles;
   triangles.reserve(mesh.triangles.size());
@@ -634,13 +692,16 @@ DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, doubl
   const std::vector<std::uint8_t> inside = classifyInside(closest, WindingNumber(mesh), threadCount);
 
   field.distancesM.resize(field.sampleCount());
+  field.nearestTriangles.resize(field.sampleCount());
   forEachChunk(chunksOf(field.sampleCount(), samplesPerChunk), threadCount, [&](std::size_t chunk) {
     const std::size_t end = std::min(field.sampleCount(), (chunk + 1) * samplesPerChunk);
     for (std::size_t sample = chunk * samplesPerChunk; sample < end; ++sample) {
       const auto distanceM = float(std::sqrt(closest.squaredDistanceM2(sample)));
       field.distancesM[sample] = inside[sample] ? -distanceM : distanceM;
+      field.nearestTriangles[sample] = closest.closest(sample);
     }
   });
+  field.features = triangleFeatures(mesh, closest, inside);
   return field;
 }
 

@@ -225,22 +225,29 @@ double signedVolume(const TriangleMesh& mesh) {
   return sixTimesVolume / 6;
 }
 
+std::vector<std::uint32_t> weldByPosition(const TriangleMesh& mesh) {
+  std::vector<std::uint32_t> byPosition(mesh.vertices.size());
+  for (std::size_t v = 0; v < byPosition.size(); ++v) byPosition[v] = std::uint32_t(v);
+  const auto lexicographic = [&](std::uint32_t first, std::uint32_t second) {
+    const glm::dvec3& a = mesh.vertices[first];
+    const glm::dvec3& b = mesh.vertices[second];
+    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : (a.z != b.z ? a.z < b.z : first < second));
+  };
+  std::sort(byPosition.begin(), byPosition.end(), lexicographic);
+  std::vector<std::uint32_t> welded(mesh.vertices.size());
+  std::uint32_t number = 0;
+  for (std::size_t rank = 0; rank < byPosition.size(); ++rank) {
+    if (rank > 0 && mesh.vertices[byPosition[rank]] != mesh.vertices[byPosition[rank - 1]]) ++number;
+    welded[byPosition[rank]] = number;
+  }
+  return welded;
+}
+
 MeshSurface measureSurface(const TriangleMesh& mesh) {
   MeshSurface surface;
   // Vertices welded by position, so that a vertex split for its normals or texture coordinates (or an STL's
   // corners, one per triangle) does not leave a seam that looks like a hole.
-  std::vector<unsigned> byPosition(mesh.vertices.size());
-  for (unsigned v = 0; v < byPosition.size(); ++v) byPosition[v] = v;
-  const auto lexicographic = [&](unsigned a, unsigned b) {
-    const glm::dvec3 &p = mesh.vertices[a], &q = mesh.vertices[b];
-    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
-  };
-  std::sort(byPosition.begin(), byPosition.end(), lexicographic);
-  std::vector<unsigned> weld(mesh.vertices.size());
-  for (std::size_t i = 0; i < byPosition.size(); ++i) {
-    const bool same = i > 0 && mesh.vertices[byPosition[i]] == mesh.vertices[byPosition[i - 1]];
-    weld[byPosition[i]] = same ? weld[byPosition[i - 1]] : byPosition[i];
-  }
+  const std::vector<std::uint32_t> weld = weldByPosition(mesh);
   // An edge of a closed surface is shared by an even number of triangles (two, for a manifold); of a consistently
   // oriented one, by as many triangles that run along it one way as the other. Each edge is held as its two welded
   // vertices in order, and the lowest bit says which way the triangle ran.

@@ -60,6 +60,11 @@ TriangleMesh uvSphere(double radiusM, unsigned rings, unsigned segments);
 // The box from minM to maxM: two triangles per face, counter-clockwise seen from outside.
 TriangleMesh boxMesh(const glm::dvec3& minM, const glm::dvec3& maxM);
 
+// Each vertex's number among the mesh's distinct positions, counted from 0 in lexicographic order of position:
+// vertices at the same point share one, so a mesh that repeats its corners per triangle (an STL, a seam split for
+// normals or texture coordinates) is still one surface.
+std::vector<std::uint32_t> weldByPosition(const TriangleMesh& mesh);
+
 struct Bounds {
   glm::dvec3 minM;
   glm::dvec3 maxM;

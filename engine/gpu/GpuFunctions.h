@@ -32,6 +32,7 @@ using glm::normalize;
 using glm::sign;
 using std::cos;
 using std::sin;
+using glm::ivec4;
 using std::sqrt;
 
 #include "common/shared_functions.h"
@@ -45,14 +46,7 @@ inline float colliderDistance(const ColliderParams& c, const std::vector<float>&
   vec3 restNormal;
   float distanceM;
   if (c.shapeBoundary.x == SHAPE_MESH) {
-    ivec3 cell;
-    vec3 fraction, outsideM;
-    fieldCell(c, fromPivot, cell, fraction, outsideM);
-    float corners[8];
-    for (int k = 0; k < 8; ++k) {
-      corners[k] = fieldSamples.at(std::size_t(fieldSampleIndex(c, cell + ivec3(k & 1, (k >> 1) & 1, k >> 2))));
-    }
-    distanceM = cellDistance(corners, fraction, outsideM, restNormal);
+    distanceM = meshRestDistance(fieldSamples, c, fromPivot, restNormal);
   } else {
     distanceM = shapeDistance(c, fromPivot, restNormal);
   }

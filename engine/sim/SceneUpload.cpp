@@ -37,7 +37,25 @@ ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::
   placed.originFromPivotM = field.originM - pivotM;
   placed.spacingM = field.spacingM;
   if (rigidBody) placed.steepestSlope = voxelizer::steepestSlope(field);
+  // φ, each sample's nearest triangle, and the triangles' records (gpu::FIELD_TRIANGLE_FLOATS): the layout
+  // meshRestDistance (common/shared_functions.h) reads.
   samples.insert(samples.end(), field.distancesM.begin(), field.distancesM.end());
+  for (const std::int32_t triangle : field.nearestTriangles) samples.push_back(float(triangle));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const voxelizer::TriangleFeatures& features = field.features[t];
+    const glm::dvec3 vectors[10] = {mesh.vertices[mesh.triangles[t].x] - pivotM,
+                                    mesh.vertices[mesh.triangles[t].y] - pivotM,
+                                    mesh.vertices[mesh.triangles[t].z] - pivotM,
+                                    features.face,
+                                    features.edges[0],
+                                    features.edges[1],
+                                    features.edges[2],
+                                    features.corners[0],
+                                    features.corners[1],
+                                    features.corners[2]};
+    for (const glm::dvec3& v : vectors) samples.insert(samples.end(), {float(v.x), float(v.y), float(v.z)});
+    for (const std::int32_t other : features.across) samples.push_back(float(other));
+  }
   return placed;
 }
 

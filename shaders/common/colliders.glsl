@@ -15,31 +15,12 @@ layout(std430, binding = FIRN_BINDING_COLLIDERS) buffer ColliderBuffer { Collide
 #else
 layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer { ColliderParams colliders[]; };
 #endif
-#ifdef FIRN_HAS_COLLIDER_FIELDS
-layout(binding = FIRN_TEXTURE_UNIT_COLLIDER_FIELDS) uniform samplerBuffer colliderFields;
-#endif
-
 // A collider's signed distance φ (m, negative inside its solid) at a point of the frame of its shape at rest,
 // `fromPivot`, and the outward unit normal there in that frame: an analytic shape by eq. 27, a mesh by its distance
 // field (eq. 34).
 float colliderRestDistance(ColliderParams c, vec3 fromPivot, out vec3 restNormal) {
 #ifdef FIRN_HAS_COLLIDER_FIELDS
-  if (c.shapeBoundary.x == SHAPE_MESH) {
-    ivec3 cell;
-    vec3 fraction, outsideM;
-    fieldCell(c, fromPivot, cell, fraction, outsideM);
-    // The corners one by one: a loop would spend llvmpipe's iterations per invocation (docs/platform.md).
-    float corners[8];
-    corners[0] = texelFetch(colliderFields, fieldSampleIndex(c, cell)).r;
-    corners[1] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 0, 0))).r;
-    corners[2] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 1, 0))).r;
-    corners[3] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 1, 0))).r;
-    corners[4] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 0, 1))).r;
-    corners[5] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 0, 1))).r;
-    corners[6] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(0, 1, 1))).r;
-    corners[7] = texelFetch(colliderFields, fieldSampleIndex(c, cell + ivec3(1, 1, 1))).r;
-    return cellDistance(corners, fraction, outsideM, restNormal);
-  }
+  if (c.shapeBoundary.x == SHAPE_MESH) return meshRestDistance(c, fromPivot, restNormal);
 #endif
   return shapeDistance(c, fromPivot, restNormal);
 }

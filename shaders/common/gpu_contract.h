@@ -117,6 +117,9 @@ FIRN_CONSTANT(int, SHAPE_PLANE, 0)
 FIRN_CONSTANT(int, SHAPE_SPHERE, 1)
 FIRN_CONSTANT(int, SHAPE_BOX, 2)
 FIRN_CONSTANT(int, SHAPE_MESH, 3)  // a signed distance field baked from a triangle mesh (ColliderParams.field)
+// A mesh's triangle in the field buffer: its corners a, b, c (from the pivot, m), the outward unit normals of its
+// face, its edges ab, bc, ca and its corners a, b, c (ten vec3s), and the triangles beyond ab, bc, ca (−1: none).
+FIRN_CONSTANT(int, FIELD_TRIANGLE_FLOATS, 33)
 FIRN_CONSTANT(int, BOUNDARY_STICKY, 0)
 FIRN_CONSTANT(int, BOUNDARY_SLIP, 1)
 FIRN_CONSTANT(int, BOUNDARY_SEPARATE, 2)
@@ -192,7 +195,9 @@ FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
 //                     holds the whole shape (a mesh's field lattice), or −1 for a plane (colliderWithinReach)
 //   shapeBoundary     x SHAPE_*, y BOUNDARY_*, z: a rigid body's entry 1, else 0; w: a body that takes part 1, a
 //                     parked one (the viewer's spare balls, out of the domain until thrown) 0
-//   field             SHAPE_MESH: x the first of its samples in the field buffer, yzw the samples per axis
+//   field             SHAPE_MESH: x the first of its samples in the field buffer, yzw the samples per axis; after
+//                     the samples' φ, as many floats naming each sample's nearest triangle, then a record of
+//                     FIELD_TRIANGLE_FLOATS per triangle (common/shared_functions.h, meshRestDistance)
 //   fieldOrigin       SHAPE_MESH: xyz where sample (0, 0, 0) lies at rest, from the pivot (m); w the spacing (m)
 // A rigid body's entry also holds its dynamics and the snow's push on it this step:
 //   bodyMass          x the mass (kg), y the contact radius of its probes (m: a sphere's radius, else 0)

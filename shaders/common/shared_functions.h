@@ -12,12 +12,29 @@
 #ifdef __cplusplus
 #define FIRN_FUNCTION inline
 #define FIRN_OUT(type) type&
+#define FIRN_INOUT(type) type&
 #define FIRN_GENERIC template <class Real>
 #else
 #define FIRN_FUNCTION
 #define FIRN_OUT(type) out type
+#define FIRN_INOUT(type) inout type
 #define FIRN_GENERIC
 #define Real float
+#endif
+
+// The field buffer of the mesh colliders and bodies: the shaders' buffer texture (common/colliders.glsl binds it),
+// the host's vector of its floats, passed as the first argument of the functions that read it.
+#ifdef __cplusplus
+#define FIRN_FIELD_BUFFER const std::vector<float>&fieldBuffer,
+#define FIRN_FIELD_PASS fieldBuffer,
+#define FIRN_FIELD_VALUE(index) fieldBuffer.at(std::size_t(index))
+#else
+#ifdef FIRN_HAS_COLLIDER_FIELDS
+layout(binding = FIRN_TEXTURE_UNIT_COLLIDER_FIELDS) uniform samplerBuffer colliderFields;
+#endif
+#define FIRN_FIELD_BUFFER
+#define FIRN_FIELD_PASS
+#define FIRN_FIELD_VALUE(index) texelFetch(colliderFields, index).r
 #endif
 
 // Snow's hardening, e^{ξ(1 − J_P)} (Stomakhin et al. 2013 eq. 7): the factor its Lamé parameters take at J_P.
@@ -197,6 +214,151 @@ FIRN_FUNCTION float cellDistance(float corners[8], vec3 fraction, vec3 outsideM,
   restNormal = gradientLength > 0.0f ? gradient / gradientLength : vec3(0.0f, 1.0f, 0.0f);
   return distanceM;
 }
+
+#if defined(__cplusplus) || defined(FIRN_HAS_COLLIDER_FIELDS)
+// The closest point of the triangle abc to p, and which feature of it that is: 0 its face, 1–3 its edges ab, bc, ca,
+// 4–6 its corners a, b, c — by the Voronoi regions of its corners, edges and face (Ericson, "Real-Time Collision
+// Detection", 2005, §5.1.5). A triangle too flat to have a face region ends at its corner a.
+FIRN_FUNCTION vec3 closestPointOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c, FIRN_OUT(int) feature) {
+  vec3 ab = b - a, ac = c - a, ap = p - a;
+  float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  feature = 4;
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  vec3 bp = p - b;
+  float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  feature = 5;
+  if (d3 >= 0.0f && d4 <= d3) return b;
+  float vc = d1 * d4 - d3 * d2;
+  feature = 1;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + (d1 / (d1 - d3)) * ab;
+  vec3 cp = p - c;
+  float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  feature = 6;
+  if (d6 >= 0.0f && d5 <= d6) return c;
+  float vb = d5 * d2 - d1 * d6;
+  feature = 3;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + (d2 / (d2 - d6)) * ac;
+  float va = d3 * d6 - d5 * d4;
+  feature = 2;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  float total = va + vb + vc;
+  feature = total > 0.0f ? 0 : 4;
+  return total > 0.0f ? a + ab * (vb / total) + ac * (vc / total) : a;
+}
+
+FIRN_FUNCTION vec3 fieldVector(FIRN_FIELD_BUFFER int index) {
+  return vec3(FIRN_FIELD_VALUE(index), FIRN_FIELD_VALUE(index + 1), FIRN_FIELD_VALUE(index + 2));
+}
+
+// The nearest point of a mesh found so far: its squared distance, where it is, the record of its triangle in the
+// field buffer and which feature of it (closestPointOnTriangle).
+struct MeshNearest {
+  float squaredDistanceM2;
+  vec3 pointM;
+  int record;
+  int feature;
+};
+
+// Offers `nearest` the mesh's triangle `triangle` (−1: none), and returns the feature of it nearest the point
+// (closestPointOnTriangle; −1 where it was not measured: none, or the nearest already).
+FIRN_FUNCTION int offerTriangle(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, int triangle,
+                                FIRN_INOUT(MeshNearest) nearest) {
+  int record = c.field.x + 2 * c.field.y * c.field.z * c.field.w + FIELD_TRIANGLE_FLOATS * triangle;
+  if (triangle < 0 || record == nearest.record) return -1;
+  int feature;
+  vec3 pointM = closestPointOnTriangle(fromPivot, fieldVector(FIRN_FIELD_PASS record),
+                                       fieldVector(FIRN_FIELD_PASS record + 3), fieldVector(FIRN_FIELD_PASS record + 6),
+                                       feature);
+  vec3 away = fromPivot - pointM;
+  float squaredDistanceM2 = dot(away, away);
+  if (squaredDistanceM2 < nearest.squaredDistanceM2) {
+    nearest.squaredDistanceM2 = squaredDistanceM2;
+    nearest.pointM = pointM;
+    nearest.record = record;
+    nearest.feature = feature;
+  }
+  return feature;
+}
+
+// Offers `nearest` the triangles beyond the edges of a feature (an edge, or a corner's two) of the triangle whose
+// record starts at `record`: a point whose nearest feature of one triangle is an edge or a corner lies over a face
+// beyond it, or nearest that edge or corner itself.
+FIRN_FUNCTION void offerTrianglesAcross(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, int record, int feature,
+                                        FIRN_INOUT(MeshNearest) nearest) {
+  if (feature <= 0) return;
+  // Edge k (ab, bc, ca) is feature k + 1; corner k (a, b, c), feature k + 4, ends edges k and k + 2 (mod 3).
+  int first = feature <= 3 ? feature - 1 : feature - 4;
+  int second = feature <= 3 ? first : (first + 2) % 3;
+  int firstTriangle = int(FIRN_FIELD_VALUE(record + 30 + first));
+  int secondTriangle = int(FIRN_FIELD_VALUE(record + 30 + second));
+  offerTriangle(FIRN_FIELD_PASS c, fromPivot, firstTriangle, nearest);
+  if (secondTriangle != firstTriangle) offerTriangle(FIRN_FIELD_PASS c, fromPivot, secondTriangle, nearest);
+}
+
+// Offers `nearest` the triangle that the field's sample `sample` names as its nearest, and those beyond the feature
+// of it nearest the point: a sample names one of the faces it is equally near, and a face's triangles meet
+// along a diagonal, so the point's nearest face may be the next one over.
+FIRN_FUNCTION void offerSampleTriangle(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, int sample,
+                                       FIRN_INOUT(MeshNearest) nearest) {
+  int sampleCount = c.field.y * c.field.z * c.field.w;
+  int triangle = int(FIRN_FIELD_VALUE(sample + sampleCount));
+  int feature = offerTriangle(FIRN_FIELD_PASS c, fromPivot, triangle, nearest);
+  int record = c.field.x + 2 * sampleCount + FIELD_TRIANGLE_FLOATS * triangle;
+  offerTrianglesAcross(FIRN_FIELD_PASS c, fromPivot, record, feature, nearest);
+}
+
+// A mesh's signed distance φ at a point of its rest frame, and the outward unit normal there (eq. 34). Within the
+// field's lattice |φ| is the exact distance to the nearest of the triangles its cell's eight samples name (the
+// nearest triangle, but for near ties on medial surfaces), and the normal points from that triangle's closest
+// point; within a cell's diagonal of the surface the side is that of the closest feature's pseudonormal (exact for a
+// closed mesh at its edges and corners, where the trilinear interpolant rounds them off), farther out the
+// interpolant's (the winding number's, for open meshes). Beyond the lattice, the interpolant at its nearest point
+// plus the distance from there.
+FIRN_FUNCTION float meshRestDistance(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, FIRN_OUT(vec3) restNormal) {
+  ivec3 cell;
+  vec3 fraction, outsideM;
+  fieldCell(c, fromPivot, cell, fraction, outsideM);
+  // The corners one by one: a loop would spend llvmpipe's iterations per invocation (docs/platform.md).
+  int first = fieldSampleIndex(c, cell);
+  int row = c.field.y, layer = c.field.y * c.field.z;
+  float corners[8];
+  corners[0] = FIRN_FIELD_VALUE(first);
+  corners[1] = FIRN_FIELD_VALUE(first + 1);
+  corners[2] = FIRN_FIELD_VALUE(first + row);
+  corners[3] = FIRN_FIELD_VALUE(first + row + 1);
+  corners[4] = FIRN_FIELD_VALUE(first + layer);
+  corners[5] = FIRN_FIELD_VALUE(first + layer + 1);
+  corners[6] = FIRN_FIELD_VALUE(first + layer + row);
+  corners[7] = FIRN_FIELD_VALUE(first + layer + row + 1);
+  float interpolatedM = cellDistance(corners, fraction, outsideM, restNormal);
+  if (outsideM.x != 0.0f || outsideM.y != 0.0f || outsideM.z != 0.0f) return interpolatedM;
+  MeshNearest nearest;
+  nearest.squaredDistanceM2 = 3.0e38f;
+  nearest.pointM = fromPivot;
+  nearest.record = -1;
+  nearest.feature = 0;
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + 1, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + row, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + row + 1, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + layer, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + layer + 1, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + layer + row, nearest);
+  offerSampleTriangle(FIRN_FIELD_PASS c, fromPivot, first + layer + row + 1, nearest);
+  // Once more beyond the nearest found: a face's own two triangles may lie beyond the one a sample named.
+  offerTrianglesAcross(FIRN_FIELD_PASS c, fromPivot, nearest.record, nearest.feature, nearest);
+  vec3 away = fromPivot - nearest.pointM;
+  float distanceM = sqrt(nearest.squaredDistanceM2);
+  vec3 pseudonormal = fieldVector(FIRN_FIELD_PASS nearest.record + 9 + 3 * nearest.feature);
+  float spacingM = c.fieldOrigin.w;
+  float side = abs(interpolatedM) > 1.7320508f * spacingM ? sign(interpolatedM)
+               : dot(away, pseudonormal) < 0.0f         ? -1.0f
+                                                         : 1.0f;
+  // On the surface (to the float rounding of positions, far below 10⁻⁴ spacings) the direction of `away` is noise.
+  restNormal = distanceM > 1e-4f * spacingM ? away * (side / distanceM) : pseudonormal;
+  return side * distanceM;
+}
+#endif
 
 // The velocity of a collider's surface at x at timeS, the rigid motion's v + ω × (x − c(t)) (eq. 33).
 FIRN_FUNCTION vec3 colliderVelocity(ColliderParams c, vec3 x, float timeS) {

@@ -23,11 +23,7 @@ layout(local_size_x = 1) in;
 // approach at every probe; a resting box settles within a few.
 const int CONTACT_PASSES = 10;
 
-vec3 probe(ColliderParams body, int k) {
-  int first = body.bodyProbes.x + 3 * k;
-  return vec3(texelFetch(colliderFields, first).r, texelFetch(colliderFields, first + 1).r,
-              texelFetch(colliderFields, first + 2).r);
-}
+vec3 probe(ColliderParams body, int k) { return fieldVector(body.bodyProbes.x + 3 * k); }
 
 // The deepest of the scene's colliders and the domain walls at x, at timeS: φ (m) and its outward normal, and
 // the velocity of that surface and its friction (a wall's 0 and at rest).

@@ -1,7 +1,9 @@
 // A collider's keyframed motion (docs/algorithm.md, Colliders; docs/scene-format.md, colliders): the pose is each
 // keyframe's at its time, interpolated linearly and by slerp between, held before the first and after the last;
 // v and ω are constant over a segment; every new key is validated with its key path.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -208,6 +210,58 @@ TEST(ColliderMotion, EveryPointInsideAColliderLiesWithinItsReach) {
       EXPECT_GT(inside[entry], 100) << "entry " << entry << ": too few points probed inside";
     }
   }
+}
+
+// A box's 12-triangle mesh measures as the analytic box everywhere within two cells of its surface, its edges and
+// corners included (docs/algorithm.md, Mesh colliders): φ to float rounding of the positions (2⁻²⁴ of 1 m, 6e-8 m;
+// bound 1e-6 m), and the normal to 1e-3 rad wherever the point lies 1e-4 m or more from the surface (the rounding
+// over that distance, 6e-4 rad), except on the ridges inside, where two faces are equally near and either normal is
+// right. Before exact distances near the surface the field's trilinear interpolation was 1 cm (0.4 samples) off at
+// the edges and its normals up to 89° (1.55 rad). Two faces pass through samples (the lattice starts 3 cells below
+// the box's low corner), which names either of two faces at some of them; the other edges cross cells.
+TEST(ColliderMotion, AMeshBoxMeasuresAsTheAnalyticBoxAtItsEdgesAndCorners) {
+  Scene scene;
+  scene.grid.cells = glm::ivec3(24);
+  scene.grid.cellSizeM = 0.05;
+  const glm::dvec3 minM(0.33, 0.27, 0.41), maxM(0.77, 0.58, 0.86);
+  Collider box;
+  box.shape = ColliderShape::Box;
+  box.minM = minM;
+  box.maxM = maxM;
+  box.pivotM = 0.5 * (minM + maxM);
+  Collider mesh;
+  mesh.shape = ColliderShape::Mesh;
+  mesh.mesh = std::make_shared<voxelizer::TriangleMesh>(voxelizer::boxMesh(minM, maxM));
+  mesh.pivotM = box.pivotM;
+  scene.colliders = {box, mesh};
+  const ColliderFields fields = bakeColliderFields(scene);
+  const std::vector<gpu::ColliderParams> table = buildColliderTable(scene, fields, 0.0);
+  const double bandM = 2 * scene.grid.cellSizeM;
+  double worstDistanceM = 0, worstTurnRad = 0;
+  int probed = 0;
+  for (double x = minM.x - bandM; x <= maxM.x + bandM; x += 0.0037) {
+    for (double y = minM.y - bandM; y <= maxM.y + bandM; y += 0.0041) {
+      for (double z = minM.z - bandM; z <= maxM.z + bandM; z += 0.0043) {
+        const glm::vec3 point(x, y, z);
+        glm::vec3 boxNormal, meshNormal;
+        const float boxM = gpu::colliderDistance(table[0], fields.samples, point, 0.0f, boxNormal);
+        const float meshM = gpu::colliderDistance(table[1], fields.samples, point, 0.0f, meshNormal);
+        if (std::abs(boxM) > bandM) continue;
+        ++probed;
+        worstDistanceM = std::max(worstDistanceM, double(std::abs(meshM - boxM)));
+        // Inside, a point as near two faces (to 1e-4 m) lies on a ridge where the normal turns.
+        const glm::dvec3 excess = glm::abs(glm::dvec3(point) - box.pivotM) - 0.5 * (maxM - minM);
+        const double nearest = std::max({excess.x, excess.y, excess.z});
+        const int nearFaces = (excess.x > nearest - 1e-4) + (excess.y > nearest - 1e-4) + (excess.z > nearest - 1e-4);
+        if (std::abs(boxM) < 1e-4 || (boxM < 0 && nearFaces > 1)) continue;
+        worstTurnRad = std::max(worstTurnRad, std::acos(std::clamp(double(glm::dot(boxNormal, meshNormal)), -1.0, 1.0)));
+      }
+    }
+  }
+  std::printf("%d points: φ within %.3g m, normals within %.3g rad\n", probed, worstDistanceM, worstTurnRad);
+  EXPECT_GT(probed, 100000);
+  EXPECT_LT(worstDistanceM, 1e-6);
+  EXPECT_LT(worstTurnRad, 1e-3);
 }
 
 // A scene with one collider, for the validation tests.
