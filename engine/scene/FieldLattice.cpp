@@ -13,6 +13,7 @@ FieldLattice fieldLattice(const voxelizer::TriangleMesh& mesh, const GridSpec& g
   lattice.marginM = kFieldMarginCells * grid.cellSizeM;
   const voxelizer::Bounds box = voxelizer::bounds(mesh);
   lattice.samples = voxelizer::distanceFieldSamples(box, lattice.spacingM, lattice.marginM);
+  lattice.triangles = double(mesh.triangles.size());
   return lattice;
 }
 

@@ -25,8 +25,11 @@ struct FieldLattice {
   // Per axis; doubles, so that the count of a wild scene cannot overflow before it is refused.
   glm::dvec3 samples{0.0};
 
+  double triangles = 0;  // of the mesh: the field buffer holds a record of each (gpu::FIELD_TRIANGLE_FLOATS)
+
   double sampleCount() const { return samples.x * samples.y * samples.z; }
-  double bytes() const { return 4 * sampleCount(); }  // one 32-bit float per sample
+  // Per sample its φ and its nearest triangle's number, and each triangle's record: 32-bit floats.
+  double bytes() const { return 4 * (2 * sampleCount() + 33 * triangles); }
 };
 
 // The size of the lattice the mesh's field is baked on (voxelizer::distanceFieldSamples), counted before baking.

@@ -192,9 +192,9 @@ FIRN_FUNCTION int fieldSampleIndex(ColliderParams c, ivec3 latticePoint) {
   return c.field.x + (latticePoint.z * c.field.z + latticePoint.y) * c.field.y + latticePoint.x;
 }
 
-// φ inside a lattice cell by trilinear interpolation of its corners (corner k at x = k & 1, y = (k >> 1) & 1,
-// z = k >> 2), and the direction of its gradient there — the outward normal (eq. 34): the interpolant's exact
-// gradient, so a probe's normal is continuous within a cell and points away from the nearer surface.
+// φ̃ inside a lattice cell by trilinear interpolation of its corners (corner k at x = k & 1, y = (k >> 1) & 1,
+// z = k >> 2), and the direction of its gradient there (eq. 34), or beyond the lattice φ̃ at its nearest point plus
+// the distance from there: the side of a point far from the surface, and φ beyond the lattice (meshRestDistance).
 FIRN_FUNCTION float cellDistance(float corners[8], vec3 fraction, vec3 outsideM, FIRN_OUT(vec3) restNormal) {
   vec3 f = fraction;
   vec3 g = vec3(1.0f) - f;
@@ -271,6 +271,14 @@ FIRN_FUNCTION int offerTriangle(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPiv
                                        feature);
   vec3 away = fromPivot - pointM;
   float squaredDistanceM2 = dot(away, away);
+  if (feature == 0) {
+    // Over the face, the height over its plane: it loses nothing to the barycentric weights' rounding, so a flat
+    // face measures as the analytic shape's (the snow on a mesh box is the analytic box's to 10⁻³ h).
+    vec3 faceNormal = fieldVector(FIRN_FIELD_PASS record + 9);
+    float heightM = dot(fromPivot - fieldVector(FIRN_FIELD_PASS record), faceNormal);
+    squaredDistanceM2 = heightM * heightM;
+    pointM = fromPivot - heightM * faceNormal;
+  }
   if (squaredDistanceM2 < nearest.squaredDistanceM2) {
     nearest.squaredDistanceM2 = squaredDistanceM2;
     nearest.pointM = pointM;
@@ -295,13 +303,13 @@ FIRN_FUNCTION void offerTrianglesAcross(FIRN_FIELD_BUFFER ColliderParams c, vec3
   if (secondTriangle != firstTriangle) offerTriangle(FIRN_FIELD_PASS c, fromPivot, secondTriangle, nearest);
 }
 
-// Offers `nearest` the triangle that the field's sample `sample` names as its nearest, and those beyond the feature
+// Offers `nearest` the triangle that the field's sample `named` names as its nearest, and those beyond the feature
 // of it nearest the point: a sample names one of the faces it is equally near, and a face's triangles meet
 // along a diagonal, so the point's nearest face may be the next one over.
-FIRN_FUNCTION void offerSampleTriangle(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, int sample,
+FIRN_FUNCTION void offerSampleTriangle(FIRN_FIELD_BUFFER ColliderParams c, vec3 fromPivot, int named,
                                        FIRN_INOUT(MeshNearest) nearest) {
   int sampleCount = c.field.y * c.field.z * c.field.w;
-  int triangle = int(FIRN_FIELD_VALUE(sample + sampleCount));
+  int triangle = int(FIRN_FIELD_VALUE(named + sampleCount));
   int feature = offerTriangle(FIRN_FIELD_PASS c, fromPivot, triangle, nearest);
   int record = c.field.x + 2 * sampleCount + FIELD_TRIANGLE_FLOATS * triangle;
   offerTrianglesAcross(FIRN_FIELD_PASS c, fromPivot, record, feature, nearest);

@@ -149,18 +149,19 @@ TEST(Budget, DistanceFieldsTakeTheirMemoryFirst) {
   gl.maxStorageBlockBytes = 1LL << 30;
   gl.availableMemoryBytes = 320LL << 20;
   // At resolution 8 the field's spacing is 1.25 mm over 0.503 m and 3 cells each side: ⌈0.563 / 0.00125⌉ + 1 = 452
-  // samples per axis, 92.3 million floats, 352 MiB: more than the GPU has free. (The sizes stay clear of whole
+  // samples per axis, 92.3 million samples of two floats (φ and the nearest triangle), 704.5 MiB with the 12
+  // triangles' 132 bytes each: more than the GPU has free. (The sizes stay clear of whole
   // steps, where the count would hang on the rounding of the division.)
   const std::string message = refusal(sceneWithMeshBody(folder, "8"), gl);
   EXPECT_EQ(message.rfind((folder / "budget.json").string() + ": rigid_bodies[0].resolution: the distance field of "
-                                                              "cube.obj, 452 × 452 × 452 samples 0.00125 m apart (352.3 MiB",
+                                                              "cube.obj, 452 × 452 × 452 samples 0.00125 m apart (704.5 MiB",
                           0),
             0u)
       << message;
   EXPECT_NE(message.find("lower its resolution"), std::string::npos) << message;
-  // At resolution 2, 5 mm: 114³ samples, 5.652 MiB, which the GPU's limit counts beside the grid.
+  // At resolution 2, 5 mm: 114³ samples, 11.3 MiB, which the GPU's limit counts beside the grid.
   const ParticleBudget budget = checkParticleBudget(sceneWithMeshBody(folder, "2"), gl, 0);
-  EXPECT_NE(budget.limit.find(", 5.652 MiB for the distance fields)"), std::string::npos) << budget.limit;
+  EXPECT_NE(budget.limit.find(", 11.3 MiB for the distance fields)"), std::string::npos) << budget.limit;
   std::filesystem::remove_all(folder);
 }
 

@@ -256,9 +256,10 @@ TEST(Preflight, RigidBodiesAndDistanceFieldsAreNoted) {
                                      "about it diag(0.065, 0.05, 0.025) kg m²"));
   EXPECT_TRUE(contains(report.notes, "rigid_bodies[1]: 9.261 kg, 0.009261 m³, centre of mass (0.905, 0.305, 0.905) m, inertia "
                                      "about it diag(0.0681, 0.0681, 0.0681) kg m²"));
-  // Spacing 0.025 m over 0.21 m and 0.15 m each side: ⌈0.51 / 0.025⌉ + 1 = 22 samples per axis, 42,592 bytes.
+  // Spacing 0.025 m over 0.21 m and 0.15 m each side: ⌈0.51 / 0.025⌉ + 1 = 22 samples per axis of two floats, and 12
+  // triangles of 33: 86,768 bytes.
   EXPECT_TRUE(contains(report.notes, "rigid_bodies[1]: distance field of cube.obj, 22 × 22 × 22 samples 0.025 m apart "
-                                     "(0.0426 MB as 32-bit floats)"));
+                                     "(0.0868 MB as 32-bit floats)"));
   std::filesystem::remove_all(folder);
 }
 
