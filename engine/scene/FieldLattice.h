@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "gpu/GpuLayout.h"
 #include "scene/Scene.h"
 #include "voxelizer/DistanceField.h"
 #include "voxelizer/Mesh.h"
@@ -29,7 +30,7 @@ struct FieldLattice {
 
   double sampleCount() const { return samples.x * samples.y * samples.z; }
   // Per sample its φ and its nearest triangle's number, and each triangle's record: 32-bit floats.
-  double bytes() const { return 4 * (2 * sampleCount() + 33 * triangles); }
+  double bytes() const { return 4 * (2 * sampleCount() + gpu::FIELD_TRIANGLE_FLOATS * triangles); }
 };
 
 // The size of the lattice the mesh's field is baked on (voxelizer::distanceFieldSamples), counted before baking.

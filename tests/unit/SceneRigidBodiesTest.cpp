@@ -133,7 +133,8 @@ TEST_F(SceneRigidBodies, MeshColliderIsLoadedPlacedAndItsFieldSized) {
   EXPECT_DOUBLE_EQ(fields[0].spacingM, 0.008);
   EXPECT_DOUBLE_EQ(fields[0].marginM, 0.06);
   expectNear(fields[0].samples, glm::dvec3(43), 0);
-  EXPECT_DOUBLE_EQ(fields[0].bytes(), 4.0 * 43 * 43 * 43);
+  // Two floats per sample (φ and its nearest triangle) and 33 per triangle of the 12.
+  EXPECT_DOUBLE_EQ(fields[0].bytes(), 4.0 * (2.0 * 43 * 43 * 43 + 33 * 12));
   // What the budget counts is what is baked, to the sample.
   for (std::size_t i = 0; i < 2; ++i) {
     const Collider& collider = parsed.colliders[i];
