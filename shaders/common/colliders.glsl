@@ -19,7 +19,7 @@ layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer 
 // `fromPivot`, and the outward unit normal there in that frame: an analytic shape by eq. 27, a mesh by its distance
 // field (eq. 34).
 float colliderRestDistance(ColliderParams c, vec3 fromPivot, out vec3 restNormal) {
-#ifdef FIRN_HAS_COLLIDER_FIELDS
+#ifdef FIRN_HAS_MESH_SHAPES
   if (c.shapeBoundary.x == SHAPE_MESH) return meshRestDistance(c, fromPivot, restNormal);
 #endif
   return shapeDistance(c, fromPivot, restNormal);

@@ -83,7 +83,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
       // sums the mirror pass declares 16 storage blocks, llvmpipe's limit).
       firn::gl::ShaderOptions withBodies = semiImplicit;
       withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
-                                                           {"FIRN_HAS_RIGID_BODIES", "1"}});
+                                                           {"FIRN_HAS_MESH_SHAPES", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}});
       for (const char* pass : {"sim/update_grid.comp", "sim/solver_finish.comp", "sim/list_mirror_blocks.comp",
                                "sim/list_mirrored.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
                                "sim/integrate_bodies.comp"}) {
@@ -94,7 +94,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
       firn::gl::ShaderOptions explicitBodies = options;
       explicitBodies.defines.insert(explicitBodies.defines.end(),
                                     {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
-                                     {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_ADAPTIVE_DT", "1"}});
+                                     {"FIRN_HAS_MESH_SHAPES", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_ADAPTIVE_DT", "1"}});
       for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solve_coupling.comp",
                                "sim/couple_nodes.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
                                "sim/integrate_bodies.comp"}) {
