@@ -559,7 +559,7 @@ std::vector<std::uint8_t> classifyInside(const ClosestTriangles& field, const Wi
 
 // Every triangle's features (TriangleFeatures), their normals outward as the baked samples' signs say.
 std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const ClosestTriangles& closest,
-                                           const std::vector<std::uint8_t>& inside) {
+                                               const std::vector<std::uint8_t>& inside) {
   const std::vector<Triangle>& triangles = closest.triangles();
   // Each sample within a spacing of its triangle's plane, more over it than beside it, votes for the side it lies.
   std::vector<std::int64_t> votes(triangles.size(), 0);
@@ -575,14 +575,36 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
     if (heightM * heightM < 0.25 * squaredDistanceM2) continue;
     votes[std::size_t(t)] += (heightM < 0) == (inside[sample] != 0) ? 1 : -1;
   }
-  std::vector<TriangleFeatures> normals(triangles.size());
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const Triangle& triangle = triangles[t];
-    const double turn = votes[t] < 0 ? -1.0 : 1.0;
-    normals[t].face = triangle.normalM2 * (turn * std::sqrt(triangle.inverseNormalSquared));  // 0 for a flat one
-  }
   // Edges and corners of welded vertices, so that a soup of separate triangles shares its features.
   const std::vector<std::uint32_t> welded = weldByPosition(mesh);
+  // Faces wound alike (an edge shared by two, run one way by each) turn together: their votes are summed over the
+  // patch, so a face no sample votes for (one whose samples all name a neighbour) turns with the rest.
+  std::vector<std::size_t> patch(triangles.size());
+  for (std::size_t t = 0; t < patch.size(); ++t) patch[t] = t;
+  const auto root = [&](std::size_t t) {
+    while (patch[t] != t) t = patch[t] = patch[patch[t]];
+    return t;
+  };
+  {
+    std::unordered_map<std::uint64_t, std::vector<std::pair<std::size_t, bool>>> runs;  // by edge: triangle, forward
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = welded[mesh.triangles[t][k]], b = welded[mesh.triangles[t][(k + 1) % 3]];
+        if (a != b) runs[std::uint64_t(std::min(a, b)) << 32 | std::max(a, b)].emplace_back(t, a < b);
+      }
+    }
+    for (const auto& [edge, run] : runs) {
+      if (run.size() == 2 && run[0].second != run[1].second) patch[root(run[0].first)] = root(run[1].first);
+    }
+  }
+  std::vector<std::int64_t> patchVotes(triangles.size(), 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) patchVotes[root(t)] += votes[t];
+  std::vector<TriangleFeatures> features(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& triangle = triangles[t];
+    const double turn = patchVotes[root(t)] < 0 ? -1.0 : 1.0;
+    features[t].face = triangle.normalM2 * (turn * std::sqrt(triangle.inverseNormalSquared));  // 0 for a flat one
+  }
   const std::size_t pointCount = welded.empty() ? 0 : *std::max_element(welded.begin(), welded.end()) + 1;
   std::vector<glm::dvec3> cornerSums(pointCount, glm::dvec3(0.0));
   std::unordered_map<std::uint64_t, glm::dvec3> edgeSums;
@@ -595,12 +617,12 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
     const glm::dvec3 at[3] = {triangles[t].aM, triangles[t].bM, triangles[t].cM};
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
-      edgeSums[edge] += normals[t].face;
+      edgeSums[edge] += features[t].face;
       edgeTriangles[edge].push_back(std::int32_t(t));
       const glm::dvec3 toNext = at[(k + 1) % 3] - at[k], toPrevious = at[(k + 2) % 3] - at[k];
       const double lengths = glm::length(toNext) * glm::length(toPrevious);
       const double angle = lengths > 0 ? std::acos(std::clamp(glm::dot(toNext, toPrevious) / lengths, -1.0, 1.0)) : 0.0;
-      cornerSums[welded[corners[k]]] += angle * normals[t].face;
+      cornerSums[welded[corners[k]]] += angle * features[t].face;
     }
   }
   // A feature whose faces cancel (a sheet folded flat, faces of both windings) keeps its own face's normal.
@@ -612,17 +634,17 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
     const glm::uvec3& corners = mesh.triangles[t];
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
-      normals[t].edges[k] = unit(edgeSums[edge], normals[t].face);
+      features[t].edges[k] = unit(edgeSums[edge], features[t].face);
       for (const std::int32_t other : edgeTriangles[edge]) {
         if (other != std::int32_t(t)) {
-          normals[t].across[k] = other;  // the first other, where more than two share the edge
+          features[t].across[k] = other;  // the first other, where more than two share the edge
           break;
         }
       }
-      normals[t].corners[k] = unit(cornerSums[welded[corners[k]]], normals[t].face);
+      features[t].corners[k] = unit(cornerSums[welded[corners[k]]], features[t].face);
     }
   }
-  return normals;
+  return features;
 }
 
 }  // namespace

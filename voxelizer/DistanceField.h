@@ -61,8 +61,8 @@ DistanceField distanceFieldLattice(const Bounds& meshBox, double spacingM, doubl
 // distance at every sample the tests' meshes show no difference beyond float rounding. The sign is the winding
 // number's at every sample within half a spacing of the surface, and elsewhere that of a few probes per region
 // the surface does not cross (every sample's of a region whose probes disagree, as around a hole). The features'
-// normals are the faces' as wound, each turned where most samples over it (nearest to it within a spacing, and more above or
-// below it than beside it) have the other sign.
+// normals are the faces' as wound, turned by patches of faces wound alike where most samples over them (nearest to
+// one within a spacing, and more above or below it than beside it) have the other sign.
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM);
 DistanceField bakeDistanceField(const TriangleMesh& mesh, double spacingM, double marginM, unsigned threadCount);
 

@@ -218,7 +218,8 @@ TEST(ColliderMotion, EveryPointInsideAColliderLiesWithinItsReach) {
 // over that distance, 6e-4 rad), except on the ridges inside, where two faces are equally near and either normal is
 // right. Before exact distances near the surface the field's trilinear interpolation was 1 cm (0.4 samples) off at
 // the edges and its normals up to 89° (1.55 rad). Two faces pass through samples (the lattice starts 3 cells below
-// the box's low corner), which names either of two faces at some of them; the other edges cross cells.
+// the box's low corner), which names either of two faces at some of them; the other edges cross cells. A copy wound
+// inside out measures the same: the bake turns each face to the side its samples' winding number gives.
 TEST(ColliderMotion, AMeshBoxMeasuresAsTheAnalyticBoxAtItsEdgesAndCorners) {
   Scene scene;
   scene.grid.cells = glm::ivec3(24);
@@ -233,13 +234,18 @@ TEST(ColliderMotion, AMeshBoxMeasuresAsTheAnalyticBoxAtItsEdgesAndCorners) {
   mesh.shape = ColliderShape::Mesh;
   mesh.mesh = std::make_shared<voxelizer::TriangleMesh>(voxelizer::boxMesh(minM, maxM));
   mesh.pivotM = box.pivotM;
-  scene.colliders = {box, mesh};
+  // The same box wound inside out: the bake turns its faces by the winding number's side of their samples.
+  Collider inverted = mesh;
+  voxelizer::TriangleMesh turned = voxelizer::boxMesh(minM, maxM);
+  for (glm::uvec3& triangle : turned.triangles) std::swap(triangle.y, triangle.z);
+  inverted.mesh = std::make_shared<voxelizer::TriangleMesh>(turned);
+  scene.colliders = {box, mesh, inverted};
   const ColliderFields fields = bakeColliderFields(scene);
   const std::vector<gpu::ColliderParams> table = buildColliderTable(scene, fields, 0.0);
   const double bandM = 2 * scene.grid.cellSizeM;
   // The mesh is measured exactly within a cell's diagonal (√3 s) outside, and inside; beyond, interpolated.
   const double exactBandM = 0.04;
-  double worstDistanceM = 0, worstTurnRad = 0, worstFarM = 0;
+  double worstDistanceM = 0, worstTurnRad = 0, worstFarM = 0, worstInvertedM = 0, worstInvertedRad = 0;
   int probed = 0;
   for (double x = minM.x - bandM; x <= maxM.x + bandM; x += 0.0037) {
     for (double y = minM.y - bandM; y <= maxM.y + bandM; y += 0.0041) {
@@ -248,6 +254,13 @@ TEST(ColliderMotion, AMeshBoxMeasuresAsTheAnalyticBoxAtItsEdgesAndCorners) {
         glm::vec3 boxNormal, meshNormal;
         const float boxM = gpu::colliderDistance(table[0], fields.samples, point, 0.0f, boxNormal);
         const float meshM = gpu::colliderDistance(table[1], fields.samples, point, 0.0f, meshNormal);
+        glm::vec3 invertedNormal;
+        const float invertedM = gpu::colliderDistance(table[2], fields.samples, point, 0.0f, invertedNormal);
+        worstInvertedM = std::max(worstInvertedM, double(std::abs(invertedM - meshM)));
+        if (std::abs(meshM) >= 1e-4) {
+          worstInvertedRad = std::max(
+              worstInvertedRad, std::acos(std::clamp(double(glm::dot(invertedNormal, meshNormal)), -1.0, 1.0)));
+        }
         if (std::abs(boxM) > bandM) continue;
         if (meshM > exactBandM) {
           worstFarM = std::max(worstFarM, double(std::abs(meshM - boxM)));
@@ -264,13 +277,16 @@ TEST(ColliderMotion, AMeshBoxMeasuresAsTheAnalyticBoxAtItsEdgesAndCorners) {
       }
     }
   }
-  std::printf("%d points: φ within %.3g m, normals within %.3g rad; farther out φ within %.3g m\n", probed,
-              worstDistanceM, worstTurnRad, worstFarM);
+  std::printf("%d points: φ within %.3g m, normals within %.3g rad; farther out φ within %.3g m; inside out %.3g m, "
+              "%.3g rad\n", probed, worstDistanceM, worstTurnRad, worstFarM, worstInvertedM, worstInvertedRad);
   EXPECT_GT(probed, 100000);
   EXPECT_LT(worstDistanceM, 1e-6);
   EXPECT_LT(worstTurnRad, 1e-3);
   // Farther out the trilinear interpolant, rounding edges off by up to 0.16 s (measured: 3.8 mm at s = 2.5 mm).
   EXPECT_LT(worstFarM, 0.2 * 0.025);
+  // Wound inside out it measures the same, to the rounding of the corners' other order (the same bounds).
+  EXPECT_LT(worstInvertedM, 1e-6);
+  EXPECT_LT(worstInvertedRad, 1e-3);
 }
 
 // A scene with one collider, for the validation tests.
