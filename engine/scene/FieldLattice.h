@@ -7,7 +7,6 @@
 
 #include <glm/vec3.hpp>
 
-#include "gpu/GpuLayout.h"
 #include "scene/Scene.h"
 #include "voxelizer/DistanceField.h"
 #include "voxelizer/Mesh.h"
@@ -17,6 +16,8 @@ namespace firn {
 // The field covers the placed mesh's box grown by this many grid cells on every side, so that it is defined
 // wherever a particle near the surface, or a node of its stencil (2 cells away with the cubic kernel), asks for it.
 constexpr double kFieldMarginCells = 3;
+// The floats of a triangle's record in the field buffer (gpu::FIELD_TRIANGLE_FLOATS; sim/SceneUpload.cpp checks).
+constexpr int kFieldTriangleFloats = 33;
 
 struct FieldLattice {
   std::string object;  // "colliders[1]", "rigid_bodies[0]": as errors and the pre-flight name them
@@ -26,11 +27,11 @@ struct FieldLattice {
   // Per axis; doubles, so that the count of a wild scene cannot overflow before it is refused.
   glm::dvec3 samples{0.0};
 
-  double triangles = 0;  // of the mesh: the field buffer holds a record of each (gpu::FIELD_TRIANGLE_FLOATS)
+  double triangles = 0;  // of the mesh: the field buffer holds a record of each (kFieldTriangleFloats)
 
   double sampleCount() const { return samples.x * samples.y * samples.z; }
   // Per sample its φ and its nearest triangle's number, and each triangle's record: 32-bit floats.
-  double bytes() const { return 4 * (2 * sampleCount() + gpu::FIELD_TRIANGLE_FLOATS * triangles); }
+  double bytes() const { return 4 * (2 * sampleCount() + kFieldTriangleFloats * triangles); }
 };
 
 // The size of the lattice the mesh's field is baked on (voxelizer::distanceFieldSamples), counted before baking.

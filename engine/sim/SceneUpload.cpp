@@ -39,7 +39,8 @@ ColliderFields::Field appendField(std::vector<float>& samples, const voxelizer::
   if (rigidBody) placed.steepestSlope = voxelizer::steepestSlope(field);
   // φ, each sample's nearest triangle, and the triangles' records (gpu::FIELD_TRIANGLE_FLOATS): the layout
   // meshRestDistance (common/shared_functions.h) reads.
-  static_assert(gpu::FIELD_TRIANGLE_FLOATS == 10 * 3 + 3, "a triangle's record: ten vec3s and three neighbours");
+  static_assert(gpu::FIELD_TRIANGLE_FLOATS == 10 * 3 + 3 && gpu::FIELD_TRIANGLE_FLOATS == kFieldTriangleFloats,
+                "a triangle's record: ten vec3s and three neighbours, as the budget counts it");
   samples.insert(samples.end(), field.distancesM.begin(), field.distancesM.end());
   for (const std::int32_t triangle : field.nearestTriangles) samples.push_back(float(triangle));
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
