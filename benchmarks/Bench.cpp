@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
@@ -92,27 +93,84 @@ void writeMachine(BenchRun& run, const std::string& loadAtStart) {
   run.progress("on " + info.renderer + " (" + info.platform + "), " + cpuModel());
 }
 
-// machine.txt, the experiments asked for, and summary.txt: a headline (the machine, how long the run took and
-// how busy the machine was) and each experiment's findings. Returns the summary.
+// A table of the run: what it will do, and doing it.
+struct Experiment {
+  std::string table;
+  PlannedWork (*plan)(const BenchRun&);
+  void (*measure)(BenchRun&);
+};
+
+// The tables the options ask for, in the order they run; thesis and objects only with the thesis's cloud.
+std::vector<Experiment> wantedExperiments(const BenchRun& run) {
+  const std::vector<Experiment> all = {{"particles", planParticles, measureParticles},
+                                       {"grid", planGrid, measureGrid},
+                                       {"domain", planDomain, measureDomain},
+                                       {"passes", planPasses, measurePasses},
+                                       {"p2g_atomics", planP2GAtomics, measureP2GAtomics},
+                                       {"tradeoff", planTradeoff, measureTradeoff},
+                                       {"stiff", planStiff, measureStiff},
+                                       {"thesis", planThesis, measureThesis},
+                                       {"objects", planObjects, measureObjects},
+                                       {"surface", planSurface, measureSurface}};
+  std::vector<Experiment> wanted;
+  for (const Experiment& experiment : all) {
+    const bool needsCloud = experiment.table == "thesis" || experiment.table == "objects";
+    if (run.wanted(experiment.table) && (!needsCloud || !run.options().thesisCloud.empty())) {
+      wanted.push_back(experiment);
+    }
+  }
+  return wanted;
+}
+
+// "42 s", "3 min 07 s".
+std::string minutesAndSeconds(double seconds) {
+  const long whole = std::lround(seconds);
+  if (whole < 60) return std::to_string(whole) + " s";
+  return std::to_string(whole / 60) + " min " + (whole % 60 < 10 ? "0" : "") + std::to_string(whole % 60) + " s";
+}
+
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// machine.txt, the experiments asked for, and summary.txt: a headline (the machine, how long the run took against
+// the estimate said before it, how busy the machine was) and each experiment's findings. Before the tables, a
+// calibration on this machine turns each table's planned work into an estimate, said up front; after each table,
+// its time against its estimate and what is left. Returns the summary.
 std::string runExperiments(BenchRun& run) {
   const auto start = Clock::now();
   const std::string loadAtStart = loadAverage();
   writeMachine(run, loadAtStart);
-  if (run.wanted("particles")) measureParticles(run);
-  if (run.wanted("grid")) measureGrid(run);
-  if (run.wanted("domain")) measureDomain(run);
-  if (run.wanted("passes")) measurePasses(run);
-  if (run.wanted("p2g_atomics")) measureP2GAtomics(run);
-  if (run.wanted("tradeoff")) measureTradeoff(run);
-  if (run.wanted("stiff")) measureStiff(run);
-  if (!run.options().thesisCloud.empty() && run.wanted("thesis")) measureThesis(run);
-  if (!run.options().thesisCloud.empty() && run.wanted("objects")) measureObjects(run);
-  if (run.wanted("surface")) measureSurface(run);
-  const double minutes = std::chrono::duration<double>(Clock::now() - start).count() / 60;
+  const std::vector<Experiment> experiments = wantedExperiments(run);
+  const StepCosts costs = run.calibrate();
+  std::vector<double> estimatesS;
+  std::string plan;
+  double estimatedTotalS = secondsSince(start);
+  for (const Experiment& experiment : experiments) {
+    estimatesS.push_back(costs.seconds(experiment.plan(run)));
+    estimatedTotalS += estimatesS.back();
+    plan += (plan.empty() ? "" : ", ") + experiment.table + " " + minutesAndSeconds(estimatesS.back());
+  }
+  run.progress("estimated " + minutesAndSeconds(estimatedTotalS) + " in all, the calibration included (" + plan +
+               ")");
+  std::string tableTimes;
+  for (std::size_t i = 0; i < experiments.size(); ++i) {
+    const auto tableStart = Clock::now();
+    run.progress("table " + std::to_string(i + 1) + " of " + std::to_string(experiments.size()) + ", " +
+                 experiments[i].table + ": about " + minutesAndSeconds(estimatesS[i]));
+    experiments[i].measure(run);
+    double leftS = 0;
+    for (std::size_t k = i + 1; k < experiments.size(); ++k) leftS += estimatesS[k];
+    const std::string took = minutesAndSeconds(secondsSince(tableStart));
+    tableTimes += (tableTimes.empty() ? "" : ", ") + experiments[i].table + " " + took + " (estimated " +
+                  minutesAndSeconds(estimatesS[i]) + ")";
+    run.progress(experiments[i].table + " took " + took + " (estimated " + minutesAndSeconds(estimatesS[i]) + "); " +
+                 minutesAndSeconds(secondsSince(start)) + " so far, about " + minutesAndSeconds(leftS) + " left");
+  }
   std::string summary = "firn bench (" + sizeName(run.options().size) + ") on " + run.renderer() + ", " +
                         cpuModel() + " x " + std::to_string(std::thread::hardware_concurrency()) +
-                        " cores: " + fixed(minutes, 1) + " min; load average " + loadAtStart + " at the start, " +
-                        loadAverage() + " at the end\n";
+                        " cores: " + minutesAndSeconds(secondsSince(start)) + ", estimated " +
+                        minutesAndSeconds(estimatedTotalS) + " before it started; load average " + loadAtStart +
+                        " at the start, " + loadAverage() + " at the end\n";
+  summary += "tables: " + tableTimes + "\n";
   for (const std::string& line : run.summaryLines()) summary += line + "\n";
   writeFileAtomically(run.options().outputDir / "summary.txt", summary, "benchmark summary");
   return summary;

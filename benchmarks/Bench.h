@@ -12,8 +12,9 @@
 
 namespace firn::bench {
 
-// Default: real GPUs, up to millions of particles. Quick: a CPU renderer (llvmpipe on 2 cores, about
-// 5 minutes). Tiny: the smallest sizes, for tests of the machinery; they measure nothing.
+// Default: real GPUs, up to millions of particles. Quick: a CPU renderer (llvmpipe on 2 cores, under 3 minutes),
+// every table's shape with fewer and smaller points. Tiny: the smallest sizes, for tests of the machinery; they
+// measure nothing.
 enum class BenchSize { Default, Quick, Tiny };
 
 // The tables, by file name without ".csv" (what --only takes).
@@ -38,7 +39,7 @@ std::filesystem::path defaultAssetsDir();
 std::filesystem::path plotScript();
 
 // Runs the experiments and writes their tables, machine.txt and summary.txt into options.outputDir (created;
-// its parent must exist), with progress on `log`. Returns the summary. Throws InputError (exit 2) for bad
+// its parent must exist), with progress on `log`: first an estimate of the whole run, then each table's time. Returns the summary. Throws InputError (exit 2) for bad
 // options or missing inputs, before any measuring where it can; a configuration that goes unstable or does
 // not fit the driver's buffers is a row that says so, not a failure.
 std::string runBench(const BenchOptions& options, std::ostream& log);

@@ -1,10 +1,14 @@
 #include "BenchRun.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
 #include "Error.h"
+#include "gpu/Materials.h"
 #include "sim/Simulation.h"
 #include "sim/TransferShape.h"
 
@@ -25,13 +29,19 @@ Sizes sizesFor(BenchSize size) {
       sizes.passesTargetParticles = 1e6;  // the GPU target: a million quadratic particles within 0.5 ms a step
       break;
     case BenchSize::Quick:
-      // Up to 376k particles: on llvmpipe (2 cores) a 188k-particle cubic step takes about half a second.
-      sizes.unscaledParticlesPerCell = {4, 8, 16, 32};
-      sizes.gridExperimentCells = {50, 64, 80, 100, 128, 160, 200};
-      sizes.domainExperimentCells = {64, 128, 256, 512, 1024};
-      sizes.timing = {2, 5, 3};
-      sizes.barPeriods = 2;
-      sizes.surfaceParticles = {47063, 94126, 188252};
+      // The default's tables with fewer and smaller points, in under 3 minutes on llvmpipe (2 cores): bunnies of
+      // 6,000 to 24,000 particles (at these sizes a step's own cost, its dispatches and barriers, is still a large
+      // part of its time: the particle exponent and the grid's ratio read lower than at the default sizes).
+      sizes.smallestParticles = 6000;
+      sizes.unscaledParticlesPerCell = {4, 8, 16};
+      sizes.gridExperimentCells = {50, 100, 200};
+      sizes.domainExperimentCells = {64, 256, 1024};
+      sizes.domainSnowballParticles = 12000;
+      sizes.timing = {1, 3, 2};
+      sizes.barPeriods = 1;
+      sizes.surfaceParticles = {6000, 12000, 24000};
+      sizes.surfaceResolutions = {1, 2, 3};
+      sizes.stiffSimulatedS = 0.02;
       break;
     case BenchSize::Tiny:
       sizes.particleGridCells = 40;
@@ -49,6 +59,21 @@ Sizes sizesFor(BenchSize size) {
   }
   return sizes;
 }
+
+void PlannedWork::add(double particles, double stepCount, double stepCost, int simulations) {
+  builds += simulations;
+  steps += simulations * stepCount * stepCost;
+  particleSteps += simulations * particles * stepCount * stepCost;
+}
+
+double semiImplicitStepCost(const Scene& scene) {
+  double boundS = std::numeric_limits<double>::infinity();
+  for (const Material& material : scene.materials) boundS = std::min(boundS, elasticStableDtS(material, scene.grid.cellSizeM));
+  const double iterations = std::min(150.0, 6 * std::pow(scene.time.dtS / boundS, 0.75));
+  return 2 + 0.6 * iterations;
+}
+
+double plannedSteps(const TimingPlan& plan) { return plan.warmupSteps + double(plan.repeats) * plan.stepsPerRepeat; }
 
 std::string grouped(std::uint64_t count) {
   std::string digits = std::to_string(count);
@@ -131,6 +156,48 @@ BunnySetup BenchRun::referenceBunny() const {
 
 std::string BenchRun::inputErrorStatus(const std::string& atomics) const {
   return atomics == "float" && !gl().hasFloatAtomics ? "unsupported" : "skipped";
+}
+
+StepCosts BenchRun::calibrate() {
+  using Clock = std::chrono::steady_clock;
+  // The larger simulation's extra time is its particles'; the rest is a step's own (its dispatches, barriers and
+  // readbacks: most of a small step on llvmpipe).
+  const double particles[2] = {sizes_.smallestParticles / 8, sizes_.smallestParticles};
+  std::vector<std::unique_ptr<Simulation>> simulations;
+  std::vector<Simulation*> stepped;
+  std::size_t counts[2] = {0, 0};
+  double buildS = 0;
+  for (int i = 0; i < 2; ++i) {
+    const auto start = Clock::now();
+    Scene scene;
+    if (bunnies_) {
+      BunnySetup setup = referenceBunny();
+      setup.scale = bunnies_->scaleFor(particles[i], setup.particlesPerCell);
+      scene = bunnies_->scene(setup);
+    } else {
+      scene = snowballInDomain(64, particles[i], "cubic");
+    }
+    const std::vector<ParticleSeed> seeds = sampleBodies(scene);
+    counts[i] = seeds.size();
+    // P2G's shape as a run chooses it, the fastest here (a table that forces a slower one takes longer: on llvmpipe
+    // blocks take 1.8x the tiles' time, on a GPU tiles take longer).
+    simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
+    buildS += std::chrono::duration<double>(Clock::now() - start).count() / 2;
+    stepped.push_back(simulations.back().get());
+  }
+  const std::vector<InterleavedTiming> timed = timeInterleaved(stepped, {1, 3, 2});
+  for (const InterleavedTiming& timing : timed) {
+    if (!timing.unstable.empty()) throw std::logic_error("the calibration's snowball went unstable: " + timing.unstable);
+  }
+  StepCosts costs;
+  costs.buildS = buildS;
+  const double smallS = timed[0].timing.medianMs * 1e-3, largeS = timed[1].timing.medianMs * 1e-3;
+  costs.particleStepS = std::max(0.0, (largeS - smallS) / double(counts[1] - counts[0]));
+  costs.stepS = std::max(0.0, smallS - costs.particleStepS * double(counts[0]));
+  progress("calibration: a build " + fixed(costs.buildS, 2) + " s, a step " + fixed(costs.stepS * 1e3, 2) + " ms + " +
+           fixed(costs.particleStepS * 1e9, 0) + " ns per particle (" + (bunnies_ ? "bunnies" : "snowballs") + " of " +
+           grouped(counts[0]) + " and " + grouped(counts[1]) + " particles)");
+  return costs;
 }
 
 void BenchRun::progress(const std::string& line) { log_ << "firn bench: " << line << "\n" << std::flush; }

@@ -52,6 +52,44 @@ std::string fixed(double value, int decimals);
 std::string nodeDims(const glm::ivec3& cells);
 std::int64_t nodeCount(const glm::ivec3& cells);
 
+// What a table will do, counted from the sizes before it runs (each experiment's plan… function, Experiments.h): the
+// simulations it builds and the steps they take. A calibration on this machine turns it into seconds
+// (StepCosts::seconds), so that `firn bench` says up front how long it will take.
+struct PlannedWork {
+  int builds = 0;            // simulations built: each compiles its programs and times the P2G shapes it may take
+  double steps = 0;          // steps of all of them, each weighted by its cost
+  double particleSteps = 0;  // Σ particles × steps, weighted likewise
+
+  // `simulations` built alike, each stepping `particles` for `stepCount` steps that cost `stepCost` cubic explicit
+  // steps of the same particles each (kQuadraticStepCost, semiImplicitStepCost).
+  void add(double particles, double stepCount, double stepCost = 1, int simulations = 1);
+};
+
+// What a semi-implicit step of `scene` costs in explicit steps of the same particles: mostly its solve's iterations,
+// each a Hessian product. Fitted to llvmpipe's tables (tradeoff, stiff): the iterations grow with the step's length in
+// elastic bounds, 6 (dt/bound)^0.75 up to 150 (measured: 5.6 at 1 bound, 23 at 4, 58 at 16, 85 at 30, 88–146 at
+// 94), and a step costs 2 + 0.6 per iteration explicit steps (measured 8x, 21x, 31x, 47x, 50–78x).
+double semiImplicitStepCost(const Scene& scene);
+// What a quadratic step costs in cubic steps of the same particles: 27 nodes per particle against 64 (the thesis
+// bunny's step on llvmpipe: 490–600 ms against 950–1050 ms).
+constexpr double kQuadraticStepCost = 0.5;
+
+// The steps of one configuration timed as `plan` says: its warm-up and every repeat.
+double plannedSteps(const TimingPlan& plan);
+
+// A step's and a build's wall time on this machine, from two simulations of the reference bunny (or, for the tables
+// without bunnies, of a snowball), an eighth of its particles and all of them, built and stepped before the tables: a
+// cubic explicit step costs stepS + particles × particleStepS in the P2G shape a run would choose; a build (sampling
+// the scene, compiling its programs, timing its P2G shapes) buildS.
+struct StepCosts {
+  double buildS = 0;
+  double stepS = 0;
+  double particleStepS = 0;
+  double seconds(const PlannedWork& work) const {
+    return work.builds * buildS + work.steps * stepS + work.particleSteps * particleStepS;
+  }
+};
+
 // One configuration's outcome: timed, or why not ("unstable": the watchdog stopped it; "skipped": it does not
 // fit the domain or the driver's buffers).
 struct Timed {
@@ -106,6 +144,9 @@ class BenchRun {
   // Why a configuration could not be built: float atomics the driver lacks (GL_NV_shader_atomic_float), or a
   // scene that does not fit the domain or the driver's buffers.
   std::string inputErrorStatus(const std::string& atomics) const;
+
+  // Measures StepCosts (seconds on llvmpipe).
+  StepCosts calibrate();
 
   void progress(const std::string& line);
   void write(const CsvTable& table, const std::string& name);

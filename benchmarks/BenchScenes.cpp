@@ -121,4 +121,22 @@ Scene thesisCloudScene(const std::filesystem::path& cloudPath, double dtS, const
   return parsed;
 }
 
+Scene snowballInDomain(int cells, double particles, const std::string& kernel) {
+  constexpr double kCellSizeM = 0.02, kParticlesPerCell = 8;
+  // particles = ppc · (4/3) π r³ / h³
+  const double radiusM = kCellSizeM * std::cbrt(particles * 3.0 / (4.0 * 3.14159265358979323846 * kParticlesPerCell));
+  const double centreM = 0.1 + radiusM;  // past the walls (two cells) and a little more
+  const std::string n = std::to_string(cells), c = std::to_string(centreM);
+  return parseScene(R"({
+    "name": "snowball in a large domain",
+    "grid": { "cells": [)" + n + "," + n + "," + n + R"(], "cell_size": )" + std::to_string(kCellSizeM) + R"( },
+    "time": { "dt": 2e-4, "frame_rate": 30, "frames": 1 },
+    "solver": { "kernel": ")" + kernel + R"(", "transfer": "apic", "atomics": "fixed" },
+    "materials": { "snow": { "preset": "stomakhin" } },
+    "bodies": [ { "shape": "sphere", "center": [)" + c + "," + c + "," + c + R"(], "radius": )" +
+                        std::to_string(radiusM) + R"(, "material": "snow", "velocity": [1, 0, 0],
+                  "particles_per_cell": )" + std::to_string(kParticlesPerCell) + " } ] }",
+                   "domain.csv's snowball");
+}
+
 }  // namespace firn::bench

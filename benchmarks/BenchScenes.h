@@ -50,6 +50,11 @@ class BunnyScenes {
   double groundHeightM_ = 0;                   // the highest upward-facing plane collider, else the walls
 };
 
+// A snowball of about `particles` particles (8 per cell, APIC, fixed point, `kernel`: "quadratic", "cubic") moving
+// at 1 m/s near the low corner of a domain of cells³ cells of 0.02 m, always at the same place: domain.csv's scene,
+// and the calibration of `firn bench`'s estimate.
+Scene snowballInDomain(int cells, double particles, const std::string& kernel);
+
 // The thesis implementation's grid: 201³ cells of 0.05 m.
 constexpr int kThesisGridCells = 201;
 

@@ -3,38 +3,20 @@
 // the same particles and the same blocks of the grid: time per step and the grid's GPU memory (the pool of blocks,
 // and the block map, 4 bytes per 64 nodes of the domain) per size. The summary gives what the largest domain
 // costs over the smallest (issue 12: at most 1.2x, within llvmpipe's 128 MiB per buffer).
-#include <cmath>
 #include <string>
 #include <utility>
 
 #include "Experiments.h"
-#include "scene/Scene.h"
 
 namespace firn::bench {
 
-namespace {
-
-constexpr double kCellSizeM = 0.02;
-constexpr double kParticlesPerCell = 8;
-
-Scene snowballInDomain(int cells, double particles) {
-  // particles = ppc · (4/3) π r³ / h³
-  const double radiusM = kCellSizeM * std::cbrt(particles * 3.0 / (4.0 * 3.14159265358979323846 * kParticlesPerCell));
-  const double centreM = 0.1 + radiusM;  // past the walls (two cells) and a little more
-  const std::string n = std::to_string(cells), c = std::to_string(centreM);
-  return parseScene(R"({
-    "name": "snowball in a large domain",
-    "grid": { "cells": [)" + n + "," + n + "," + n + R"(], "cell_size": )" + std::to_string(kCellSizeM) + R"( },
-    "time": { "dt": 2e-4, "frame_rate": 30, "frames": 1 },
-    "solver": { "kernel": "quadratic", "transfer": "apic", "atomics": "fixed" },
-    "materials": { "snow": { "preset": "stomakhin" } },
-    "bodies": [ { "shape": "sphere", "center": [)" + c + "," + c + "," + c + R"(], "radius": )" +
-                        std::to_string(radiusM) + R"(, "material": "snow", "velocity": [1, 0, 0],
-                  "particles_per_cell": )" + std::to_string(kParticlesPerCell) + " } ] }",
-                   "domain.csv's snowball");
+PlannedWork planDomain(const BenchRun& run) {
+  PlannedWork work;
+  const Sizes& sizes = run.sizes();
+  work.add(sizes.domainSnowballParticles, plannedSteps(sizes.timing), kQuadraticStepCost,
+           int(sizes.domainExperimentCells.size()));
+  return work;
 }
-
-}  // namespace
 
 void measureDomain(BenchRun& run) {
   CsvTable table({"grid_cells", "grid_dims", "transfer_shape", "particles", "active_blocks", "active_nodes",
@@ -45,7 +27,7 @@ void measureDomain(BenchRun& run) {
   std::vector<Configuration> configurations;
   for (const int cells : domainCells) {
     configurations.push_back({"domain, " + std::to_string(cells) + "³ cells",
-                              [cells, particles] { return snowballInDomain(cells, particles); },
+                              [cells, particles] { return snowballInDomain(cells, particles, "quadratic"); },
                               ""});  // P2G's shape as a run chooses it
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations);

@@ -73,6 +73,10 @@ Scene barScene(const BarSetup& setup) {
   return parseScene(scene.dump(), "vibrating bar");
 }
 
+int barMaxSteps(const BarSetup& setup, double dtS) {
+  return std::max(kBarMinimumSteps, int((setup.periods + 0.5) * barAnalyticPeriodS() / dtS));
+}
+
 BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& gl) {
   const Scene scene = barScene(setup);
   const double dtS = scene.time.dtS;
@@ -106,7 +110,7 @@ BarVibration measureBarVibration(const BarSetup& setup, const gl::ContextInfo& g
   const std::optional<TransferShapeChoice>& shape = simulation.transferShapeChoice();
   if (shape) result.transferShape = transferShapeName(shape->shape);
   const int crossingsWanted = 2 * setup.periods;
-  const int maxSteps = std::max(kBarMinimumSteps, int((setup.periods + 0.5) * barAnalyticPeriodS() / dtS));
+  const int maxSteps = barMaxSteps(setup, dtS);
   int crossings = 0;
   double previousQ = 0, halfCyclePeak = 0, firstPeak = 0;
   std::vector<double> peaks;  // |q| per step

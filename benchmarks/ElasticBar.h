@@ -73,6 +73,9 @@ struct BarVibration {
   double energyDriftPerS = 0;
 };
 
+// The most steps measureBarVibration takes for `setup` at `dtS` (it stops earlier once it has its periods).
+int barMaxSteps(const BarSetup& setup, double dtS);
+
 // Steps the bar until its modal displacement q(t) = Σ m u_x φ / Σ m φ², φ = cos(π X / L), has crossed zero
 // 2N times (N periods: q starts at 0), or for N + ½ analytic periods (and at least kBarMinimumSteps). Measuring
 // q filters out the higher modes that the slabs' velocity steps excite. Throws SimulationError (exit 3) if the run

@@ -8,6 +8,14 @@
 
 namespace firn::bench {
 
+PlannedWork planGrid(const BenchRun& run) {
+  PlannedWork work;
+  const Sizes& sizes = run.sizes();
+  work.add(sizes.smallestParticles, plannedSteps(sizes.timing), 1,
+           int(run.sumSeries().size() * sizes.gridExperimentCells.size()));
+  return work;
+}
+
 void measureGrid(BenchRun& run) {
   CsvTable table({"atomics", "transfer_shape", "grid_cells", "grid_dims", "particles", "active_nodes", "steps",
                   "repeats", "ms_per_step", "ms_min", "ms_max", "steps_per_s", "gpu_ms_per_step", "status", "renderer"});

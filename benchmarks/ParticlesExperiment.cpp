@@ -37,6 +37,19 @@ double logLogSlope(const std::vector<std::pair<double, double>>& points) {
 
 }  // namespace
 
+PlannedWork planParticles(const BenchRun& run) {
+  PlannedWork work;
+  const Sizes& sizes = run.sizes();
+  for (const SumSeries& sums : run.sumSeries()) {
+    for (const double perCell : sizes.unscaledParticlesPerCell) {
+      const double particles = sizes.smallestParticles * perCell / kSmallestParticlesPerCell;
+      work.add(particles, plannedSteps(sizes.timing), 1, 2);  // cubic, unscaled and scaled
+      if (sums.atomics == "fixed") work.add(particles, plannedSteps(sizes.timing), kQuadraticStepCost);
+    }
+  }
+  return work;
+}
+
 void measureParticles(BenchRun& run) {
   CsvTable table({"series", "kernel", "atomics", "transfer_shape", "particles", "grid_cells", "grid_dims",
                   "cell_size_m", "particles_per_cell", "bunny_scale", "active_nodes", "steps", "repeats", "ms_per_step",

@@ -10,16 +10,16 @@
 
 namespace firn::bench {
 
-void measurePasses(BenchRun& run) {
-  CsvTable table(
-      {"atomics", "transfer_shape", "integrator", "kernel", "pass", "gpu_ms", "wall_ms", "share_of_step",
-       "dispatches_per_step", "particles", "renderer"});
-  struct PassSeries {
-    SumSeries sums;
-    std::string integrator;
-    std::string kernel;
-    double particles = 0;  // at 8 per cell; 0: the reference bunny
-  };
+namespace {
+
+struct PassSeries {
+  SumSeries sums;
+  std::string integrator;
+  std::string kernel;
+  double particles = 0;  // at 8 per cell; 0: the reference bunny
+};
+
+std::vector<PassSeries> passSeries(const BenchRun& run) {
   std::vector<PassSeries> series;
   for (const SumSeries& sums : run.sumSeries()) series.push_back({sums, "explicit", "cubic"});
   for (const SumSeries& sums : run.sumSeries()) {
@@ -29,21 +29,46 @@ void measurePasses(BenchRun& run) {
   for (const SumSeries& sums : run.sumSeries()) {
     if (sums.atomics == "fixed" && targetParticles > 0) series.push_back({sums, "explicit", "quadratic", targetParticles});
   }
-  for (const auto& [sums, integrator, kernel, particles] : series) {
+  return series;
+}
+
+BunnySetup passBunny(const BenchRun& run, const PassSeries& series) {
+  BunnySetup setup = run.referenceBunny();
+  setup.atomics = series.sums.atomics;
+  setup.kernel = series.kernel;
+  if (series.particles > 0) {
+    setup.particlesPerCell = 8;
+    setup.scale = run.bunnies().scaleFor(series.particles, setup.particlesPerCell);
+  }
+  if (series.integrator == "semi_implicit") {
+    setup.integrator = series.integrator;
+    setup.dtS = kThesisDtS;
+  }
+  return setup;
+}
+
+}  // namespace
+
+PlannedWork planPasses(const BenchRun& run) {
+  PlannedWork work;
+  for (const PassSeries& series : passSeries(run)) {
+    const Scene scene = run.bunnies().scene(passBunny(run, series));
+    const double cost = (series.kernel == "cubic" ? 1 : kQuadraticStepCost) *
+                        (series.integrator == "explicit" ? 1 : semiImplicitStepCost(scene));
+    work.add(series.particles > 0 ? series.particles : run.sizes().smallestParticles,
+             plannedSteps(run.sizes().timing), cost);
+  }
+  return work;
+}
+
+void measurePasses(BenchRun& run) {
+  CsvTable table(
+      {"atomics", "transfer_shape", "integrator", "kernel", "pass", "gpu_ms", "wall_ms", "share_of_step",
+       "dispatches_per_step", "particles", "renderer"});
+  for (const auto& [sums, integrator, kernel, particles] : passSeries(run)) {
     const std::string& atomics = sums.atomics;
     try {
-      BunnySetup setup = run.referenceBunny();
-      setup.atomics = atomics;
-      setup.kernel = kernel;
-      if (particles > 0) {
-        setup.particlesPerCell = 8;
-        setup.scale = run.bunnies().scaleFor(particles, setup.particlesPerCell);
-      }
-      if (integrator == "semi_implicit") {
-        setup.integrator = integrator;
-        setup.dtS = kThesisDtS;
-      }
-      const Scene scene = run.bunnies().scene(setup);
+      const Scene scene = run.bunnies().scene(passBunny(run, {sums, integrator, kernel, particles}));
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
       const ForcedTransferShape forced(sums.transferShape);
       Simulation simulation(scene, seeds, run.gl());

@@ -70,6 +70,17 @@ struct SurfaceCase {
 
 }  // namespace
 
+PlannedWork planSurface(const BenchRun& run) {
+  PlannedWork work;
+  const Sizes& sizes = run.sizes();
+  // Each configuration's steps, then its surface rebuilt twice per repeat (whole, and pass by pass), a rebuild
+  // about a step's work on the same particles.
+  const double steps = plannedSteps(sizes.timing) + 2.0 * sizes.timing.repeats;
+  for (const double particles : sizes.surfaceParticles) work.add(particles, steps);
+  work.add(sizes.surfaceParticles.front(), steps, 1, int(sizes.surfaceResolutions.size()));
+  return work;
+}
+
 void measureSurface(BenchRun& run) {
   CsvTable table({"series", "particles", "resolution", "smoothing", "grid_nodes", "grid_mib", "vertices", "triangles",
                   "repeats", "surface_ms", "surface_ms_min", "surface_ms_max", "bounds_ms", "splat_ms", "mesh_ms",

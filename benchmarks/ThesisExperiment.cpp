@@ -18,6 +18,19 @@ constexpr double kThesisMsPerStep = 546;
 
 }  // namespace
 
+PlannedWork planThesis(const BenchRun& run) {
+  PlannedWork work;
+  const double particles = double(
+      sampleBodies(thesisCloudScene(run.options().thesisCloud, run.options().thesisDtS, "fixed")).size());
+  const double steps = plannedSteps(run.sizes().timing);
+  const double semiImplicitCost =
+      semiImplicitStepCost(thesisCloudScene(run.options().thesisCloud, kThesisDtS, "fixed", "cubic", "semi_implicit"));
+  work.add(particles, steps, 1, int(run.sumSeries().size()));  // cubic, explicit, each series of sums
+  work.add(particles, steps, kQuadraticStepCost, 2);             // quadratic in tiles and in blocks
+  work.add(particles, steps, semiImplicitCost, 2);               // semi-implicit in tiles and in blocks
+  return work;
+}
+
 void measureThesis(BenchRun& run) {
   CsvTable table({"kernel", "atomics", "transfer_shape", "integrator", "particles", "grid_dims", "dt_s", "steps", "repeats",
                   "ms_per_step", "ms_min", "ms_max", "ms_per_simulated_second", "mean_iterations",

@@ -99,6 +99,12 @@ TEST(BenchCli, TinyRunWritesEveryTableWithFiniteNumbers) {
   }
   for (const std::string file : {"machine.txt", "summary.txt"}) EXPECT_TRUE(fs::is_regular_file(out / file)) << file;
   EXPECT_NE(result.output.find("particles: exponent"), std::string::npos) << result.output;
+  // The whole run's time is said before the first table starts, and each table's progress as it ends.
+  const std::size_t estimate = result.output.find("firn bench: estimated ");
+  const std::size_t firstTable = result.output.find("firn bench: table 1 of 8, particles");
+  EXPECT_TRUE(estimate != std::string::npos && firstTable != std::string::npos && estimate < firstTable)
+      << result.output;
+  EXPECT_NE(result.output.find("firn bench: surface took "), std::string::npos) << result.output;
 }
 
 TEST(BenchCli, BadOptionsExitWithTwo) {
