@@ -41,10 +41,10 @@ firn::Scene sceneOrDefault(const std::string& scenePath) {
   return scenePath.empty() ? firn::defaultScene() : firn::loadScene(scenePath);
 }
 
-// `firn run`; under mpirun with several ranks, each rank's share of the domain (docs/distributed.md): rank 0 logs
-// and writes, the others only simulate.
+// `firn run`, or with `checkOnly` its check (--check); under mpirun with several ranks, each rank's share of the
+// domain (docs/distributed.md): rank 0 logs and writes, the others only simulate.
 int runCommand(const std::string& scenePath, firn::RunOptions options, const firn::mpi::MpiWorld* world,
-               int rebalanceEveryFrames) {
+               int rebalanceEveryFrames, bool checkOnly) {
   const firn::Scene scene = sceneOrDefault(scenePath);
   std::optional<firn::mpi::MpiShare> share;
   std::ostream silent(nullptr);
@@ -63,6 +63,10 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
     throw firn::InputError("--plot: the gnuplot program is not on the PATH (Debian: apt-get install gnuplot-nox)");
   }
   options.showProgress = true;
+  if (checkOnly) {
+    firn::checkHeadless(scene, options, writer ? std::cerr : silent, share ? &*share : nullptr);
+    return 0;
+  }
   const std::string outputDir = options.outputDir.string();
   const firn::RunSummary summary = firn::runHeadless(scene, options, writer ? std::cerr : silent,
                                                      share ? &*share : nullptr);
@@ -325,6 +329,7 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   std::string outputDir = runOptions.outputDir.string();
   std::string videoPath;
   bool noPly = false;
+  bool checkOnly = false;
   CLI::App* run = app.add_subcommand(
       "run", "Simulate a scene headless (EGL) and write stats.csv, run.json and PLY frames, bodies.csv where objects "
              "move, and if asked pictures, surface and object meshes, VDB caches and the energy budget's plot");
@@ -333,6 +338,10 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       ->check(firn::cli::inRange(0, 1000000));
   run->add_option("--out", outputDir, "Output folder for stats.csv and frame_NNNN.ply")->capture_default_str();
   run->add_flag("--no-ply", noPly, "Write stats.csv (and bodies.csv) only, no point caches");
+  run->add_flag("--check", checkOnly,
+                "Do what the run does before its first step (load, particle budget, sampling, distance fields, "
+                "pre-flight, the GPU's buffers and programs) and print pre-flight's report; simulate and write nothing. "
+                "Exit 0 when the run would start, 2 (bad input) or 4 (no usable OpenGL) as the run would");
   run->add_flag("--pass-times", runOptions.passTimes,
                 "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
   run->add_flag("--png", runOptions.writePng, "Also render each frame offscreen to frame_NNNN.png");
@@ -477,7 +486,7 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       runOptions.resumePath = resumePath;
       runOptions.commandLine.assign(argv, argv + argc);
       if (runRender->count() > 0) runOptions.renderMode = runRenderMode;
-      return runCommand(scenePath, runOptions, world, rebalanceEveryFrames);
+      return runCommand(scenePath, runOptions, world, rebalanceEveryFrames, checkOnly);
     }
     if (view->parsed()) {
       viewOptions.screenshotPath = screenshotPath;

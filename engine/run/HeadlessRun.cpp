@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <ostream>
@@ -215,6 +216,18 @@ std::string progressText(int frame, int frames, double simulatedS, double stepsP
 
 }  // namespace
 
+// The session a run of `options` builds: the same for the run and for its check.
+SessionOptions sessionOptionsFor(const RunOptions& options, int frames, DomainShare* share) {
+  const bool writePictures = options.writePng || !options.videoPath.empty();
+  SessionOptions sessionOptions;
+  sessionOptions.showProgress = options.showProgress;
+  sessionOptions.lastFrame = frames;
+  sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) ||
+                               options.writeMesh || options.writeVdb;
+  sessionOptions.share = share;
+  return sessionOptions;
+}
+
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
   const auto runStart = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
@@ -230,12 +243,7 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   gl::HeadlessContext context(options.gpuOrdinal);
   const bool writePictures = options.writePng || !options.videoPath.empty();
   const bool caches = options.writeMesh || options.writeVdb;
-  SessionOptions sessionOptions;
-  sessionOptions.showProgress = options.showProgress;
-  sessionOptions.lastFrame = frames;
-  sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) || caches;
-  sessionOptions.share = share;
-  SimulationSession session(scene, context.info(), sessionOptions, log);
+  SimulationSession session(scene, context.info(), sessionOptionsFor(options, frames, share), log);
   const bool surfacePictures =
       writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface;
   Simulation& simulation = session.simulation();
@@ -438,6 +446,29 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   finish(0, "");
   summary.wallS = secondsSince(runStart);
   return summary;
+}
+
+void checkHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
+  const int frames = options.frames.value_or(scene.time.frames);
+  if (!options.resumePath.empty()) readCheckpoint(options.resumePath);
+  gl::HeadlessContext context(options.gpuOrdinal);
+  SimulationSession session(scene, context.info(), sessionOptionsFor(options, frames, share), log);
+  const bool writePictures = options.writePng || !options.videoPath.empty();
+  const bool writer = share == nullptr || share->writesOutput();
+  // The surface the pictures or caches would build, and the note a run gives when the pictures fall back to particles.
+  if (writer && ((writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface) ||
+                 options.writeMesh || options.writeVdb)) {
+    session.surface();
+  }
+  if (!writer) return;
+  const double frameS = 1.0 / scene.time.frameRateHz;
+  // A fixed step: each frame takes ceil(frame / dt) equal steps (Scene.h).
+  const std::string steps =
+      scene.time.adaptive ? "adaptive steps of at most " + formatNumber(scene.time.dtS) + " s"
+                          : withThousands(frames * std::ceil(frameS / scene.time.dtS - 1e-9)) + " steps of " +
+                                formatNumber(scene.time.dtS) + " s";
+  log << "firn: check: ready to run: " << withThousands(double(session.seeds().size())) << " particles, " << frames
+      << " frames, " << steps << "; nothing simulated, nothing written\n";
 }
 
 }  // namespace firn

@@ -33,6 +33,39 @@ const char* const kSmallScene = R"({
   "materials": { "snow": { "preset": "stomakhin" } },
   "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.15, "material": "snow" } ] })";
 
+// `firn run --check` does what a run does before its first step and stops: pre-flight's report, then a line saying
+// the scene is ready with the particles the run samples (the same count as the run's stats.csv) and its steps (3
+// frames of 1/50 s at 1e-3 s: 60), exit 0, and no output folder. A scene the run refuses is refused alike: exit 2,
+// the same message, nothing written.
+TEST(Cli, CheckReportsPreflightAndWritesNothing) {
+  const fs::path directory = freshDirectory("check");
+  const fs::path scene = writeScene(directory, "ball.json", kSmallScene);
+  const Result checked = runFirn("run " + scene.string() + " --check --out " + (directory / "checked").string());
+  ASSERT_EQ(checked.exitCode, 0) << checked.output;
+  EXPECT_NE(checked.output.find("stable time step: elastic bound"), std::string::npos) << checked.output;
+  EXPECT_FALSE(fs::exists(directory / "checked"));
+  const Result ran = runFirn("run " + scene.string() + " --frames 0 --no-ply --out " + (directory / "ran").string());
+  ASSERT_EQ(ran.exitCode, 0) << ran.output;
+  const auto rows = readCsv(directory / "ran" / "stats.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0][3], "particles");
+  const std::string particles = std::to_string(std::stoi(rows[1][3]));
+  const std::string grouped =
+      particles.size() > 3 ? particles.substr(0, particles.size() - 3) + "," + particles.substr(particles.size() - 3)
+                           : particles;
+  EXPECT_NE(checked.output.find("firn: check: ready to run: " + grouped + " particles, 3 frames, 60 steps of 0.001 s"),
+            std::string::npos)
+      << checked.output;
+
+  std::string json = kSmallScene;
+  json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 1e9");
+  const fs::path stiff = writeScene(directory, "stiff.json", json);
+  const Result refused = runFirn("run " + stiff.string() + " --check --out " + (directory / "refused").string());
+  EXPECT_EQ(refused.exitCode, 2) << refused.output;
+  EXPECT_NE(refused.output.find("Set time.dt to at most 2.6"), std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(directory / "refused"));
+}
+
 // `firn run` with no scene runs the built-in one and writes stats.csv (plain CSV: header + frame 0 + N frames, frame N
 // at N / frame_rate), one PLY per frame with the particles' state, and run.json, whose transfers are those the run's
 // log names; mass never changes. The grid's active blocks follow the snowball: a ball of radius 6 cells and its
