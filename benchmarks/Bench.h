@@ -23,7 +23,7 @@ const std::vector<std::string>& tableNames();
 struct BenchOptions {
   std::filesystem::path outputDir = "firn-bench";
   BenchSize size = BenchSize::Default;
-  int repeats = 5;                     // timed runs per configuration
+  int repeats = 0;                     // timed runs per configuration; 0: the size's own
   int stepsPerRepeat = 0;              // 0: the size's own
   std::filesystem::path assetsDir;     // holds scenes/bunny_thesis.json and meshes/bunny.obj
   std::filesystem::path thesisCloud;   // the thesis implementation's bunny; empty: no thesis.csv
@@ -39,7 +39,8 @@ std::filesystem::path defaultAssetsDir();
 std::filesystem::path plotScript();
 
 // Runs the experiments and writes their tables, machine.txt and summary.txt into options.outputDir (created;
-// its parent must exist), with progress on `log`: first an estimate of the whole run, then each table's time. Returns the summary. Throws InputError (exit 2) for bad
+// its parent must exist), with progress on `log`: first an estimate of the whole run, then each table's time
+// against it. Returns the summary. Throws InputError (exit 2) for bad
 // options or missing inputs, before any measuring where it can; a configuration that goes unstable or does
 // not fit the driver's buffers is a row that says so, not a failure.
 std::string runBench(const BenchOptions& options, std::ostream& log);

@@ -129,7 +129,7 @@ BenchRun::BenchRun(const BenchOptions& options, std::ostream& log)
       // Loaded before the GL context: missing assets are reported at once.
       bunnies_(wantsBunny() ? std::optional<BunnyScenes>(std::in_place, options.assetsDir) : std::nullopt) {
   if (options.stepsPerRepeat > 0) sizes_.timing.stepsPerRepeat = options.stepsPerRepeat;
-  sizes_.timing.repeats = options.repeats;
+  if (options.repeats > 0) sizes_.timing.repeats = options.repeats;
   atomics_ = options.atomics;
   if (atomics_.empty()) {
     atomics_ = {"fixed"};
@@ -187,12 +187,13 @@ StepCosts BenchRun::calibrate() {
   }
   const std::vector<InterleavedTiming> timed = timeInterleaved(stepped, {1, 3, 2});
   for (const InterleavedTiming& timing : timed) {
-    if (!timing.unstable.empty()) throw std::logic_error("the calibration's snowball went unstable: " + timing.unstable);
+    if (!timing.unstable.empty()) throw SimulationError("firn bench's calibration went unstable: " + timing.unstable);
   }
   StepCosts costs;
   costs.buildS = buildS;
   const double smallS = timed[0].timing.medianMs * 1e-3, largeS = timed[1].timing.medianMs * 1e-3;
-  costs.particleStepS = std::max(0.0, (largeS - smallS) / double(counts[1] - counts[0]));
+  costs.particleStepS =
+      counts[1] > counts[0] ? std::max(0.0, (largeS - smallS) / double(counts[1] - counts[0])) : largeS / counts[1];
   costs.stepS = std::max(0.0, smallS - costs.particleStepS * double(counts[0]));
   progress("calibration: a build " + fixed(costs.buildS, 2) + " s, a step " + fixed(costs.stepS * 1e3, 2) + " ms + " +
            fixed(costs.particleStepS * 1e9, 0) + " ns per particle (" + (bunnies_ ? "bunnies" : "snowballs") + " of " +

@@ -145,7 +145,7 @@ class BenchRun {
   // scene that does not fit the domain or the driver's buffers.
   std::string inputErrorStatus(const std::string& atomics) const;
 
-  // Measures StepCosts (seconds on llvmpipe).
+  // Measures StepCosts (seconds on llvmpipe, less on a GPU).
   StepCosts calibrate();
 
   void progress(const std::string& line);

@@ -64,7 +64,8 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
   }
   options.showProgress = true;
   if (checkOnly) {
-    firn::checkHeadless(scene, options, writer ? std::cerr : silent, share ? &*share : nullptr);
+    const std::string ready = firn::checkHeadless(scene, options, writer ? std::cerr : silent, share ? &*share : nullptr);
+    if (writer) std::printf("%s\n", ready.c_str());
     return 0;
   }
   const std::string outputDir = options.outputDir.string();
@@ -340,8 +341,9 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   run->add_flag("--no-ply", noPly, "Write stats.csv (and bodies.csv) only, no point caches");
   run->add_flag("--check", checkOnly,
                 "Do what the run does before its first step (load, particle budget, sampling, distance fields, "
-                "pre-flight, the GPU's buffers and programs) and print pre-flight's report; simulate and write nothing. "
-                "Exit 0 when the run would start, 2 (bad input) or 4 (no usable OpenGL) as the run would");
+                "pre-flight, the GPU's buffers and programs) and print pre-flight's report; simulate and write nothing "
+                "(the output folder is not looked at). Exit 0 when the scene would run, 2 (bad input) or 4 (no usable "
+                "OpenGL) as the run would");
   run->add_flag("--pass-times", runOptions.passTimes,
                 "Time each GPU pass (GL_TIME_ELAPSED) and print the means; slows the run");
   run->add_flag("--png", runOptions.writePng, "Also render each frame offscreen to frame_NNNN.png");
@@ -432,14 +434,17 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       "bench", "Measure time per step against particles and grid size, per-pass times, P2G with fixed, float and "
                "no atomics, and the speed/accuracy trade; write CSV tables and their plots (benchmarks/README.md)");
   CLI::Option* quick = bench->add_flag(
-      "--quick", benchOptions.quick, "Sizes for a CPU renderer (llvmpipe on 2 cores: about 5 minutes); the default sizes "
-                                     "are for GPUs, up to millions of particles");
+      "--quick", benchOptions.quick, "Sizes for a CPU renderer (llvmpipe on 2 cores: under 3 minutes), every table's shape "
+                                     "with fewer and smaller points; the default sizes are for GPUs, up to millions of "
+                                     "particles");
   bench->add_flag("--tiny", benchOptions.tiny, "For tests: the smallest sizes, which check the machinery and measure nothing")
       ->excludes(quick);
   bench->add_option("--out", benchOptions.outputDir, "Output folder for the tables, machine.txt, summary.txt and plots")
       ->capture_default_str();
-  bench->add_option("--repeats", benchOptions.options.repeats, "Timed runs per configuration; each table gives their median")
-      ->check(firn::cli::inRange(1, 1000))->capture_default_str();
+  bench->add_option("--repeats", benchOptions.options.repeats,
+                    "Timed runs per configuration, each table giving their median (default: the sizes' own, 3 quick, "
+                    "5 otherwise)")
+      ->check(firn::cli::inRange(1, 1000));
   bench->add_option("--steps", benchOptions.options.stepsPerRepeat, "Steps per timed run (default: the sizes' own)")
       ->check(firn::cli::inRange(1, 1000000));
   bench->add_option("--only", benchOptions.options.tables, "Only these tables (comma-separated)")

@@ -448,27 +448,37 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
   return summary;
 }
 
-void checkHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
+std::string checkHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share) {
   const int frames = options.frames.value_or(scene.time.frames);
-  if (!options.resumePath.empty()) readCheckpoint(options.resumePath);
+  std::optional<Checkpoint> checkpoint;
+  if (!options.resumePath.empty()) checkpoint = readCheckpoint(options.resumePath);
   gl::HeadlessContext context(options.gpuOrdinal);
   SimulationSession session(scene, context.info(), sessionOptionsFor(options, frames, share), log);
+  // A checkpoint of another scene, or one that does not fit, is refused here as the run refuses it.
+  if (checkpoint) session.simulation().resume(*checkpoint, options.resumePath);
+  const int firstFrame = checkpoint ? checkpoint->frame : 0;
   const bool writePictures = options.writePng || !options.videoPath.empty();
   const bool writer = share == nullptr || share->writesOutput();
-  // The surface the pictures or caches would build, and the note a run gives when the pictures fall back to particles.
-  if (writer && ((writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface) ||
-                 options.writeMesh || options.writeVdb)) {
+  if (!writer) return "";
+  // The pictures' renderer and the surface the pictures or caches would build, with the note a run gives when the
+  // pictures fall back to particles.
+  if (writePictures) {
+    const render::OffscreenRenderer pictures(scene, options.imageSizePx);  // made and dropped: its programs compile
+  }
+  if ((writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface) ||
+      options.writeMesh || options.writeVdb) {
     session.surface();
   }
-  if (!writer) return;
+  const int framesLeft = std::max(0, frames - firstFrame);
   const double frameS = 1.0 / scene.time.frameRateHz;
   // A fixed step: each frame takes ceil(frame / dt) equal steps (Scene.h).
   const std::string steps =
       scene.time.adaptive ? "adaptive steps of at most " + formatNumber(scene.time.dtS) + " s"
-                          : withThousands(frames * std::ceil(frameS / scene.time.dtS - 1e-9)) + " steps of " +
+                          : withThousands(framesLeft * std::ceil(frameS / scene.time.dtS - 1e-9)) + " steps of " +
                                 formatNumber(scene.time.dtS) + " s";
-  log << "firn: check: ready to run: " << withThousands(double(session.seeds().size())) << " particles, " << frames
-      << " frames, " << steps << "; nothing simulated, nothing written\n";
+  return "firn: check: ready to run: " + withThousands(double(session.seeds().size())) + " particles, " +
+         std::to_string(framesLeft) + " frames" + (checkpoint ? " from frame " + std::to_string(firstFrame) : "") +
+         ", " + steps + "; nothing simulated, nothing written";
 }
 
 }  // namespace firn

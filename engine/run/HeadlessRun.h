@@ -58,11 +58,13 @@ struct RunSummary {
 // the share that writes the output writes the files a single process would, byte for byte.
 RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share = nullptr);
 
-// `firn run --check`: what runHeadless does before its first step, and nothing after — the checkpoint read, the
-// particle budget, sampling, the distance fields' bake, pre-flight, the simulation's GPU buffers and programs and, for
-// pictures or surface caches, the surface's settings — with pre-flight's report on `log` as a run gives it, then a
-// line saying the scene is ready. Simulates nothing and writes no file (the output folder is not touched). Throws as
-// runHeadless would before its first step: InputError (exit 2), NoOpenGLError (exit 4).
-void checkHeadless(const Scene& scene, const RunOptions& options, std::ostream& log, DomainShare* share = nullptr);
+// `firn run --check`: what runHeadless does before its first step, and nothing after — the checkpoint read and
+// resumed, the particle budget, sampling, the distance fields' bake, pre-flight, the simulation's GPU buffers and
+// programs and, for pictures or surface caches, their renderer and the surface's settings — with pre-flight's
+// report on `log` as a run gives it. Simulates nothing and writes no file; the output folder is not looked at.
+// Returns the line that says the scene is ready (the particles, frames and steps; empty on a share that does not
+// write). Throws as runHeadless would before its first step: InputError (exit 2), NoOpenGLError (exit 4).
+std::string checkHeadless(const Scene& scene, const RunOptions& options, std::ostream& log,
+                          DomainShare* share = nullptr);
 
 }  // namespace firn

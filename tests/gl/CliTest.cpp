@@ -35,8 +35,8 @@ const char* const kSmallScene = R"({
 
 // `firn run --check` does what a run does before its first step and stops: pre-flight's report, then a line saying
 // the scene is ready with the particles the run samples (the same count as the run's stats.csv) and its steps (3
-// frames of 1/50 s at 1e-3 s: 60), exit 0, and no output folder. A scene the run refuses is refused alike: exit 2,
-// the same message, nothing written.
+// frames of 1/50 s at 1e-3 s: 60), exit 0, and no output folder. A scene or a checkpoint the run refuses is refused
+// alike: exit 2, the same message, nothing written.
 TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   const fs::path directory = freshDirectory("check");
   const fs::path scene = writeScene(directory, "ball.json", kSmallScene);
@@ -44,10 +44,11 @@ TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   ASSERT_EQ(checked.exitCode, 0) << checked.output;
   EXPECT_NE(checked.output.find("stable time step: elastic bound"), std::string::npos) << checked.output;
   EXPECT_FALSE(fs::exists(directory / "checked"));
-  const Result ran = runFirn("run " + scene.string() + " --frames 0 --no-ply --out " + (directory / "ran").string());
+  const Result ran = runFirn("run " + scene.string() + " --frames 1 --checkpoint-every 1 --no-ply --out " +
+                             (directory / "ran").string());
   ASSERT_EQ(ran.exitCode, 0) << ran.output;
   const auto rows = readCsv(directory / "ran" / "stats.csv");
-  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0][3], "particles");
   const std::string particles = std::to_string(std::stoi(rows[1][3]));
   const std::string grouped =
@@ -56,6 +57,20 @@ TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   EXPECT_NE(checked.output.find("firn: check: ready to run: " + grouped + " particles, 3 frames, 60 steps of 0.001 s"),
             std::string::npos)
       << checked.output;
+  // Resumed, the check resumes the checkpoint as the run would: from frame 1, 2 frames of 20 steps are left; with
+  // another scene (a larger ball) it is refused.
+  const std::string checkpoint = (directory / "ran" / "checkpoint_0001.firn").string();
+  const Result resumed = runFirn("run " + scene.string() + " --check --resume " + checkpoint);
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("particles, 2 frames from frame 1, 40 steps of 0.001 s"), std::string::npos)
+      << resumed.output;
+  std::string larger = kSmallScene;
+  larger.replace(larger.find("\"radius\": 0.15"), 14, "\"radius\": 0.2");
+  const fs::path other = writeScene(directory, "larger.json", larger);
+  const Result otherScene = runFirn("run " + other.string() + " --check --resume " + checkpoint);
+  EXPECT_EQ(otherScene.exitCode, 2) << otherScene.output;
+  EXPECT_NE(otherScene.output.find("the checkpoint was written for another scene"), std::string::npos)
+      << otherScene.output;
 
   std::string json = kSmallScene;
   json.replace(json.find("\"preset\": \"stomakhin\""), 21, "\"preset\": \"stomakhin\", \"youngs_modulus\": 1e9");
