@@ -29,7 +29,7 @@ BlockGrid::BlockGrid(const GpuStateLayout& layout, const gl::ShaderLibrary& libr
       blockOffsets_(library, "sim/block_offsets.comp", options),
       binPlace_(library, "sim/bin_place.comp", options),
       orderTiles_(library, "sim/order_tiles.comp", options),
-      listLeavers_(library, "sim/list_leavers.comp", options) {
+      shaderOptions_(options) {
   blockMap_ = gl::Buffer(layout.blockMapBytes()).labelled("block grid: block map");
   allocateParticles(layout.particleCapacity);
 }
@@ -134,9 +134,10 @@ std::vector<std::uint32_t> BlockGrid::particlesOutside(std::size_t particles, in
   const std::size_t counter = offsetof(gpu::BlockTableHeader, migration);
   blockTable_.upload(counter, sizeof none, &none);
   gl::PassTimer untimed;
-  listLeavers_.set("particles", unsigned(particles)).set("slabAxis", unsigned(axis));
-  listLeavers_.set("slabFirstLayer", unsigned(firstLayer)).set("slabEndLayer", unsigned(endLayer));
-  listLeavers_.runOver(particles, maxWorkGroupsX_, buffers, untimed);
+  if (!listLeavers_) listLeavers_.emplace(gl::ShaderLibrary(), "sim/list_leavers.comp", shaderOptions_);
+  listLeavers_->set("particles", unsigned(particles)).set("slabAxis", unsigned(axis));
+  listLeavers_->set("slabFirstLayer", unsigned(firstLayer)).set("slabEndLayer", unsigned(endLayer));
+  listLeavers_->runOver(particles, maxWorkGroupsX_, buffers, untimed);
   return listedParticles(counter);
 }
 

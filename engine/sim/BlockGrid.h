@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -160,7 +161,9 @@ class BlockGrid {
   gl::ComputePass blockOffsets_;
   gl::ComputePass binPlace_;
   gl::ComputePass orderTiles_;
-  gl::ComputePass listLeavers_;
+  // Compiled at a share's first migration (particlesOutside): a single process never needs it.
+  gl::ShaderOptions shaderOptions_;
+  std::optional<gl::ComputePass> listLeavers_;
 };
 
 }  // namespace firn
