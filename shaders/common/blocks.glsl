@@ -77,11 +77,12 @@ uvec4 blockWorkGroups(uint blocks) {
 uint workGroupSlot() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
 
 // A step sorted for blocks (the GPUs' shape) runs its passes over the blocks (release_blocks and update_grid built with
-// FIRN_STRIDE_OVER_BLOCKS, bin_scan_block, p2g_block) dispatched directly, not from the block table: NVIDIA's GL took
-// about 20 µs more for a pass dispatched indirectly (docs/platform.md). The host dispatches about as many work groups
+// FIRN_STRIDE_OVER_BLOCKS, bin_scan_block, p2g_block) dispatched directly, not from the block table: NVIDIA's GL takes
+// longer over a pass dispatched indirectly (docs/platform.md, NVIDIA). The host dispatches about as many work groups
 // as the blocks it last counted (BlockGrid::runOverBlocks), and each group takes the slots from its own,
 // workGroupCount() apart, so that any count of blocks is covered. A step sorted for tiles (CPU renderers) takes a
-// work group per block from the block table: the loop cost llvmpipe's release and grid update 40%.
+// work group per block from the block table: the loop slowed llvmpipe's release and grid update (docs/platform.md,
+// Timing on llvmpipe).
 uint workGroupCount() { return gl_NumWorkGroups.x * gl_NumWorkGroups.y; }
 
 // The particles of the sorted order (block_offsets.comp counts them).

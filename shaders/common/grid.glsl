@@ -16,7 +16,8 @@
 // u is one hash per particle and step (of its position, not its index, so reordering the particles changes no
 // sum), spread over its stencil nodes and channels by additive recurrences with irrational steps, u_nc =
 // fract(u_p + n·φ + c·ψ): each u_nc is uniform over particles, which is all unbiased rounding needs, and it
-// costs an add per contribution where a hash per contribution cost 40% of P2G on llvmpipe. The dither depends
+// costs an add per contribution where a hash per contribution was P2G's largest cost on llvmpipe (docs/platform.md,
+// Timing on llvmpipe). The dither depends
 // only on which contribution it is, so sums stay exact, order-independent and deterministic.
 //
 // After update_grid.comp the same storage holds floats: (velocity m/s, mass kg) and, in the impulse's storage, the

@@ -83,9 +83,9 @@ bool scatterToNodeWithBlock(mat3 stressUnits, float blockUnits, StiffnessBlockFo
 
 // G = Σᵢ uᵢ ∇wᵢₚᵀ over the stencil, its nodes in stencilOffset's order (the same sum, to the bit, in either shape).
 // The tiles (FIRN_PRODUCT_BY_ROWS) take the stencil row by row along x, each row written out, so that their private
-// arrays' indices differ by constants: on llvmpipe the tiles' products took 6% (first) and 24% (the iterations') more
-// time walking the stencil. The blocks walk it, since NVIDIA's compiler makes each read of a weight at a variable
-// index a chain of branches (common/kernel.glsl, StencilWalk).
+// arrays' indices differ by constants: walking the stencil slowed them on llvmpipe (docs/platform.md, Timing on
+// llvmpipe). The blocks walk it, since NVIDIA's compiler makes each read of a weight at a variable index a chain of
+// branches (common/kernel.glsl, StencilWalk).
 mat3 gatherVelocityGradient(Stencil stencil, ivec3 base) {
   precise mat3 velocityGradient = mat3(0.0);
 #ifdef FIRN_PRODUCT_BY_ROWS
