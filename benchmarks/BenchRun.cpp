@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <tuple>
+#include <utility>
 
 #include "Error.h"
 #include "gpu/Materials.h"
@@ -62,6 +64,7 @@ Sizes sizesFor(BenchSize size) {
 
 void PlannedWork::add(double particles, double stepCount, double stepCost, int simulations) {
   builds += simulations;
+  builtParticles += simulations * particles;
   steps += simulations * stepCount * stepCost;
   particleSteps += simulations * particles * stepCount * stepCost;
 }
@@ -158,6 +161,17 @@ std::string BenchRun::inputErrorStatus(const std::string& atomics) const {
   return atomics == "float" && !gl().hasFloatAtomics ? "unsupported" : "skipped";
 }
 
+namespace {
+
+// The line through (x[0], y[0]) and (x[1], y[1]) as {intercept, slope}, both held non-negative (a first build that
+// also paid a one-time cost, or noise, could make either negative).
+std::pair<double, double> nonNegativeLine(const double x[2], const double y[2]) {
+  const double slope = x[1] > x[0] ? std::max(0.0, (y[1] - y[0]) / (x[1] - x[0])) : 0.0;
+  return {std::max(0.0, y[0] - slope * x[0]), slope};
+}
+
+}  // namespace
+
 StepCosts BenchRun::calibrate() {
   using Clock = std::chrono::steady_clock;
   // The larger simulation's extra time is its particles'; the rest is a step's own (its dispatches, barriers and
@@ -165,8 +179,7 @@ StepCosts BenchRun::calibrate() {
   const double particles[2] = {sizes_.smallestParticles / 8, sizes_.smallestParticles};
   std::vector<std::unique_ptr<Simulation>> simulations;
   std::vector<Simulation*> stepped;
-  std::size_t counts[2] = {0, 0};
-  double buildS = 0;
+  double counts[2] = {0, 0}, buildS[2] = {0, 0};
   for (int i = 0; i < 2; ++i) {
     const auto start = Clock::now();
     Scene scene;
@@ -178,11 +191,11 @@ StepCosts BenchRun::calibrate() {
       scene = snowballInDomain(64, particles[i], "cubic");
     }
     const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-    counts[i] = seeds.size();
+    counts[i] = double(seeds.size());
     // P2G's shape as a run chooses it, the fastest here (a table that forces a slower one takes longer: on llvmpipe
     // blocks take 1.8x the tiles' time, on a GPU tiles take longer).
     simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
-    buildS += std::chrono::duration<double>(Clock::now() - start).count() / 2;
+    buildS[i] = std::chrono::duration<double>(Clock::now() - start).count();
     stepped.push_back(simulations.back().get());
   }
   const std::vector<InterleavedTiming> timed = timeInterleaved(stepped, {1, 3, 2});
@@ -190,14 +203,13 @@ StepCosts BenchRun::calibrate() {
     if (!timing.unstable.empty()) throw SimulationError("firn bench's calibration went unstable: " + timing.unstable);
   }
   StepCosts costs;
-  costs.buildS = buildS;
-  const double smallS = timed[0].timing.medianMs * 1e-3, largeS = timed[1].timing.medianMs * 1e-3;
-  costs.particleStepS =
-      counts[1] > counts[0] ? std::max(0.0, (largeS - smallS) / double(counts[1] - counts[0])) : largeS / counts[1];
-  costs.stepS = std::max(0.0, smallS - costs.particleStepS * double(counts[0]));
-  progress("calibration: a build " + fixed(costs.buildS, 2) + " s, a step " + fixed(costs.stepS * 1e3, 2) + " ms + " +
-           fixed(costs.particleStepS * 1e9, 0) + " ns per particle (" + (bunnies_ ? "bunnies" : "snowballs") + " of " +
-           grouped(counts[0]) + " and " + grouped(counts[1]) + " particles)");
+  std::tie(costs.buildS, costs.buildParticleS) = nonNegativeLine(counts, buildS);
+  const double stepS[2] = {timed[0].timing.medianMs * 1e-3, timed[1].timing.medianMs * 1e-3};
+  std::tie(costs.stepS, costs.particleStepS) = nonNegativeLine(counts, stepS);
+  progress("calibration: a build " + fixed(costs.buildS, 2) + " s + " + fixed(costs.buildParticleS * 1e6, 1) +
+           " µs per particle, a step " + fixed(costs.stepS * 1e3, 2) + " ms + " + fixed(costs.particleStepS * 1e9, 0) +
+           " ns per particle (" + (bunnies_ ? "bunnies" : "snowballs") + " of " + grouped(std::uint64_t(counts[0])) +
+           " and " + grouped(std::uint64_t(counts[1])) + " particles)");
   return costs;
 }
 
@@ -209,6 +221,11 @@ void BenchRun::write(const CsvTable& table, const std::string& name) {
 }
 
 std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>& configurations) {
+  return timeConfigurations(configurations, sizes_.timing);
+}
+
+std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>& configurations,
+                                                const TimingPlan& timing) {
   std::vector<Timed> results(configurations.size());
   std::vector<std::unique_ptr<Simulation>> simulations;
   std::vector<Simulation*> built;
@@ -233,10 +250,10 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
     }
   }
   progress("timing " + std::to_string(built.size()) + " configurations interleaved: " +
-           std::to_string(sizes_.timing.warmupSteps) + " warm-up steps each, then " +
-           std::to_string(sizes_.timing.repeats) + " rounds of " + std::to_string(sizes_.timing.stepsPerRepeat) +
+           std::to_string(timing.warmupSteps) + " warm-up steps each, then " +
+           std::to_string(timing.repeats) + " rounds of " + std::to_string(timing.stepsPerRepeat) +
            " steps of each");
-  const std::vector<InterleavedTiming> timings = timeInterleaved(built, sizes_.timing);
+  const std::vector<InterleavedTiming> timings = timeInterleaved(built, timing);
   for (std::size_t k = 0; k < built.size(); ++k) {
     Timed& result = results[builtIndex[k]];
     const std::string& label = configurations[builtIndex[k]].label;

@@ -57,6 +57,7 @@ std::int64_t nodeCount(const glm::ivec3& cells);
 // (StepCosts::seconds), so that `firn bench` says up front how long it will take.
 struct PlannedWork {
   int builds = 0;            // simulations built: each compiles its programs and times the P2G shapes it may take
+  double builtParticles = 0; // Σ particles over the builds (sampling them and timing the shapes on them)
   double steps = 0;          // steps of all of them, each weighted by its cost
   double particleSteps = 0;  // Σ particles × steps, weighted likewise
 
@@ -80,13 +81,15 @@ double plannedSteps(const TimingPlan& plan);
 // A step's and a build's wall time on this machine, from two simulations of the reference bunny (or, for the tables
 // without bunnies, of a snowball), an eighth of its particles and all of them, built and stepped before the tables: a
 // cubic explicit step costs stepS + particles × particleStepS in the P2G shape a run would choose; a build (sampling
-// the scene, compiling its programs, timing its P2G shapes) buildS.
+// the scene, compiling its programs, timing its P2G shapes on its particles) buildS + particles × buildParticleS.
 struct StepCosts {
   double buildS = 0;
+  double buildParticleS = 0;
   double stepS = 0;
   double particleStepS = 0;
   double seconds(const PlannedWork& work) const {
-    return work.builds * buildS + work.steps * stepS + work.particleSteps * particleStepS;
+    return work.builds * buildS + work.builtParticles * buildParticleS + work.steps * stepS +
+           work.particleSteps * particleStepS;
   }
 };
 
@@ -156,7 +159,9 @@ class BenchRun {
   // Builds every configuration's scene and simulation, then times them all together, interleaved
   // (timeInterleaved); one that cannot be built (it does not fit the domain or the driver's buffers) or goes
   // unstable is an outcome, not a failure.
+  // `timing` replaces the sizes' own where a table needs more steps.
   std::vector<Timed> timeConfigurations(const std::vector<Configuration>& configurations);
+  std::vector<Timed> timeConfigurations(const std::vector<Configuration>& configurations, const TimingPlan& timing);
 
  private:
   bool wantsBunny() const;
