@@ -43,7 +43,7 @@ Sizes sizesFor(BenchSize size) {
       sizes.barPeriods = 1;
       sizes.surfaceParticles = {6000, 12000, 24000};
       sizes.surfaceResolutions = {1, 2, 3};
-      sizes.stiffSimulatedS = 0.01;  // the ball still in the air (it lands at 0.02 s): the solve's cost, not its contact
+      sizes.stiffSimulatedS = 0.01;  // the ball still in the air (it lands at 0.02 s): the solve's cost, no contact
       break;
     case BenchSize::Tiny:
       sizes.particleGridCells = 40;
@@ -71,7 +71,9 @@ void PlannedWork::add(double particles, double stepCount, double stepCost, int s
 
 double semiImplicitStepCost(const Scene& scene) {
   double boundS = std::numeric_limits<double>::infinity();
-  for (const Material& material : scene.materials) boundS = std::min(boundS, elasticStableDtS(material, scene.grid.cellSizeM));
+  for (const Material& material : scene.materials) {
+    boundS = std::min(boundS, elasticStableDtS(material, scene.grid.cellSizeM));
+  }
   const double iterations = std::min(150.0, 6 * std::pow(scene.time.dtS / boundS, 0.75));
   return 2 + 0.6 * iterations;
 }

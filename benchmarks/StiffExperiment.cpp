@@ -3,10 +3,10 @@
 // `stomakhin` preset's ρ = 400 kg/m³, ν = 0.2 and its hardening at J_P = 1 − θc, h / c = 3.3e-5 s: 1e-3 s is 30
 // times the bound) and, at the default sizes, E = 1e9 Pa (h / c = 1.1e-5 s, 94 times), each run for the same
 // simulated time explicitly and then semi-implicitly with the solver's defaults and with a looser tolerance (1e-3)
-// and the most iterations allowed (1000). Per row: the cost of a simulated second and its ratio to the explicit run's, the solver's
-// iterations and residuals, and how far the particles end from where the explicit run puts them (what the long step
-// costs in accuracy). The first
-// step, whose dispatches compile the programs, is left out of the time. A solve the watchdog rejects (exit 3 in
+// and the most iterations allowed (1000). Per row: the cost of a simulated second and its ratio to the explicit
+// run's, the solver's iterations and residuals, and how far the particles end from where the explicit run puts them
+// (what the long step costs in accuracy). The first step, whose dispatches compile the programs, is left out of the
+// time. A solve the watchdog rejects (exit 3 in
 // `firn run`) is the row's status.
 #include <algorithm>
 #include <chrono>

@@ -1,8 +1,8 @@
 // surface.csv: the cost of the snow's surface (engine/surface) per frame, against particles and against the
 // reconstruction's resolution, next to the cost of the simulation's step on the same particles. The thesis's bunny
 // (assets/scenes/bunny_thesis.json) at 8 particles per cell, grown for more particles, with the surface's defaults
-// (resolution 2, smoothing 3); and the smallest of those bunnies at resolutions 1 to 4 (1 to 3 at the quick sizes). Every configuration is built
-// first; their steps are timed interleaved (timeInterleaved: warm-up steps, then rounds of runs); then each surface
+// (resolution 2, smoothing 3); and the smallest of those bunnies at resolutions 1 to 4 (1 to 3 at the quick sizes).
+// Every configuration is built first; their steps are timed interleaved (timeInterleaved: warm-up steps, then rounds of runs); then each surface
 // is rebuilt from the state its steps left: once untimed (the programs JIT-compile), then in `repeats` rounds, one
 // rebuild of each configuration per round, glFinish to glFinish, then `repeats` rounds more with each pass timed
 // (PassTimer) for the split between the field and the mesh. Interleaving puts a change in a shared machine's load

@@ -64,7 +64,8 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
   }
   options.showProgress = true;
   if (checkOnly) {
-    const std::string ready = firn::checkHeadless(scene, options, writer ? std::cerr : silent, share ? &*share : nullptr);
+    const std::string ready =
+        firn::checkHeadless(scene, options, writer ? std::cerr : silent, share ? &*share : nullptr);
     if (writer) std::printf("%s\n", ready.c_str());
     return 0;
   }
