@@ -585,16 +585,20 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
     while (patch[t] != t) t = patch[t] = patch[patch[t]];
     return t;
   };
-  {
-    std::unordered_map<std::uint64_t, std::vector<std::pair<std::size_t, bool>>> runs;  // by edge: triangle, forward
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = welded[mesh.triangles[t][k]], b = welded[mesh.triangles[t][(k + 1) % 3]];
-        if (a != b) runs[std::uint64_t(std::min(a, b)) << 32 | std::max(a, b)].emplace_back(t, a < b);
-      }
+  const auto edgeKey = [&](std::uint32_t a, std::uint32_t b) {
+    return std::uint64_t(std::min(a, b)) << 32 | std::uint64_t(std::max(a, b));
+  };
+  // Each welded edge's triangles in order, and whether each runs it from its lower point to its higher.
+  std::unordered_map<std::uint64_t, std::vector<std::pair<std::int32_t, bool>>> edgeTriangles;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = welded[mesh.triangles[t][k]], b = welded[mesh.triangles[t][(k + 1) % 3]];
+      edgeTriangles[edgeKey(a, b)].emplace_back(std::int32_t(t), a < b);
     }
-    for (const auto& [edge, run] : runs) {
-      if (run.size() == 2 && run[0].second != run[1].second) patch[root(run[0].first)] = root(run[1].first);
+  }
+  for (const auto& [edge, run] : edgeTriangles) {
+    if (run.size() == 2 && run[0].second != run[1].second) {
+      patch[root(std::size_t(run[0].first))] = root(std::size_t(run[1].first));
     }
   }
   std::vector<std::int64_t> patchVotes(triangles.size(), 0);
@@ -608,17 +612,12 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
   const std::size_t pointCount = welded.empty() ? 0 : *std::max_element(welded.begin(), welded.end()) + 1;
   std::vector<glm::dvec3> cornerSums(pointCount, glm::dvec3(0.0));
   std::unordered_map<std::uint64_t, glm::dvec3> edgeSums;
-  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> edgeTriangles;
-  const auto edgeKey = [&](std::uint32_t a, std::uint32_t b) {
-    return std::uint64_t(std::min(a, b)) << 32 | std::uint64_t(std::max(a, b));
-  };
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const glm::uvec3& corners = mesh.triangles[t];
     const glm::dvec3 at[3] = {triangles[t].aM, triangles[t].bM, triangles[t].cM};
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
       edgeSums[edge] += features[t].face;
-      edgeTriangles[edge].push_back(std::int32_t(t));
       const glm::dvec3 toNext = at[(k + 1) % 3] - at[k], toPrevious = at[(k + 2) % 3] - at[k];
       const double lengths = glm::length(toNext) * glm::length(toPrevious);
       const double angle = lengths > 0 ? std::acos(std::clamp(glm::dot(toNext, toPrevious) / lengths, -1.0, 1.0)) : 0.0;
@@ -635,7 +634,7 @@ std::vector<TriangleFeatures> triangleFeatures(const TriangleMesh& mesh, const C
     for (int k = 0; k < 3; ++k) {
       const std::uint64_t edge = edgeKey(welded[corners[k]], welded[corners[(k + 1) % 3]]);
       features[t].edges[k] = unit(edgeSums[edge], features[t].face);
-      for (const std::int32_t other : edgeTriangles[edge]) {
+      for (const auto& [other, forward] : edgeTriangles[edge]) {
         if (other != std::int32_t(t)) {
           features[t].across[k] = other;  // the first other, where more than two share the edge
           break;

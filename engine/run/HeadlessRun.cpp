@@ -218,12 +218,11 @@ std::string progressText(int frame, int frames, double simulatedS, double stepsP
 
 // The session a run of `options` builds: the same for the run and for its check.
 SessionOptions sessionOptionsFor(const RunOptions& options, int frames, DomainShare* share) {
-  const bool writePictures = options.writePng || !options.videoPath.empty();
   SessionOptions sessionOptions;
   sessionOptions.showProgress = options.showProgress;
   sessionOptions.lastFrame = frames;
-  sessionOptions.withSurface = (writePictures && options.renderMode == render::RenderMode::Surface) ||
-                               options.writeMesh || options.writeVdb;
+  sessionOptions.withSurface =
+      (options.writesPictures() && options.renderMode == render::RenderMode::Surface) || options.writesSurfaceCaches();
   sessionOptions.share = share;
   return sessionOptions;
 }
@@ -241,8 +240,8 @@ RunSummary runHeadless(const Scene& scene, const RunOptions& options, std::ostre
 
   // The context first: what its buffers hold is part of the estimate that precedes sampling.
   gl::HeadlessContext context(options.gpuOrdinal);
-  const bool writePictures = options.writePng || !options.videoPath.empty();
-  const bool caches = options.writeMesh || options.writeVdb;
+  const bool writePictures = options.writesPictures();
+  const bool caches = options.writesSurfaceCaches();
   SimulationSession session(scene, context.info(), sessionOptionsFor(options, frames, share), log);
   const bool surfacePictures =
       writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface;
@@ -457,16 +456,15 @@ std::string checkHeadless(const Scene& scene, const RunOptions& options, std::os
   // A checkpoint of another scene, or one that does not fit, is refused here as the run refuses it.
   if (checkpoint) session.simulation().resume(*checkpoint, options.resumePath);
   const int firstFrame = checkpoint ? checkpoint->frame : 0;
-  const bool writePictures = options.writePng || !options.videoPath.empty();
   const bool writer = share == nullptr || share->writesOutput();
   if (!writer) return "";
   // The pictures' renderer and the surface the pictures or caches would build, with the note a run gives when the
   // pictures fall back to particles.
-  if (writePictures) {
+  if (options.writesPictures()) {
     const render::OffscreenRenderer pictures(scene, options.imageSizePx);  // made and dropped: its programs compile
   }
-  if ((writePictures && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface) ||
-      options.writeMesh || options.writeVdb) {
+  if ((options.writesPictures() && session.pictureRenderMode(options.renderMode) == render::RenderMode::Surface) ||
+      options.writesSurfaceCaches()) {
     session.surface();
   }
   const int framesLeft = std::max(0, frames - firstFrame);

@@ -38,6 +38,9 @@ struct RunOptions {
   int gpuOrdinal = 0;              // without FIRN_EGL_DEVICE, which of the machine's GPUs (gl::HeadlessContext)
   bool writePlot = false;          // energy.png, the energy budget over time, when the run ends (io/EnergyPlot.h)
   std::vector<std::string> commandLine;  // as run.json records it
+
+  bool writesPictures() const { return writePng || !videoPath.empty(); }
+  bool writesSurfaceCaches() const { return writeMesh || writeVdb; }
 };
 
 struct RunSummary {
