@@ -476,7 +476,8 @@ std::string checkHeadless(const Scene& scene, const RunOptions& options, std::os
                                 formatNumber(scene.time.dtS) + " s";
   return "firn: check: ready to run: " + withThousands(double(session.seeds().size())) + " particles, " +
          std::to_string(framesLeft) + " frames" + (checkpoint ? " from frame " + std::to_string(firstFrame) : "") +
-         ", " + steps + "; nothing simulated, nothing written";
+         ", " + steps + ", scene fingerprint " + fingerprintHex(session.simulation().fingerprint()) +
+         "; nothing simulated, nothing written";
 }
 
 }  // namespace firn

@@ -1,8 +1,7 @@
 #include "run/RunRecord.h"
 
-#include <cstdio>
-
 #include "io/AtomicFile.h"
+#include "sim/SceneUpload.h"
 
 namespace firn {
 
@@ -36,9 +35,7 @@ RunRecord::RunRecord(std::filesystem::path path, const Scene& scene, const std::
 }
 
 void RunRecord::setSceneFingerprint(std::uint64_t fingerprint) {
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fingerprint));
-  json_["scene"]["fingerprint"] = hex;
+  json_["scene"]["fingerprint"] = fingerprintHex(fingerprint);
 }
 
 void RunRecord::setTransfers(const std::optional<TransferShapeChoice>& choice) {

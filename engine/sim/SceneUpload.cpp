@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <unordered_set>
 
 #include <glm/common.hpp>
@@ -348,6 +349,12 @@ std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity,
     hash = fingerprint(&seed.releaseTimeS, sizeof seed.releaseTimeS, hash);
   }
   return hash;
+}
+
+std::string fingerprintHex(std::uint64_t fingerprint) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fingerprint));
+  return hex;
 }
 
 }  // namespace firn

@@ -2,6 +2,7 @@
 // The scene as the GPU stores it: the collider table, the particle records of new particles, and the fingerprint
 // that ties a checkpoint to the scene it came from. (The material table is gpu/Materials.h's.)
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -100,5 +101,7 @@ std::size_t blocksReached(const Scene& scene, const std::vector<ParticleSeed>& s
 // are not defined).
 std::uint64_t sceneFingerprint(const Scene& scene, std::size_t particleCapacity, const MaterialTable& table,
                                const ColliderFields& fields, const std::vector<ParticleSeed>& seeds);
+// The fingerprint as run.json and `firn run --check` print it: 16 hexadecimal digits.
+std::string fingerprintHex(std::uint64_t fingerprint);
 
 }  // namespace firn

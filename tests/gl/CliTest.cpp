@@ -54,7 +54,12 @@ TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   const std::string grouped =
       particles.size() > 3 ? particles.substr(0, particles.size() - 3) + "," + particles.substr(particles.size() - 3)
                            : particles;
-  EXPECT_NE(checked.output.find("firn: check: ready to run: " + grouped + " particles, 3 frames, 60 steps of 0.001 s"),
+  // The fingerprint the check prints is the run's (run.json), which a scene written anew must reproduce (the Blender
+  // add-on's round trip).
+  std::ifstream record(directory / "ran" / "run.json");
+  const std::string fingerprint = nlohmann::json::parse(record)["scene"]["fingerprint"].get<std::string>();
+  EXPECT_NE(checked.output.find("firn: check: ready to run: " + grouped + " particles, 3 frames, 60 steps of 0.001 s, "
+                                "scene fingerprint " + fingerprint + ";"),
             std::string::npos)
       << checked.output;
   // Resumed, the check resumes the checkpoint as the run would: from frame 1, 2 frames of 20 steps are left; with
