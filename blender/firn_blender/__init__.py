@@ -1,24 +1,29 @@
 """Firn in Blender (docs/blender.md): File > Import > Firn run, and File > Import > Run Firn scene, which runs a
-scene file with the installed `firn` and imports what it writes."""
+scene file with the installed `firn` and imports what it writes; and scenes authored in Blender: the Firn panels
+mark objects as snow, emitters, colliders, rigid bodies and the domain, File > Export > Firn scene writes them as a
+scene file (checked with `firn run --check`), File > Import > Firn scene makes such objects of one, and Simulate
+exports, runs and imports in one go."""
 
 bl_info = {
     "name": "Firn snow",
     "author": "Firn",
     "version": (1, 0, 0),
     "blender": (3, 4, 0),
-    "location": "File > Import > Firn run / Run Firn scene",
+    "location": "File > Import > Firn run / Run Firn scene / Firn scene, File > Export > Firn scene, "
+                "Properties > Object and Scene > Firn",
     "description": "Imports Firn's snow caches (surface meshes, VDB volumes, point caches) as animated objects, "
                    "and runs Firn scenes",
     "category": "Import-Export",
 }
 
 import os
+import tempfile
 
 import bpy
 from bpy.props import BoolProperty, IntProperty, StringProperty
-from bpy_extras.io_utils import ImportHelper
+from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import importer, runner
+from . import authoring, importer, panel, runner
 
 
 class FirnPreferences(bpy.types.AddonPreferences):
@@ -68,34 +73,20 @@ class IMPORT_OT_firn_run(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
 
-class IMPORT_OT_run_firn(bpy.types.Operator, ImportHelper):
-    """Run a Firn scene file with the installed firn, then import what it writes"""
-
-    bl_idname = "import_scene.run_firn"
-    bl_label = "Run Firn scene"
-
-    filename_ext = ".json"
-    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
-    output_folder: StringProperty(
-        name="Output folder",
-        description="Where Firn writes (empty: a folder named after the scene, next to it)",
-        subtype="DIR_PATH",
-        default="",
-    )
-    frames: IntProperty(name="Frames", description="Frames to simulate (0: the scene's own)", default=0, min=0)
-    volume: BoolProperty(name="VDB volume", description="Also write and import the VDB caches", default=True)
+class FirnJobModal:
+    """Runs a Firn job with its progress in the status bar (Esc cancels), then imports what it wrote."""
 
     _job = None
     _timer = None
+    _scene_path = ""
 
-    def execute(self, context):
-        folder = self.output_folder or os.path.splitext(self.filepath)[0] + "-firn"
+    def start_job(self, context, scene_path, folder, frames, volume):
         try:
-            self._job = runner.FirnJob(firn_executable(context), self.filepath, bpy.path.abspath(folder),
-                                       self.frames, self.volume)
+            self._job = runner.FirnJob(firn_executable(context), scene_path, folder, frames, volume)
         except (runner.FirnJobError, OSError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
+        self._scene_path = scene_path
         window_manager = context.window_manager
         self._timer = window_manager.event_timer_add(0.25, window=context.window)
         window_manager.modal_handler_add(self)
@@ -126,31 +117,170 @@ class IMPORT_OT_run_firn(bpy.types.Operator, ImportHelper):
             self.report({"ERROR"}, f"Firn exited {state.exit_code}: {state.message}")
             return {"CANCELLED"}
         try:
-            importer.import_run(context, self._job.output_folder, self.filepath, last_frame=self._job.frames)
+            parent = importer.import_run(context, self._job.output_folder, self._scene_path,
+                                         last_frame=self._job.frames)
         except (importer.FirnRunError, OSError, ValueError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
+        self.imported(context, parent)
         self.report({"INFO"}, f"Firn: imported {self._job.output_folder}")
         return {"FINISHED"}
+
+    def imported(self, context, parent):
+        pass
+
+
+class IMPORT_OT_run_firn(FirnJobModal, bpy.types.Operator, ImportHelper):
+    """Run a Firn scene file with the installed firn, then import what it writes"""
+
+    bl_idname = "import_scene.run_firn"
+    bl_label = "Run Firn scene"
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    output_folder: StringProperty(
+        name="Output folder",
+        description="Where Firn writes (empty: a folder named after the scene, next to it)",
+        subtype="DIR_PATH",
+        default="",
+    )
+    frames: IntProperty(name="Frames", description="Frames to simulate (0: the scene's own)", default=0, min=0)
+    volume: BoolProperty(name="VDB volume", description="Also write and import the VDB caches", default=True)
+
+    def execute(self, context):
+        folder = self.output_folder or os.path.splitext(self.filepath)[0] + "-firn"
+        return self.start_job(context, self.filepath, bpy.path.abspath(folder), self.frames, self.volume)
+
+
+def _export_and_check(operator, context, scene_path):
+    """Writes the scene of the marked objects and checks it with `firn run --check`, the report on the Scene panel."""
+    try:
+        authoring.export_scene(context, scene_path)
+    except (authoring.AuthoringError, OSError) as error:
+        panel.note_check(context.scene, 2, str(error))
+        operator.report({"ERROR"}, f"Firn: {error}")
+        return False
+    code, report = panel.check_scene(firn_executable(context), scene_path)
+    panel.note_check(context.scene, code, report)
+    if code != 0:
+        operator.report({"ERROR"}, f"Firn refuses {scene_path} (exit {code}): {report.splitlines()[-1]}")
+        return False
+    return True
+
+
+class EXPORT_OT_firn_scene(bpy.types.Operator, ExportHelper):
+    """Write the objects marked in the Firn panel as a Firn scene file (and its meshes), and check it with firn"""
+
+    bl_idname = "export_scene.firn_scene"
+    bl_label = "Export Firn scene"
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def execute(self, context):
+        if not _export_and_check(self, context, self.filepath):
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Firn: wrote {self.filepath}")
+        return {"FINISHED"}
+
+
+class IMPORT_OT_firn_scene(bpy.types.Operator, ImportHelper):
+    """Make marked objects of a Firn scene file: its snow, colliders, rigid bodies, domain and camera"""
+
+    bl_idname = "import_scene.firn_scene"
+    bl_label = "Import Firn scene"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+
+    def execute(self, context):
+        try:
+            collection = authoring.import_scene(context, self.filepath)
+        except (authoring.AuthoringError, OSError, KeyError, ValueError) as error:
+            self.report({"ERROR"}, f"Firn: {error}")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Firn: imported {collection.name}")
+        return {"FINISHED"}
+
+
+def _scene_folder(context):
+    folder = bpy.path.abspath(context.scene.firn.folder)
+    if folder.startswith("//") or not os.path.isabs(folder):  # an unsaved file: no folder of its own
+        folder = os.path.join(tempfile.gettempdir(), "firn-" + bpy.path.clean_name(context.scene.name))
+    return folder
+
+
+def _scene_path(context):
+    name = bpy.path.clean_name(context.scene.firn.scene_name or context.scene.name)
+    return os.path.join(_scene_folder(context), name + ".json")
+
+
+class FIRN_OT_check(bpy.types.Operator):
+    """Export the Firn scene to the scene's folder and check it with `firn run --check`"""
+
+    bl_idname = "firn.check"
+    bl_label = "Check Firn scene"
+
+    def execute(self, context):
+        path = _scene_path(context)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        if not _export_and_check(self, context, path):
+            return {"CANCELLED"}
+        self.report({"INFO"}, "Firn: " + context.scene.firn.check_report.splitlines()[-1])
+        return {"FINISHED"}
+
+
+class FIRN_OT_simulate(FirnJobModal, bpy.types.Operator):
+    """Export the Firn scene, run it with firn (progress in the status bar, Esc cancels) and import the run,
+    replacing the last one Simulate imported"""
+
+    bl_idname = "firn.simulate"
+    bl_label = "Simulate with Firn"
+
+    def execute(self, context):
+        path = _scene_path(context)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        if not _export_and_check(self, context, path):
+            return {"CANCELLED"}
+        return self.start_job(context, path, os.path.join(os.path.dirname(path), "run"), 0, True)
+
+    def imported(self, context, parent):
+        settings = context.scene.firn
+        previous = bpy.data.objects.get(settings.last_import)
+        if previous is not None and previous != parent:
+            for obj in [previous] + list(previous.children_recursive):
+                bpy.data.objects.remove(obj, do_unlink=True)
+        settings.last_import = parent.name
 
 
 def menu_import(self, context):
     self.layout.operator(IMPORT_OT_firn_run.bl_idname, text="Firn run (folder)")
     self.layout.operator(IMPORT_OT_run_firn.bl_idname, text="Run Firn scene (.json)")
+    self.layout.operator(IMPORT_OT_firn_scene.bl_idname, text="Firn scene (.json)")
 
 
-CLASSES = (FirnPreferences, IMPORT_OT_firn_run, IMPORT_OT_run_firn)
+def menu_export(self, context):
+    self.layout.operator(EXPORT_OT_firn_scene.bl_idname, text="Firn scene (.json)")
+
+
+CLASSES = (FirnPreferences, IMPORT_OT_firn_run, IMPORT_OT_run_firn, EXPORT_OT_firn_scene, IMPORT_OT_firn_scene,
+           FIRN_OT_check, FIRN_OT_simulate)
 
 
 def register():
+    panel.register()
     for cls in CLASSES:
         bpy.utils.register_class(cls)
     bpy.types.TOPBAR_MT_file_import.append(menu_import)
+    bpy.types.TOPBAR_MT_file_export.append(menu_export)
     importer.register()
 
 
 def unregister():
     importer.unregister()
+    bpy.types.TOPBAR_MT_file_export.remove(menu_export)
     bpy.types.TOPBAR_MT_file_import.remove(menu_import)
     for cls in reversed(CLASSES):
         bpy.utils.unregister_class(cls)
+    panel.unregister()
