@@ -35,8 +35,8 @@ class AuthoringError(ValueError):
 
 
 def firn_vector(v, unit_m=1.0):
-    """A Blender vector (its axes, its units) in Firn's axes and metres, as a list of floats."""
-    return [float(c) for c in (TO_FIRN @ Vector(v)) * unit_m]
+    """A Blender vector (its axes, its units) in Firn's axes and metres, as a list of short floats."""
+    return [short(c) for c in (TO_FIRN @ Vector(v)) * unit_m]
 
 
 def blender_vector(v, unit_m=1.0):
@@ -78,21 +78,14 @@ def _close(a, b):
 
 def kept(value, original):
     """`value`, or `original` where they agree within 32-bit rounding (numbers and lists of numbers)."""
-    if isinstance(value, bool):
-        return value
-    if original is None or isinstance(original, bool):
-        return [short(v) for v in value] if isinstance(value, list) and \
-            all(isinstance(v, (int, float)) for v in value) else short(value) if isinstance(value, float) else value
-    if isinstance(value, list):
-        if not all(isinstance(v, (int, float)) for v in value):
-            return value
-        if isinstance(original, list) and len(original) == len(value) and \
-                all(isinstance(o, (int, float)) and _close(v, o) for v, o in zip(value, original)):
-            return original
-        return [short(v) for v in value]
-    if isinstance(value, float) and isinstance(original, (int, float)) and _close(value, original):
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool)
+    if isinstance(value, list) and isinstance(original, list) and len(original) == len(value) and \
+            all(number(v) and number(o) and _close(v, o) for v, o in zip(value, original)):
         return original
-    return short(value) if isinstance(value, float) else value
+    if number(value) and number(original) and _close(value, original):
+        return original
+    return value
 
 
 def merged(entry, computed):
@@ -232,21 +225,21 @@ class Exporter:
         self.scene.frame_set(self.first_frame + 1)
         x1, r1 = self.pose(obj)
         self.scene.frame_set(self.first_frame)
-        linear = [(b - a) * self.frame_rate for a, b in zip(x0, x1)]
+        linear = [short((b - a) * self.frame_rate) for a, b in zip(x0, x1)]
         axis, angle = (r1 @ r0.transposed()).to_quaternion().to_axis_angle()
-        angular = [c * angle * self.frame_rate for c in axis]
+        angular = [short(c * angle * self.frame_rate, zero=1e-5) for c in axis]
         return linear, angular
 
     def sphere(self, obj):
         low, high = self.bounds(obj)
-        return {"center": list(0.5 * (low + high)), "radius": float(0.5 * (high - low).max())}
+        return {"center": [short(c) for c in 0.5 * (low + high)], "radius": short(0.5 * (high - low).max())}
 
     def box(self, obj):
         _, rotation = self.pose(obj)
         if rotation.to_quaternion().angle > 1e-6:
             raise AuthoringError(f"{obj.name}: a box is axis-aligned in Firn; clear its rotation or mark it as a mesh")
         low, high = self.bounds(obj)
-        return {"min": list(low), "max": list(high)}
+        return {"min": [short(c) for c in low], "max": [short(c) for c in high]}
 
     # The scene's parts
 
@@ -288,7 +281,7 @@ class Exporter:
                 computed.update(self.box(obj))
             else:
                 computed.update(self.placed_mesh(obj, entry))
-            computed["particles_per_cell"] = float(settings.particles_per_cell)
+            computed["particles_per_cell"] = short(settings.particles_per_cell)
         computed["material"] = self.material(obj, materials, defined)
         if settings.velocity_source == "ANIMATION":
             velocity, angular = self.velocity(obj)
@@ -346,7 +339,7 @@ class Exporter:
             last_rotation = relative
             key = {"time_s": (frame - self.first_frame) / self.frame_rate}
             old = previous[i] if i < len(previous) else {}
-            translate = [b - a for a, b in zip(rest_x, x)]
+            translate = [short(b - a) for a, b in zip(rest_x, x)]
             if any(abs(t) > 1e-9 for t in translate) or "translate" in old:
                 key["translate"] = translate
             degrees = rotate_deg(relative)
@@ -377,7 +370,7 @@ class Exporter:
             computed.update(self.box(obj))
         else:
             computed.update(self.placed_mesh(obj, entry))
-            computed["resolution"] = float(settings.resolution) if settings.resolution != 2 or "resolution" in entry \
+            computed["resolution"] = short(settings.resolution) if settings.resolution != 2 or "resolution" in entry \
                 else None
         frames = self.animated_frames(obj) if settings.follow_animation else []
         if frames:
@@ -391,7 +384,7 @@ class Exporter:
             velocity = firn_vector(settings.velocity)
             computed["keyframes"] = None
             computed["velocity"] = velocity if any(velocity) or "velocity" in entry else None
-        computed["friction"] = float(settings.friction) if settings.friction or "friction" in entry else None
+        computed["friction"] = short(settings.friction) if settings.friction or "friction" in entry else None
         computed["boundary"] = settings.boundary.lower() if settings.boundary != "SLIP" or "boundary" in entry else None
         return merged(entry, computed)
 
@@ -411,8 +404,8 @@ class Exporter:
             centre = obj.matrix_world @ Vector(tuple(0.5 * (low + high)))
             size = (high - low) * scale
             computed["center"] = firn_vector(centre, self.unit_m)
-            computed["size"] = [float(size[0]) * self.unit_m, float(size[2]) * self.unit_m,
-                                float(size[1]) * self.unit_m]
+            computed["size"] = [short(size[0] * self.unit_m), short(size[2] * self.unit_m),
+                                short(size[1] * self.unit_m)]
             computed["rotate_deg"] = self._rotation_kept(rotation, entry)
         else:
             computed.update(self.placed_mesh(obj, entry))
@@ -421,20 +414,20 @@ class Exporter:
         if source == "BLENDER" and blender is None:
             raise AuthoringError(f"{obj.name}: its mass comes from Blender's Rigid Body settings, and it has none")
         if source == "DENSITY":
-            computed.update({"density": float(settings.density), "mass": None})
+            computed.update({"density": short(settings.density), "mass": None})
         else:
             mass = blender.mass if source == "BLENDER" else settings.mass
-            computed.update({"mass": float(mass), "density": None})
-        friction = blender.friction if blender is not None and source == "BLENDER" else settings.friction
-        computed["friction"] = float(friction) if "friction" in entry or not _close(friction, 0.3) else None
+            computed.update({"mass": short(mass), "density": None})
+        friction = blender.friction if source == "BLENDER" else settings.body_friction
+        computed["friction"] = short(friction) if "friction" in entry or not _close(friction, 0.3) else None
         velocity = firn_vector(settings.velocity)
         angular = firn_vector(settings.angular_velocity)
         computed["velocity"] = velocity if any(velocity) or "velocity" in entry else None
         computed["angular_velocity"] = angular if any(angular) or "angular_velocity" in entry else None
-        computed["boundary"] = settings.boundary.lower() if settings.boundary != "SEPARATE" or "boundary" in entry \
-            else None
+        boundary = settings.body_boundary
+        computed["boundary"] = boundary.lower() if boundary != "SEPARATE" or "boundary" in entry else None
         if shape == "MESH" and ("resolution" in entry or settings.resolution != 2):
-            computed["resolution"] = float(settings.resolution)
+            computed["resolution"] = short(settings.resolution)
         return merged(entry, computed)
 
     @staticmethod
@@ -447,17 +440,17 @@ class Exporter:
 
     def grid(self, domain, document):
         entry = document.get("grid", {})
-        cell_m = float(domain.firn.cell_size) * self.unit_m
+        cell_m = short(domain.firn.cell_size * self.unit_m)
         if entry.get("cell_size") is not None and _close(cell_m, entry["cell_size"]):
             cell_m = entry["cell_size"]
         low, high = self.bounds(domain)
         cells = [max(1, int(round((h - l) / cell_m))) for l, h in zip(low, high)]
-        return merged(entry, {"origin": list(low), "cells": cells, "cell_size": cell_m})
+        return merged(entry, {"origin": [short(c) for c in low], "cells": cells, "cell_size": cell_m})
 
     def time(self, document):
         entry = document.get("time", {})
         settings = self.scene.firn
-        computed = {"dt": float(settings.dt), "frame_rate": float(self.frame_rate),
+        computed = {"dt": short(settings.dt), "frame_rate": float(self.frame_rate),
                     "frames": self.scene.frame_end - self.scene.frame_start}
         if settings.adaptive:
             computed["adaptive"] = True
@@ -481,12 +474,12 @@ class Exporter:
                 target = old_target
         if target is None:
             distance = camera.data.dof.focus_distance * self.unit_m or 1.0
-            target = [p + distance * f for p, f in zip(position, forward.normalized())]
+            target = [short(p + distance * f) for p, f in zip(position, forward.normalized())]
         data = camera.data
         width, height = self.scene.render.resolution_x, self.scene.render.resolution_y
         vertical = data.sensor_fit == "VERTICAL" or (data.sensor_fit == "AUTO" and height > width)
         fov = data.angle if vertical else 2 * math.atan(math.tan(data.angle / 2) * height / width)
-        return merged(entry, {"position": position, "target": target, "fov_deg": math.degrees(fov)})
+        return merged(entry, {"position": position, "target": target, "fov_deg": short(math.degrees(fov))})
 
     def build(self, objects):
         """The scene (a dict in the scene file's order) of the marked `objects`."""
@@ -775,8 +768,8 @@ class Importer:
             settings.mass_source, settings.density = "DENSITY", entry["density"]
         else:
             settings.mass_source, settings.mass = "MASS", entry["mass"]
-        settings.friction = entry.get("friction", 0.3)
-        settings.boundary = entry.get("boundary", "separate").upper()
+        settings.body_friction = entry.get("friction", 0.3)
+        settings.body_boundary = entry.get("boundary", "separate").upper()
         settings.resolution = entry.get("resolution", 2.0)
         settings.velocity = blender_vector(entry.get("velocity", [0, 0, 0]))
         settings.angular_velocity = blender_vector(entry.get("angular_velocity", [0, 0, 0]))

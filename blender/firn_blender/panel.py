@@ -83,6 +83,14 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
                ("DENSITY", "Density", "The density below times the shape's volume")),
         default="BLENDER")
     mass: FloatProperty(name="Mass (kg)", default=1.0, min=1e-6)
+    body_friction: FloatProperty(name="Friction", default=0.3, min=0.0,
+                                 description="Coulomb coefficient against the snow, the colliders and the walls")
+    body_boundary: EnumProperty(
+        name="Boundary",
+        items=(("STICKY", "Sticky", "The snow takes the body's surface velocity"),
+               ("SLIP", "Slip", "The snow loses its velocity into the body"),
+               ("SEPARATE", "Separate", "As slip, but the snow may leave the body")),
+        default="SEPARATE")
     # The domain
     cell_size: FloatProperty(name="Cell size (m)", default=0.02, min=1e-4, precision=4)
     # What an import carried (authoring.py), hidden
@@ -173,8 +181,8 @@ class FIRN_PT_object(bpy.types.Panel):
             elif settings.mass_source == "DENSITY":
                 layout.prop(settings, "density")
             if settings.mass_source != "BLENDER":
-                layout.prop(settings, "friction")
-            layout.prop(settings, "boundary")
+                layout.prop(settings, "body_friction")
+            layout.prop(settings, "body_boundary")
             layout.prop(settings, "velocity")
             layout.prop(settings, "angular_velocity")
             if settings.shape == "MESH":
@@ -198,10 +206,19 @@ class FIRN_PT_scene(bpy.types.Panel):
         row.operator("firn.simulate", text="Simulate")
         if settings.check_report:
             box = layout.box()
-            box.label(text="Ready to run" if settings.check_ok else "Firn refuses the scene",
-                      icon="CHECKMARK" if settings.check_ok else "ERROR")
-            for line in settings.check_report.splitlines()[-12:]:
-                box.label(text=line)
+            for i, line in enumerate(report_lines(settings)):
+                icon = "NONE" if i > 0 else "CHECKMARK" if settings.check_ok else "ERROR"
+                box.label(text=line, icon="ERROR" if "warning:" in line else icon)
+
+
+def report_lines(settings):
+    """The check's report as the Scene panel shows it: the verdict, every warning, then the last lines."""
+    lines = settings.check_report.splitlines()
+    warnings = [line for line in lines if "warning:" in line]
+    count = f", with {len(warnings)} warning{'s' if len(warnings) != 1 else ''}" if warnings else ""
+    verdict = ("Ready to run" if settings.check_ok else "Firn refuses the scene") + count
+    rest = [line for line in lines[-8:] if line not in warnings]
+    return [verdict] + warnings + rest
 
 
 CLASSES = (FirnObjectSettings, FirnSceneSettings, FIRN_PT_object, FIRN_PT_scene)
