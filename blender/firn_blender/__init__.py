@@ -79,6 +79,7 @@ class FirnJobModal:
     _job = None
     _timer = None
     _scene_path = ""
+    frame_offset = 0  # the scene's frame of Firn's frame 0
 
     def start_job(self, context, scene_path, folder, frames, volume):
         try:
@@ -118,7 +119,7 @@ class FirnJobModal:
             return {"CANCELLED"}
         try:
             parent = importer.import_run(context, self._job.output_folder, self._scene_path,
-                                         last_frame=self._job.frames)
+                                         last_frame=self._job.frames, frame_offset=self.frame_offset)
         except (importer.FirnRunError, OSError, ValueError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -243,6 +244,8 @@ class FIRN_OT_simulate(FirnJobModal, bpy.types.Operator):
         os.makedirs(os.path.dirname(path), exist_ok=True)
         if not _export_and_check(self, context, path):
             return {"CANCELLED"}
+        # The run's frames on the scene's own: Firn's frame 0 is the scene's first frame, as the export took it.
+        self.frame_offset = context.scene.frame_start
         return self.start_job(context, path, os.path.join(os.path.dirname(path), "run"), 0, True)
 
     def imported(self, context, parent):

@@ -104,8 +104,18 @@ def merged(entry, computed):
 # What an object was when imported
 
 
+def placed(obj):
+    """Where the object is placed: its world matrix, but for an object Blender's own rigid-body world moves, where its
+    own transform puts it (Blender's simulation, running from its cache's first frame, is not Firn's start)."""
+    world = bpy.context.scene.rigidbody_world
+    if obj.rigid_body is None or world is None or not world.enabled:
+        return obj.matrix_world
+    parent = obj.parent.matrix_world @ obj.matrix_parent_inverse if obj.parent else Matrix.Identity(4)
+    return parent @ obj.matrix_basis
+
+
 def transform_signature(obj):
-    return [float(c) for row in obj.matrix_world for c in row]
+    return [float(c) for row in placed(obj) for c in row]
 
 
 def mesh_signature(obj):
@@ -181,7 +191,7 @@ class Exporter:
             mesh.loop_triangles.foreach_get("vertices", triangles)
         finally:
             evaluated.to_mesh_clear()
-        world = np.array(obj.matrix_world, dtype=np.float64)
+        world = np.array(placed(obj), dtype=np.float64)
         homogeneous = np.hstack([local, np.ones((len(local), 1))]) @ world.T
         firn = homogeneous[:, :3] @ np.array(TO_FIRN, dtype=np.float64).T * self.unit_m
         return firn, triangles.reshape(-1, 3)
@@ -215,7 +225,7 @@ class Exporter:
 
     def pose(self, obj):
         """The object's origin (Firn, m) and rotation (Firn's axes) at the current frame."""
-        world = obj.matrix_world
+        world = placed(obj)
         return firn_vector(world.translation, self.unit_m), firn_rotation(world.to_3x3().normalized())
 
     def velocity(self, obj):
@@ -359,7 +369,7 @@ class Exporter:
         computed = {"type": {"SPHERE": "sphere", "BOX": "box", "PLANE": "plane"}.get(shape, "mesh")}
         origin, rotation = self.pose(obj)
         if shape == "PLANE":
-            normal = firn_vector(obj.matrix_world.to_3x3().normalized() @ Vector((0.0, 0.0, 1.0)))
+            normal = firn_vector(placed(obj).to_3x3().normalized() @ Vector((0.0, 0.0, 1.0)))
             old = entry.get("normal")
             if old is not None and same_direction(old, normal):
                 normal = old  # Firn normalises it: the direction is what counts
@@ -400,8 +410,8 @@ class Exporter:
         elif shape == "BOX":
             corners = np.array([tuple(c) for c in obj.bound_box], dtype=np.float64)
             low, high = corners.min(axis=0), corners.max(axis=0)
-            scale = np.array(obj.matrix_world.to_scale(), dtype=np.float64)
-            centre = obj.matrix_world @ Vector(tuple(0.5 * (low + high)))
+            scale = np.array(placed(obj).to_scale(), dtype=np.float64)
+            centre = placed(obj) @ Vector(tuple(0.5 * (low + high)))
             size = (high - low) * scale
             computed["center"] = firn_vector(centre, self.unit_m)
             computed["size"] = [short(size[0] * self.unit_m), short(size[2] * self.unit_m),

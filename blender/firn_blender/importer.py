@@ -45,6 +45,7 @@ class RunFolder:
     """What a Firn output folder holds: the frames of each cache, and the frame rate (from stats.csv)."""
 
     def __init__(self, folder, last_frame=None):
+        self.frame_offset = 0  # the scene's frame of Firn's frame 0 (import_run)
         self.folder = os.path.abspath(bpy.path.abspath(folder))
         if not os.path.isdir(self.folder):
             raise FirnRunError(f"{self.folder}: not a folder")
@@ -188,7 +189,7 @@ def update_object(obj, scene_frame):
     files = _frame_files(obj)
     if not files:
         return
-    frame = shown_frame(files, scene_frame)
+    frame = shown_frame(files, scene_frame - obj.get("firn_frame_offset", 0))
     path = os.path.join(obj["firn_folder"], files[frame])
     name = f"{obj.name} {frame:04d}"
     mesh = bpy.data.meshes.get(name)
@@ -325,9 +326,10 @@ def _radius_socket(group):
 
 # --- Building the scene --------------------------------------------------------------------------------------------
 
-def _sequence_object(context, name, folder, files, kind, parent):
+def _sequence_object(context, name, folder, files, kind, parent, frame_offset):
     obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
     obj["firn_folder"] = folder
+    obj["firn_frame_offset"] = frame_offset
     obj["firn_files"] = {str(frame): file for frame, file in files.items()}
     obj["firn_kind"] = kind
     obj.parent = parent
@@ -355,8 +357,9 @@ def _volume_object(context, name, run, parent):
     volume.is_sequence = len(run.volumes) > 1
     if volume.is_sequence:
         # Blender shows, at scene frame F, the file numbered (F − frame_start + 1) + frame_offset, the first
-        # term held to [1, frame_duration] in EXTEND mode: file F at frame F, the first before it, the last after.
-        volume.frame_start = first
+        # term held to [1, frame_duration] in EXTEND mode: file k at frame k + the run's offset, the first before
+        # it, the last after.
+        volume.frame_start = first + run.frame_offset
         volume.frame_duration = max(run.volumes) - first + 1
         volume.frame_offset = first - 1
         volume.sequence_mode = "EXTEND"
@@ -415,7 +418,7 @@ def _collider_origin(collider):
     return np.array(collider["point"], dtype=float)
 
 
-def _key_collider_motion(obj, collider, origin, keyframes, frame_rate):
+def _key_collider_motion(obj, collider, origin, keyframes, frame_rate, frame_offset):
     """A keyframed collider's poses (docs/scene-format.md, colliders): at each keyframe's time the shape, built about
     `origin`, turned by rotate_deg about the pivot (Firn's R = R_z R_y R_x is Blender's XYZ Euler, in the parent's
     Firn axes) and moved by translate. Blender interpolates the Euler angles linearly: the same turn as Firn's slerp
@@ -432,7 +435,7 @@ def _key_collider_motion(obj, collider, origin, keyframes, frame_rate):
         rotate_y = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
         rotate_z = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
         rotation = rotate_z @ rotate_y @ rotate_x
-        frame = float(key["time_s"]) * frame_rate
+        frame = float(key["time_s"]) * frame_rate + frame_offset
         obj.location = tuple(pivot + translate + rotation @ (origin - pivot))
         obj.rotation_euler = tuple(angles)
         obj.keyframe_insert("location", frame=frame)
@@ -498,8 +501,8 @@ def _moving_objects(context, run, parent, scene_colliders, extent_m):
         for frame, _, position, quaternion in rows:
             obj.location = position
             obj.rotation_quaternion = quaternion
-            obj.keyframe_insert("location", frame=frame)
-            obj.keyframe_insert("rotation_quaternion", frame=frame)
+            obj.keyframe_insert("location", frame=frame + run.frame_offset)
+            obj.keyframe_insert("rotation_quaternion", frame=frame + run.frame_offset)
         _linear_constant(obj)
         obj["firn_object"] = name
         obj["firn_object_kind"] = rows[0][1]
@@ -532,12 +535,12 @@ def _collider_objects(context, colliders, extent_m, run, parent):
         origin = _collider_origin(collider)
         keyframes = collider.get("keyframes", [])
         if keyframes:
-            _key_collider_motion(obj, collider, origin, keyframes, run.frame_rate)
+            _key_collider_motion(obj, collider, origin, keyframes, run.frame_rate, run.frame_offset)
         else:
             velocity = np.array(collider.get("velocity", [0, 0, 0]), dtype=float)
             for frame in sorted({first, last}):
                 obj.location = tuple(origin + velocity * frame / run.frame_rate)
-                obj.keyframe_insert("location", frame=frame)
+                obj.keyframe_insert("location", frame=frame + run.frame_offset)
         if obj.animation_data and obj.animation_data.action:
             for curve in obj.animation_data.action.fcurves:
                 # Keyframed motion holds its first and last poses beyond them; a velocity goes on.
@@ -550,15 +553,16 @@ def _collider_objects(context, colliders, extent_m, run, parent):
     return objects
 
 
-def import_run(context, folder, scene_path="", last_frame=None):
-    """Builds the run in `folder` into the context's scene (its frames up to last_frame, when given); returns the
-    parent object."""
+def import_run(context, folder, scene_path="", last_frame=None, frame_offset=0):
+    """Builds the run in `folder` into the context's scene (its frames up to last_frame, when given), Firn's frame N
+    at the scene's frame N + frame_offset; returns the parent object."""
     run = RunFolder(folder, last_frame)
+    run.frame_offset = frame_offset
     scene = context.scene
     set_frame_rate(scene, run.frame_rate)
     first, last = run.frames()
-    scene.frame_start, scene.frame_end = first, last
-    scene.frame_set(first)
+    scene.frame_start, scene.frame_end = first + frame_offset, last + frame_offset
+    scene.frame_set(first + frame_offset)
 
     parent = bpy.data.objects.new(f"Firn run ({os.path.basename(run.folder)})", None)
     parent.empty_display_type = "ARROWS"
@@ -568,7 +572,8 @@ def import_run(context, folder, scene_path="", last_frame=None):
     context.collection.objects.link(parent)
 
     if run.surfaces:
-        surface = _sequence_object(context, "Firn surface", run.folder, run.surfaces, KIND_SURFACE, parent)
+        surface = _sequence_object(context, "Firn surface", run.folder, run.surfaces, KIND_SURFACE, parent,
+                                   frame_offset)
         surface.material_slots[0].link = "OBJECT"
         surface.material_slots[0].material = snow_surface_material()
     # The surface renders; the volume (the same snow) and the particles are there to switch on instead.
@@ -576,7 +581,8 @@ def import_run(context, folder, scene_path="", last_frame=None):
         volume = _volume_object(context, "Firn volume", run, parent)
         volume.hide_render = bool(run.surfaces)
     if run.points:
-        points = _sequence_object(context, "Firn particles", run.folder, run.points, KIND_POINTS, parent)
+        points = _sequence_object(context, "Firn particles", run.folder, run.points, KIND_POINTS, parent,
+                                  frame_offset)
         points.hide_render = bool(run.surfaces or run.volumes)
         modifier = points.modifiers.new("Firn particles", "NODES")
         group = particles_node_group()
