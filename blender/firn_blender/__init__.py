@@ -64,6 +64,7 @@ class IMPORT_OT_firn_run(bpy.types.Operator, ImportHelper):
 
     def execute(self, context):
         folder = self.directory or os.path.dirname(self.filepath)
+        self.before_import(context)
         try:
             parent = importer.import_run(context, folder, self.scene_file)
         except (importer.FirnRunError, OSError, ValueError) as error:
@@ -117,6 +118,7 @@ class FirnJobModal:
         if state.exit_code != 0:
             self.report({"ERROR"}, f"Firn exited {state.exit_code}: {state.message}")
             return {"CANCELLED"}
+        self.before_import(context)
         try:
             parent = importer.import_run(context, self._job.output_folder, self._scene_path,
                                          last_frame=self._job.frames, frame_offset=self.frame_offset)
@@ -126,6 +128,9 @@ class FirnJobModal:
         self.imported(context, parent)
         self.report({"INFO"}, f"Firn: imported {self._job.output_folder}")
         return {"FINISHED"}
+
+    def before_import(self, context):
+        pass
 
     def imported(self, context, parent):
         pass
@@ -248,13 +253,14 @@ class FIRN_OT_simulate(FirnJobModal, bpy.types.Operator):
         self.frame_offset = context.scene.frame_start
         return self.start_job(context, path, os.path.join(os.path.dirname(path), "run"), 0, True)
 
-    def imported(self, context, parent):
-        settings = context.scene.firn
-        previous = bpy.data.objects.get(settings.last_import)
-        if previous is not None and previous != parent:
+    def before_import(self, context):
+        previous = bpy.data.objects.get(context.scene.firn.last_import)
+        if previous is not None:
             for obj in [previous] + list(previous.children_recursive):
                 bpy.data.objects.remove(obj, do_unlink=True)
-        settings.last_import = parent.name
+
+    def imported(self, context, parent):
+        context.scene.firn.last_import = parent.name
 
 
 def menu_import(self, context):

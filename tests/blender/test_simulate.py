@@ -53,9 +53,9 @@ def start():
 def check():
     try:
         scene = bpy.context.scene
-        if not scene.firn.last_import or scene.firn.last_import in imports:
-            return 0.5  # Simulate's import not done yet
         parents = [obj for obj in bpy.data.objects if obj.get("firn_frame_rate")]
+        if not scene.firn.last_import or all(p.get("test_seen") for p in parents):
+            return 0.5  # Simulate's import not done yet
         assert len(parents) == 1, [p.name for p in parents]  # the second import replaced the first
         parent = parents[0]
         assert scene.firn.last_import == parent.name, (scene.firn.last_import, parent.name)
@@ -68,11 +68,15 @@ def check():
         assert surface["firn_frame_offset"] == 5
         scene.frame_set(6)  # Firn's frame 1
         assert surface.data.get("firn_file", "").endswith("frame_0001_surface.ply"), surface.data.get("firn_file")
+        parent["test_seen"] = True
         imports.append(parent.name)
         if len(imports) == 1:
             bpy.app.timers.register(simulate, first_interval=0.1)
             return 0.5
-        finish(0, "simulated twice: " + ", ".join(sorted(child.name for child in parent.children)))
+        names = sorted(child.name for child in parent.children)
+        assert names == ["Firn collider 0 (plane)", "Firn colliders[1]", "Firn particles", "Firn rigid_bodies[0]",
+                         "Firn surface", "Firn volume"], names  # the first import's names, freed for the second's
+        finish(0, "simulated twice: " + ", ".join(names))
     except Exception:
         finish(1, traceback.format_exc())
 
