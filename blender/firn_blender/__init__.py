@@ -210,6 +210,17 @@ class IMPORT_OT_firn_scene(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
 
+def _layer_collection(layer, collection):
+    """The view layer's entry of `collection`, found from `layer` down."""
+    if layer.collection == collection:
+        return layer
+    for child in layer.children:
+        found = _layer_collection(child, collection)
+        if found is not None:
+            return found
+    return None
+
+
 def _scene_folder(context):
     folder = bpy.path.abspath(context.scene.firn.folder)
     if folder.startswith("//") or not os.path.isabs(folder):  # an unsaved file: no folder of its own
@@ -258,6 +269,12 @@ class FIRN_OT_simulate(FirnJobModal, bpy.types.Operator):
         if previous is not None:
             for obj in [previous] + list(previous.children_recursive):
                 bpy.data.objects.remove(obj, do_unlink=True)
+        # The run goes into the collection of the objects it was made of (the domain's).
+        domain = next((o for o in context.scene.objects if o.firn.role == "DOMAIN"), None)
+        if domain is not None and domain.users_collection:
+            layer = _layer_collection(context.view_layer.layer_collection, domain.users_collection[0])
+            if layer is not None:
+                context.view_layer.active_layer_collection = layer
 
     def imported(self, context, parent):
         context.scene.firn.last_import = parent.name

@@ -20,7 +20,14 @@ TO_FIRN = Matrix(((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)))
 TO_BLENDER = TO_FIRN.transposed()
 
 PRESETS = ("stomakhin", "dry", "wet", "icy", "slushy")
-SNOW_KEYS = ("youngs_modulus", "poisson_ratio", "density", "critical_compression", "critical_stretch", "hardening")
+# Each material model's keys (docs/scene-format.md, materials), as the panel's settings of the same names hold them.
+MODEL_KEYS = {
+    "snow": ("youngs_modulus", "poisson_ratio", "density", "critical_compression", "critical_stretch", "hardening"),
+    "fixed_corotated": ("youngs_modulus", "poisson_ratio", "density"),
+    "neo_hookean": ("youngs_modulus", "poisson_ratio", "density"),
+    "water": ("density", "bulk_modulus", "gamma", "viscosity"),
+    "drucker_prager": ("youngs_modulus", "poisson_ratio", "density", "friction_angle_deg"),
+}
 # Numbers that differ from an imported entry's by no more than this (relative to the larger's size, or absolute below
 # 1) are the entry's: what 32-bit floats round (about 6e-8) and a transform's arithmetic add to it.
 KEEP_TOLERANCE = 1e-6
@@ -264,8 +271,9 @@ class Exporter:
             definition = {"preset": settings.material_preset}
         else:
             name = settings.material_name or obj.name
-            definition = {"model": "snow"}
-            for key in SNOW_KEYS:
+            model = settings.material_model.lower()
+            definition = {"model": model}
+            for key in MODEL_KEYS[model]:
                 definition[key] = short(getattr(settings, key))
         if name in defined and not same_material(defined[name][0], definition):
             raise AuthoringError(f"{obj.name}: material {name!r} is defined differently by {defined[name][1]}")
@@ -450,7 +458,7 @@ class Exporter:
 
     def grid(self, domain, document):
         entry = document.get("grid", {})
-        cell_m = short(domain.firn.cell_size * self.unit_m)
+        cell_m = short(domain.firn.cell_size)  # in metres, as the panel says
         if entry.get("cell_size") is not None and _close(cell_m, entry["cell_size"]):
             cell_m = entry["cell_size"]
         low, high = self.bounds(domain)
@@ -696,11 +704,18 @@ class Importer:
         settings.material_name = material
         definition = self.document["materials"].get(material, {})
         preset = definition.get("preset")
+        model = definition.get("model", "snow")
         if preset in PRESETS and set(definition) <= {"preset", "model"}:
             settings.material_preset = preset
             settings.material_json = ""
-        else:
-            settings.material_json = json.dumps(definition)
+            return obj
+        if preset is None and model in MODEL_KEYS and set(definition) - {"model"} <= set(MODEL_KEYS[model]):
+            settings.material_preset, settings.material_model = "CUSTOM", model.upper()
+            for key in MODEL_KEYS[model]:
+                if key in definition:
+                    setattr(settings, key, definition[key])
+        # The definition as the file has it, for the export (set last: editing the values above clears it).
+        settings.material_json = json.dumps(definition)
         return obj
 
     def collider(self, index, entry, extent_m):

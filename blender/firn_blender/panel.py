@@ -42,8 +42,16 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
     material_preset: EnumProperty(
         name="Material",
         items=[(p, p.capitalize(), f"Firn's {p} snow preset (docs/scene-format.md)") for p in authoring.PRESETS] +
-              [("CUSTOM", "Custom", "Snow of the values below")],
+              [("CUSTOM", "Custom", "A material model and its values, below")],
         default="stomakhin", update=_imported_material_edited)
+    material_model: EnumProperty(
+        name="Model",
+        items=(("SNOW", "Snow", "Elastoplastic snow (Stomakhin et al. 2013)"),
+               ("FIXED_COROTATED", "Fixed corotated", "An elastic solid"),
+               ("NEO_HOOKEAN", "Neo-Hookean", "An elastic solid"),
+               ("WATER", "Water", "A weakly compressible fluid"),
+               ("DRUCKER_PRAGER", "Drucker-Prager", "Sand")),
+        default="SNOW", update=_imported_material_edited)
     material_json: StringProperty(name="Imported material", description="The imported scene's definition, kept")
     youngs_modulus: FloatProperty(name="Young's modulus (Pa)", default=1.4e5, min=1.0,
                                   update=_imported_material_edited)
@@ -54,6 +62,11 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
                                         update=_imported_material_edited)
     critical_stretch: FloatProperty(name="θs", default=7.5e-3, min=0.0, precision=4, update=_imported_material_edited)
     hardening: FloatProperty(name="ξ", default=10.0, min=0.0, update=_imported_material_edited)
+    bulk_modulus: FloatProperty(name="Bulk modulus (Pa)", default=1e5, min=1e-3, update=_imported_material_edited)
+    gamma: FloatProperty(name="γ", default=7.0, min=1.0, update=_imported_material_edited)
+    viscosity: FloatProperty(name="Viscosity (Pa·s)", default=0.0, min=0.0, update=_imported_material_edited)
+    friction_angle_deg: FloatProperty(name="Friction angle (°)", default=30.0, min=0.0, max=89.9,
+                                      update=_imported_material_edited)
     particles_per_cell: FloatProperty(name="Particles per cell", default=8.0, min=0.01, max=1000.0)
     velocity_source: EnumProperty(
         name="Initial velocity",
@@ -157,7 +170,8 @@ class FIRN_PT_object(bpy.types.Panel):
             layout.prop(settings, "material_preset")
             layout.prop(settings, "material_name")
             if settings.material_preset == "CUSTOM":
-                for key in authoring.SNOW_KEYS:
+                layout.prop(settings, "material_model")
+                for key in authoring.MODEL_KEYS[settings.material_model.lower()]:
                     layout.prop(settings, key)
             layout.prop(settings, "particles_per_cell")
             layout.prop(settings, "velocity_source")

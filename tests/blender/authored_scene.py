@@ -22,6 +22,7 @@ def empty_scene():
         bpy.data.objects.remove(obj, do_unlink=True)
     scene = bpy.context.scene
     scene.property_unset("firn")
+    scene.unit_settings.scale_length = 1.0
     scene.frame_start, scene.frame_end = 1, 13
     scene.render.fps, scene.render.fps_base = 30, 1.0
     scene.camera = None

@@ -73,6 +73,34 @@ class Authoring(unittest.TestCase):
             with open(os.path.join(one, name), "rb") as a, open(os.path.join(other, name), "rb") as b:
                 self.assertEqual(a.read(), b.read(), name)
 
+    def test_a_scene_in_centimetres_exports_in_metres(self):
+        scene = build_scene()
+        scene.unit_settings.scale_length = 0.01  # a Blender unit is a centimetre
+        for obj in scene.objects:
+            obj.location *= 100.0
+            obj.scale *= 100.0
+        path = os.path.join(harness.ARGS.work, "centimetres", "authored.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"}, scene.firn.check_report)
+        scene.unit_settings.scale_length = 1.0
+        with open(path) as f, open(HAND_WRITTEN) as g:
+            self.assertEqual(differences(json.load(g), json.load(f)), [])
+
+    def test_a_custom_material_exports_its_models_keys(self):
+        build_scene()
+        ball = bpy.data.objects["Ball"].firn
+        ball.material_preset, ball.material_model = "CUSTOM", "WATER"
+        ball.density, ball.bulk_modulus, ball.gamma, ball.viscosity = 1000.0, 2e5, 7.0, 0.01
+        path = os.path.join(harness.ARGS.work, "water", "authored.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
+        with open(path) as f:
+            exported = json.load(f)
+        self.assertEqual(exported["bodies"][0]["material"], "Ball")
+        self.assertEqual(exported["materials"], {"Ball": {"model": "water", "density": 1000.0, "bulk_modulus": 2e5,
+                                                          "gamma": 7.0, "viscosity": 0.01}})
+
     def test_an_open_mesh_marked_snow_is_reported_with_the_voxelizers_message(self):
         scene = build_scene()
         ball = bpy.data.objects["Ball"]

@@ -44,6 +44,12 @@ def start():
                         key.co.x += 4
                         key.handle_left.x += 4
                         key.handle_right.x += 4
+        # The authored objects in a collection of their own, where Simulate puts the run too.
+        authored = bpy.data.collections.new("Authored")
+        scene.collection.children.link(authored)
+        for obj in list(scene.collection.objects):
+            authored.objects.link(obj)
+            scene.collection.objects.unlink(obj)
         scene.firn.folder = FOLDER
         simulate()
     except Exception:
@@ -59,6 +65,7 @@ def check():
         assert len(parents) == 1, [p.name for p in parents]  # the second import replaced the first
         parent = parents[0]
         assert scene.firn.last_import == parent.name, (scene.firn.last_import, parent.name)
+        assert [c.name for c in parent.users_collection] == ["Authored"], parent.users_collection[:]
         assert scene.firn.check_ok, scene.firn.check_report
         assert (scene.frame_start, scene.frame_end) == (5, 5 + FRAMES), (scene.frame_start, scene.frame_end)
         run = os.path.join(FOLDER, "run")
