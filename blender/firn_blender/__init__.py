@@ -228,9 +228,12 @@ def _scene_folder(context):
     return folder
 
 
-def _scene_path(context):
+def _export_to_folder(operator, context):
+    """The scene exported and checked into the scene's Folder: its path, or None where that failed."""
     name = bpy.path.clean_name(context.scene.firn.scene_name or context.scene.name)
-    return os.path.join(_scene_folder(context), name + ".json")
+    path = os.path.join(_scene_folder(context), name + ".json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    return path if _export_and_check(operator, context, path) else None
 
 
 class FIRN_OT_check(bpy.types.Operator):
@@ -240,9 +243,7 @@ class FIRN_OT_check(bpy.types.Operator):
     bl_label = "Check Firn scene"
 
     def execute(self, context):
-        path = _scene_path(context)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        if not _export_and_check(self, context, path):
+        if _export_to_folder(self, context) is None:
             return {"CANCELLED"}
         self.report({"INFO"}, "Firn: " + context.scene.firn.check_report.splitlines()[-1])
         return {"FINISHED"}
@@ -256,9 +257,8 @@ class FIRN_OT_simulate(FirnJobModal, bpy.types.Operator):
     bl_label = "Simulate with Firn"
 
     def execute(self, context):
-        path = _scene_path(context)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        if not _export_and_check(self, context, path):
+        path = _export_to_folder(self, context)
+        if path is None:
             return {"CANCELLED"}
         # The run's frames on the scene's own: Firn's frame 0 is the scene's first frame, as the export took it.
         self.frame_offset = context.scene.frame_start

@@ -663,6 +663,24 @@ class Importer:
         centre = 0.5 * (placed.min(axis=0) + placed.max(axis=0))
         return self.mesh_object(name, placed, faces, centre)
 
+    def solid(self, name, shape, entry):
+        """A sphere (center, radius), a box (min and max; a rigid body's center, size and rotate_deg) or a mesh file
+        placed as the entry says."""
+        if shape == "sphere":
+            obj = self.primitive(name, "sphere", entry["radius"])
+            obj.location = blender_vector(entry["center"])
+        elif shape == "box" and "size" in entry:
+            obj = self.primitive(name, "box", entry["size"])
+            obj.location = blender_vector(entry["center"])
+            obj.rotation_euler = (TO_BLENDER @ rotation_of(entry.get("rotate_deg", [0, 0, 0])) @ TO_FIRN).to_euler("XYZ")
+        elif shape == "box":
+            low, high = np.array(entry["min"], float), np.array(entry["max"], float)
+            obj = self.primitive(name, "box", list(high - low))
+            obj.location = blender_vector(0.5 * (low + high))
+        else:
+            obj = self.file_mesh(name, entry)
+        return obj
+
     def points_object(self, name, entry):
         obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
         self.collection.objects.link(obj)
@@ -679,19 +697,9 @@ class Importer:
         self.order += 1
 
     def body(self, index, entry):
-        name = f"snow {index}"
         shape = entry["shape"]
-        if shape == "sphere":
-            obj = self.primitive(name, "sphere", entry["radius"])
-            obj.location = blender_vector(entry["center"])
-        elif shape == "box":
-            low, high = np.array(entry["min"], float), np.array(entry["max"], float)
-            obj = self.primitive(name, "box", list(high - low))
-            obj.location = blender_vector(0.5 * (low + high))
-        elif shape == "mesh":
-            obj = self.file_mesh(name, entry)
-        else:
-            obj = self.points_object(name, entry)
+        obj = self.points_object(f"snow {index}", entry) if shape == "points" else self.solid(f"snow {index}", shape,
+                                                                                              entry)
         emitter = entry.get("start_frame", 0) > 0 or entry.get("duration_frames", 0) > 0
         self.mark(obj, "EMITTER" if emitter else "SNOW", entry, shape.upper())
         settings = obj.firn
@@ -728,15 +736,8 @@ class Importer:
             obj.rotation_mode = "QUATERNION"
             obj.rotation_quaternion = Vector((0.0, 0.0, 1.0)).rotation_difference(TO_BLENDER @ normal)
             obj.rotation_mode = "XYZ"
-        elif kind == "sphere":
-            obj = self.primitive(name, "sphere", entry["radius"])
-            obj.location = blender_vector(entry["center"])
-        elif kind == "box":
-            low, high = np.array(entry["min"], float), np.array(entry["max"], float)
-            obj = self.primitive(name, "box", list(high - low))
-            obj.location = blender_vector(0.5 * (low + high))
         else:
-            obj = self.file_mesh(name, entry)
+            obj = self.solid(name, kind, entry)
         self.mark(obj, "COLLIDER", entry, "MESH" if kind == "mesh" else kind.upper())
         settings = obj.firn
         settings.friction = entry.get("friction", 0.0)
@@ -776,17 +777,8 @@ class Importer:
         scene.frame_set(scene.frame_start)
 
     def rigid_body(self, index, entry):
-        name = f"rigid body {index}"
         shape = entry["shape"]
-        if shape == "sphere":
-            obj = self.primitive(name, "sphere", entry["radius"])
-            obj.location = blender_vector(entry["center"])
-        elif shape == "box":
-            obj = self.primitive(name, "box", entry["size"])
-            obj.location = blender_vector(entry["center"])
-            obj.rotation_euler = (TO_BLENDER @ rotation_of(entry.get("rotate_deg", [0, 0, 0])) @ TO_FIRN).to_euler("XYZ")
-        else:
-            obj = self.file_mesh(name, entry)
+        obj = self.solid(f"rigid body {index}", shape, entry)
         self.mark(obj, "RIGID_BODY", entry, shape.upper())
         settings = obj.firn
         if "density" in entry:

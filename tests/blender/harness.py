@@ -55,3 +55,29 @@ def run_tests(case):
     result = unittest.TextTestRunner(verbosity=2).run(unittest.defaultTestLoader.loadTestsFromTestCase(case))
     if not result.wasSuccessful():
         raise SystemExit(1)
+
+
+def run_in_interface(name, start, check, limit_s):
+    """A test of Blender's interface (under Xvfb): its event loop runs only once the script has returned, so `start`
+    and then `check` run from timers. `check` returns seconds to wait before it looks again, or what it found when
+    all is as it should be; an exception in either, or `limit_s` passing, fails the test. Blender exits with the
+    test's status (its window would otherwise stay open)."""
+    def finish(code, message):
+        print(f"{name}: {message}", flush=True)
+        os._exit(code)
+
+    def guarded(step):
+        def run():
+            try:
+                result = step()
+            except Exception:
+                import traceback
+                finish(1, traceback.format_exc())
+            if isinstance(result, str):
+                finish(0, result)
+            return result
+        return run
+
+    bpy.app.timers.register(guarded(start), first_interval=0.5)
+    bpy.app.timers.register(guarded(check), first_interval=1.0)
+    bpy.app.timers.register(lambda: finish(1, f"not done within {limit_s} s"), first_interval=limit_s)

@@ -6,7 +6,6 @@ imported with the scene's frame rate and its own frames, 1 on a failed check or 
 import os
 import shutil
 import sys
-import traceback
 
 import bpy
 
@@ -16,47 +15,33 @@ import harness  # noqa: E402
 OUTPUT = os.path.join(harness.ARGS.work, "run_firn")
 
 
-def finish(code, message):
-    print(f"test_interface: {message}", flush=True)
-    os._exit(code)  # Blender's window would otherwise stay open
-
-
 def start():
-    try:
-        # A longer run's frames left in the folder: Run Firn imports the frames of its own run only.
-        os.makedirs(OUTPUT, exist_ok=True)
-        for name in os.listdir(OUTPUT):
-            os.remove(os.path.join(OUTPUT, name))
-        shutil.copy(os.path.join(harness.ARGS.run, "frame_0005_surface.ply"), OUTPUT)
-        harness.install_addon()
-        bpy.context.preferences.addons[harness.ADDON].preferences.firn_path = harness.ARGS.firn
-        window = bpy.context.window_manager.windows[0]
-        with bpy.context.temp_override(window=window, area=window.screen.areas[0]):
-            result = bpy.ops.import_scene.run_firn("EXEC_DEFAULT", filepath=harness.ARGS.scene, output_folder=OUTPUT,
-                                                   frames=2, volume=False)
-        if result != {"RUNNING_MODAL"}:
-            finish(1, f"run_firn returned {result}")
-    except Exception:
-        finish(1, traceback.format_exc())
+    # A longer run's frames left in the folder: Run Firn imports the frames of its own run only.
+    os.makedirs(OUTPUT, exist_ok=True)
+    for name in os.listdir(OUTPUT):
+        os.remove(os.path.join(OUTPUT, name))
+    shutil.copy(os.path.join(harness.ARGS.run, "frame_0005_surface.ply"), OUTPUT)
+    harness.install_addon()
+    bpy.context.preferences.addons[harness.ADDON].preferences.firn_path = harness.ARGS.firn
+    window = bpy.context.window_manager.windows[0]
+    with bpy.context.temp_override(window=window, area=window.screen.areas[0]):
+        result = bpy.ops.import_scene.run_firn("EXEC_DEFAULT", filepath=harness.ARGS.scene, output_folder=OUTPUT,
+                                               frames=2, volume=False)
+    assert result == {"RUNNING_MODAL"}, f"run_firn returned {result}"
 
 
 def check():
-    try:
-        parents = [obj for obj in bpy.data.objects if obj.get("firn_frame_rate")]
-        if not parents:
-            return 0.5
-        scene = bpy.context.scene
-        names = sorted(child.name for child in parents[0].children)
-        assert names == ["Firn collider 0 (plane)", "Firn particles", "Firn surface"], names
-        assert abs(scene.render.fps / scene.render.fps_base - 30.0) < 1e-9
-        assert (scene.frame_start, scene.frame_end) == (0, 2), (scene.frame_start, scene.frame_end)
-        for name in ("frame_0002.ply", "frame_0002_surface.ply", "firn.log"):
-            assert os.path.isfile(os.path.join(OUTPUT, name)), name
-        finish(0, "imported " + ", ".join(names))
-    except Exception:
-        finish(1, traceback.format_exc())
+    parents = [obj for obj in bpy.data.objects if obj.get("firn_frame_rate")]
+    if not parents:
+        return 0.5
+    scene = bpy.context.scene
+    names = sorted(child.name for child in parents[0].children)
+    assert names == ["Firn collider 0 (plane)", "Firn particles", "Firn surface"], names
+    assert abs(scene.render.fps / scene.render.fps_base - 30.0) < 1e-9
+    assert (scene.frame_start, scene.frame_end) == (0, 2), (scene.frame_start, scene.frame_end)
+    for name in ("frame_0002.ply", "frame_0002_surface.ply", "firn.log"):
+        assert os.path.isfile(os.path.join(OUTPUT, name)), name
+    return "imported " + ", ".join(names)
 
 
-bpy.app.timers.register(start, first_interval=0.5)
-bpy.app.timers.register(check, first_interval=1.0)
-bpy.app.timers.register(lambda: finish(1, "no import within 120 s"), first_interval=120.0)
+harness.run_in_interface("test_interface", start, check, 120.0)

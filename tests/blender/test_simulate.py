@@ -5,7 +5,6 @@ are as they should be, 1 on a failed check or after 180 s."""
 
 import os
 import sys
-import traceback
 
 import bpy
 
@@ -18,76 +17,62 @@ FRAMES = 2
 imports = []
 
 
-def finish(code, message):
-    print(f"test_simulate: {message}", flush=True)
-    os._exit(code)  # Blender's window would otherwise stay open
-
-
 def simulate():
     window = bpy.context.window_manager.windows[0]
     with bpy.context.temp_override(window=window, area=window.screen.areas[0]):
         result = bpy.ops.firn.simulate("EXEC_DEFAULT")
-    if result != {"RUNNING_MODAL"}:
-        finish(1, f"firn.simulate returned {result}: {bpy.context.scene.firn.check_report}")
+    assert result == {"RUNNING_MODAL"}, f"firn.simulate returned {result}: {bpy.context.scene.firn.check_report}"
 
 
 def start():
-    try:
-        harness.install_addon()
-        bpy.context.preferences.addons[harness.ADDON].preferences.firn_path = harness.ARGS.firn
-        scene = build_scene()
-        scene.frame_start, scene.frame_end = 5, 5 + FRAMES  # Firn's frame 0 at the scene's frame 5
-        for obj in scene.objects:  # the paddle's keys moved with the start
-            if obj.animation_data and obj.animation_data.action:
-                for curve in obj.animation_data.action.fcurves:
-                    for key in curve.keyframe_points:
-                        key.co.x += 4
-                        key.handle_left.x += 4
-                        key.handle_right.x += 4
-        # The authored objects in a collection of their own, where Simulate puts the run too.
-        authored = bpy.data.collections.new("Authored")
-        scene.collection.children.link(authored)
-        for obj in list(scene.collection.objects):
-            authored.objects.link(obj)
-            scene.collection.objects.unlink(obj)
-        scene.firn.folder = FOLDER
-        simulate()
-    except Exception:
-        finish(1, traceback.format_exc())
+    harness.install_addon()
+    bpy.context.preferences.addons[harness.ADDON].preferences.firn_path = harness.ARGS.firn
+    scene = build_scene()
+    scene.frame_start, scene.frame_end = 5, 5 + FRAMES  # Firn's frame 0 at the scene's frame 5
+    for obj in scene.objects:  # the paddle's keys moved with the start
+        if obj.animation_data and obj.animation_data.action:
+            for curve in obj.animation_data.action.fcurves:
+                for key in curve.keyframe_points:
+                    key.co.x += 4
+                    key.handle_left.x += 4
+                    key.handle_right.x += 4
+    # The authored objects in a collection of their own, where Simulate puts the run too.
+    authored = bpy.data.collections.new("Authored")
+    scene.collection.children.link(authored)
+    for obj in list(scene.collection.objects):
+        authored.objects.link(obj)
+        scene.collection.objects.unlink(obj)
+    scene.firn.folder = FOLDER
+    simulate()
 
 
 def check():
-    try:
-        scene = bpy.context.scene
-        parents = [obj for obj in bpy.data.objects if obj.get("firn_frame_rate")]
-        if not scene.firn.last_import or all(p.get("test_seen") for p in parents):
-            return 0.5  # Simulate's import not done yet
-        assert len(parents) == 1, [p.name for p in parents]  # the second import replaced the first
-        parent = parents[0]
-        assert scene.firn.last_import == parent.name, (scene.firn.last_import, parent.name)
-        assert [c.name for c in parent.users_collection] == ["Authored"], parent.users_collection[:]
-        assert scene.firn.check_ok, scene.firn.check_report
-        assert (scene.frame_start, scene.frame_end) == (5, 5 + FRAMES), (scene.frame_start, scene.frame_end)
-        run = os.path.join(FOLDER, "run")
-        for name in ("frame_0002.ply", "frame_0002_surface.ply", "bodies.csv", "firn.log"):
-            assert os.path.isfile(os.path.join(run, name)), name
-        surface = next(child for child in parent.children if child.name.startswith("Firn surface"))
-        assert surface["firn_frame_offset"] == 5
-        scene.frame_set(6)  # Firn's frame 1
-        assert surface.data.get("firn_file", "").endswith("frame_0001_surface.ply"), surface.data.get("firn_file")
-        parent["test_seen"] = True
-        imports.append(parent.name)
-        if len(imports) == 1:
-            bpy.app.timers.register(simulate, first_interval=0.1)
-            return 0.5
-        names = sorted(child.name for child in parent.children)
-        assert names == ["Firn collider 0 (plane)", "Firn colliders[1]", "Firn particles", "Firn rigid_bodies[0]",
-                         "Firn surface", "Firn volume"], names  # the first import's names, freed for the second's
-        finish(0, "simulated twice: " + ", ".join(names))
-    except Exception:
-        finish(1, traceback.format_exc())
+    scene = bpy.context.scene
+    parents = [obj for obj in bpy.data.objects if obj.get("firn_frame_rate")]
+    if not scene.firn.last_import or all(p.get("test_seen") for p in parents):
+        return 0.5  # Simulate's import not done yet
+    assert len(parents) == 1, [p.name for p in parents]  # the second import replaced the first
+    parent = parents[0]
+    assert scene.firn.last_import == parent.name, (scene.firn.last_import, parent.name)
+    assert [c.name for c in parent.users_collection] == ["Authored"], parent.users_collection[:]
+    assert scene.firn.check_ok, scene.firn.check_report
+    assert (scene.frame_start, scene.frame_end) == (5, 5 + FRAMES), (scene.frame_start, scene.frame_end)
+    run = os.path.join(FOLDER, "run")
+    for name in ("frame_0002.ply", "frame_0002_surface.ply", "bodies.csv", "firn.log"):
+        assert os.path.isfile(os.path.join(run, name)), name
+    surface = next(child for child in parent.children if child.name.startswith("Firn surface"))
+    assert surface["firn_frame_offset"] == 5
+    scene.frame_set(6)  # Firn's frame 1
+    assert surface.data.get("firn_file", "").endswith("frame_0001_surface.ply"), surface.data.get("firn_file")
+    parent["test_seen"] = True
+    imports.append(parent.name)
+    if len(imports) == 1:
+        simulate()
+        return 0.5
+    names = sorted(child.name for child in parent.children)
+    assert names == ["Firn collider 0 (plane)", "Firn colliders[1]", "Firn particles", "Firn rigid_bodies[0]",
+                     "Firn surface", "Firn volume"], names  # the first import's names, freed for the second's
+    return "simulated twice: " + ", ".join(names)
 
 
-bpy.app.timers.register(start, first_interval=0.5)
-bpy.app.timers.register(check, first_interval=1.0)
-bpy.app.timers.register(lambda: finish(1, "no second import within 180 s"), first_interval=180.0)
+harness.run_in_interface("test_simulate", start, check, 180.0)
