@@ -64,7 +64,6 @@ class IMPORT_OT_firn_run(bpy.types.Operator, ImportHelper):
 
     def execute(self, context):
         folder = self.directory or os.path.dirname(self.filepath)
-        self.before_import(context)
         try:
             parent = importer.import_run(context, folder, self.scene_file)
         except (importer.FirnRunError, OSError, ValueError) as error:
@@ -162,7 +161,7 @@ def _export_and_check(operator, context, scene_path):
     """Writes the scene of the marked objects and checks it with `firn run --check`, the report on the Scene panel."""
     try:
         authoring.export_scene(context, scene_path)
-    except (authoring.AuthoringError, OSError) as error:
+    except (authoring.AuthoringError, OSError, ValueError) as error:  # ValueError: a path or a JSON it cannot take
         panel.note_check(context.scene, 2, str(error))
         operator.report({"ERROR"}, f"Firn: {error}")
         return False

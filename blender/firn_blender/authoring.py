@@ -7,6 +7,7 @@ What an object carries from an imported scene (its entry, and the transform and 
 was where the object still has that transform and mesh: numbers that went through Blender's 32-bit floats come back as
 the scene wrote them, and keys the panel does not show (a body's `sampler`, `lambda_scale`, …) are kept."""
 
+import hashlib
 import json
 import math
 import os
@@ -20,6 +21,7 @@ TO_FIRN = Matrix(((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0)))
 TO_BLENDER = TO_FIRN.transposed()
 
 PRESETS = ("stomakhin", "dry", "wet", "icy", "slushy")
+MOTION_PATHS = ("location", "rotation_euler", "rotation_quaternion")
 # Each material model's keys (docs/scene-format.md, materials), as the panel's settings of the same names hold them.
 MODEL_KEYS = {
     "snow": ("youngs_modulus", "poisson_ratio", "density", "critical_compression", "critical_stretch", "hardening"),
@@ -28,8 +30,8 @@ MODEL_KEYS = {
     "water": ("density", "bulk_modulus", "gamma", "viscosity"),
     "drucker_prager": ("youngs_modulus", "poisson_ratio", "density", "friction_angle_deg"),
 }
-# Numbers that differ from an imported entry's by no more than this (relative to the larger's size, or absolute below
-# 1) are the entry's: what 32-bit floats round (about 6e-8) and a transform's arithmetic add to it.
+# Numbers that differ from an imported entry's by no more than this part of the larger are the entry's: what 32-bit
+# floats round (about 6e-8) and a transform's arithmetic add to it. (Noise about 0 is 0 already: short.)
 KEEP_TOLERANCE = 1e-6
 
 
@@ -80,7 +82,7 @@ def short(value, zero=1e-7):
 
 
 def _close(a, b):
-    return abs(float(a) - float(b)) <= KEEP_TOLERANCE * max(1.0, abs(float(a)), abs(float(b)))
+    return abs(float(a) - float(b)) <= max(KEEP_TOLERANCE * max(abs(float(a)), abs(float(b))), 1e-12)
 
 
 def kept(value, original):
@@ -126,26 +128,56 @@ def transform_signature(obj):
 
 
 def mesh_signature(obj):
-    """The object's own vertices, summed: whether its mesh was edited since the import."""
+    """A digest of the evaluated mesh (modifiers applied) in the object's own frame: its vertices and faces."""
     if obj.type != "MESH":
-        return [0.0, 0.0, 0.0, 0.0]
-    count = len(obj.data.vertices)
-    coordinates = np.empty(3 * count, dtype=np.float64)
-    obj.data.vertices.foreach_get("co", coordinates)
-    sums = coordinates.reshape(-1, 3).sum(axis=0) if count else np.zeros(3)
-    return [float(count)] + [float(s) for s in sums]
+        return ""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        coordinates = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", coordinates)
+        corners = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", corners)
+    finally:
+        evaluated.to_mesh_clear()
+    return hashlib.sha1(coordinates.tobytes() + corners.tobytes()).hexdigest()
+
+
+def motion_signature(obj):
+    """The object's location and rotation keys, as text: whether its animation was edited since the import."""
+    action = obj.animation_data.action if obj.animation_data else None
+    if action is None:
+        return ""
+    return repr([(c.data_path, c.array_index, [(tuple(k.co), k.interpolation) for k in c.keyframe_points])
+                 for c in action.fcurves if c.data_path in MOTION_PATHS])
+
+
+def kind_of(obj):
+    return f"{obj.firn.role}/{obj.firn.shape}"
 
 
 def remember_source(obj):
+    """What the object is as the import made it (at the scene's first frame), which the export compares with."""
     obj.firn.source_transform = transform_signature(obj)
     obj.firn.source_mesh = mesh_signature(obj)
+    obj.firn.source_motion = motion_signature(obj)
+    obj.firn.source_kind = kind_of(obj)
 
 
 def unchanged_since_import(obj):
-    if not obj.firn.entry:
+    """Whether the object is still what the import made: its entry's kind, placement and mesh."""
+    if not obj.firn.entry or kind_of(obj) != obj.firn.source_kind:
         return False
     transform = all(_close(a, b) for a, b in zip(transform_signature(obj), obj.firn.source_transform))
-    return transform and all(_close(a, b) for a, b in zip(mesh_signature(obj), obj.firn.source_mesh))
+    return transform and mesh_signature(obj) == obj.firn.source_mesh
+
+
+def entry_of(obj):
+    """The object's imported entry, whose keys the export keeps; none once the object is of another role or shape
+    (the entry's keys would be of another kind)."""
+    if not obj.firn.entry or kind_of(obj) != obj.firn.source_kind:
+        return {}
+    return json.loads(obj.firn.entry)
 
 
 def same_direction(a, b):
@@ -160,10 +192,6 @@ def same_material(a, b):
     def plain(definition):
         return {k: v for k, v in definition.items() if not (k == "model" and v == "snow" and "preset" in definition)}
     return plain(a) == plain(b)
-
-
-def entry_of(obj):
-    return json.loads(obj.firn.entry) if obj.firn.entry else {}
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -216,6 +244,10 @@ class Exporter:
             raise AuthoringError(f"{obj.name}: has no faces to export as a mesh")
         name = bpy.path.clean_name(obj.name)
         relative = f"meshes/{name}.obj"
+        suffix = 1
+        while relative in self.meshes:  # "Rock.001" and "Rock_001" clean to one name
+            suffix += 1
+            relative = f"meshes/{name}_{suffix}.obj"
         self.meshes[relative] = (vertices, triangles)
         return relative
 
@@ -236,16 +268,19 @@ class Exporter:
         return firn_vector(world.translation, self.unit_m), firn_rotation(world.to_3x3().normalized())
 
     def velocity(self, obj):
-        """The object's velocity (m/s) and angular velocity (rad/s) over the first frame of its animation."""
+        """The velocity (m/s) of the centre of the object's bounds and its angular velocity (rad/s) over the first
+        frame of its animation: a body's v₀ and ω (docs/scene-format.md, bodies)."""
         self.scene.frame_set(self.first_frame)
         x0, r0 = self.pose(obj)
+        centre = Vector(0.5 * sum(self.bounds(obj)))
         self.scene.frame_set(self.first_frame + 1)
         x1, r1 = self.pose(obj)
         self.scene.frame_set(self.first_frame)
-        linear = [short((b - a) * self.frame_rate) for a, b in zip(x0, x1)]
         axis, angle = (r1 @ r0.transposed()).to_quaternion().to_axis_angle()
-        angular = [short(c * angle * self.frame_rate, zero=1e-5) for c in axis]
-        return linear, angular
+        omega = Vector(axis) * angle * self.frame_rate
+        # The origin's velocity, and the turn's at the centre beside it: v_c = v_o + ω × (c − o).
+        linear = Vector([(b - a) * self.frame_rate for a, b in zip(x0, x1)]) + omega.cross(centre - Vector(x0))
+        return [short(c) for c in linear], [short(c, zero=1e-5) for c in omega]
 
     def sphere(self, obj):
         low, high = self.bounds(obj)
@@ -254,7 +289,8 @@ class Exporter:
     def box(self, obj):
         _, rotation = self.pose(obj)
         if rotation.to_quaternion().angle > 1e-6:
-            raise AuthoringError(f"{obj.name}: a box is axis-aligned in Firn; clear its rotation or mark it as a mesh")
+            raise AuthoringError(f"{obj.name}: a box is axis-aligned in Firn, and this one is turned at the scene's "
+                                 "first frame; clear its rotation there or mark it as a mesh")
         low, high = self.bounds(obj)
         return {"min": [short(c) for c in low], "max": [short(c) for c in high]}
 
@@ -309,7 +345,7 @@ class Exporter:
         computed["velocity"] = velocity if any(velocity) or "velocity" in entry else None
         computed["angular_velocity"] = angular if any(angular) or "angular_velocity" in entry else None
         if settings.role == "EMITTER":
-            computed["start_frame"] = settings.emit_start - self.first_frame
+            computed["start_frame"] = settings.emit_start
             computed["duration_frames"] = settings.emit_frames
         else:
             computed["start_frame"] = computed["duration_frames"] = None
@@ -320,12 +356,14 @@ class Exporter:
         return merged(entry, ordered)
 
     def animated_frames(self, obj):
-        """The frames at which a collider's motion is keyed for Firn: its keyframes where every key is linear and
-        they turn it less than 90° apart, else every frame between the first and last key."""
+        """The frames at which a collider's motion is keyed for Firn: its keys where every key is linear, else every
+        frame between its first and last key (Blender's other interpolations baked at the scene's frame rate); and
+        every frame between two keys that turn it about more than one axis or by 179° or more, where Blender's
+        interpolation of the Euler angles and Firn's turn the shorter way at a constant rate would part."""
         action = obj.animation_data.action if obj.animation_data else None
         if action is None:
             return []
-        curves = [c for c in action.fcurves if c.data_path in ("location", "rotation_euler", "rotation_quaternion")]
+        curves = [c for c in action.fcurves if c.data_path in MOTION_PATHS]
         if not curves:
             return []
         keys = sorted({k.co.x for c in curves for k in c.keyframe_points})
@@ -338,7 +376,25 @@ class Exporter:
                                                                                                   int(last) + 1)]
         if frames[0] != first:
             frames.insert(0, first)
-        return frames
+        turning = [c for c in curves if c.data_path != "location"]
+        sampled = [frames[0]]
+        for a, b in zip(frames, frames[1:]):
+            if not self._turns_alike(turning, a, b):
+                sampled.extend(float(f) for f in range(int(math.floor(a)) + 1, int(math.ceil(b))) if a < f < b)
+            sampled.append(b)
+        return sampled
+
+    @staticmethod
+    def _turns_alike(curves, a, b):
+        """Whether rotation curves turn the object from frame a to b as Firn does between two keyframes: about one
+        axis, by less than 179°."""
+        if any(c.data_path == "rotation_quaternion" for c in curves):
+            from mathutils import Quaternion
+            turn = [Quaternion([next((c.evaluate(f) for c in curves if c.array_index == i), 1.0 if i == 0 else 0.0)
+                                for i in range(4)]) for f in (a, b)]
+            return turn[0].rotation_difference(turn[1]).angle < math.radians(90.0)
+        changes = [abs(c.evaluate(b) - c.evaluate(a)) for c in curves]
+        return sum(d > 1e-6 for d in changes) <= 1 and max(changes, default=0.0) < math.radians(179.0)
 
     def keyframes(self, obj, frames, entry):
         """Firn's keyframes (docs/scene-format.md) of the object's motion at `frames`, about its origin at rest."""
@@ -375,6 +431,12 @@ class Exporter:
         self.scene.frame_set(self.first_frame)
         shape = settings.shape
         computed = {"type": {"SPHERE": "sphere", "BOX": "box", "PLANE": "plane"}.get(shape, "mesh")}
+        frames = self.animated_frames(obj) if settings.follow_animation else []
+        if frames and "keyframes" in entry and unchanged_since_import(obj) and \
+                motion_signature(obj) == settings.source_motion:
+            # As imported: the entry's shape at rest, pivot and keyframes (the first frame shows the first keyframe's
+            # pose, which need not be the rest).
+            return merged(entry, dict(computed, **self.collider_response(settings, entry)))
         origin, rotation = self.pose(obj)
         if shape == "PLANE":
             normal = firn_vector(placed(obj).to_3x3().normalized() @ Vector((0.0, 0.0, 1.0)))
@@ -388,9 +450,6 @@ class Exporter:
             computed.update(self.box(obj))
         else:
             computed.update(self.placed_mesh(obj, entry))
-            computed["resolution"] = short(settings.resolution) if settings.resolution != 2 or "resolution" in entry \
-                else None
-        frames = self.animated_frames(obj) if settings.follow_animation else []
         if frames:
             computed["keyframes"] = self.keyframes(obj, frames, entry)
             computed["velocity"] = None
@@ -402,9 +461,18 @@ class Exporter:
             velocity = firn_vector(settings.velocity)
             computed["keyframes"] = None
             computed["velocity"] = velocity if any(velocity) or "velocity" in entry else None
-        computed["friction"] = short(settings.friction) if settings.friction or "friction" in entry else None
-        computed["boundary"] = settings.boundary.lower() if settings.boundary != "SLIP" or "boundary" in entry else None
+        computed.update(self.collider_response(settings, entry))
         return merged(entry, computed)
+
+    @staticmethod
+    def collider_response(settings, entry):
+        """A collider's keys of how it meets the snow (and a mesh's field's resolution), defaults left out."""
+        return {
+            "friction": short(settings.friction) if settings.friction or "friction" in entry else None,
+            "boundary": settings.boundary.lower() if settings.boundary != "SLIP" or "boundary" in entry else None,
+            "resolution": short(settings.resolution) if settings.shape == "MESH" and (
+                settings.resolution != 2 or "resolution" in entry) else None,
+        }
 
     def rigid_body(self, obj):
         settings = obj.firn
@@ -472,8 +540,9 @@ class Exporter:
                     "frames": self.scene.frame_end - self.scene.frame_start}
         if settings.adaptive:
             computed["adaptive"] = True
-        elif "adaptive" in entry:
-            computed["adaptive"] = False
+        else:
+            computed["adaptive"] = False if "adaptive" in entry else None
+            computed["cfl"] = None  # allowed only with adaptive steps
         if "frame_rate" not in entry and computed["frame_rate"] == 30:
             computed["frame_rate"] = None
         return merged(entry, computed)
@@ -518,7 +587,8 @@ class Exporter:
                     scene[key] = document[key]
             scene["grid"] = self.grid(domains[0], document)
             scene["time"] = self.time(document)
-            gravity = firn_vector(self.scene.gravity, 1.0) if self.scene.use_gravity else [0.0, 0.0, 0.0]
+            # Blender keeps gravity in its units per second squared.
+            gravity = firn_vector(self.scene.gravity, self.unit_m) if self.scene.use_gravity else [0.0, 0.0, 0.0]
             if "gravity" in document or not all(_close(a, b) for a, b in zip(gravity, (0.0, -9.81, 0.0))):
                 scene["gravity"] = kept(gravity, document.get("gravity"))
             solver = dict(document.get("solver", {}))
@@ -527,6 +597,9 @@ class Exporter:
                 default = {"kernel": "cubic", "transfer": "pic_flip", "integrator": "explicit"}[key]
                 if key in solver or value != default:
                     solver[key] = value
+            if solver.get("integrator", "explicit") == "explicit":
+                for key in ("implicit_ratio", "tolerance", "max_iterations"):  # the semi-implicit solve's only
+                    solver.pop(key, None)
             if solver:
                 scene["solver"] = solver
             materials = dict(document.get("materials", {}))
@@ -706,7 +779,7 @@ class Importer:
         settings.particles_per_cell = entry.get("particles_per_cell", 8)
         settings.velocity = blender_vector(entry.get("velocity", [0, 0, 0]))
         settings.angular_velocity = blender_vector(entry.get("angular_velocity", [0, 0, 0]))
-        settings.emit_start = self.context.scene.frame_start + entry.get("start_frame", 0)
+        settings.emit_start = entry.get("start_frame", 0)
         settings.emit_frames = entry.get("duration_frames", 0)
         material = entry["material"]
         settings.material_name = material
@@ -815,6 +888,8 @@ class Importer:
         data.dof.focus_distance = (target - position).length
         obj.firn.entry = json.dumps(entry)
         self.context.scene.camera = obj
+        bpy.context.view_layer.update()
+        remember_source(obj)
         return obj
 
     def run(self):

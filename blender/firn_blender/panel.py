@@ -31,7 +31,7 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
         name="Shape",
         description="How Firn takes the object's geometry",
         items=(("MESH", "Mesh", "The object's mesh, as it is at the first frame (written as OBJ with the scene)"),
-               ("SPHERE", "Sphere", "The sphere around the object's bounds"),
+               ("SPHERE", "Sphere", "A sphere centred in the object's bounds, of half their largest extent"),
                ("BOX", "Box", "The object's bounds as a box"),
                ("PLANE", "Plane", "A collider's half-space behind the object's local +Z, through its origin"),
                ("POINTS", "Points", "An imported particle cloud, kept as the scene file gives it")),
@@ -73,9 +73,11 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
         items=(("FIELD", "Values", "The velocities below"),
                ("ANIMATION", "Animation", "The object's motion over the first frame of its animation")),
         default="FIELD")
-    velocity: FloatVectorProperty(name="Velocity (m/s)", subtype="VELOCITY", size=3)
+    # Plain numbers in m/s and rad/s: a VELOCITY subtype would show them scaled by the scene's unit scale.
+    velocity: FloatVectorProperty(name="Velocity (m/s)", size=3)
     angular_velocity: FloatVectorProperty(name="Angular velocity (rad/s)", size=3)
-    emit_start: IntProperty(name="First frame", description="The frame its particles start joining", default=1)
+    emit_start: IntProperty(name="Start", default=0, min=0,
+                            description="Frames after the scene's first frame at which its particles start joining")
     emit_frames: IntProperty(name="Frames", description="Over how many frames (0: all at once)", default=0, min=0)
     # Colliders and rigid bodies
     follow_animation: BoolProperty(name="Follow animation", default=True,
@@ -110,7 +112,9 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
     entry: StringProperty(options={"HIDDEN"})
     order: IntProperty(options={"HIDDEN"})
     source_transform: FloatVectorProperty(size=16, options={"HIDDEN"})
-    source_mesh: FloatVectorProperty(size=4, options={"HIDDEN"})
+    source_mesh: StringProperty(options={"HIDDEN"})
+    source_motion: StringProperty(options={"HIDDEN"})
+    source_kind: StringProperty(options={"HIDDEN"})
 
 
 class FirnSceneSettings(bpy.types.PropertyGroup):
@@ -138,6 +142,8 @@ def check_scene(executable, scene_path):
         done = subprocess.run([executable, "run", scene_path, "--check"], capture_output=True, text=True)
     except FileNotFoundError:
         return 127, f"{executable}: not found (install Firn, or set its path in the add-on's preferences)"
+    except OSError as error:
+        return 126, f"{executable}: cannot be run ({error})"
     return done.returncode, (done.stderr + done.stdout).strip()
 
 

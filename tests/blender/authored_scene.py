@@ -23,6 +23,7 @@ def empty_scene():
     scene = bpy.context.scene
     scene.property_unset("firn")
     scene.unit_settings.scale_length = 1.0
+    scene.gravity = (0.0, 0.0, -9.81)
     scene.frame_start, scene.frame_end = 1, 13
     scene.render.fps, scene.render.fps_base = 30, 1.0
     scene.camera = None

@@ -5,16 +5,18 @@ rounding), and `firn run` of the export writes the same bytes as of that hand-wr
 is not closed is reported on the Scene panel with the voxelizer's message."""
 
 import json
+import math
 import os
 import subprocess
 import sys
 import unittest
 
 import bpy
+from mathutils import Euler
 
 sys.path.insert(0, os.path.dirname(__file__))
 import harness  # noqa: E402
-from authored_scene import HAND_WRITTEN, build_scene  # noqa: E402
+from authored_scene import HAND_WRITTEN, build_scene, empty_scene  # noqa: E402
 
 def differences(expected, actual, path=""):
     """Where two scenes differ: keys, strings and integers exactly, numbers within 1e-6 of their size (what the
@@ -76,6 +78,7 @@ class Authoring(unittest.TestCase):
     def test_a_scene_in_centimetres_exports_in_metres(self):
         scene = build_scene()
         scene.unit_settings.scale_length = 0.01  # a Blender unit is a centimetre
+        scene.gravity = (0.0, 0.0, -981.0)  # which Blender shows as −9.81 m/s² (velocities are typed in m/s)
         for obj in scene.objects:
             obj.location *= 100.0
             obj.scale *= 100.0
@@ -100,6 +103,41 @@ class Authoring(unittest.TestCase):
         self.assertEqual(exported["bodies"][0]["material"], "Ball")
         self.assertEqual(exported["materials"], {"Ball": {"model": "water", "density": 1000.0, "bulk_modulus": 2e5,
                                                           "gamma": 7.0, "viscosity": 0.01}})
+
+    def test_keys_a_turn_apart_are_exported_frame_by_frame(self):
+        # 0° to 270° in ten frames: Firn would take the shorter way, 90° back, between two keyframes so far apart.
+        build_scene()
+        paddle = bpy.data.objects["Paddle"]
+        curve = paddle.animation_data.action.fcurves.find("rotation_euler", index=2)
+        curve.keyframe_points[1].co.y = math.radians(270.0)
+        path = os.path.join(harness.ARGS.work, "turn", "authored.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
+        with open(path) as f:
+            keys = json.load(f)["colliders"][1]["keyframes"]
+        self.assertEqual([round(30 * k["time_s"], 6) for k in keys], list(range(11)))  # every frame, 27° apart
+        for k, key in enumerate(keys):
+            turn = math.radians(27.0 * k)  # about Firn's y, as Blender's z
+            expected = (math.cos(turn), -math.sin(turn))  # R's first column's x and z
+            angles = [math.radians(a) for a in key.get("rotate_deg", [0, 0, 0])]
+            rotation = Euler(angles, "XYZ").to_matrix()
+            self.assertAlmostEqual(rotation[0][0], expected[0], places=5)
+            self.assertAlmostEqual(rotation[2][0], expected[1], places=5)
+
+    def test_an_imported_object_given_another_shape_is_written_anew(self):
+        empty_scene()
+        self.assertEqual(bpy.ops.import_scene.firn_scene(filepath=HAND_WRITTEN), {"FINISHED"})
+        ball = next(obj for obj in bpy.data.objects if obj.firn.role == "SNOW")
+        ball.firn.shape = "BOX"
+        path = os.path.join(harness.ARGS.work, "reshaped", "authored.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
+        with open(path) as f:
+            body = json.load(f)["bodies"][0]
+        self.assertEqual(sorted(body), ["material", "max", "min", "shape", "velocity"])
+        self.assertEqual(body["shape"], "box")
 
     def test_an_open_mesh_marked_snow_is_reported_with_the_voxelizers_message(self):
         scene = build_scene()

@@ -4,6 +4,7 @@ scene fingerprint of the original (the grid, the step, the materials, the collid
 distance fields, every particle: docs/command-line.md)."""
 
 import glob
+import json
 import os
 import sys
 import unittest
@@ -55,6 +56,30 @@ class RoundTrip(unittest.TestCase):
                 code, original = panel.check_scene(harness.ARGS.firn, path)
                 self.assertEqual(code, 0, original)
                 self.assertEqual(fingerprint(bpy.context.scene.firn.check_report), fingerprint(original))
+
+
+    def test_a_collider_keyed_away_from_its_rest_from_the_start_keeps_its_keys(self):
+        # The first frame shows the first keyframe's pose (turned 45°, moved 5 cm), not the box at rest.
+        from firn_blender import panel
+        with open(os.path.join(os.path.dirname(__file__), "authored.json")) as f:
+            scene = json.load(f)
+        scene["colliders"][1]["keyframes"] = [
+            {"time_s": 0, "translate": [0, 0.05, 0], "rotate_deg": [0, 45, 0]},
+            {"time_s": 0.2, "translate": [0, 0.05, 0], "rotate_deg": [0, 120, 0]}]
+        path = os.path.join(harness.ARGS.work, "keyed", "keyed.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            json.dump(scene, f)
+        clear()
+        self.assertEqual(bpy.ops.import_scene.firn_scene(filepath=path), {"FINISHED"})
+        exported = os.path.join(harness.ARGS.work, "keyed", "exported.json")
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=exported), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
+        with open(exported) as f:
+            self.assertEqual(json.load(f)["colliders"][1], scene["colliders"][1])
+        code, original = panel.check_scene(harness.ARGS.firn, path)
+        self.assertEqual(code, 0, original)
+        self.assertEqual(fingerprint(bpy.context.scene.firn.check_report), fingerprint(original))
 
 
 harness.run_tests(RoundTrip)
