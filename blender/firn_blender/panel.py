@@ -52,7 +52,8 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
                ("WATER", "Water", "A weakly compressible fluid"),
                ("DRUCKER_PRAGER", "Drucker-Prager", "Sand")),
         default="SNOW", update=_imported_material_edited)
-    material_json: StringProperty(name="Imported material", description="The imported scene's definition, kept")
+    material_json: StringProperty(name="Imported material", description="The imported scene's definition, kept",
+                                  options={"HIDDEN"})
     youngs_modulus: FloatProperty(name="Young's modulus (Pa)", default=1.4e5, min=1.0,
                                   update=_imported_material_edited)
     poisson_ratio: FloatProperty(name="Poisson's ratio", default=0.2, min=0.0, max=0.499,

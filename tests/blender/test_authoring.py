@@ -139,6 +139,47 @@ class Authoring(unittest.TestCase):
         self.assertEqual(sorted(body), ["material", "max", "min", "shape", "velocity"])
         self.assertEqual(body["shape"], "box")
 
+    def test_the_panels_draw_every_setting_they_name(self):
+        # The panels' draw() as the Properties editor calls it, on a layout that checks each property and operator it
+        # is given exists: a misspelt name would only show as a broken panel in the interface.
+        from types import SimpleNamespace
+        from firn_blender import panel
+        drawn = set()
+
+        class Layout:
+            def prop(self, data, name, **_):
+                assert name in data.bl_rna.properties, name
+                drawn.add(name)
+
+            def operator(self, idname, **_):
+                module, name = idname.split(".")
+                assert hasattr(getattr(bpy.ops, module), name), idname
+
+            def label(self, **_):
+                pass
+
+            def row(self):
+                return self
+
+            def box(self):
+                return self
+
+        scene = build_scene()
+        ball = bpy.data.objects["Ball"]
+        for role in ("NONE", "SNOW", "EMITTER", "COLLIDER", "RIGID_BODY", "DOMAIN"):
+            for shape in ("MESH", "SPHERE"):
+                for preset in ("stomakhin", "CUSTOM"):
+                    for model in ("SNOW", "WATER", "DRUCKER_PRAGER"):
+                        for source in ("BLENDER", "MASS", "DENSITY"):
+                            ball.firn.role, ball.firn.shape, ball.firn.mass_source = role, shape, source
+                            ball.firn.material_preset, ball.firn.material_model = preset, model
+                            panel.FIRN_PT_object.draw(SimpleNamespace(layout=Layout()), SimpleNamespace(object=ball))
+        scene.firn.check_ok, scene.firn.check_report = True, "firn: warning: something\nfirn: check: ready to run"
+        panel.FIRN_PT_scene.draw(SimpleNamespace(layout=Layout()), SimpleNamespace(scene=scene))
+        settings = set(ball.firn.bl_rna.properties.keys()) - {"rna_type", "name"}
+        hidden = {p for p in settings if ball.firn.bl_rna.properties[p].is_hidden}
+        self.assertEqual(settings - hidden - drawn, set())  # every setting is on the panel
+
     def test_an_open_mesh_marked_snow_is_reported_with_the_voxelizers_message(self):
         scene = build_scene()
         ball = bpy.data.objects["Ball"]
