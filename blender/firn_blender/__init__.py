@@ -12,7 +12,7 @@ bl_info = {
     "location": "File > Import > Firn run / Run Firn scene / Firn scene, File > Export > Firn scene, "
                 "Properties > Object and Scene > Firn",
     "description": "Imports Firn's snow caches (surface meshes, VDB volumes, point caches) as animated objects, "
-                   "and runs Firn scenes",
+                   "runs Firn scenes, and authors them from Blender's objects",
     "category": "Import-Export",
 }
 
