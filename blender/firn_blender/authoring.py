@@ -495,16 +495,13 @@ class Exporter:
             computed["rotate_deg"] = self._rotation_kept(rotation, entry)
         else:
             computed.update(self.placed_mesh(obj, entry))
-        blender = obj.rigid_body
-        source = settings.mass_source
-        if source == "BLENDER" and blender is None:
-            raise AuthoringError(f"{obj.name}: its mass comes from Blender's Rigid Body settings, and it has none")
-        if source == "DENSITY":
+        # Blender's Rigid Body settings where the object has them, else the panel's.
+        blender = obj.rigid_body if settings.mass_source == "BLENDER" else None
+        if settings.mass_source == "DENSITY":
             computed.update({"density": short(settings.density), "mass": None})
         else:
-            mass = blender.mass if source == "BLENDER" else settings.mass
-            computed.update({"mass": short(mass), "density": None})
-        friction = blender.friction if source == "BLENDER" else settings.body_friction
+            computed.update({"mass": short(blender.mass if blender else settings.mass), "density": None})
+        friction = blender.friction if blender else settings.body_friction
         computed["friction"] = short(friction) if "friction" in entry or not _close(friction, 0.3) else None
         velocity = firn_vector(settings.velocity)
         angular = firn_vector(settings.angular_velocity)

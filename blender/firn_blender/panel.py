@@ -94,7 +94,8 @@ class FirnObjectSettings(bpy.types.PropertyGroup):
                               description="A mesh's distance field: samples per grid cell and axis")
     mass_source: EnumProperty(
         name="Mass from",
-        items=(("BLENDER", "Rigid Body", "Blender's Rigid Body settings: mass and friction"),
+        items=(("BLENDER", "Rigid Body", "Blender's Rigid Body settings, mass and friction, where the object has "
+                "them (Physics > Rigid Body); else the mass and friction below"),
                ("MASS", "Mass", "The mass below"),
                ("DENSITY", "Density", "The density below times the shape's volume")),
         default="BLENDER")
@@ -197,11 +198,12 @@ class FIRN_PT_object(bpy.types.Panel):
                 layout.prop(settings, "resolution")
         elif role == "RIGID_BODY":
             layout.prop(settings, "mass_source")
-            if settings.mass_source == "MASS":
-                layout.prop(settings, "mass")
-            elif settings.mass_source == "DENSITY":
+            from_blender = settings.mass_source == "BLENDER" and obj.rigid_body is not None
+            if settings.mass_source == "DENSITY":
                 layout.prop(settings, "density")
-            if settings.mass_source != "BLENDER":
+            elif not from_blender:
+                layout.prop(settings, "mass")
+            if not from_blender:
                 layout.prop(settings, "body_friction")
             layout.prop(settings, "body_boundary")
             layout.prop(settings, "velocity")

@@ -125,6 +125,20 @@ class Authoring(unittest.TestCase):
             self.assertAlmostEqual(rotation[0][0], expected[0], places=5)
             self.assertAlmostEqual(rotation[2][0], expected[1], places=5)
 
+    def test_a_rigid_body_without_blenders_settings_takes_the_panels_mass(self):
+        build_scene()
+        crate = bpy.data.objects["Crate"]
+        bpy.context.view_layer.objects.active = crate
+        bpy.ops.rigidbody.object_remove()
+        crate.firn.mass, crate.firn.body_friction = 3.0, 0.3
+        path = os.path.join(harness.ARGS.work, "panel_mass", "authored.json")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
+        with open(path) as f:
+            body = json.load(f)["rigid_bodies"][0]
+        self.assertEqual((body["mass"], "friction" in body), (3.0, False))  # 0.3, Firn's default, left out
+
     def test_an_imported_object_given_another_shape_is_written_anew(self):
         empty_scene()
         self.assertEqual(bpy.ops.import_scene.firn_scene(filepath=HAND_WRITTEN), {"FINISHED"})
