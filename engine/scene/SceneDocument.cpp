@@ -17,6 +17,15 @@ using Pointer = nlohmann::json_pointer<std::string>;
 
 constexpr std::size_t kNever = std::numeric_limits<std::size_t>::max();
 
+// A JSON pointer ("/bodies/0/radius"); a malformed one (no leading "/", a bad "~" escape) is an invalid argument.
+Pointer pointerOf(const std::string& text) {
+  try {
+    return Pointer(text);
+  } catch (const nlohmann::json::exception& error) {
+    throw std::invalid_argument("\"" + text + "\": not a JSON pointer (" + error.what() + ")");
+  }
+}
+
 // The container a pointer's last token names a member of, which must be there.
 json::Json& parentOf(json::Json& root, const Pointer& pointer) {
   if (pointer.empty()) throw std::invalid_argument("an edit names the document itself, not a key in it");
@@ -122,7 +131,7 @@ SceneDocument::SceneDocument(const std::string& text, std::filesystem::path path
 }
 
 void SceneDocument::set(const std::string& pointer, json::Json value) {
-  const Pointer at(pointer);
+  const Pointer at = pointerOf(pointer);
   json::Json& parent = parentOf(json_, at);
   Edit edit{pointer, std::nullopt, std::move(value)};
   if (parent.is_array()) {
@@ -138,7 +147,7 @@ void SceneDocument::set(const std::string& pointer, json::Json value) {
 }
 
 void SceneDocument::remove(const std::string& pointer) {
-  const Pointer at(pointer);
+  const Pointer at = pointerOf(pointer);
   json::Json& parent = parentOf(json_, at);
   if (!json_.contains(at)) throw std::invalid_argument(pointer + ": not in the document");
   Edit edit{pointer, json_[at], std::nullopt};
@@ -147,7 +156,7 @@ void SceneDocument::remove(const std::string& pointer) {
 }
 
 void SceneDocument::insert(const std::string& pointer, std::size_t index, json::Json value) {
-  const Pointer at(pointer);
+  const Pointer at = pointerOf(pointer);
   if (!json_.contains(at) || !json_[at].is_array()) throw std::invalid_argument(pointer + ": not an array");
   if (index > json_[at].size()) throw std::invalid_argument(pointer + ": index past the array's end");
   record(Edit{pointer + "/" + std::to_string(index), std::nullopt, std::move(value)});
@@ -172,7 +181,7 @@ void SceneDocument::redo() {
 }
 
 void SceneDocument::apply(const Edit& edit, bool forward) {
-  const Pointer at(edit.pointer);
+  const Pointer at = pointerOf(edit.pointer);
   json::Json& parent = parentOf(json_, at);
   const std::optional<json::Json>& from = forward ? edit.before : edit.after;
   const std::optional<json::Json>& to = forward ? edit.after : edit.before;

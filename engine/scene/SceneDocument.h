@@ -27,7 +27,8 @@ class SceneDocument {
 
   // One edit each, which undo() takes back whole. `pointer` is a JSON pointer ("/bodies/0/radius").
   // The value at `pointer` becomes `value`: an object's key that is not there is added after its last key, an array
-  // index one past the end appends. Throws std::invalid_argument for a pointer whose parent is not there.
+  // index one past the end appends. Throws std::invalid_argument for a malformed pointer or one whose parent is not
+  // there (as remove and insert do).
   void set(const std::string& pointer, json::Json value);
   // Removes an object's key, or an array's element (those after it move up).
   void remove(const std::string& pointer);

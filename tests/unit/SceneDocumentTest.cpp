@@ -75,6 +75,7 @@ TEST(SceneDocument, EditsUndoAndRedoToTheByte) {
   EXPECT_FALSE(document.canRedo());
   EXPECT_THROW(document.set("/no_such_section/key", 1), std::invalid_argument);
   EXPECT_THROW(document.set("/colliders/9", 1), std::invalid_argument);
+  EXPECT_THROW(document.remove("colliders/0"), std::invalid_argument);  // no leading "/"
 }
 
 TEST(SceneDocument, ABadValueIsTheLoadersProblemAndIsNotSaved) {
