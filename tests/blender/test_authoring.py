@@ -53,14 +53,20 @@ class Authoring(unittest.TestCase):
         assert harness.install_addon() == (True, True)
         bpy.context.preferences.addons[harness.ADDON].preferences.firn_path = harness.ARGS.firn
 
-    def test_exported_scene_equals_the_hand_written_one(self):
-        build_scene()
-        path = os.path.join(harness.ARGS.work, "authored", "authored.json")
+    def export(self, folder):
+        """The scene exported with File > Export > Firn scene into the work folder's `folder`, checked by firn: its
+        path, and the scene as written."""
+        path = os.path.join(harness.ARGS.work, folder, "authored.json")
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"})
+        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
+                         bpy.context.scene.firn.check_report)
         self.assertTrue(bpy.context.scene.firn.check_ok, bpy.context.scene.firn.check_report)
         with open(path) as f:
-            exported = json.load(f)
+            return path, json.load(f)
+
+    def test_exported_scene_equals_the_hand_written_one(self):
+        build_scene()
+        path, exported = self.export("authored")
         with open(HAND_WRITTEN) as f:
             expected = json.load(f)
         self.assertEqual(differences(expected, exported), [], json.dumps(exported, indent=1))
@@ -82,24 +88,17 @@ class Authoring(unittest.TestCase):
         for obj in scene.objects:
             obj.location *= 100.0
             obj.scale *= 100.0
-        path = os.path.join(harness.ARGS.work, "centimetres", "authored.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"}, scene.firn.check_report)
+        _, exported = self.export("centimetres")
         scene.unit_settings.scale_length = 1.0
-        with open(path) as f, open(HAND_WRITTEN) as g:
-            self.assertEqual(differences(json.load(g), json.load(f)), [])
+        with open(HAND_WRITTEN) as g:
+            self.assertEqual(differences(json.load(g), exported), [])
 
     def test_a_custom_material_exports_its_models_keys(self):
         build_scene()
         ball = bpy.data.objects["Ball"].firn
         ball.material_preset, ball.material_model = "CUSTOM", "WATER"
         ball.density, ball.bulk_modulus, ball.gamma, ball.viscosity = 1000.0, 2e5, 7.0, 0.01
-        path = os.path.join(harness.ARGS.work, "water", "authored.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
-                         bpy.context.scene.firn.check_report)
-        with open(path) as f:
-            exported = json.load(f)
+        _, exported = self.export("water")
         self.assertEqual(exported["bodies"][0]["material"], "Ball")
         self.assertEqual(exported["materials"], {"Ball": {"model": "water", "density": 1000.0, "bulk_modulus": 2e5,
                                                           "gamma": 7.0, "viscosity": 0.01}})
@@ -110,12 +109,7 @@ class Authoring(unittest.TestCase):
         paddle = bpy.data.objects["Paddle"]
         curve = paddle.animation_data.action.fcurves.find("rotation_euler", index=2)
         curve.keyframe_points[1].co.y = math.radians(270.0)
-        path = os.path.join(harness.ARGS.work, "turn", "authored.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
-                         bpy.context.scene.firn.check_report)
-        with open(path) as f:
-            keys = json.load(f)["colliders"][1]["keyframes"]
+        keys = self.export("turn")[1]["colliders"][1]["keyframes"]
         self.assertEqual([round(30 * k["time_s"], 6) for k in keys], list(range(11)))  # every frame, 27° apart
         for k, key in enumerate(keys):
             turn = math.radians(27.0 * k)  # about Firn's y, as Blender's z
@@ -131,12 +125,7 @@ class Authoring(unittest.TestCase):
         bpy.context.view_layer.objects.active = crate
         bpy.ops.rigidbody.object_remove()
         crate.firn.mass, crate.firn.body_friction = 3.0, 0.3
-        path = os.path.join(harness.ARGS.work, "panel_mass", "authored.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
-                         bpy.context.scene.firn.check_report)
-        with open(path) as f:
-            body = json.load(f)["rigid_bodies"][0]
+        body = self.export("panel_mass")[1]["rigid_bodies"][0]
         self.assertEqual((body["mass"], "friction" in body), (3.0, False))  # 0.3, Firn's default, left out
 
     def test_an_imported_object_given_another_shape_is_written_anew(self):
@@ -144,12 +133,7 @@ class Authoring(unittest.TestCase):
         self.assertEqual(bpy.ops.import_scene.firn_scene(filepath=HAND_WRITTEN), {"FINISHED"})
         ball = next(obj for obj in bpy.data.objects if obj.firn.role == "SNOW")
         ball.firn.shape = "BOX"
-        path = os.path.join(harness.ARGS.work, "reshaped", "authored.json")
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        self.assertEqual(bpy.ops.export_scene.firn_scene(filepath=path), {"FINISHED"},
-                         bpy.context.scene.firn.check_report)
-        with open(path) as f:
-            body = json.load(f)["bodies"][0]
+        body = self.export("reshaped")[1]["bodies"][0]
         self.assertEqual(sorted(body), ["material", "max", "min", "shape", "velocity"])
         self.assertEqual(body["shape"], "box")
 
