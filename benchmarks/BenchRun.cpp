@@ -238,8 +238,9 @@ std::vector<Timed> BenchRun::timeConfigurations(const std::vector<Configuration>
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
       results[i].particles = seeds.size();
       results[i].transferShape = configurations[i].transferShape;
-      const ForcedTransferShape shape(configurations[i].transferShape);
-      simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl()));
+      SimulationOptions options;
+      options.transferShapes = configurations[i].transferShape;
+      simulations.push_back(std::make_unique<Simulation>(scene, seeds, gl(), options));
       const std::string chosen = chosenTransferShape(*simulations.back());
       if (!chosen.empty()) results[i].transferShape = chosen;
       built.push_back(simulations.back().get());

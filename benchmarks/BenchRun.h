@@ -112,7 +112,7 @@ void setTiming(CsvTable::Row& row, const Timed& timed);
 struct Configuration {
   std::string label;
   std::function<Scene()> makeScene;
-  // The P2G shapes its simulation times (FIRN_TRANSFER_SHAPE: "tiles", "blocks"); empty: every shape, as a run.
+  // The P2G shapes its simulation times (SimulationOptions: "tiles", "blocks"); empty: every shape, as a run.
   std::string transferShape;
 };
 

@@ -44,8 +44,9 @@ void measureP2GAtomics(BenchRun& run) {
       setup.angularVelocityRadPerS = kP2GAngularVelocityRadPerS;
       const Scene scene = run.bunnies().scene(setup);
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-      const ForcedTransferShape forced(sums.transferShape);
-      Simulation simulation(scene, seeds, run.gl());
+      SimulationOptions options;
+      options.transferShapes = sums.transferShape;
+      Simulation simulation(scene, seeds, run.gl(), options);
       row.setText("transfer_shape", chosenTransferShape(simulation));
       const FixedPointScale& scale = simulation.fixedPoint();
       const ReferenceGrid reference = referenceParticleToGrid(scene, scale, simulation.snapshot());

@@ -70,8 +70,9 @@ void measurePasses(BenchRun& run) {
     try {
       const Scene scene = run.bunnies().scene(passBunny(run, {sums, integrator, kernel, particles}));
       const std::vector<ParticleSeed> seeds = sampleBodies(scene);
-      const ForcedTransferShape forced(sums.transferShape);
-      Simulation simulation(scene, seeds, run.gl());
+      SimulationOptions options;
+      options.transferShapes = sums.transferShape;
+      Simulation simulation(scene, seeds, run.gl(), options);
       const std::string shape = chosenTransferShape(simulation);
       const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
       double totalWallMs = 0, totalGpuMs = 0;

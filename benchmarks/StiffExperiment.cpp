@@ -97,8 +97,9 @@ StiffRun runStiff(const Scene& scene, int steps, const gl::ContextInfo& gl) {
   StiffRun run;
   // A pool of every block of the domain: the steps are taken one by one, without the frames that grow a pool.
   const glm::ivec3 domainBlocks = (scene.grid.cells + 1 + gpu::BLOCK_WIDTH - 1) / gpu::BLOCK_WIDTH;
-  Simulation simulation(scene, sampleBodies(scene), gl, 0, MaterialPrograms::SceneModels,
-                        std::size_t(domainBlocks.x) * std::size_t(domainBlocks.y) * std::size_t(domainBlocks.z));
+  SimulationOptions options;
+  options.blockCapacity = std::size_t(domainBlocks.x) * std::size_t(domainBlocks.y) * std::size_t(domainBlocks.z);
+  Simulation simulation(scene, sampleBodies(scene), gl, options);
   run.particles = simulation.particleCount();
   run.transferShape = chosenTransferShape(simulation);
   try {

@@ -53,7 +53,9 @@ int main(int argc, char** argv) {
   for (const firn::Scene& scene : {firn::defaultScene(), waterScene()}) {
     const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
     firn::Simulation own(scene, seeds, context.info());
-    firn::Simulation every(scene, seeds, context.info(), 0, firn::MaterialPrograms::EveryModel);
+    firn::SimulationOptions everyModel;
+    everyModel.programs = firn::MaterialPrograms::EveryModel;
+    firn::Simulation every(scene, seeds, context.info(), everyModel);
     millisecondsPerStep(own, steps / 4);  // warm-up: the first dispatch of each program compiles it
     millisecondsPerStep(every, steps / 4);
     std::vector<double> ownMs, everyMs;

@@ -261,6 +261,7 @@ class Viewer {
     session.withSurface = options.renderMode == render::RenderMode::Surface;
     session.reservedParticles = kSnowballCapacity * estimateBody(snowballBody(scene), scene.grid).particles;
     session.addedParticleCapacity = kSnowballCapacity * snowballParticles;
+    session.transferShapes = options.transferShapes;
     return session;
   }
 

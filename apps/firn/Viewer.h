@@ -22,6 +22,7 @@ struct ViewOptions {
   bool domainBox = false;              // outline the domain's box (B switches)
   std::vector<int> throwAtFrames;      // scripted snowballs: thrown from the camera at these frames (as key T)
   bool showProgress = false;           // progress on stderr while sampling (in place on a terminal)
+  std::string transferShapes;          // the transfer shapes to time (SimulationOptions); empty: every shape
 };
 
 // Runs until the window closes (or `frames` frames). Throws NoOpenGLError (exit 4) without a display or a

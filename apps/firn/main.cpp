@@ -373,6 +373,12 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   std::string resumePath;
   run->add_option("--resume", resumePath, "Continue from a checkpoint of this scene, bit for bit as if never interrupted")
       ->check(CLI::ExistingFile);
+  const std::string transferShapeHelp =
+      "Time only these shapes of the transfers (P2G, and a semi-implicit scene's Hessian product) before keeping the "
+      "fastest: tiles, blocks (each group size), blocks-64, blocks-128 or blocks-256 (default: every shape the scene "
+      "can take). They write the same bytes; for benchmarks and tests";
+  run->add_option("--transfer-shape", runOptions.transferShapes, transferShapeHelp)
+      ->check(firn::cli::oneOf(firn::transferShapeNames()));
   int rebalanceEveryFrames = 10;
   run->add_option("--rebalance-every", rebalanceEveryFrames,
                   "Under mpirun: redraw the ranks' slabs for their particle counts every K frames (0: never)")
@@ -395,6 +401,8 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   view->add_option("--color", viewOptions.colorMode, colorHelp)
       ->transform(firn::cli::oneOf(colorModes))
       ->default_str("material");
+  view->add_option("--transfer-shape", viewOptions.transferShapes, transferShapeHelp)
+      ->check(firn::cli::oneOf(firn::transferShapeNames()));
   CLI::Option* viewRender = view->add_option("--render", viewRenderMode, renderHelp)
       ->transform(firn::cli::oneOf(renderModes))
       ->default_str("surface");

@@ -1,8 +1,10 @@
 #pragma once
 // A compute pass: one shader's program, the buffers it binds before each dispatch (the blocks it declares, from a
-// BufferBindings), and how many work groups a dispatch launches: one, enough for a count of invocations at the
-// program's own work-group size, or what a buffer holds (written by an earlier pass). Each dispatch is timed under
-// the pass's phase name when a PassTimer is enabled.
+// BufferBindings), what it reads and writes of them (its header's declarations: gl/StorageAccess.h), and how many
+// work groups a dispatch launches: one, enough for a count of invocations at the program's own work-group size, or
+// what a buffer holds (written by an earlier pass). The barrier a dispatch needs after the passes before it is
+// placed by the BufferBindings it binds from. Each dispatch is timed under the pass's phase name when a PassTimer is
+// enabled.
 #include <cstddef>
 #include <string>
 
@@ -11,13 +13,9 @@
 #include "gl/PassTimer.h"
 #include "gl/Program.h"
 #include "gl/ShaderLibrary.h"
+#include "gl/StorageAccess.h"
 
 namespace firn::gl {
-
-// The barriers between the passes of a step: the storage a pass wrote, for the next pass's reads; and with the
-// command barrier too, where that pass's output sizes the next dispatch (glDispatchComputeIndirect).
-constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
-constexpr GLbitfield kStorageAndCommands = GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT;
 
 class ComputePass {
  public:
@@ -30,6 +28,8 @@ class ComputePass {
   explicit operator bool() const { return program_.id() != 0; }
   const Program& program() const { return program_; }
   const std::string& phase() const { return phase_; }
+  // What it reads and writes, as its shader's header declares (gl/StorageAccess.h).
+  const StorageAccess& access() const { return access_; }
 
   // Sets a uint uniform of the program for the dispatches that follow (a name the compiler dropped is ignored).
   const ComputePass& set(const char* uniform, unsigned value) const;
@@ -45,10 +45,12 @@ class ComputePass {
                    PassTimer& timer) const;
 
  private:
-  void prepare(const BufferBindings& buffers, PassTimer& timer) const;
+  void prepare(const BufferBindings& buffers, const Buffer* commands, PassTimer& timer) const;
+  void finish(const BufferBindings& buffers, PassTimer& timer) const;
 
   Program program_;
   std::string phase_;
+  StorageAccess access_;
   GLuint groupSize_ = 1;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <utility>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -102,6 +103,34 @@ Program Program::link(const std::string& name, const std::vector<Stage>& stages)
   program.storageBindings_ = blockBindings(program.id_, GL_SHADER_STORAGE_BLOCK);
   program.uniformBindings_ = blockBindings(program.id_, GL_UNIFORM_BLOCK);
   return program;
+}
+
+int Program::storageBlockBinding(const std::string& block) const {
+  const GLuint index = glGetProgramResourceIndex(id_, GL_SHADER_STORAGE_BLOCK, block.c_str());
+  if (index == GL_INVALID_INDEX) return -1;
+  const GLenum property = GL_BUFFER_BINDING;
+  GLint binding = 0;
+  glGetProgramResourceiv(id_, GL_SHADER_STORAGE_BLOCK, index, 1, &property, 1, nullptr, &binding);
+  return binding;
+}
+
+std::vector<std::pair<std::string, GLuint>> Program::storageMembers() const {
+  GLint variables = 0, longestName = 0;
+  glGetProgramInterfaceiv(id_, GL_BUFFER_VARIABLE, GL_ACTIVE_RESOURCES, &variables);
+  glGetProgramInterfaceiv(id_, GL_BUFFER_VARIABLE, GL_MAX_NAME_LENGTH, &longestName);
+  std::vector<std::pair<std::string, GLuint>> members;
+  for (GLint variable = 0; variable < variables; ++variable) {
+    std::string name(std::size_t(std::max(longestName, 1)), '\0');
+    glGetProgramResourceName(id_, GL_BUFFER_VARIABLE, GLuint(variable), longestName, nullptr, name.data());
+    name.resize(std::strlen(name.c_str()));
+    name = name.substr(0, name.find_first_of("[."));  // "slots[0].block": slots
+    const GLenum blockIndex = GL_BLOCK_INDEX, bufferBinding = GL_BUFFER_BINDING;
+    GLint block = -1, binding = 0;
+    glGetProgramResourceiv(id_, GL_BUFFER_VARIABLE, GLuint(variable), 1, &blockIndex, 1, nullptr, &block);
+    glGetProgramResourceiv(id_, GL_SHADER_STORAGE_BLOCK, GLuint(block), 1, &bufferBinding, 1, nullptr, &binding);
+    members.emplace_back(name, GLuint(binding));
+  }
+  return members;
 }
 
 Program Program::compute(const ShaderLibrary& library, const std::string& path, const ShaderOptions& options) {

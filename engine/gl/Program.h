@@ -59,6 +59,11 @@ class Program {
   // The binding points of the shader storage and uniform blocks the linked program declares (as the driver reports
   // them: blocks it found unused may be left out), and a compute program's work-group size.
   const std::vector<GLuint>& storageBindings() const { return storageBindings_; }
+  // The binding point of the storage block named `block`, or -1 where the program has no such block in use.
+  int storageBlockBinding(const std::string& block) const;
+  // Each member of the storage blocks (GL_BUFFER_VARIABLE) by its name's first identifier ("slots" for
+  // "slots[0].block"), with its block's binding point.
+  std::vector<std::pair<std::string, GLuint>> storageMembers() const;
   const std::vector<GLuint>& uniformBindings() const { return uniformBindings_; }
   glm::ivec3 workGroupSize() const;
   void use() const;

@@ -14,6 +14,12 @@ ShaderLibrary::ShaderLibrary(std::map<std::string, std::string> files) : files_(
 
 void ShaderLibrary::add(const std::string& path, std::string text) { files_[path] = std::move(text); }
 
+const std::string& ShaderLibrary::file(const std::string& path) const {
+  const auto found = files_.find(path);
+  if (found == files_.end()) throw GLError("shader file not found: " + path);
+  return found->second;
+}
+
 namespace {
 
 // Returns the quoted path of an `#include "path"` line, or an empty string.

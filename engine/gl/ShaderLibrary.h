@@ -37,6 +37,9 @@ class ShaderLibrary {
   // Adds or replaces a file; tests use it for their own kernels.
   void add(const std::string& path, std::string text);
 
+  // A file as written (no preprocessing); throws GLError if there is none at `path`.
+  const std::string& file(const std::string& path) const;
+
   // Throws GLError naming the file and line of a missing include or a missing #version.
   PreprocessedShader preprocess(const std::string& path, const ShaderOptions& options) const;
 

@@ -224,6 +224,7 @@ SessionOptions sessionOptionsFor(const RunOptions& options, int frames, DomainSh
   sessionOptions.withSurface =
       (options.writesPictures() && options.renderMode == render::RenderMode::Surface) || options.writesSurfaceCaches();
   sessionOptions.share = share;
+  sessionOptions.transferShapes = options.transferShapes;
   return sessionOptions;
 }
 

@@ -36,6 +36,7 @@ struct RunOptions {
   int checkpointEvery = 0;         // > 0: write checkpoint_NNNN.firn every this many frames
   std::filesystem::path resumePath;  // non-empty: continue from this checkpoint (of the same scene)
   int gpuOrdinal = 0;              // without FIRN_EGL_DEVICE, which of the machine's GPUs (gl::HeadlessContext)
+  std::string transferShapes;      // the transfer shapes to time (SimulationOptions); empty: every shape
   bool writePlot = false;          // energy.png, the energy budget over time, when the run ends (io/EnergyPlot.h)
   std::vector<std::string> commandLine;  // as run.json records it
 

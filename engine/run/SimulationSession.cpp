@@ -38,7 +38,7 @@ SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& 
                                      std::ostream& log)
     : scene_(scene), gl_(gl), messagePrefix_(options.messagePrefix), log_(log),
       seeds_(sampleShowingProgress(scene, gl, options)), particleCapacity_(seeds_.size() + options.addedParticleCapacity),
-      share_(options.share), colliderFields_(bakeColliderFields(scene)) {
+      share_(options.share), transferShapes_(options.transferShapes), colliderFields_(bakeColliderFields(scene)) {
   // Before any simulation: a scene that cannot run says so at once (exit 2).
   const PreflightReport report = preflight(scene, seeds_, options.lastFrame, colliderFields_);
   // Surface settings that do not suit the particles are bad input before the GPU's buffers are made.
@@ -58,8 +58,11 @@ SimulationSession::~SimulationSession() = default;
 
 void SimulationSession::restart() {
   simulation_.reset();
-  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, colliderFields_, particleCapacity_,
-                                             MaterialPrograms::SceneModels, 0, share_);
+  SimulationOptions options;
+  options.particleCapacity = particleCapacity_;
+  options.transferShapes = transferShapes_;
+  options.share = share_;
+  simulation_ = std::make_unique<Simulation>(scene_, seeds_, gl_, colliderFields_, options);
 }
 
 surface::SurfaceReconstruction& SimulationSession::surface() {

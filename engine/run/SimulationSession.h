@@ -34,6 +34,7 @@ struct SessionOptions {
   double reservedParticles = 0;          // the budget's room for particles added while running (an estimate)
   std::size_t addedParticleCapacity = 0; // the particle buffers' room for them, beyond the bodies' particles
   DomainShare* share = nullptr;          // the part of the domain this process simulates (sim/DomainShare.h), or all
+  std::string transferShapes;            // the transfer shapes to time (SimulationOptions); empty: every shape
 };
 
 class SimulationSession {
@@ -68,6 +69,7 @@ class SimulationSession {
   std::vector<ParticleSeed> seeds_;
   std::size_t particleCapacity_;
   DomainShare* share_;
+  std::string transferShapes_;
   ColliderFields colliderFields_;  // baked once, for the pre-flight and every restart
   std::unique_ptr<Simulation> simulation_;
   std::unique_ptr<surface::SurfaceReconstruction> surface_;

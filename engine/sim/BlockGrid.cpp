@@ -70,28 +70,20 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
                               gl::PassTimer& timer) const {
   const gl::Buffer& table = blockTable_;
   prepareBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(sortFor == SortFor::Tiles ? gl::kStorageAndCommands : gl::kStorage);  // the release's dispatch
   run(releaseBlocks_, sortFor, buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   countBlocks_.runOnce(buffers, timer);
-  glMemoryBarrier(gl::kStorageAndCommands);
   binCount_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   if (sortFor == SortFor::Tiles) {
     binScan_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
   } else {
     runOverBlocks(binScanBlock_, buffers, timer);
   }
-  glMemoryBarrier(gl::kStorage);
   blockOffsets_.runOnce(buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   binPlace_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   if (sortFor == SortFor::Tiles) {
     orderTiles_.runIndirect(table, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
   }
-  glMemoryBarrier(gl::kStorageAndCommands);
 }
 
 void BlockGrid::runOverBlocks(const gl::ComputePass& pass, const gl::BufferBindings& buffers,

@@ -21,36 +21,16 @@ constexpr unsigned kResidual = 4;          // z: (r, P⁻¹ r)
 constexpr unsigned kReference = 8;         // w: (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*)
 
 constexpr std::size_t kBlockDispatch = offsetof(gpu::SolverStatus, solveBlockDispatch);
-constexpr std::size_t kProductDispatch = offsetof(gpu::SolverStatus, solveProductDispatch);
 constexpr std::size_t kReduceDispatch = offsetof(gpu::SolverStatus, solveReduceDispatch);
-
-// The product's indirect dispatch in `shape`: over the transfers' tiles, or a work group per active block.
-std::size_t productDispatch(const TransferShape& shape) {
-  return shape.kind == TransferShape::Kind::Tiles ? kProductDispatch : kBlockDispatch;
-}
 
 static_assert(SolverSpec::maxIterationsAllowed == gpu::SOLVER_MAX_ITERATIONS, "the scene's limit is the GPU's");
 
 }  // namespace
 
-ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
-                               const std::vector<TransferShape>& shapes)
+ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options)
     : maxIterations_(scene.solver.maxIterations) {
   prepare_ = gl::ComputePass(library, "sim/solver_prepare.comp", options);
   begin_ = gl::ComputePass(library, "sim/solver_begin.comp", options);
-  // Every shape's product is timed under one name, the tiles' (sim/solver_product.comp), as P2G's are.
-  for (const TransferShape& shape : shapes) {
-    const gl::ShaderOptions shapeOptions = shapeShaderOptions(options, shape);
-    gl::ShaderOptions firstOptions = shapeOptions;
-    firstOptions.defines.emplace_back("FIRN_SOLVER_FIRST_PRODUCT", "1");
-    const std::string file =
-        shape.kind == TransferShape::Kind::Tiles ? "sim/solver_product.comp" : "sim/solver_product_block.comp";
-    ProductPasses passes;
-    passes.shape = shape;
-    passes.first = gl::ComputePass(library, file, firstOptions, "sim/solver_product.comp (first product)");
-    passes.iteration = gl::ComputePass(library, file, shapeOptions, "sim/solver_product.comp");
-    products_.push_back(std::move(passes));
-  }
   residual_ = gl::ComputePass(library, "sim/solver_residual.comp", options);
   apply_ = gl::ComputePass(library, "sim/solver_apply.comp", options);
   step_ = gl::ComputePass(library, "sim/solver_step.comp", options);
@@ -62,14 +42,12 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
 void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
                              gl::PassTimer& timer) const {
   prepare_.runOver(particles, maxWorkGroupsX, state.bindings(), timer);
-  glMemoryBarrier(gl::kStorage);
 }
 
 void ImplicitSolver::reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const {
   reduce_.set("reduceRegister", registerIndex)
       .set("reduceComponents", components)
       .runIndirect(state.solver()->status(), kReduceDispatch, state.bindings(), timer);
-  glMemoryBarrier(gl::kStorageAndCommands);
 }
 
 SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
@@ -87,58 +65,46 @@ SolveReport ImplicitSolver::report(const GpuState& state, int iterations) {
   return report;
 }
 
-std::vector<std::pair<TransferShape, double>> ImplicitSolver::chooseProduct(const GpuState& state,
-                                                                            std::size_t particles, int maxWorkGroupsX,
-                                                                            int rounds) {
+std::vector<std::pair<TransferShape, double>> ImplicitSolver::timeProducts(const GpuState& state,
+                                                                           std::size_t particles, int maxWorkGroupsX,
+                                                                           const std::vector<TransferPasses>& shapes,
+                                                                           int rounds) const {
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   gl::PassTimer untimed;
   begin_.runOnce(buffers, untimed);
-  glMemoryBarrier(gl::kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, untimed);
-  const std::vector<double> fastestMs = fastestOfRounds(products_.size(), rounds, [&](std::size_t i) {
-    const ProductPasses& product = products_[i];
-    const double ms = gl::msToFinish([&] {
-      product.first.runIndirect(status, productDispatch(product.shape), buffers, untimed);
-      glMemoryBarrier(gl::kStorage);
-    });
+  const std::vector<double> fastestMs = fastestOfRounds(shapes.size(), rounds, [&](std::size_t i) {
+    const double ms =
+        gl::msToFinish([&] { shapes[i].productInSolve(TransferPasses::Product::First, state, untimed); });
     residual_.runIndirect(status, kBlockDispatch, buffers, untimed);  // takes the product's sums
-    glMemoryBarrier(gl::kStorage);
     return ms;
   });
   std::vector<std::pair<TransferShape, double>> timed;
-  for (std::size_t i = 0; i < products_.size(); ++i) timed.emplace_back(products_[i].shape, fastestMs[i]);
-  chosen_ = fastestEntry(timed);
+  for (std::size_t i = 0; i < shapes.size(); ++i) timed.emplace_back(shapes[i].shape(), fastestMs[i]);
   return timed;
 }
 
 SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
-                                  gl::PassTimer& timer) const {
-  const ProductPasses& product = products_[chosen_];
+                                  const TransferPasses& product, gl::PassTimer& timer) const {
   const gl::Buffer& status = state.solver()->status();
   const gl::BufferBindings& buffers = state.bindings();
   begin_.runOnce(buffers, timer);
-  glMemoryBarrier(gl::kStorageAndCommands);
   prepare(state, particles, maxWorkGroupsX, timer);
   // r₀ = S (M v* − A x₀) from the start x₀ with the nodes' stiffness blocks, the block preconditioner, and the
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
-  product.first.runIndirect(status, productDispatch(product.shape), buffers, timer);
-  glMemoryBarrier(gl::kStorage);
+  product.productInSolve(TransferPasses::Product::First, state, timer);
   residual_.runIndirect(status, kBlockDispatch, buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   reduce(state, 0, kResidual | kReference, timer);
 
   // Where the GPU ended the solve (solver_reduce.comp): 1 + the register of the residual that met the tolerance.
   std::uint32_t end = 0;
   for (int k = 0; k < maxIterations_ && end == 0; ++k) {
     const unsigned iteration = static_cast<unsigned>(k);
-    product.iteration.runIndirect(status, productDispatch(product.shape), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
+    product.productInSolve(TransferPasses::Product::Iteration, state, timer);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
-    glMemoryBarrier(gl::kStorage);
     reduce(state, iteration, kProduct | kDirectionProduct, timer);
     step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
-    glMemoryBarrier(gl::kStorage);
     reduce(state, iteration + 1, kResidual, timer);
     if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.solver()->readEnd();
   }
@@ -149,12 +115,9 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
     // The product of the solution, whose held components are the colliders' push that the rigid bodies take back and
     // the moving colliders do work with (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.
     solution_->runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
-    product.iteration.runIndirect(blockTable, blockTableDispatch(product.shape), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
+    product.productOverGrid(state, timer);
   }
   finish_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockDispatch), buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   return solved;
 }
 

@@ -17,7 +17,7 @@
 #include "scene/Scene.h"
 #include "sim/GpuState.h"
 #include "sim/SolveReport.h"
-#include "sim/TransferShape.h"
+#include "sim/TransferPasses.h"
 
 namespace firn {
 
@@ -27,20 +27,21 @@ class ImplicitSolver {
   // after convergence cost nothing.
   static constexpr int checkInterval = 4;
 
-  // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them; `shapes` the
-  // transfer shapes the run may take (sim/TransferShape.h), for the Hessian product, timed among them (chooseProduct).
-  ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
-                 const std::vector<TransferShape>& shapes);
+  // `options` are the step's shader options (stepShaderOptions), FIRN_SEMI_IMPLICIT among them. The Hessian
+  // product is the transfer shape's (sim/TransferPasses.h), which the step gives each solve.
+  ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options);
 
-  // Replaces v* on the grid with the solution, the Hessian products in the chosen shape (the constructor's first
-  // until chooseProduct). The state's buffers must be bound (StepPipeline binds them).
-  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, gl::PassTimer& timer) const;
-  // Times the step's first Hessian product in each of the constructor's shapes (fastestOfRounds, `rounds` timed),
-  // on the grid the grid update has just left (its start x₀), and keeps the fastest. Each product's sums are taken
-  // by the residual pass after it, so nothing carries into the next solve. Returns each shape's time (ms).
-  std::vector<std::pair<TransferShape, double>> chooseProduct(const GpuState& state, std::size_t particles,
-                                                              int maxWorkGroupsX, int rounds);
-  const TransferShape& productShape() const { return products_[chosen_].shape; }
+  // Replaces v* on the grid with the solution, the Hessian products by `product`. The state's buffers must be bound
+  // (StepPipeline binds them).
+  SolveReport solve(const GpuState& state, std::size_t particles, int maxWorkGroupsX, const TransferPasses& product,
+                    gl::PassTimer& timer) const;
+  // Times the step's first Hessian product by each of `shapes` (fastestOfRounds, `rounds` timed), on the grid the
+  // grid update has just left (its start x₀). Each product's sums are taken by the residual pass after it, so
+  // nothing carries into the next solve. Returns each shape's time (ms), in their order.
+  std::vector<std::pair<TransferShape, double>> timeProducts(const GpuState& state, std::size_t particles,
+                                                             int maxWorkGroupsX,
+                                                             const std::vector<TransferPasses>& shapes,
+                                                             int rounds) const;
 
 
  private:
@@ -52,19 +53,9 @@ class ImplicitSolver {
   static SolveReport report(const GpuState& state, int iterations);
   void reduce(const GpuState& state, unsigned registerIndex, unsigned components, gl::PassTimer& timer) const;
 
-  // The Hessian product's passes in one shape: tiles (solver_product.comp) take the transfers' dispatch, blocks
-  // (solver_product_block.comp) a work group per active block (productDispatch).
-  struct ProductPasses {
-    TransferShape shape;
-    gl::ComputePass first;  // FIRN_SOLVER_FIRST_PRODUCT: of the start, with the stiffness blocks
-    gl::ComputePass iteration;
-  };
-
   int maxIterations_;
   gl::ComputePass prepare_;
   gl::ComputePass begin_;
-  std::vector<ProductPasses> products_;  // in the constructor's order of shapes
-  std::size_t chosen_ = 0;
   gl::ComputePass residual_;
   gl::ComputePass apply_;
   gl::ComputePass step_;

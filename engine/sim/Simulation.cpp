@@ -143,33 +143,32 @@ constexpr int kBlockPoolRetries = 3;
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-                       std::size_t particleCapacity, MaterialPrograms programs, std::size_t blockCapacity)
-    : Simulation(scene, seeds, gl, bakeColliderFields(scene), particleCapacity, programs, blockCapacity) {}
+                       const SimulationOptions& options)
+    : Simulation(scene, seeds, gl, bakeColliderFields(scene), options) {}
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-                       ColliderFields colliderFields, std::size_t particleCapacity, MaterialPrograms programs,
-                       std::size_t blockCapacity, DomainShare* share)
-    : scene_(startShare(share, requireParticles(scene, seeds), seeds)),
-      pipeline_(scene_, programs, gl),
+                       ColliderFields colliderFields, const SimulationOptions& options)
+    : scene_(startShare(options.share, requireParticles(scene, seeds), seeds)),
+      pipeline_(scene_, options.programs, gl, transferShapeCandidates(scene_, options.transferShapes)),
       materialTable_(buildMaterialTable(scene_)),
       colliderFields_(std::move(colliderFields)),
-      state_(GpuStateLayout::forScene(scene_,
-                                      particleCapacityOf(share, seeds, std::max(particleCapacity, seeds.size())),
-                                      blockCapacity > 0 ? blockCapacity
-                                                        : initialBlockCapacity(scene_, seeds, share, gl),
-                                      needsDeformationGradient(scene_, programs)),
+      state_(GpuStateLayout::forScene(
+                 scene_, particleCapacityOf(options.share, seeds, std::max(options.particleCapacity, seeds.size())),
+                 options.blockCapacity > 0 ? options.blockCapacity
+                                           : initialBlockCapacity(scene_, seeds, options.share, gl),
+                 needsDeformationGradient(scene_, options.programs)),
              materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
-             stepShaderOptions(scene_, programs)),
-      fixedPoint_(fixedPointScaleFor(scene_, seeds, std::max(particleCapacity, seeds.size()))),
+             stepShaderOptions(scene_, options.programs)),
+      fixedPoint_(fixedPointScaleFor(scene_, seeds, std::max(options.particleCapacity, seeds.size()))),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
       energy_(scene_, fixedPoint_),
       gl_(gl),
-      totalCapacity_(std::max(particleCapacity, seeds.size())),
+      totalCapacity_(std::max(options.particleCapacity, seeds.size())),
       sceneFingerprint_(sceneFingerprint(scene_, totalCapacity_, materialTable_, colliderFields_, seeds)),
       keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
                                       [](const Collider& c) { return !c.keyframes.empty(); })),
-      share_(share) {
+      share_(options.share) {
   const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
   initialParticles_ = initial.size();
   initialInverseMassSum_ = inverseMassSum_ = inverseMassSum(initial);

@@ -57,27 +57,38 @@ struct SolverSummary {
   double largestResidual = 0;    // the largest relative residual a step ended with (NaN if one was not finite)
 };
 
+// How a Simulation is built beyond its scene: its buffers' room, its programs, the transfer shapes it may take and
+// the part of the domain it simulates.
+struct SimulationOptions {
+  // The particle buffers hold this many particles (at least all the seeds), so that addParticles can add more while
+  // running.
+  std::size_t particleCapacity = 0;
+  MaterialPrograms programs = MaterialPrograms::SceneModels;
+  // The grid's pool starts with this many blocks of 4³ nodes, or (0) four times the blocks the seeds reach and at
+  // least 256; it grows when the particles outgrow it (advanceTo, advanceFrame, addParticles).
+  std::size_t blockCapacity = 0;
+  // The transfer shapes the run times before it keeps the fastest (transferShapeCandidates): empty, every shape the
+  // scene can take; else a name ("tiles", "blocks", "blocks-128", …). They write the same bytes.
+  std::string transferShapes;
+  // With a share (sim/DomainShare.h) the simulation is of the share's part of the domain: the seeds are still all
+  // the scene's (every share takes the same decisions from them), but only the share's own are written, and the
+  // share completes the grid's sums and moves particles between shares at every step.
+  DomainShare* share = nullptr;
+};
+
 class Simulation {
  public:
   using PassTime = gl::PassTimer::PassTime;
 
   // Builds the programs and buffers the scene needs and computes the initial particle volumes. Particles with
-  // a release time (emitters) join at the first step that starts at or after it. The particle buffers hold
-  // `particleCapacity` particles (at least all the seeds), so that addParticles can add more while running.
-  // The grid's pool starts with `blockCapacity` blocks of 4³ nodes, or (0) four times the blocks the seeds reach
-  // and at least 256; it grows when the particles outgrow it (advanceTo, advanceFrame, addParticles).
-  // Throws InputError when the scene asks for more than the driver offers (float atomics, buffer sizes).
+  // a release time (emitters) join at the first step that starts at or after it. Throws InputError when the scene
+  // asks for more than the driver offers (float atomics, buffer sizes) or for a transfer shape it cannot take.
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-             std::size_t particleCapacity = 0, MaterialPrograms programs = MaterialPrograms::SceneModels,
-             std::size_t blockCapacity = 0);
+             const SimulationOptions& options = {});
   // The same with the scene's distance fields baked already (bakeColliderFields), as a session keeps them from its
-  // pre-flight through every restart. With a `share` (sim/DomainShare.h) it simulates the share's part of the
-  // domain: `seeds` are still all the scene's (every share takes the same decisions from them), but only the share's
-  // own are written, and the share completes the grid's sums and moves particles between shares at every step.
+  // pre-flight through every restart.
   Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
-             ColliderFields colliderFields, std::size_t particleCapacity = 0,
-             MaterialPrograms programs = MaterialPrograms::SceneModels, std::size_t blockCapacity = 0,
-             DomainShare* share = nullptr);
+             ColliderFields colliderFields, const SimulationOptions& options);
 
   // Adds particles at the start of the next step, undeformed, with V0 = m / ρ of their material (the grid
   // density that gave the first particles their volumes is not theirs to share), and grows the grid's pool if

@@ -105,7 +105,8 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
   return uniforms;
 }
 
-StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl)
+StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl,
+                           const TransferShapeCandidates& candidates)
     : maxWorkGroupsX_(gl.maxComputeWorkGroupCountX) {
   if (scene.solver.atomics == Atomics::Float && !gl.hasFloatAtomics) {
     throw InputError("solver.atomics: \"float\" needs GL_NV_shader_atomic_float, which " + gl.renderer +
@@ -113,17 +114,13 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   }
   const gl::ShaderOptions options = stepShaderOptions(scene, programs);
   const gl::ShaderLibrary library;
-  // Both shapes of P2G are timed under one name, the tiles' (sim/p2g.comp): a step has one P2G.
-  const TransferShapeCandidates candidates = transferShapeCandidates(scene);
   for (const TransferShape& shape : candidates.shapes) {
-    const char* file = shape.kind == TransferShape::Kind::Tiles ? "sim/p2g.comp" : "sim/p2g_block.comp";
-    particleToGrid_.emplace_back(
-        shape, gl::ComputePass(library, file, shapeShaderOptions(options, shape), "sim/p2g.comp"));
+    transfers_.emplace_back(shape, library, options, scene.solver.semiImplicit());
   }
   transferShapeForced_ = candidates.forced;
-  if (particleToGrid_.size() == 1) {
+  if (transfers_.size() == 1) {
     TransferShapeChoice only;
-    only.shape = only.productShape = particleToGrid_[0].first;
+    only.shape = only.productShape = transfers_[0].shape();
     only.forced = candidates.forced;
     transferChoice_ = std::move(only);
   }
@@ -146,38 +143,23 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
                                          offsetof(gpu::BlockTableHeader, blockDispatch));
     }
   }
-  if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options, candidates.shapes);
+  if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
 }
 
 namespace {
-
-// P2G in `shape`: tiles take the transfers' dispatch from the block table, blocks work groups over the active blocks.
-void runParticleToGrid(const TransferShape& shape, const gl::ComputePass& pass, const GpuState& state,
-                       gl::PassTimer& timer) {
-  if (shape.kind == TransferShape::Kind::Tiles) {
-    pass.runIndirect(state.grid().blockTable(), blockTableDispatch(shape), state.bindings(), timer);
-  } else {
-    state.grid().runOverBlocks(pass, state.bindings(), timer);
-  }
-  glMemoryBarrier(gl::kStorage);
-}
 
 // Timed rounds of every shape (fastestOfRounds).
 constexpr int kTransferShapeRounds = 3;
 // The shapes are timed again when the particles have grown this many times since they were last timed.
 constexpr std::size_t kTransferShapeRetimeGrowth = 4;
 
-BlockGrid::SortFor sortForShape(const TransferShape& shape) {
-  return shape.kind == TransferShape::Kind::Tiles ? BlockGrid::SortFor::Tiles : BlockGrid::SortFor::Blocks;
-}
-
 }  // namespace
 
 BlockGrid::SortFor StepPipeline::sortFor() const {
-  if (implicitSolver_ && sortForShape(implicitSolver_->productShape()) == BlockGrid::SortFor::Tiles) {
+  if (implicitSolver_ && transfers_[productChosen_].sortFor() == BlockGrid::SortFor::Tiles) {
     return BlockGrid::SortFor::Tiles;
   }
-  return sortForShape(particleToGrid_[chosen_].first);
+  return transfers_[chosen_].sortFor();
 }
 
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
@@ -186,32 +168,37 @@ void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, gl::Pa
 
 void StepPipeline::transferToGrid(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor,
                                   gl::PassTimer& timer) const {
+  sortAndTransfer(state, particles, sortFor, timer);
+  state.bindings().completeWrites();
+}
+
+void StepPipeline::sortAndTransfer(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor,
+                                   gl::PassTimer& timer) const {
   state.grid().sortParticles(particles, sortFor, state.bindings(), timer);
-  const auto& [shape, pass] = particleToGrid_[chosen_];
-  runParticleToGrid(shape, pass, state, timer);
+  transfers_[chosen_].particleToGrid(state, timer);
 }
 
 bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
-  if (particles == 0 || particleToGrid_.size() == 1) return false;
+  if (particles == 0 || transfers_.size() == 1) return false;
   if (transferChoice_ && particles < kTransferShapeRetimeGrowth * transferChoice_->particles) return false;
   gl::PassTimer untimed;
   const auto timeOne = [&](std::size_t i) {
     // A round is the sort the shape reads and its P2G, which adds to the sums the sort has just emptied
     // (release_blocks.comp), so every round ends as one transferToGrid would.
-    const auto& [shape, pass] = particleToGrid_[i];
+    const TransferPasses& transfer = transfers_[i];
     return gl::msToFinish([&] {
-      state.grid().sortParticles(particles, sortForShape(shape), state.bindings(), untimed);
-      runParticleToGrid(shape, pass, state, untimed);
+      state.grid().sortParticles(particles, transfer.sortFor(), state.bindings(), untimed);
+      transfer.particleToGrid(state, untimed);
     });
   };
-  const std::vector<double> fastestMs = fastestOfRounds(particleToGrid_.size(), kTransferShapeRounds, timeOne);
+  const std::vector<double> fastestMs = fastestOfRounds(transfers_.size(), kTransferShapeRounds, timeOne);
   TransferShapeChoice choice;
   choice.forced = transferShapeForced_;
-  for (std::size_t i = 0; i < particleToGrid_.size(); ++i) {
-    choice.msPerTransfer.emplace_back(particleToGrid_[i].first, fastestMs[i]);
+  for (std::size_t i = 0; i < transfers_.size(); ++i) {
+    choice.msPerTransfer.emplace_back(transfers_[i].shape(), fastestMs[i]);
   }
-  chosen_ = fastestEntry(choice.msPerTransfer);
-  choice.shape = choice.productShape = particleToGrid_[chosen_].first;
+  chosen_ = productChosen_ = fastestEntry(choice.msPerTransfer);
+  choice.shape = choice.productShape = transfers_[chosen_].shape();
   choice.particles = particles;
   if (implicitSolver_) {
     // The product is timed from the start x₀ the grid update makes of a transfer (every shape's leaves the same
@@ -222,9 +209,11 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
     const std::string energy = state.energyRecords();
     state.grid().run(updateGrid_, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
-    glMemoryBarrier(gl::kStorage);
-    choice.msPerProduct = implicitSolver_->chooseProduct(state, particles, maxWorkGroupsX_, kTransferShapeRounds);
-    choice.productShape = implicitSolver_->productShape();
+    choice.msPerProduct =
+        implicitSolver_->timeProducts(state, particles, maxWorkGroupsX_, transfers_, kTransferShapeRounds);
+    productChosen_ = fastestEntry(choice.msPerProduct);
+    choice.productShape = transfers_[productChosen_].shape();
+    state.bindings().completeWrites();
     if (!bodies.empty()) state.writeColliders(bodies, firstRigidBody_);
     state.writeEnergyRecords(energy);
   }
@@ -237,16 +226,13 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
 SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share) const {
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
-  transferToGrid(state, particles, timer);
+  sortAndTransfer(state, particles, sortFor(), timer);
   if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
     listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
-    glMemoryBarrier(gl::kStorageAndCommands);
     listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
-    glMemoryBarrier(gl::kStorageAndCommands);
     const auto scatterImages = [&](GLuint measuringWork) {
       mirrorStress_.set("measuringWork", measuringWork);
       mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
-      glMemoryBarrier(gl::kStorage);
     };
     // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
     // pushes change it; whole, once, where the semi-implicit step sums them apart.
@@ -263,37 +249,32 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const bool coupledSolve = rigidBodies_ > 0 && !implicitSolver_;
   if (coupledSolve) {  // the bodies take gravity and the images' push before the nodes meet them (eq. 39)
     predictBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
-    glMemoryBarrier(gl::kStorage);
   }
   state.grid().run(updateGrid_, sortFor(), buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   if (coupledSolve) {  // each body and the nodes it holds, solved together, then those nodes take its motion
     solveCoupling_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
-    glMemoryBarrier(gl::kStorage);
     state.grid().run(coupleNodes_, sortFor(), buffers, timer);
-    glMemoryBarrier(gl::kStorage);
   }
   SolveReport solve;
   if (implicitSolver_) {
-    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, timer);
+    solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, transfers_[productChosen_], timer);
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  glMemoryBarrier(gl::kStorage);
   if (rigidBodies_ > 0) {
     integrateBodies_.runOver(1, maxWorkGroupsX_, buffers, timer);  // one invocation for all: they meet each other
-    glMemoryBarrier(gl::kStorage);
   }
+  buffers.completeWrites();  // for what reads the particles next without binding from here: pictures, surfaces
   return solve;
 }
 
 void StepPipeline::auditEnergy(GpuState& state, std::size_t particles, bool gridVelocities, gl::PassTimer& timer) const {
   auditEnergy_.set("gridVelocities", gridVelocities ? 1u : 0u).runOver(particles, maxWorkGroupsX_, state.bindings(), timer);
-  glMemoryBarrier(gl::kStorage);
+  state.bindings().completeWrites();
 }
 
 void StepPipeline::computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const {
   computeVolumes_.runOver(particles, maxWorkGroupsX_, state.bindings(), timer);
-  glMemoryBarrier(gl::kStorage);
+  state.bindings().completeWrites();
 }
 
 }  // namespace firn

@@ -19,6 +19,7 @@
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
+#include "sim/TransferPasses.h"
 #include "sim/TransferShape.h"
 
 namespace firn {
@@ -44,8 +45,10 @@ gpu::StepUniforms stepUniforms(const Scene& scene, const FixedPointScale& fixedP
 
 class StepPipeline {
  public:
-  // Throws InputError when the scene asks for what the driver lacks (float atomics).
-  StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl);
+  // The transfers take the shapes of `candidates` (sim/TransferShape.h), the fastest of them once timed
+  // (chooseTransferShape). Throws InputError when the scene asks for what the driver lacks (float atomics).
+  StepPipeline(const Scene& scene, MaterialPrograms programs, const gl::ContextInfo& gl,
+               const TransferShapeCandidates& candidates);
 
   // Steps 1–2 of §6: the grid's blocks for this step and the particles sorted into them (BlockGrid), then particle
   // to grid in the chosen shape.
@@ -53,7 +56,7 @@ class StepPipeline {
   // The same with the sort `sortFor` asks (the tiles for a tile product while P2G runs by blocks).
   void transferToGrid(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
   // Times P2G in each shape this scene can take (sim/TransferShape.h) on the particles in `state`, each with the
-  // sort it reads, and runs the fastest from then on; with one shape (forced by FIRN_TRANSFER_SHAPE, or float sums)
+  // sort it reads, and runs the fastest from then on; with one shape (the only one named, or float sums)
   // there is nothing to time. Times them once a run has particles (a scene of emitters: at its first), and again each
   // time its particles have grown fourfold since (the faster shape can change with the count). A semi-implicit scene's
   // Hessian product is timed in each shape too, on its own, and may take another. Returns whether it timed them now.
@@ -65,8 +68,10 @@ class StepPipeline {
   // the grid update, the semi-implicit solve if the scene asks for one, grid to particle, the rigid bodies. Returns
   // how the solve ended (explicit steps: no iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share = nullptr) const;
-  // The semi-implicit solve, if the scene has one (tests reach its passes through it).
+  // The semi-implicit solve, if the scene has one, and the transfers' shapes in the order they were given (tests
+  // reach their passes through them).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
+  const std::vector<TransferPasses>& transfers() const { return transfers_; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
   void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The energy audit's sums over the particles into the ledger (audit_energy.comp; sim/EnergyAudit.h); with
@@ -76,11 +81,14 @@ class StepPipeline {
  private:
   // The sort the step's transfers read: for tiles where P2G or the Hessian product runs by tiles.
   BlockGrid::SortFor sortFor() const;
+  // transferToGrid's passes, their last writes left to the barriers of the passes that follow.
+  void sortAndTransfer(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
 
   int maxWorkGroupsX_ = 65535;
-  // P2G in each shape the scene can take (or FIRN_TRANSFER_SHAPE names), and the one that runs.
-  std::vector<std::pair<TransferShape, gl::ComputePass>> particleToGrid_;
+  // The transfers in each shape the run was given, P2G's shape and the Hessian product's.
+  std::vector<TransferPasses> transfers_;
   std::size_t chosen_ = 0;
+  std::size_t productChosen_ = 0;
   bool transferShapeForced_ = false;
   std::optional<TransferShapeChoice> transferChoice_;
   BlockGrid::StepPass updateGrid_;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "Error.h"
@@ -13,7 +12,6 @@ namespace firn {
 namespace {
 
 constexpr int kBlockGroupSizes[] = {64, 128, 256};
-constexpr const char* kVariable = "FIRN_TRANSFER_SHAPE";
 
 std::string milliseconds(double ms) {
   char text[32];
@@ -44,37 +42,33 @@ std::vector<TransferShape> transferShapes(const Scene& scene) {
   return {{TransferShape::Kind::Tiles, 0}};
 }
 
-TransferShapeCandidates transferShapeCandidates(const Scene& scene) {
-  const char* value = std::getenv(kVariable);
-  if (value == nullptr || *value == '\0') return {transferShapes(scene), false};  // unset or empty: every shape
-  const std::string name = value;
-  std::vector<TransferShape> named;
-  std::string names = "tiles, blocks";
+std::vector<std::string> transferShapeNames() {
+  std::vector<std::string> names = {"tiles", "blocks"};
   for (const TransferShape& shape : everyShape()) {
-    if (shape.kind == TransferShape::Kind::Blocks) names += ", " + transferShapeName(shape);
-    const bool all = name == "blocks" && shape.kind == TransferShape::Kind::Blocks;
-    if (all || transferShapeName(shape) == name) named.push_back(shape);
+    if (shape.kind == TransferShape::Kind::Blocks) names.push_back(transferShapeName(shape));
+  }
+  return names;
+}
+
+TransferShapeCandidates transferShapeCandidates(const Scene& scene, const std::string& names) {
+  if (names.empty()) return {transferShapes(scene), false};
+  std::vector<TransferShape> named;
+  for (const TransferShape& shape : everyShape()) {
+    const bool all = names == "blocks" && shape.kind == TransferShape::Kind::Blocks;
+    if (all || transferShapeName(shape) == names) named.push_back(shape);
   }
   if (named.empty()) {
-    throw InputError(std::string(kVariable) + ": expected one of " + names + " (got \"" + name + "\")");
+    std::string known;
+    for (const std::string& name : transferShapeNames()) known += (known.empty() ? "" : ", ") + name;
+    throw InputError("transfer shape: expected one of " + known + " (got \"" + names + "\")");
   }
   const std::vector<TransferShape> possible = transferShapes(scene);
   if (std::find(possible.begin(), possible.end(), named.front()) == possible.end()) {
-    throw InputError(std::string(kVariable) + "=" + name +
+    throw InputError("transfer shape " + names +
                      ": blocks sum in fixed point only, and the scene's solver.atomics is \"float\"; use tiles");
   }
   return {named, true};
 }
-
-ForcedTransferShape::ForcedTransferShape(const std::string& names) {
-  if (names.empty()) {
-    unsetenv(kVariable);
-  } else {
-    setenv(kVariable, names.c_str(), 1);
-  }
-}
-
-ForcedTransferShape::~ForcedTransferShape() { unsetenv(kVariable); }
 
 gl::ShaderOptions shapeShaderOptions(gl::ShaderOptions options, const TransferShape& shape) {
   if (shape.kind == TransferShape::Kind::Blocks) {
@@ -124,7 +118,7 @@ std::string againstRunnerUp(const TransferShape& chosen, const std::vector<std::
 
 std::string TransferShapeChoice::describe() const {
   const std::string name = transferShapeName(shape);
-  const std::string asked = forced ? std::string(", as ") + kVariable + " asks" : std::string();
+  const std::string asked = forced ? std::string(", as the run was asked") : std::string();
   if (msPerTransfer.size() < 2) return "P2G by " + name + (forced ? asked : ", the only shape for this scene");
   std::string line = "P2G by " + againstRunnerUp(shape, msPerTransfer) + ", timed on " + std::to_string(particles) +
                      " particles)";

@@ -28,7 +28,7 @@ struct TransferShape {
   bool operator==(const TransferShape& other) const { return kind == other.kind && groupSize == other.groupSize; }
 };
 
-// "tiles", "blocks-64", "blocks-128", "blocks-256": the names FIRN_TRANSFER_SHAPE takes and the tables print.
+// "tiles", "blocks-64", "blocks-128", "blocks-256": the names a run is given its shapes by and the tables print.
 std::string transferShapeName(const TransferShape& shape);
 
 // Where in the block table a pass of this shape finds its indirect dispatch: tiles take the transfers' tiles, blocks
@@ -39,24 +39,17 @@ std::size_t blockTableDispatch(const TransferShape& shape);
 // on their order, so a float scene keeps the tiles: its bytes stay the same from run to run on one device).
 std::vector<TransferShape> transferShapes(const Scene& scene);
 
-// The shapes a run times before it keeps the fastest: every shape the scene can take, or those FIRN_TRANSFER_SHAPE
-// names (for benchmarks and tests): "tiles", "blocks" (each group size), or one of "blocks-64", "blocks-128",
-// "blocks-256". Throws InputError for another name, or for blocks with float sums.
+// The shapes a run times before it keeps the fastest: every shape the scene can take (`names` empty), or those
+// `names` names (`firn run --transfer-shape`, benchmarks and tests): "tiles", "blocks" (each group size), or one of
+// "blocks-64", "blocks-128", "blocks-256". Throws InputError for another name, or for blocks with float sums.
 struct TransferShapeCandidates {
   std::vector<TransferShape> shapes;
-  bool forced = false;  // FIRN_TRANSFER_SHAPE named them
+  bool forced = false;  // named rather than every shape
 };
-TransferShapeCandidates transferShapeCandidates(const Scene& scene);
+TransferShapeCandidates transferShapeCandidates(const Scene& scene, const std::string& names);
 
-// FIRN_TRANSFER_SHAPE set to `names` for the simulations made while it lives ("": unset), then unset again: how
-// benchmarks and tests force shapes in-process.
-class ForcedTransferShape {
- public:
-  explicit ForcedTransferShape(const std::string& names);
-  ~ForcedTransferShape();
-  ForcedTransferShape(const ForcedTransferShape&) = delete;
-  ForcedTransferShape& operator=(const ForcedTransferShape&) = delete;
-};
+// Every name transferShapeCandidates takes, in its order: "tiles", "blocks", "blocks-64", ….
+std::vector<std::string> transferShapeNames();
 
 // A pass's shader options in `shape`: blocks take their group size (FIRN_P2G_BLOCK_GROUP_SIZE).
 gl::ShaderOptions shapeShaderOptions(gl::ShaderOptions options, const TransferShape& shape);
@@ -74,7 +67,7 @@ std::size_t fastestEntry(const std::vector<std::pair<TransferShape, double>>& ti
 // shapes need not win where P2G's do).
 struct TransferShapeChoice {
   TransferShape shape;
-  bool forced = false;  // FIRN_TRANSFER_SHAPE named the candidates
+  bool forced = false;  // the run was given the candidates by name
   std::vector<std::pair<TransferShape, double>> msPerTransfer;
   std::size_t particles = 0;  // the particles they were timed on
   TransferShape productShape;  // the Hessian product's (semi-implicit runs)

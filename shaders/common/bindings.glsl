@@ -7,7 +7,7 @@ layout(std140, binding = FIRN_BINDING_STEP_UNIFORMS) uniform StepUniformsBlock {
 
 #include "common/particles.glsl"
 
-layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialBuffer { MaterialParams materials[]; };
+layout(std430, binding = FIRN_BINDING_MATERIALS) readonly buffer MaterialsBuffer { MaterialParams materials[]; };
 
 #include "common/invocation.glsl"
 

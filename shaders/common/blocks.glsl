@@ -26,9 +26,9 @@ layout(std430, binding = FIRN_BINDING_BLOCK_TABLE) coherent buffer BlockTableBuf
   BlockSlot slots[];
 };
 layout(std430, binding = FIRN_BINDING_BLOCK_MAP) coherent buffer BlockMapBuffer { uint blockMap[]; };
-layout(std430, binding = FIRN_BINDING_BINS) coherent buffer BinBuffer { uvec2 bins[]; };  // particles, first
-layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticleBuffer { uint sortedParticles[]; };
-layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRankBuffer { uint particleRanks[]; };
+layout(std430, binding = FIRN_BINDING_BINS) coherent buffer BinsBuffer { uvec2 bins[]; };  // particles, first
+layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticlesBuffer { uint sortedParticles[]; };
+layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRanksBuffer { uint particleRanks[]; };
 layout(std430, binding = FIRN_BINDING_TILE_ORDER) buffer TileOrderBuffer { uint tileOrder[]; };  // slot · BLOCK_TILES + tile
 
 // A block being claimed in mark_blocks.comp: its slot is not yet written.
@@ -125,8 +125,8 @@ StencilBlocks stencilBlocks(ivec3 baseNode) {
 int stencilNodeAddress(StencilBlocks b, ivec3 k) {
   ivec3 inBlocks = b.baseInBlock + k;
   ivec3 offset = inBlocks / BLOCK_WIDTH;  // 0 or 1 per axis
-  ivec4 slots = offset.z == 0 ? b.slotsNear : b.slotsFar;
-  ivec2 slotPair = offset.y == 0 ? slots.xy : slots.zw;
+  ivec4 layerSlots = offset.z == 0 ? b.slotsNear : b.slotsFar;
+  ivec2 slotPair = offset.y == 0 ? layerSlots.xy : layerSlots.zw;
   int slot = offset.x == 0 ? slotPair.x : slotPair.y;
   return slot < 0 ? -1 : slot * BLOCK_NODES + int(nodeInBlock(inBlocks));
 }

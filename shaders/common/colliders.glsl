@@ -11,9 +11,9 @@
 
 #ifdef FIRN_HAS_RIGID_BODIES
 // The bodies' entries gather the snow's impulses (pushRigidBody).
-layout(std430, binding = FIRN_BINDING_COLLIDERS) buffer ColliderBuffer { ColliderParams colliders[]; };
+layout(std430, binding = FIRN_BINDING_COLLIDERS) buffer CollidersBuffer { ColliderParams colliders[]; };
 #else
-layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer ColliderBuffer { ColliderParams colliders[]; };
+layout(std430, binding = FIRN_BINDING_COLLIDERS) readonly buffer CollidersBuffer { ColliderParams colliders[]; };
 #endif
 // A collider's signed distance φ (m, negative inside its solid) at a point of the frame of its shape at rest,
 // `fromPivot`, and the outward unit normal there in that frame: an analytic shape by eq. 27, a mesh by its distance

@@ -27,7 +27,7 @@
 // compute shader may declare 16 storage blocks on llvmpipe, which counts every block declared, used or not
 // (docs/platform.md), so the passes include what they use.
 
-layout(std430, binding = FIRN_BINDING_SOLVER_NODES) coherent buffer SolverNodeBuffer { SolverNode solverNodes[]; };
+layout(std430, binding = FIRN_BINDING_SOLVER_NODES) coherent buffer SolverNodesBuffer { SolverNode solverNodes[]; };
 // The Hessian products, which take no preconditioner and are at llvmpipe's 16 storage blocks with APIC, define
 // FIRN_WITHOUT_SOLVER_PRECONDITIONER.
 #ifndef FIRN_WITHOUT_SOLVER_PRECONDITIONER

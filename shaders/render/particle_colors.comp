@@ -1,7 +1,7 @@
 #version 430 core
 // Each particle's linear albedo in the frame's colour mode (render/particle_appearance.glsl), for the surface
 // reconstruction to carry onto the snow's surface. One invocation per particle.
-// Reads: positionMass, velocityVolume, plasticState, kirchhoffStress. Writes: the particle colours.
+// It reads positionMass, velocityVolume, plasticState and kirchhoffStress, and writes the particle colours.
 #include "common/particles.glsl"
 #include "render/lighting.glsl"
 #include "render/particle_appearance.glsl"

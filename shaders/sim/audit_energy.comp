@@ -8,8 +8,11 @@
 // particle's new position, so that Σ V⁰ τ : ∇v = −Σᵢ fᵢ · vᵢ pairs the forces of the state with its velocities), are
 // rounded to the ledger's units and summed within the work group in shared memory, then added to the ledger once per
 // group: integers, so the sums do not depend on either order.
-// Reads: positionMass, velocityVolume, elasticDeformation, kirchhoffStress, affine, plasticState, materials, and after
-// a step the grid's velocities and the block map. Writes: the ledger's state sums, its count of values beyond the bound.
+// Reads: positionMass, velocityVolume, plasticState, materials, elasticDeformation (FIRN_HAS_DEFORMATION_GRADIENT),
+//        affine (APIC), kirchhoffStress (after an explicit step), blockMap (after an explicit step),
+//        gridMomentumMass (after an explicit step: the last step's velocities),
+//        watchdog (the ledger's words: the carries take the atomics' old values).
+// Writes: watchdog (the ledger's state sums and its count of values beyond the bound).
 #define FIRN_WITHOUT_GRID_IMPULSE
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"

@@ -1,7 +1,8 @@
 #version 430 core
 // Bin count: one invocation per particle (common/blocks.glsl). Counts the particles of each bin (base node) and
 // gives each its rank within its bin.
-// Reads: positionMass, blockMap. Writes: bins[].x, particleRanks.
+// Reads: positionMass (xyz), blockMap, bins (x: the count's old value is the particle's rank).
+// Writes: bins (x: each bin's count), particleRanks.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/watchdog.glsl"

@@ -1,7 +1,9 @@
 #version 430 core
 // Bin place: one invocation per particle (common/blocks.glsl). Writes each particle's index at its place in the
 // sorted order: its block's first particle, plus its bin's first within the block, plus its rank in the bin.
-// Reads: positionMass, blockMap, slots[].firstParticle, bins[].y, particleRanks. Writes: sortedParticles.
+// Reads: positionMass (xyz), blockMap, blockTable (slots[].firstParticle), bins (y: each bin's first particle),
+//        particleRanks.
+// Writes: sortedParticles.
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/watchdog.glsl"

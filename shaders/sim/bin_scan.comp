@@ -2,7 +2,10 @@
 // Bin scan: an invocation per active block (common/blocks.glsl). The bins' first particles within the block (an
 // exclusive prefix sum of the counts), the block's particle count, each tile's bucket of fill counted, and a report
 // of any tile fuller than a transfer can take (maxTileParticles: llvmpipe's loop limit).
-// Reads: bins[].x. Writes: bins[].y, slots[].particles, tileBuckets, the watchdog.
+// Reads: bins (x: the counts), blockTable (blockCounts and slots[].block and the blockRunDispatch record),
+//        watchdog (the reports' atomics' old values).
+// Writes: bins (y: each bin's first particle within the block), blockTable (slots[].particles and tileBuckets),
+//         watchdog (a tile fuller than a transfer can take).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/shared_functions.h"

@@ -4,7 +4,8 @@
 // memory) and the block's particle count: bin_scan.comp's sums, which it takes block by block in one invocation,
 // reading a block's bins one after another, and without the tiles' buckets of fill, which only the tile passes read
 // (the sort files tiles only where one runs: sim/BlockGrid.h).
-// Reads: bins[].x. Writes: bins[].y, slots[].particles.
+// Reads: bins (x: the counts), blockTable (blockCounts).
+// Writes: bins (y: each bin's first particle within the block), blockTable (slots[].particles).
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
 

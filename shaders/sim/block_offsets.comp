@@ -3,7 +3,8 @@
 // exclusive prefix sum of the blocks' particle counts, in slot order. Each invocation sums a run of slots, the
 // group scans the runs' sums, then each invocation writes its run's offsets. Also each bucket of tile fill's
 // first entry in the tile order, and the transfers' dispatch.
-// Reads: slots[].particles, tileBuckets. Writes: slots[].firstParticle, tileBuckets, tileCounts, tileDispatch.
+// Reads: blockTable (blockCounts and slots[].particles and tileBuckets: each bucket's tiles).
+// Writes: blockTable (slots[].firstParticle and tileBuckets: first entries and tileCounts and tileDispatch).
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
 

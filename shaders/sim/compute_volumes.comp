@@ -4,7 +4,8 @@
 // ρ_p counts the empty part of a kernel that reaches past the material as the particle's: alone, a particle reads
 // ρ_p = m_p Σ_i w_ip² / h³, independent of its material and 1/38 to 1/64 of ρ at 8 particles per cell, and its wave
 // speed sqrt(stiffness / (m_p / V0_p)) would outrun the step's stability bound, which is derived for ρ.
-// Reads: positionMass, velocityVolume.w (m_p / ρ, from the host), grid mass, the block map. Writes: velocityVolume.w.
+// Reads: positionMass, velocityVolume (w: m_p / ρ from the host), gridMomentumMass (the mass sums), blockMap.
+// Writes: velocityVolume (w: V0).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"

@@ -1,7 +1,8 @@
 #version 430 core
 // Count blocks: one invocation, after mark_blocks.comp. The per-block passes of this step get a work group per
 // active block (no more than the pool holds), or an invocation per active block.
-// Reads: blockCounts. Writes: blockDispatch, blockRunDispatch.
+// Reads: blockTable (blockCounts).
+// Writes: blockTable (blockDispatch and blockRunDispatch).
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
 

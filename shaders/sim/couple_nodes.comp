@@ -5,8 +5,10 @@
 // the opposite of what that changed in the node's momentum — the solve's own impulse, and Coulomb friction besides —
 // in 64-bit fixed point, so that momentum is kept to the unit. Then the domain walls again, as the grid update left
 // them last.
-// Reads: the block table, the nodes' velocities and masses, the collider table. Writes: the nodes' velocities, the
-// bodies' sums, their loads.
+// Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
+//        gridMomentumMass (the nodes' velocities and masses), colliders (the table and the bodies' sums' old words),
+//        watchdog (the loads' words: the carries take the atomics' old values).
+// Writes: gridMomentumMass (the nodes' velocities), colliders (the bodies' sums), watchdog (the bodies' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

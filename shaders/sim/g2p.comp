@@ -6,8 +6,14 @@
 // (the moving colliders' work and what the walls took: common/energy.glsl). A particle whose new
 // state is not finite keeps its old state and is reported, so no non-finite value ever reaches a buffer or an
 // output.
-// Reads: grid velocities, the block map, sortedParticles, particle state, materials, colliders.
-// Writes: positionMass.xyz, velocityVolume.xyz, elasticDeformation, plasticState, kirchhoffStress, affine, the ledger.
+// Reads: blockTable (tileCounts.y: the particles of the sorted order), sortedParticles, positionMass, velocityVolume,
+//        elasticDeformation (FIRN_HAS_DEFORMATION_GRADIENT), plasticState, materials, blockMap,
+//        gridMomentumMass (the nodes' velocities), gridImpulse (PIC/FLIP: the velocities before forces),
+//        colliders (with colliders), watchdog (the reports' and the ledger's atomics' old values).
+// Writes: positionMass (xyz), velocityVolume (xyz), elasticDeformation (FIRN_HAS_DEFORMATION_GRADIENT),
+//         kirchhoffStress, plasticState (plasticJ and sand's volumeCorrection), affine (APIC),
+//         colliders (rigid bodies: the snow's push summed in their entries),
+//         watchdog (reports and the adaptive step's fastest speed and the ledger's flows and the objects' loads).
 #ifdef FIRN_TRANSFER_APIC
 #define FIRN_WITHOUT_GRID_IMPULSE  // APIC reads no velocity before forces (common/grid.glsl)
 #endif

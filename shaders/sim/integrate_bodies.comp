@@ -9,8 +9,10 @@
 // The energy ledger takes the work the moving colliders do on the bodies through their contacts, and the energy the
 // explicit coupling gives them (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
 // images' share).
-// Reads: the collider table, the contact probes (field buffer). Writes: the bodies' entries, the ledger's flows, and
-// with adaptive steps the watchdog's fastest speed.
+// The bodies' contact probes come from the field buffer, a buffer texture (no storage buffer).
+// Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values).
+// Writes: colliders (the bodies' entries: pose and velocities and their sums cleared),
+//         watchdog (the ledger's flows and with adaptive steps the fastest speed).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"

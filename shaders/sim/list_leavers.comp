@@ -4,7 +4,8 @@
 // layer along `slabAxis` outside [slabFirstLayer, slabEndLayer) is listed in particleRanks, which the sort no longer
 // needs, and counted in `migration.x`. The host then reads back only the listed particles, not every position: the
 // block layer is the GPU's own, so each particle is sorted into the slab it is owned by.
-// Reads: positions. Writes: particleRanks, migration.
+// Reads: positionMass (xyz), blockTable (migration.x: the atomic's old value is the particle's entry).
+// Writes: particleRanks (the list), blockTable (migration.x).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/blocks.glsl"

@@ -6,7 +6,9 @@
 // listed blocks' particles then take the bodies' distances in list_mirrored.comp: on llvmpipe every invocation of a
 // pass pays for the distance, taken or not (docs/platform.md, Timing on llvmpipe), and most particles lie far from
 // every body.
-// Reads: the block table, the collider table. Writes: mirrorBlocks, slots[].mirrorBlock.
+// Reads: blockTable (blockCounts and slots[].block and mirrorBlocks.w's old value and the blockRunDispatch record),
+//        colliders.
+// Writes: blockTable (mirrorBlocks and slots[].mirrorBlock).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"

@@ -5,7 +5,9 @@
 // rows of 65,535 work groups). Only the listed particles then run the images' scatter: on llvmpipe the scatter behind
 // a branch cost most of a P2G over all particles even when no particle took it (docs/platform.md, Timing on
 // llvmpipe).
-// Reads: positions, sortedParticles, the block table, the collider table. Writes: particleRanks, mirrorDispatch.
+// Reads: blockTable (mirrorBlocks: the dispatch record and w and slots[] and mirrorDispatch.w's old value),
+//        sortedParticles, positionMass (xyz), colliders.
+// Writes: particleRanks (the list), blockTable (mirrorDispatch).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/blocks.glsl"

@@ -3,8 +3,10 @@
 // particle's stencil reaches (at most two per axis) that no other particle has claimed yet: the first to swap the
 // block's map entry from 0 takes the next slot and lists the block there. Blocks past the pool's capacity stay
 // unlisted: their particles are left out of this step, and the host sees the count and grows the pool.
-// Reads: positionMass. Writes: blockMap, blockCounts.x, slots[].block and .auditedElsewhere, the watchdog (non-finite
-// positions).
+// Reads: positionMass (xyz), blockMap (the entries and the claim's old value),
+//        blockTable (blockCounts: the old value of x and the capacity y), watchdog (the reports' atomics' old values).
+// Writes: blockMap, blockTable (blockCounts.x and slots[].block and .auditedElsewhere),
+//         watchdog (non-finite positions).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/watchdog.glsl"

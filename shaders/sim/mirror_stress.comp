@@ -13,8 +13,15 @@
 // push is changing them, which reads the same whatever the order of the pushes' invocations: the explicit step
 // measures half before the pushes and half after, the semi-implicit step, whose pushes leave the sums as they were,
 // once (StepPipeline::step).
-// Reads: particle state, the block table and map, the list in particleRanks, the collider table, grid sums
-// (measuring). Writes: grid sums, the bodies' entries' sums (pushing), the ledger's flows (measuring), the watchdog.
+// Reads: blockTable (mirrorDispatch: the dispatch record and w), particleRanks (the list), positionMass (xyz),
+//        velocityVolume (w: V0), kirchhoffStress, blockMap, colliders,
+//        gridMomentumMass (the nodes' masses and when measuring the sums and when pushing the atomics' old values),
+//        gridImpulse (pushing in PIC/FLIP or semi-implicit steps: the atomics' old values),
+//        watchdog (the reports' and the ledger's atomics' old values).
+// Writes: gridMomentumMass (pushing in an explicit APIC step: the impulses go to the momentum sums),
+//         gridImpulse (pushing in PIC/FLIP or semi-implicit steps: the impulse sums),
+//         colliders (pushing: the bodies' entries' sums),
+//         watchdog (overflows and the bodies' loads when pushing and the ledger's flows when measuring).
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
 // the semi-implicit step's impulse sums (docs/platform.md).
 #define FIRN_WITHOUT_AFFINE

@@ -2,7 +2,8 @@
 // Order tiles: a work group per active block, an invocation per tile of it (common/blocks.glsl). Files each tile
 // that holds particles in the tile order, in its bucket of fill (fullest first); within a bucket, in whatever
 // order the atomics give, which changes no result.
-// Reads: bins[].x, tileBuckets (first entries). Writes: tileOrder, tileBuckets (next free entries).
+// Reads: bins (x: the counts), blockTable (blockCounts and the blockDispatch record and tileBuckets: first entries).
+// Writes: tileOrder, blockTable (tileBuckets: next free entries).
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
 

@@ -5,7 +5,12 @@
 // reach, then adds each accumulator to its node with one atomic per channel. The tile's particles share their
 // nodes, so this takes a few atomics per particle where one per particle, node and channel took 27 to 448; and the
 // accumulators' indices are the same in every invocation, which a CPU renderer runs as vector code.
-// Reads: particle state, the block table and map, bins, sortedParticles, tileOrder. Writes: grid sums, the watchdog.
+// Reads: blockTable (tileCounts.x and slots[] and the tileDispatch record), tileOrder, bins, sortedParticles,
+//        positionMass, velocityVolume, kirchhoffStress, affine (APIC), blockMap,
+//        gridMomentumMass (fixed point: the atomics' old values), gridImpulse (fixed point: the atomics' old values),
+//        watchdog (the reports' atomics' old values).
+// Writes: gridMomentumMass (the momentum and mass sums with an explicit APIC step's impulse),
+//         gridImpulse (PIC/FLIP or semi-implicit: the impulse sums), watchdog (overflows and non-finite particles).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"

@@ -9,7 +9,11 @@
 // The sums are the tile pass's (p2g.comp): the same quantized contributions, added in another order, and integer
 // sums do not depend on the order. Which of the two runs is chosen by timing both (sim/TransferShape.h), never by
 // the scene. Fixed point only: float sums depend on the order, so a float scene keeps the tile pass.
-// Reads: particle state, the block table and map, sortedParticles. Writes: grid sums, the watchdog.
+// Reads: blockTable (blockCounts and slots[]), sortedParticles, positionMass, velocityVolume, kirchhoffStress,
+//        affine (APIC), blockMap, gridMomentumMass (the atomics' old values), gridImpulse (the atomics' old values),
+//        watchdog (the reports' atomics' old values).
+// Writes: gridMomentumMass (the momentum and mass sums with an explicit APIC step's impulse),
+//         gridImpulse (PIC/FLIP or semi-implicit: the impulse sums), watchdog (overflows and non-finite particles).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
 #include "common/grid.glsl"

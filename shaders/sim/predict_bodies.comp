@@ -5,7 +5,8 @@
 // solve: the grid update meets its surface moving so (a separating body holds the nodes approaching it then), and
 // integrate_bodies.comp adds the snow's impulses after the solve to V* (ColliderParams.freeVelocity).
 // The energy ledger takes the push's own energy, as integrate_bodies.comp takes the rest's (common/bodies.glsl).
-// Reads and writes: the bodies' entries. Writes: the ledger's flows.
+// Reads: colliders (the bodies' entries and the push summed there), watchdog (the ledger's atomics' old values).
+// Writes: colliders (the bodies' entries: velocities and their sums cleared), watchdog (the ledger's flows).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"

@@ -2,8 +2,9 @@
 // Prepare blocks: one invocation, first in the step (common/blocks.glsl). Last step's active blocks become the
 // ones to release, their count the release pass's dispatch; this step's counts of blocks and rows start at zero.
 // Resets the watchdog's fastest signal, which this step's G2P finds afresh (adaptive steps).
-// Reads: blockCounts. Writes: blockCounts, releaseDispatch, tileCounts, mirrorBlocks, mirrorDispatch,
-// tileBuckets, maxSpeedBits.
+// Reads: blockTable (blockCounts).
+// Writes: watchdog (maxSpeedBits),
+//   blockTable (blockCounts and releaseDispatch and tileCounts and mirrorBlocks and mirrorDispatch and tileBuckets).
 #include "common/bindings.glsl"
 #include "common/watchdog.glsl"
 #include "common/blocks.glsl"

@@ -3,7 +3,8 @@
 // FIRN_STRIDE_OVER_BLOCKS), an invocation per node of it.
 // Empties what the block held — its nodes' sums and velocities, its bins — and takes it off the block map, so
 // that every slot of the pool is clean when the step claims it again.
-// Reads: slots (last step's), blockCounts.z. Writes: grid storage, bins, slots[].particles, blockMap.
+// Reads: blockTable (blockCounts.z and last step's slots[].block and the releaseDispatch record).
+// Writes: gridMomentumMass, gridImpulse (PIC/FLIP or semi-implicit), bins, blockMap, blockTable (slots[].particles).
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"

@@ -8,7 +8,8 @@
 // whatever their masses' ratio. The body's entry then moves at u' for the rest of the step: couple_nodes.comp gives
 // the nodes that surface velocity and the body their impulses, which integrate_bodies.comp adds to u*. A body that
 // holds no node keeps u*.
-// Reads and writes: the bodies' entries.
+// Reads: colliders (the bodies' entries and their coupling sums).
+// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"

@@ -5,9 +5,11 @@
 // v* − x₀ (solver_residual.comp); y (A z, P⁻¹ A z) and w (A z, P⁻¹ A p) with the last direction's product, from
 // which solver_reduce.comp forms (A p, P⁻¹ A p) of this iteration's direction (solver_step.comp) without a pass of
 // its own. A work group per active block, an invocation per node.
-// Reads: the grid's masses, the product sums, residual, the preconditioner's inverse, preconditioned,
-// directionProduct, constraints.
-// Writes: product (and its held normal component), the product sums (cleared), the block's partial sums.
+// Reads: solverStatus (the solveBlockDispatch record), blockTable (blockCounts), gridMomentumMass (the masses),
+//        solverNodes (the product sums and residual and preconditioned and directionProduct and constraint),
+//        solverPreconditioner (the inverse).
+// Writes: solverNodes (product with its held normal component in w and the product sums cleared),
+//         solverStatus (the block's partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

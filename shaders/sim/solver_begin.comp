@@ -2,7 +2,8 @@
 // The semi-implicit solve's start, once per step (common/solver.glsl): the iterations' passes are dispatched over
 // this step's blocks and tiles, and the registers of last step's dot products and the least rounding stiffness are
 // cleared.
-// Reads: the block table's dispatches. Writes: the solver's status.
+// Reads: blockTable (blockDispatch and tileDispatch).
+// Writes: solverStatus (registers and the dispatch records and solveEnd and roundingStiffness).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"

@@ -11,9 +11,13 @@
 // from the product of the solution: common/colliders.glsl, constraintsAfterSolve) and of the friction; with moving
 // colliders, their part of that push, the friction and the collisions are their work on the snow, for the energy
 // audit (common/energy.glsl).
-// Reads: the grid's velocities and masses, constraints, the colliders' normal impulses, colliders, the product sums
-// (with rigid bodies or moving colliders). Writes: the grid's velocities, the product sums (cleared), the bodies' sums
-// (with rigid bodies) and the energy ledger's flows.
+// Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
+//        gridMomentumMass (the velocities and masses),
+//        solverNodes (constraint and residual.w: the colliders' normal impulses and FIRN_SOLUTION_PRODUCT's sums),
+//        colliders, watchdog (the ledger's and the loads' atomics' old values).
+// Writes: gridMomentumMass (the velocities),
+//         solverNodes (FIRN_SOLUTION_PRODUCT with rigid bodies or moving colliders: the product sums cleared),
+//         colliders (rigid bodies: their sums), watchdog (the energy ledger's flows and the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

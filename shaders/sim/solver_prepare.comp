@@ -3,7 +3,8 @@
 // the frame of F's SVD and projected onto the positive semi-definite (common/material_hessians.glsl), so that the
 // iterations' products need no SVD; and the least V⁰ (2μ + λ) of the particles, the scale of the tolerance's rounding
 // floor (solver_residual.comp), a minimum per work group and one atomic per group. One invocation per particle.
-// Reads: elasticDeformation, plasticState, materials, velocityVolume. Writes: solverParticles, roundingStiffness.
+// Reads: elasticDeformation, plasticState, materials, velocityVolume (w: V0).
+// Writes: solverParticles, solverStatus (roundingStiffness).
 #include "common/bindings.glsl"
 #include "common/material_hessians.glsl"
 #include "common/solver_reduction.glsl"

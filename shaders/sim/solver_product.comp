@@ -6,8 +6,14 @@
 // keeps the faster (ImplicitSolver::timeProducts), and both write the same bytes.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
 // which update_grid.comp left in the direction: the first product of a step also sums the nodes' stiffness blocks.
-// Reads: particle state, solverParticles, the block table and map, bins, sortedParticles, tileOrder, the solver's
-// vectors. Writes: the solver's product sums, the watchdog.
+// Reads: solverStatus (in the solve: the solveProductDispatch record),
+//        blockTable (tileCounts.x and slots[] and after the solve the tileDispatch record), tileOrder, bins,
+//        sortedParticles, blockMap, positionMass (xyz), velocityVolume (w: V0), solverParticles,
+//        elasticDeformation (FIRN_SOLVER_FORCE_DIFFERENCE test builds), plasticState (the same test builds),
+//        materials (the same test builds), solverNodes (u: direction or else preconditioned and the sums' old words),
+//        watchdog (the reports' atomics' old values).
+// Writes: solverNodes (the product sums and in the first product the stiffness blocks' sums),
+//         watchdog (contributions too large for the fixed point).
 #define FIRN_WITHOUT_SOLVER_PRECONDITIONER
 #define FIRN_PRODUCT_BY_ROWS  // common/solver_product.glsl: the stencil row by row, for CPU renderers
 #include "common/bindings.glsl"

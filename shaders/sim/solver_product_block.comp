@@ -7,8 +7,14 @@
 // solver_product.comp: the same contributions, rounded alike, summed exactly.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
 // which update_grid.comp left in the direction: the first product of a step also sums the nodes' stiffness blocks.
-// Reads: particle state, solverParticles, the block table and map, sortedParticles, the solver's vectors. Writes:
-// the solver's product sums, the watchdog.
+// Reads: solverStatus (in the solve: the solveBlockDispatch record),
+//        blockTable (blockCounts and slots[] and after the solve the blockDispatch record), sortedParticles, blockMap,
+//        positionMass (xyz), velocityVolume (w: V0), solverParticles,
+//        elasticDeformation (FIRN_SOLVER_FORCE_DIFFERENCE test builds), plasticState (the same test builds),
+//        materials (the same test builds), solverNodes (u: direction or else preconditioned and the sums' old words),
+//        watchdog (the reports' atomics' old values).
+// Writes: solverNodes (the product sums and in the first product the stiffness blocks' sums),
+//         watchdog (contributions too large for the fixed point).
 #define FIRN_WITHOUT_SOLVER_PRECONDITIONER
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"

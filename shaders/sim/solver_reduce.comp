@@ -5,7 +5,9 @@
 // order of the slots: each partial becomes a 64-bit integer at the scale that puts the largest below 2^41 (room for
 // 2^21 blocks), and integers add exactly. After the residual's sum it decides whether another iteration is needed,
 // and if not empties the dispatches of the iterations the host has still to look at.
-// Reads: blockPartials, the block table's dispatches. Writes: registers, the solver's dispatches.
+// Reads: solverStatus (blockPartials and registers and the solveReduceDispatch record),
+//        blockTable (blockCounts and blockDispatch and tileDispatch).
+// Writes: solverStatus (registers and the solver's dispatch records and solveEnd).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"

@@ -6,9 +6,13 @@
 // in place of z₀ (solver_step.comp), and the block's partial sums of (r₀, P⁻¹ r₀), of the tolerance's reference
 // (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) over all the components, held ones too, and of the rounding floor (below). The grid's
 // velocities become x₀, the solution's start.
-// Reads: the grid's velocities (v*) and masses, the solver's start (direction), the product and stiffness block sums,
-// constraints. Writes: the grid's velocities, residual, the preconditioner's inverse, preconditioned (v* − x₀), the
-// sums (cleared), the block's partial sums, the collider's normal impulse (residual.w).
+// Reads: solverStatus (roundingStiffness and the solveBlockDispatch record), blockTable (blockCounts),
+//        gridMomentumMass (the velocities v* and masses),
+//        solverNodes (direction: the start x₀ and the product and stiffness block sums and constraint and residual.w),
+//        solverPreconditioner (the inverse it has just written at the node).
+// Writes: gridMomentumMass (the velocities become x₀), solverPreconditioner (the inverse),
+//         solverNodes (residual with w: the normal impulse and preconditioned: v* − x₀ and the sums cleared),
+//         solverStatus (the block's partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

@@ -4,7 +4,8 @@
 // colliders hold are the constraints' push on the snow, which the bodies take back and the moving colliders do work
 // with (solver_finish.comp; docs/algorithm.md, Rigid bodies; docs/numerics.md, The energy audit).
 // A work group per active block, an invocation per node.
-// Reads: the grid's velocities. Writes: preconditioned.
+// Reads: blockTable (blockCounts and the blockDispatch record), gridMomentumMass (the velocities: the solution x).
+// Writes: solverNodes (preconditioned).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

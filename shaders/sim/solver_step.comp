@@ -9,9 +9,12 @@
 // before (another step's values in a reused slot) is then never multiplied by a zero, which would turn a stale
 // infinity into NaN.
 // A work group per active block, an invocation per node.
-// Reads: the registers, the grid's velocities and masses, residual, the preconditioner's inverse, preconditioned,
-// product, direction, directionProduct. Writes: the grid's velocities, residual (and the collider's normal impulse),
-// preconditioned, direction, directionProduct, the block's partial sums.
+// Reads: solverStatus (the registers and the solveBlockDispatch record), blockTable (blockCounts),
+//        gridMomentumMass (the velocities and masses),
+//        solverNodes (residual and preconditioned and product and direction and directionProduct),
+//        solverPreconditioner (the inverse).
+// Writes: gridMomentumMass (the velocities: x), solverStatus (the block's partial sums),
+//         solverNodes (residual with w: the normal impulse and preconditioned and direction and directionProduct).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

@@ -6,11 +6,17 @@
 // after the solve (common/colliders.glsl, collideForSolve).
 // With rigid bodies (explicit step), the bodies wait for their coupled solve: this pass adds the nodes they hold to
 // their sums (common/colliders.glsl, addToCoupling) and couple_nodes.comp meets them after solve_coupling.comp.
-// Reads: grid sums, the block table, colliders. Writes: the same storage as floats (velocity m/s, mass kg), and for
-// PIC/FLIP the velocity before forces. Semi-implicit steps: the node's constraints and the start of the solve
-// (solver.glsl). The energy ledger's flows: the moving colliders' work (common/energy.glsl). What the walls take here
-// stays in the dissipated energy, as a collider at rest's does: a wall stops, each step, the velocity the step's forces
-// gave the nodes pressed into it, which had moved nothing, and that cancels only against the step's own truncation.
+// The energy ledger's flows take the moving colliders' work (common/energy.glsl). What the walls take here stays in
+// the dissipated energy, as a collider at rest's does: a wall stops, each step, the velocity the step's forces gave
+// the nodes pressed into it, which had moved nothing, and that cancels only against the step's own truncation.
+// Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
+//        gridMomentumMass (the momentum and mass sums), gridImpulse (PIC/FLIP or semi-implicit: the impulse sums),
+//        colliders (with colliders or rigid bodies), watchdog (the ledger's and the loads' atomics' old values).
+// Writes: gridMomentumMass (the same storage as floats: velocity m/s and mass kg),
+//         gridImpulse (PIC/FLIP: the velocity before forces),
+//         solverNodes (semi-implicit steps: the node's constraint and residual.w and the solve's start in direction),
+//         colliders (rigid bodies: the snow's push and the explicit step's coupling sums),
+//         watchdog (the energy ledger's flows: the moving colliders' work and the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"

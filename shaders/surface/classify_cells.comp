@@ -3,7 +3,7 @@
 // (which corners hold f ≥ iso), the crossings of its own three edges, and so how many vertices it makes (one per
 // crossed edge of its own) and how many triangles its cell does. One invocation per node; nodes on the grid's
 // far faces have no cell, and edges leaving the grid belong to no node.
-// Reads: density, the case table. Writes: cells, counts (the prefix scan turns them into offsets).
+// It reads the density and the case table, and writes cells and counts (the prefix scan turns them into offsets).
 #include "surface/surface_common.glsl"
 #include "surface/cells.glsl"
 

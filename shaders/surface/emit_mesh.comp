@@ -8,7 +8,7 @@
 // gradient of f (central differences at the edge's ends, interpolated alike); its albedo is Σ V W albedo / f,
 // both sums interpolated, which is defined wherever f is (at the vertex, f = iso > 0); its velocity likewise
 // Σ V W v / f, the particles' velocities weighted as the field weighs them.
-// Reads: density, node sums, cells, counts (offsets), the case table. Writes: vertices, indices.
+// It reads the density, node sums, cells, counts (offsets) and the case table, and writes vertices and indices.
 #include "surface/surface_common.glsl"
 #include "surface/cells.glsl"
 #include "surface/node_sums.glsl"

@@ -2,7 +2,7 @@
 // A prefix scan's way down (engine/surface/PrefixScan.h): each invocation replaces its chunk of SCAN_CHUNK
 // elements by their exclusive prefix sums, starting from the chunk's own offset, which the level above (already
 // scanned) holds; the top level, a single chunk, starts from 0.
-// Reads and writes: the values. Reads: the level above's scanned sums.
+// It reads and writes the values, and reads the level above's scanned sums.
 #include "surface/surface_common.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;

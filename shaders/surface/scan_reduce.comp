@@ -2,7 +2,7 @@
 // A prefix scan's way up (engine/surface/PrefixScan.h): each invocation sums one chunk of SCAN_CHUNK elements
 // into the level above. One sequential loop per invocation, no barriers: on llvmpipe a barrier switches every
 // lane's coroutine, and a loop of 64 is cheap (docs/platform.md, Timing on llvmpipe).
-// Reads: the values. Writes: one sum per chunk.
+// It reads the values and writes one sum per chunk.
 #include "surface/surface_common.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;

@@ -6,7 +6,8 @@
 // the nodes of its kernel's ball, row by row (at most (2 · MAX_KERNEL_RADIUS_CELLS + 1)³ nodes). Each contribution
 // is rounded to fixed point on its own and added with an integer atomic, so the sums are exact and the same
 // whatever order the particles add in.
-// Reads: positionMass, velocityVolume, plasticState, the particle colours. Writes: density, node sums (atomic adds).
+// It reads positionMass, velocityVolume, plasticState and the particle colours, and writes the density and node
+// sums (atomic adds).
 #include "common/particles.glsl"
 #include "surface/surface_common.glsl"
 #include "surface/kernel_radius.glsl"

@@ -206,7 +206,9 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
   std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(s);
   seeds.insert(seeds.end(), scattered.begin(), scattered.end());
   for (const bool whole : {true, false}) {
-    Simulation simulation(s, seeds, gl(), 0, firn::MaterialPrograms::SceneModels, 16);
+    firn::SimulationOptions options;
+    options.blockCapacity = 16;
+    Simulation simulation(s, seeds, gl(), options);
     if (whole) {
       std::ostringstream log;
       simulation.advanceFrame(1.0 / s.time.frameRateHz, log);
@@ -223,7 +225,9 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
       }
     }
   }
-  Simulation simulation(s, firn::sampleBodies(s), gl(), 4000);
+  firn::SimulationOptions options;
+  options.particleCapacity = 4000;
+  Simulation simulation(s, firn::sampleBodies(s), gl(), options);
   ASSERT_LT(simulation.blockUsage().capacity, 2000u);
   simulation.addParticles(scattered);
   EXPECT_GE(simulation.blockUsage().capacity, 2000u);
@@ -241,8 +245,10 @@ TEST_F(BlockGrid, PoolGrowsWhenParticlesOutgrowIt) {
 TEST_F(BlockGrid, BlocksPastTheHostsCountAreTransferredWhole) {
   const Scene s = boxInALargeDomain();
   for (const char* shape : {"tiles", "blocks-64", "blocks-256"}) {
-    const firn::ForcedTransferShape forced(shape);
-    Simulation simulation(s, firn::sampleBodies(s), gl(), 4000);
+    firn::SimulationOptions options;
+    options.particleCapacity = 4000;
+    options.transferShapes = shape;
+    Simulation simulation(s, firn::sampleBodies(s), gl(), options);
     simulation.step(s.time.dtS);
     const std::size_t counted = simulation.blockUsage().lastStep;  // the count the dispatches take from here on
     ASSERT_GT(counted, 0u) << shape;
@@ -259,7 +265,6 @@ TEST_F(BlockGrid, BlocksPastTheHostsCountAreTransferredWhole) {
 // whole; one fuller stops the run with what to change, rather than dropping particles. Cubic kernel (the most loop
 // iterations per particle): a box of 4 × 1 × 1 cells whose particles' base nodes fill one tile.
 TEST_F(BlockGrid, FullestTileIsScatteredWholeAndFullerIsReported) {
-  const firn::ForcedTransferShape tiles("tiles");  // the limit is the tiles' (P2G by blocks has none)
   const unsigned limit = firn::gpu::maxTileParticles(4);
   for (const double fill : {0.98, 1.2}) {
     // Cells 9–12 along x: cubic base nodes 8–11, the third tile of a block row; y and z one cell.
@@ -267,7 +272,9 @@ TEST_F(BlockGrid, FullestTileIsScatteredWholeAndFullerIsReported) {
     const Scene s = sceneFromJson(scene(32, R"({"kernel": "cubic", "transfer": "pic_flip"})",
                                         "[" + box(glm::dvec3(0.45, 0.45, 0.45), glm::dvec3(0.65, 0.5, 0.5),
                                                   glm::dvec3(0.0), particlesPerCell) + "]"));
-    Simulation simulation(s, firn::sampleBodies(s), gl());
+    firn::SimulationOptions tiles;
+    tiles.transferShapes = "tiles";  // the limit is the tiles' (P2G by blocks has none)
+    Simulation simulation(s, firn::sampleBodies(s), gl(), tiles);
     if (fill < 1) {
       ASSERT_LE(simulation.particleCount(), limit);
       ASSERT_GT(simulation.particleCount(), 0.8 * limit);

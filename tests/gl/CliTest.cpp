@@ -86,6 +86,27 @@ TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   EXPECT_FALSE(fs::exists(directory / "refused"));
 }
 
+// `--transfer-shape` gives the run the transfer shapes it times (here one, so none is timed), and its log says so; a
+// name it does not know, or blocks for float sums, is bad input (exit 2).
+TEST(Cli, TransferShapeOptionGivesTheRunItsShapes) {
+  const fs::path directory = freshDirectory("shapes");
+  const fs::path scene = writeScene(directory, "small.json", kSmallScene);
+  const Result tiles = runFirn("run " + scene.string() + " --check --transfer-shape tiles");
+  ASSERT_EQ(tiles.exitCode, 0) << tiles.output;
+  EXPECT_NE(tiles.output.find("transfers: P2G by tiles, as the run was asked"), std::string::npos) << tiles.output;
+  const Result unknown = runFirn("run " + scene.string() + " --check --transfer-shape warps");
+  EXPECT_EQ(unknown.exitCode, 2) << unknown.output;
+  EXPECT_NE(unknown.output.find("--transfer-shape: must be one of tiles, blocks, blocks-64"), std::string::npos)
+      << unknown.output;
+  std::string json = kSmallScene;
+  json.replace(json.find("\"grid\""), 6, "\"solver\": { \"atomics\": \"float\" }, \"grid\"");
+  const fs::path floatSums = writeScene(directory, "float.json", json);
+  const Result blocks = runFirn("run " + floatSums.string() + " --check --transfer-shape blocks");
+  EXPECT_EQ(blocks.exitCode, 2) << blocks.output;
+  EXPECT_NE(blocks.output.find("transfer shape blocks: blocks sum in fixed point only"), std::string::npos)
+      << blocks.output;
+}
+
 // `firn run` with no scene runs the built-in one and writes stats.csv (plain CSV: header + frame 0 + N frames, frame N
 // at N / frame_rate), one PLY per frame with the particles' state, and run.json, whose transfers are those the run's
 // log names; mass never changes. The grid's active blocks follow the snowball: a ball of radius 6 cells and its

@@ -527,8 +527,9 @@ TEST_F(ObjectsTest, TimingTheTransferShapesPushesNoBody) {
     "rigid_bodies": [ { "shape": "sphere", "center": [0.6, 0.4, 0.4], "radius": 0.1, "density": 500 } ]
   })", "timed against a body");
   const auto run = [&](const char* shape) {
-    const firn::ForcedTransferShape forced(shape);
-    auto simulation = std::make_unique<Simulation>(scene, firn::sampleBodies(scene), gl());
+    firn::SimulationOptions options;
+    options.transferShapes = shape;
+    auto simulation = std::make_unique<Simulation>(scene, firn::sampleBodies(scene), gl(), options);
     for (int i = 0; i < 10; ++i) simulation->step(scene.time.dtS);
     simulation->checkWatchdog();
     return simulation;

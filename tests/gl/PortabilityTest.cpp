@@ -169,7 +169,7 @@ std::vector<Stage> recordStages() {
     ShaderSourceLog log;
     // A step's programs: the pipeline's and the block grid's, which sort the particles into it.
     for (const auto& [scene, programs] : stepScenes()) {
-      firn::StepPipeline pipeline(scene, programs, info);
+      firn::StepPipeline pipeline(scene, programs, info, firn::transferShapeCandidates(scene, ""));
       const firn::GpuStateLayout layout =
           firn::GpuStateLayout::forScene(scene, 1, 1, firn::needsDeformationGradient(scene, programs));
       firn::BlockGrid grid(layout, firn::gl::ShaderLibrary(), firn::stepShaderOptions(scene, programs), info);

@@ -289,7 +289,9 @@ TEST_F(SimulationTest, SnowCompactedPastTheStepIsNamedAsTheCause) {
                     "velocity": [20, 0, 0] } ],
       "colliders": [ { "type": "plane", "point": [0.7, 0, 0], "normal": [-1, 0, 0], "friction": 1.0,
                        "boundary": "separate" } ] })");
-    Simulation simulation(scene, firn::sampleBodies(scene), gl(), 0, firn::MaterialPrograms::SceneModels, 4096);
+    firn::SimulationOptions options;
+    options.blockCapacity = 4096;
+    Simulation simulation(scene, firn::sampleBodies(scene), gl(), options);
     simulation.advanceTo(0.04);
     if (std::string(adaptive) == "true") {
       simulation.checkWatchdog();
@@ -334,7 +336,9 @@ TEST_F(SimulationTest, ActiveGridFollowsParticlesNotDomain) {
 TEST_F(SimulationTest, AddedParticlesJoinTheGridAndFall) {
   const Scene scene = sceneFromJson(boxScene(R"({"transfer": "apic", "kernel": "quadratic"})", "[0, 0, 0]", "[]"));
   const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
-  Simulation simulation(scene, seeds, gl(), 2 * seeds.size());
+  firn::SimulationOptions options;
+  options.particleCapacity = 2 * seeds.size();
+  Simulation simulation(scene, seeds, gl(), options);
   EXPECT_EQ(simulation.particleCapacity(), 2 * seeds.size());
   simulation.advanceTo(0.05);
 

@@ -169,7 +169,9 @@ TEST_F(SparseParticles, SprayThrownOffAnImpactStaysFinite) {
                                        "spray");
   // The splash spreads over more of the grid within a frame than the pool's first guess; `firn run` grows it and
   // redoes the frame, a test starts with room (4,096 blocks, 4 MiB).
-  Simulation simulation(scene, firn::sampleBodies(scene), gl(), 0, firn::MaterialPrograms::SceneModels, 4096);
+  firn::SimulationOptions options;
+  options.blockCapacity = 4096;
+  Simulation simulation(scene, firn::sampleBodies(scene), gl(), options);
   simulation.advanceTo(0.25);
   simulation.checkWatchdog();
   const ParticleSnapshot end = simulation.snapshot();

@@ -30,9 +30,15 @@ struct ShapeRun {
   firn::ParticleSnapshot particles;
 };
 
+// A simulation given `shapes` (SimulationOptions::transferShapes; "": every shape).
+firn::SimulationOptions inShapes(const std::string& shapes) {
+  firn::SimulationOptions options;
+  options.transferShapes = shapes;
+  return options;
+}
+
 ShapeRun runInShape(const Scene& scene, const std::string& shape, int steps) {
-  const firn::ForcedTransferShape forced(shape);
-  Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info(), inShapes(shape));
   EXPECT_EQ(firn::transferShapeName(simulation.transferShapeChoice()->shape), shape);
   ShapeRun run;
   run.grid = simulation.readGridAfterTransfer();
@@ -108,7 +114,6 @@ TEST(TransferShape, EveryShapeWritesTheSameBytesAsTiles) {
 // block sizes only.
 TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   const Scene scene = firn::defaultScene();
-  const firn::ForcedTransferShape unforced("");
   Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
   const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
   ASSERT_TRUE(choice.has_value());
@@ -117,9 +122,8 @@ TEST(TransferShape, ARunKeepsTheFastestShapeItTimed) {
   expectKeptTheFastest(choice->msPerTransfer, choice->shape);
   EXPECT_NE(choice->describe().find("faster than"), std::string::npos) << choice->describe();
 
-  // FIRN_TRANSFER_SHAPE=blocks times the block sizes alone (the benchmarks' blocks rows).
-  const firn::ForcedTransferShape blocks("blocks");
-  Simulation blocksOnly(scene, firn::sampleBodies(scene), firn::test::glContext().info());
+  // "blocks" times the block sizes alone (the benchmarks' blocks rows).
+  Simulation blocksOnly(scene, firn::sampleBodies(scene), firn::test::glContext().info(), inShapes("blocks"));
   const std::optional<firn::TransferShapeChoice>& blocksChoice = blocksOnly.transferShapeChoice();
   ASSERT_TRUE(blocksChoice.has_value());
   EXPECT_TRUE(blocksChoice->forced);
@@ -134,7 +138,6 @@ TEST(TransferShape, ASemiImplicitRunTimesItsProductToo) {
   Scene scene = assetScene("snowball_wall.json");
   scene.solver.integrator = firn::Integrator::SemiImplicit;
   scene.time.dtS = 1e-3;
-  const firn::ForcedTransferShape unforced("");
   Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info());
   const std::optional<firn::TransferShapeChoice>& choice = simulation.transferShapeChoice();
   ASSERT_TRUE(choice.has_value());
@@ -160,7 +163,6 @@ TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTil
     "bodies": [ { "shape": "box", "min": [0.25, 0.2, 0.25], "max": [0.35, 0.7, 0.35], "material": "slush",
                   "velocity": [0, -2, 0], "start_frame": 1, "duration_frames": 8 } ] })",
                                         "a column released over frames 1 to 9");
-  const firn::ForcedTransferShape unforced("");
   Simulation simulation(stream, firn::sampleBodies(stream), firn::test::glContext().info());
   ASSERT_EQ(simulation.particleCount(), 0u) << "the column is released from frame 1 on, none at the start";
   EXPECT_FALSE(simulation.transferShapeChoice().has_value());
@@ -179,23 +181,23 @@ TEST(TransferShape, EmittersTimeTheShapesAsTheirParticlesGrowAndFloatSumsKeepTil
   floatSums.solver.atomics = firn::Atomics::Float;
   ASSERT_EQ(firn::transferShapes(floatSums).size(), 1u);
   EXPECT_EQ(firn::transferShapes(floatSums)[0].kind, TransferShape::Kind::Tiles);
-  const firn::ForcedTransferShape blocks("blocks-128");
   try {
-    (void)firn::transferShapeCandidates(floatSums);
+    (void)firn::transferShapeCandidates(floatSums, "blocks-128");
     FAIL() << "blocks were accepted for float sums";
   } catch (const firn::InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("FIRN_TRANSFER_SHAPE=blocks-128"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("transfer shape blocks-128: blocks sum in fixed point only"),
+              std::string::npos)
+        << error.what();
   }
 }
 
-TEST(TransferShape, AnUnknownShapeIsBadInputNamingTheVariable) {
-  const firn::ForcedTransferShape wrong("warps");
+TEST(TransferShape, AnUnknownShapeIsBadInputListingTheShapes) {
   try {
-    (void)firn::transferShapeCandidates(firn::defaultScene());
+    (void)firn::transferShapeCandidates(firn::defaultScene(), "warps");
     FAIL() << "\"warps\" was accepted";
   } catch (const firn::InputError& error) {
     const std::string message = error.what();
-    EXPECT_NE(message.find("FIRN_TRANSFER_SHAPE"), std::string::npos) << message;
+    EXPECT_NE(message.find("transfer shape: expected one of"), std::string::npos) << message;
     EXPECT_NE(message.find("blocks-256"), std::string::npos) << message;
     EXPECT_NE(message.find("\"warps\""), std::string::npos) << message;
   }

@@ -10,7 +10,6 @@ namespace firn {
 
 namespace {
 
-constexpr GLbitfield kStorage = GL_SHADER_STORAGE_BARRIER_BIT;
 
 gl::ComputePass variant(const Scene& scene, const char* shader, const char* define) {
   gl::ShaderOptions options = stepShaderOptions(scene, MaterialPrograms::SceneModels);
@@ -51,18 +50,27 @@ const ImplicitSolver& SimulationProbe::solver() {
   return *solver;
 }
 
+const TransferPasses& SimulationProbe::tileTransfers() {
+  (void)solver();
+  const TransferPasses& first = simulation_.pipeline_.transfers().front();
+  if (first.shape().kind != TransferShape::Kind::Tiles) {
+    throw std::logic_error(sceneFileName(simulation_.scene()) + ": the solver's probes need the tiles among the shapes");
+  }
+  return first;
+}
+
 void SimulationProbe::prepare(HessianProduct product) {
   Simulation& s = simulation_;
   GpuState& state = s.state_;
   state.writeStepUniforms(stepUniforms(s.scene_, s.fixedPoint_, s.scene_.time.dtS, s.timeS_, s.particleCount_, s.steps_));
-  // The probe's products are the tiles' (products_'s first): the sort files the tiles for them whatever shape the
-  // run chose.
+  // The probe's products are the tiles' (the step's first transfers): the sort files the tiles for them whatever shape
+  // the run chose.
   s.pipeline_.transferToGrid(state, s.particleCount_, BlockGrid::SortFor::Tiles, s.passTimer_);
   const gl::BufferBindings& buffers = state.bindings();
   const ImplicitSolver& implicitSolver = solver();
   const gl::ComputePass& pass = product == HessianProduct::Unprojected ? unprojectedPrepare_ : implicitSolver.prepare_;
   pass.runOver(s.particleCount_, s.gl_.maxComputeWorkGroupCountX, buffers, s.passTimer_);
-  glMemoryBarrier(kStorage);
+  state.bindings().completeWrites();
 }
 
 std::vector<SimulationProbe::NodeVector> SimulationProbe::hessianProduct(
@@ -78,12 +86,13 @@ std::vector<SimulationProbe::NodeVector> SimulationProbe::hessianProduct(
     stored[i].preconditioned = glm::vec4(glm::vec3(velocityAtNode(grid.originM + glm::dvec3(nodes[i]) * grid.cellSizeM)), 0);
   }
   solverNodes.upload(0, stored.size() * sizeof(gpu::SolverNode), stored.data());
-  // The tiles' product (products_'s first), whose dispatch is the transfers' own.
-  const gl::ComputePass& pass =
-      product == HessianProduct::ForceDifference ? forceDifferenceProduct_ : solver().products_.front().iteration;
+  // The tiles' product, whose dispatch is the transfers' own.
+  const gl::ComputePass& pass = product == HessianProduct::ForceDifference
+                                    ? forceDifferenceProduct_
+                                    : tileTransfers().productPass(TransferPasses::Product::Iteration);
   pass.runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
                    simulation_.passTimer_);
-  glMemoryBarrier(kStorage);
+  state.bindings().completeWrites();
   return inGridOrder<NodeVector>(nodes, takeSums(nodes.size()).products);
 }
 
@@ -91,10 +100,10 @@ std::vector<SimulationProbe::NodeMatrix> SimulationProbe::stiffnessBlocks() {
   prepare(HessianProduct::Differential);
   GpuState& state = simulation_.state_;
   const std::vector<glm::ivec3> nodes = state.grid().activeNodes();
-  solver().products_.front().first.runIndirect(state.grid().blockTable(),
-                                               offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
-                                               simulation_.passTimer_);
-  glMemoryBarrier(kStorage);
+  tileTransfers().productPass(TransferPasses::Product::First)
+      .runIndirect(state.grid().blockTable(), offsetof(gpu::BlockTableHeader, tileDispatch), state.bindings(),
+                   simulation_.passTimer_);
+  state.bindings().completeWrites();
   return inGridOrder<NodeMatrix>(nodes, takeSums(nodes.size()).stiffnessBlocks);
 }
 

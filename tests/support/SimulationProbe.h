@@ -67,6 +67,8 @@ class SimulationProbe {
 
   // The solve and its test-only programs, built when first asked for.
   const ImplicitSolver& solver();
+  // The step's transfers by tiles (its first, when every shape is given), whose products the probes run.
+  const TransferPasses& tileTransfers();
 
   Simulation& simulation_;
   gl::ComputePass unprojectedPrepare_;

@@ -1,0 +1,133 @@
+// The barriers between compute passes follow from what each pass's header declares it reads and writes
+// (gl/StorageAccess.h, gl/BufferBindings.h): a pass waits where it reads what an earlier pass wrote since the last
+// barrier, or writes what one read or wrote since; passes that share nothing run without one; an indirect dispatch
+// waits for the commands an earlier pass wrote. A program that uses a block its header does not name is refused.
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "GlTest.h"
+#include "gl/Buffer.h"
+#include "gl/BufferBindings.h"
+#include "gl/ComputePass.h"
+#include "gl/PassTimer.h"
+#include "gl/ShaderLibrary.h"
+
+namespace {
+
+using firn::gl::Buffer;
+using firn::gl::BufferBindings;
+using firn::gl::ComputePass;
+
+constexpr unsigned kValues = 256;
+
+// Three blocks of kValues uints (xs, ys, zs) and a dispatch record (commands), and passes over them.
+const char* const kBlocks =
+    "layout(local_size_x = 64) in;\n"
+    "layout(std430, binding = 0) buffer XsBuffer { uint xs[]; };\n"
+    "layout(std430, binding = 1) buffer YsBuffer { uint ys[]; };\n"
+    "layout(std430, binding = 2) buffer ZsBuffer { uint zs[]; };\n"
+    "layout(std430, binding = 3) buffer CommandsBuffer { uvec4 groups; };\n";
+
+firn::gl::ShaderLibrary passLibrary() {
+  const auto pass = [](const std::string& header, const std::string& body) {
+    return "#version 430 core\n" + header + kBlocks + "void main() { uint i = gl_GlobalInvocationID.x; " + body + " }\n";
+  };
+  return firn::gl::ShaderLibrary({
+      {"write_x.comp", pass("// Reads: nothing.\n// Writes: xs.\n", "xs[i] = i + 1u;")},
+      {"write_y.comp", pass("// Reads: nothing.\n// Writes: ys (twice x's value).\n", "ys[i] = 2u * (i + 1u);")},
+      {"sum_into_z.comp", pass("// Reads: xs, ys.\n// Writes: zs.\n", "zs[i] = xs[i] + ys[i];")},
+      {"size_dispatch.comp",
+       pass("// Reads: nothing.\n// Writes: commands.\n", "if (i == 0u) groups = uvec4(4u, 1u, 1u, 0u);")},
+      {"undeclared_z.comp", pass("// Adds one to z.\n", "zs[i] += 1u;")},
+      {"half_declared.comp", pass("// Reads: xs.\n// Writes: nothing.\n", "ys[i] = xs[i];")},
+      {"helper_unused.comp",
+       "#version 430 core\n// Reads: xs.\n// Writes: zs.\n" + std::string(kBlocks) +
+           "uint unused(uint i) { return ys[i]; }\n"
+           "uint twice(uint i) { return 2u * xs[i]; }\n"
+           "void main() { uint i = gl_GlobalInvocationID.x; zs[i] = twice(i); }\n"},
+      {"helper_used.comp",
+       "#version 430 core\n// Reads: xs.\n// Writes: zs.\n" + std::string(kBlocks) +
+           "#define GROUPS groups.x\n"
+           "uint count() { return GROUPS; }\n"
+           "void main() { uint i = gl_GlobalInvocationID.x; zs[i] = xs[i] + count(); }\n"},
+  });
+}
+
+struct Passes {
+  firn::gl::ShaderLibrary library = passLibrary();
+  ComputePass writeX{library, "write_x.comp", {}};
+  ComputePass writeY{library, "write_y.comp", {}};
+  ComputePass sumIntoZ{library, "sum_into_z.comp", {}};
+  ComputePass sizeDispatch{library, "size_dispatch.comp", {}};
+  ComputePass undeclaredZ{library, "undeclared_z.comp", {}};
+};
+
+TEST(PassOrder, BarriersFollowFromTheDeclarations) {
+  firn::test::glContext();
+  const Passes passes;
+  Buffer xs(kValues * 4), ys(kValues * 4), zs(kValues * 4), commands(16);
+  BufferBindings buffers;
+  buffers.storage(0, xs);
+  buffers.storage(1, ys);
+  buffers.storage(2, zs);
+  buffers.storage(3, commands);
+  firn::gl::PassTimer untimed;
+  std::vector<BufferBindings::PassRecord> record;
+  buffers.recordPasses(&record);
+
+  passes.writeX.runOver(kValues, 65535, buffers, untimed);
+  passes.writeY.runOver(kValues, 65535, buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 0u) << "x and y share nothing";
+  passes.sumIntoZ.runOver(kValues, 65535, buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 1u) << "z's sum reads x and y, written since no barrier";
+  passes.sizeDispatch.runOnce(buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 1u) << "the commands share nothing with the sum";
+  // Reads the commands written since the last barrier (a command barrier) and writes z, which the sum wrote (a
+  // storage barrier): one glMemoryBarrier with both bits.
+  passes.sumIntoZ.runIndirect(commands, 0, buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 2u);
+  passes.writeX.runOver(kValues, 65535, buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 3u) << "x is written after the sum read it";
+  // A pass that declares nothing waits for every pending write; its own caller orders what follows it.
+  passes.undeclaredZ.runOver(kValues, 65535, buffers, untimed);
+  EXPECT_EQ(buffers.barriers(), 4u);
+  buffers.completeWrites();
+  EXPECT_EQ(buffers.barriers(), 4u) << "nothing declared was written since";
+  buffers.recordPasses(nullptr);
+
+  const std::vector<std::uint32_t> z = zs.read<std::uint32_t>(kValues);
+  for (unsigned i = 0; i < kValues; ++i) EXPECT_EQ(z[i], 3u * (i + 1u) + 1u) << i;
+  ASSERT_EQ(record.size(), 7u);
+  EXPECT_EQ(record[2].phase, "sum_into_z.comp");
+  EXPECT_EQ(record[2].access.reads, firn::gl::bindingBit(0) | firn::gl::bindingBit(1));
+  EXPECT_EQ(record[2].access.writes, firn::gl::bindingBit(2));
+  EXPECT_FALSE(record[6].access.declared);
+}
+
+// A block is used where main() reaches it, through the functions it calls and the macros they use: commands here, by
+// way of count() and GROUPS; not ys, which only a function main() never calls names.
+TEST(PassOrder, AProgramUsingABlockItsHeaderDoesNotNameIsRefused) {
+  firn::test::glContext();
+  const firn::gl::ShaderLibrary library = passLibrary();
+  EXPECT_NO_THROW(ComputePass(library, "helper_unused.comp", {}));
+  try {
+    const ComputePass pass(library, "helper_used.comp", {});
+    ADD_FAILURE() << "a pass that reads the commands through a macro without declaring them was built";
+  } catch (const std::logic_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("helper_used.comp uses groups (storage binding 3)"), std::string::npos) << message;
+  }
+  try {
+    const ComputePass pass(library, "half_declared.comp", {});
+    ADD_FAILURE() << "a pass that writes ys without declaring it was built";
+  } catch (const std::logic_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("half_declared.comp uses ys (storage binding 1)"), std::string::npos) << message;
+  }
+}
+
+}  // namespace
