@@ -3,14 +3,33 @@
 // fixed-point series stepped semi-implicitly at the thesis's 1e-3 s, whose solve's passes (the Hessian product
 // above all) are where that integrator's time goes; and, at the GPU sizes, for each fixed-point series on a bunny of
 // a million particles with the quadratic kernel, the GPU target's configuration. The summary gives each pass's share
-// and their sum.
+// and their sum. Each pass also says the bytes it reads and writes per particle and per node, as its shader's
+// declarations count them (Simulation::PassTraffic), and the step's total against the floor of one read and one write
+// of each particle's state (docs/numerics.md, "Bytes moved").
+#include <filesystem>
+#include <map>
+
 #include "Error.h"
 #include "Experiments.h"
+#include "gpu/GpuLayout.h"
 #include "sim/Simulation.h"
 
 namespace firn::bench {
 
 namespace {
+
+// A step's traffic by pass (the names timePasses gives them), summed over each pass's dispatches.
+std::map<std::string, Simulation::PassTraffic> trafficByPass(const std::vector<Simulation::PassTraffic>& step) {
+  std::map<std::string, Simulation::PassTraffic> byPass;
+  for (const Simulation::PassTraffic& dispatch : step) {
+    Simulation::PassTraffic& pass = byPass[std::filesystem::path(dispatch.pass).stem().string()];
+    pass.readBytesPerParticle += dispatch.readBytesPerParticle;
+    pass.writtenBytesPerParticle += dispatch.writtenBytesPerParticle;
+    pass.readBytesPerNode += dispatch.readBytesPerNode;
+    pass.writtenBytesPerNode += dispatch.writtenBytesPerNode;
+  }
+  return byPass;
+}
 
 struct PassSeries {
   SumSeries sums;
@@ -64,7 +83,8 @@ PlannedWork planPasses(const BenchRun& run) {
 void measurePasses(BenchRun& run) {
   CsvTable table(
       {"atomics", "transfer_shape", "integrator", "kernel", "pass", "gpu_ms", "wall_ms", "share_of_step",
-       "dispatches_per_step", "particles", "renderer"});
+       "dispatches_per_step", "read_bytes_per_particle", "written_bytes_per_particle", "read_bytes_per_node",
+       "written_bytes_per_node", "mb_per_step", "particles", "renderer"});
   for (const auto& [sums, integrator, kernel, particles] : passSeries(run)) {
     const std::string& atomics = sums.atomics;
     try {
@@ -75,6 +95,21 @@ void measurePasses(BenchRun& run) {
       Simulation simulation(scene, seeds, run.gl(), options);
       const std::string shape = chosenTransferShape(simulation);
       const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
+      const std::map<std::string, Simulation::PassTraffic> traffic =
+          trafficByPass(simulation.stepRecordingTraffic(scene.time.dtS));
+      const double particleCount = double(simulation.particleCount());
+      const double nodeCount = double(simulation.blockUsage().lastStep) * gpu::BLOCK_NODES;
+      const auto megabytes = [&](const Simulation::PassTraffic& pass) {
+        return (particleCount * double(pass.readBytesPerParticle + pass.writtenBytesPerParticle) +
+                nodeCount * double(pass.readBytesPerNode + pass.writtenBytesPerNode)) / 1e6;
+      };
+      Simulation::PassTraffic step;
+      for (const auto& [name, pass] : traffic) {
+        step.readBytesPerParticle += pass.readBytesPerParticle;
+        step.writtenBytesPerParticle += pass.writtenBytesPerParticle;
+        step.readBytesPerNode += pass.readBytesPerNode;
+        step.writtenBytesPerNode += pass.writtenBytesPerNode;
+      }
       double totalWallMs = 0, totalGpuMs = 0;
       for (const PassTiming& timing : timings) {
         totalWallMs += timing.wallMs;
@@ -82,6 +117,8 @@ void measurePasses(BenchRun& run) {
       }
       std::string shares;
       for (const PassTiming& timing : timings) {
+        const auto moved = traffic.find(timing.pass);
+        const Simulation::PassTraffic pass = moved != traffic.end() ? moved->second : Simulation::PassTraffic{};
         table.addRow()
             .setText("atomics", atomics)
             .setText("transfer_shape", shape)
@@ -92,6 +129,11 @@ void measurePasses(BenchRun& run) {
             .set("wall_ms", timing.wallMs)
             .set("share_of_step", timing.wallMs / totalWallMs)
             .set("dispatches_per_step", timing.dispatchesPerStep)
+            .setCount("read_bytes_per_particle", std::int64_t(pass.readBytesPerParticle))
+            .setCount("written_bytes_per_particle", std::int64_t(pass.writtenBytesPerParticle))
+            .setCount("read_bytes_per_node", std::int64_t(pass.readBytesPerNode))
+            .setCount("written_bytes_per_node", std::int64_t(pass.writtenBytesPerNode))
+            .set("mb_per_step", megabytes(pass))
             .setCount("particles", std::int64_t(seeds.size()))
             .setText("renderer", run.renderer());
         shares += (shares.empty() ? "" : ", ") + timing.pass + " " + fixed(100 * timing.wallMs / totalWallMs, 1) +
@@ -102,6 +144,14 @@ void measurePasses(BenchRun& run) {
                      " atomics, P2G by " + shape + ", " + integrator + (integrator == "explicit" ? "" : ", dt " + formatNumber(kThesisDtS) + " s") +
                      "), wall time per step, each pass timed alone: " + shares + "; sum " +
                      fixed(totalWallMs, 2) + " ms wall, " + fixed(totalGpuMs, 2) + " ms GL_TIME_ELAPSED");
+      const std::size_t floor = 2 * simulation.particleStateBytes();
+      run.addSummary("bytes moved per step (" + grouped(seeds.size()) + " particles, " + kernel + ", " + atomics +
+                     ", " + integrator + "): " + std::to_string(step.readBytesPerParticle) + " B read and " +
+                     std::to_string(step.writtenBytesPerParticle) + " B written per particle, " +
+                     fixed(double(step.readBytesPerParticle + step.writtenBytesPerParticle) / double(floor), 1) +
+                     "x the floor of " + std::to_string(floor) + " B (its state read once and written once); " +
+                     fixed(megabytes(step), 1) + " MB in all with the " + grouped(std::size_t(nodeCount)) +
+                     " nodes' " + std::to_string(step.readBytesPerNode + step.writtenBytesPerNode) + " B each");
     } catch (const SimulationError& error) {
       run.progress("passes, " + integrator + ": unstable: " + error.what());
     } catch (const InputError& error) {

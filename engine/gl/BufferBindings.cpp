@@ -41,6 +41,10 @@ void BufferBindings::bindFor(const Program& program) const {
   }
 }
 
+const Buffer* BufferBindings::storageAt(GLuint binding) const {
+  return binding < storage_.size() ? storage_[binding] : nullptr;
+}
+
 void BufferBindings::barrier(GLbitfield bits) const {
   glMemoryBarrier(bits);
   ++barriers_;

@@ -45,6 +45,8 @@ class BufferBindings {
   // Records every pass that runs from here on into `record` (null: stop recording): how benchmarks count the bytes
   // each pass moves. The record must outlive the recording.
   void recordPasses(std::vector<PassRecord>* record) const { record_ = record; }
+  // The storage buffer at `binding`, or null where none is published.
+  const Buffer* storageAt(GLuint binding) const;
   // The barriers placed so far (each glMemoryBarrier call once).
   std::size_t barriers() const { return barriers_; }
 

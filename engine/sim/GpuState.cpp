@@ -299,6 +299,29 @@ void GpuState::save() {
   for (std::size_t i = 0; i < buffers.size(); ++i) saved_[i].copyFrom(*buffers[i], buffers[i]->bytes());
 }
 
+StorageRecordBytes GpuState::storageRecordBytes() const {
+  StorageRecordBytes records;
+  records.perParticle.assign(FIRN_SOLVER_BINDINGS_END, 0);
+  records.perNode.assign(FIRN_SOLVER_BINDINGS_END, 0);
+  const std::size_t particles = particleCapacity();
+  const std::size_t nodes = grid_.usage().capacity * std::size_t(gpu::BLOCK_NODES);
+  const auto recordOf = [&](unsigned binding, std::size_t count) {
+    const gl::Buffer* buffer = bindings_.storageAt(binding);
+    return buffer != nullptr && *buffer && count > 0 ? buffer->bytes() / count : 0;
+  };
+  for (const unsigned binding : {FIRN_BINDING_POSITION_MASS, FIRN_BINDING_VELOCITY_VOLUME,
+                                 FIRN_BINDING_ELASTIC_DEFORMATION, FIRN_BINDING_KIRCHHOFF_STRESS, FIRN_BINDING_AFFINE,
+                                 FIRN_BINDING_PLASTIC_STATE, FIRN_BINDING_SORTED_PARTICLES,
+                                 FIRN_BINDING_PARTICLE_RANKS, FIRN_BINDING_SOLVER_PARTICLES}) {
+    records.perParticle[binding] = recordOf(binding, particles);
+  }
+  for (const unsigned binding : {FIRN_BINDING_GRID_MOMENTUM_MASS, FIRN_BINDING_GRID_IMPULSE, FIRN_BINDING_BINS,
+                                 FIRN_BINDING_SOLVER_NODES, FIRN_BINDING_SOLVER_PRECONDITIONER}) {
+    records.perNode[binding] = recordOf(binding, nodes);
+  }
+  return records;
+}
+
 void GpuState::restore() {
   if (saved_.empty()) throw std::logic_error("restoreState: no state was saved");
   const std::vector<gl::Buffer*> buffers = stateBuffers();

@@ -25,6 +25,14 @@
 
 namespace firn {
 
+// The bytes of one record of each storage binding's buffer: per particle (the particles' state, the sort's indices
+// and the solver's stiffness) or per node of the block pool (the grid's sums, the bins, the solver's vectors); 0
+// where a binding holds neither (the tables, the block table and map) or nothing is published.
+struct StorageRecordBytes {
+  std::vector<std::size_t> perParticle;  // by binding point
+  std::vector<std::size_t> perNode;
+};
+
 class GpuState {
  public:
   // The block grid's passes are built with the step's shader options. Throws InputError when a buffer would exceed
@@ -44,6 +52,7 @@ class GpuState {
   const SolverState* solver() const { return solver_ ? &*solver_ : nullptr; }
   // Every part's buffers at its binding points: what each pass binds the blocks it declares from.
   const gl::BufferBindings& bindings() const { return bindings_; }
+  StorageRecordBytes storageRecordBytes() const;
 
   // The block pool: its use (the grid's and the solver's buffers), and a new, larger pool (the grid is rebuilt every
   // step, so nothing is copied). Throws InputError when the pool's buffers of `capacity` blocks exceed what the

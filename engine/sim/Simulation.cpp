@@ -700,4 +700,43 @@ void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
                         scene_.colliders.size() + index);
 }
 
+std::vector<Simulation::PassTraffic> Simulation::stepRecordingTraffic(double dtS) {
+  std::vector<gl::BufferBindings::PassRecord> record;
+  state_.bindings().recordPasses(&record);
+  try {
+    step(dtS);
+  } catch (...) {
+    state_.bindings().recordPasses(nullptr);
+    throw;
+  }
+  state_.bindings().recordPasses(nullptr);
+  const StorageRecordBytes bytes = state_.storageRecordBytes();
+  std::vector<PassTraffic> traffic;
+  for (const gl::BufferBindings::PassRecord& pass : record) {
+    PassTraffic moved;
+    moved.pass = pass.phase;
+    for (std::size_t binding = 0; binding < bytes.perParticle.size(); ++binding) {
+      const gl::BindingSet bit = gl::bindingBit(unsigned(binding));
+      // A pass that declares nothing may touch every block it has: counted as reading and writing them all.
+      const bool reads = !pass.access.declared || (pass.access.reads & bit);
+      const bool writes = !pass.access.declared || (pass.access.writes & bit);
+      if (reads) moved.readBytesPerParticle += bytes.perParticle[binding];
+      if (writes) moved.writtenBytesPerParticle += bytes.perParticle[binding];
+      if (reads) moved.readBytesPerNode += bytes.perNode[binding];
+      if (writes) moved.writtenBytesPerNode += bytes.perNode[binding];
+    }
+    traffic.push_back(std::move(moved));
+  }
+  return traffic;
+}
+
+std::size_t Simulation::particleStateBytes() const {
+  const StorageRecordBytes bytes = state_.storageRecordBytes();
+  std::size_t state = 0;
+  for (unsigned binding = FIRN_PARTICLE_BINDINGS_FIRST; binding < FIRN_PARTICLE_BINDINGS_END; ++binding) {
+    state += bytes.perParticle[binding];
+  }
+  return state;
+}
+
 }  // namespace firn

@@ -179,6 +179,23 @@ class Simulation {
   void setPassTiming(bool enabled) { passTimer_.setEnabled(enabled); }
   const std::vector<PassTime>& passTimes() const { return passTimer_.times(); }
 
+  // What one dispatch of a step moved, as its shader's declarations say (gl/StorageAccess.h): each block it reads or
+  // writes counted whole, a record per particle or per node of the pool (GpuState::storageRecordBytes). An upper
+  // bound of what a pass touches (a pass that writes x of positionMass counts its mass too), and the measure the
+  // step's passes are compared with: the floor of one read and one write of each particle's state.
+  struct PassTraffic {
+    std::string pass;  // the phase name, as passTimes() names it
+    std::size_t readBytesPerParticle = 0;
+    std::size_t writtenBytesPerParticle = 0;
+    std::size_t readBytesPerNode = 0;
+    std::size_t writtenBytesPerNode = 0;
+  };
+  // One step(dtS), recording what each of its dispatches moved, in their order.
+  std::vector<PassTraffic> stepRecordingTraffic(double dtS);
+  // The bytes of one particle's state, the particle buffers the step carries over (positionMass, velocityVolume, and
+  // as the scene needs them F, τ, C and the plastic state): what a step must read once and write once at the least.
+  std::size_t particleStateBytes() const;
+
   // Runs the sort and P2G on the current state and returns every node of the active blocks with its sums in kg
   // and kg m/s (a diagnostic: the atomics' error against a double-precision CPU sum, in
   // `firn bench`). On a state just built (no stress yet, C = 0) the momentum is Σ w m v for every transfer.
