@@ -95,8 +95,8 @@ void measurePasses(BenchRun& run) {
       Simulation simulation(scene, seeds, run.gl(), options);
       const std::string shape = chosenTransferShape(simulation);
       const std::vector<PassTiming> timings = timePasses(simulation, run.sizes().timing);
-      const std::map<std::string, Simulation::PassTraffic> traffic =
-          trafficByPass(simulation.stepRecordingTraffic(scene.time.dtS));
+      const Simulation::StepTraffic stepTraffic = simulation.stepRecordingTraffic(scene.time.dtS);
+      const std::map<std::string, Simulation::PassTraffic> traffic = trafficByPass(stepTraffic.dispatches);
       const double particleCount = double(simulation.particleCount());
       const double nodeCount = double(simulation.blockUsage().lastStep) * gpu::BLOCK_NODES;
       const auto megabytes = [&](const Simulation::PassTraffic& pass) {
@@ -151,7 +151,9 @@ void measurePasses(BenchRun& run) {
                      fixed(double(step.readBytesPerParticle + step.writtenBytesPerParticle) / double(floor), 1) +
                      "x the floor of " + std::to_string(floor) + " B (its state read once and written once); " +
                      fixed(megabytes(step), 1) + " MB in all with the " + grouped(std::size_t(nodeCount)) +
-                     " nodes' " + std::to_string(step.readBytesPerNode + step.writtenBytesPerNode) + " B each");
+                     " nodes' " + std::to_string(step.readBytesPerNode + step.writtenBytesPerNode) + " B each; " +
+                     std::to_string(stepTraffic.barriers) + " barriers between its " +
+                     std::to_string(stepTraffic.dispatches.size()) + " dispatches");
     } catch (const SimulationError& error) {
       run.progress("passes, " + integrator + ": unstable: " + error.what());
     } catch (const InputError& error) {

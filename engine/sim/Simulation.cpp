@@ -700,8 +700,9 @@ void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
                         scene_.colliders.size() + index);
 }
 
-std::vector<Simulation::PassTraffic> Simulation::stepRecordingTraffic(double dtS) {
+Simulation::StepTraffic Simulation::stepRecordingTraffic(double dtS) {
   std::vector<gl::BufferBindings::PassRecord> record;
+  const std::size_t barriersBefore = state_.bindings().barriers();
   state_.bindings().recordPasses(&record);
   try {
     step(dtS);
@@ -711,7 +712,8 @@ std::vector<Simulation::PassTraffic> Simulation::stepRecordingTraffic(double dtS
   }
   state_.bindings().recordPasses(nullptr);
   const StorageRecordBytes bytes = state_.storageRecordBytes();
-  std::vector<PassTraffic> traffic;
+  StepTraffic traffic;
+  traffic.barriers = state_.bindings().barriers() - barriersBefore;
   for (const gl::BufferBindings::PassRecord& pass : record) {
     PassTraffic moved;
     moved.pass = pass.phase;
@@ -725,7 +727,7 @@ std::vector<Simulation::PassTraffic> Simulation::stepRecordingTraffic(double dtS
       if (reads) moved.readBytesPerNode += bytes.perNode[binding];
       if (writes) moved.writtenBytesPerNode += bytes.perNode[binding];
     }
-    traffic.push_back(std::move(moved));
+    traffic.dispatches.push_back(std::move(moved));
   }
   return traffic;
 }

@@ -190,8 +190,13 @@ class Simulation {
     std::size_t readBytesPerNode = 0;
     std::size_t writtenBytesPerNode = 0;
   };
-  // One step(dtS), recording what each of its dispatches moved, in their order.
-  std::vector<PassTraffic> stepRecordingTraffic(double dtS);
+  // One step(dtS), recording what each of its dispatches moved, in their order, and the barriers placed between
+  // them (gl/BufferBindings.h).
+  struct StepTraffic {
+    std::vector<PassTraffic> dispatches;
+    std::size_t barriers = 0;
+  };
+  StepTraffic stepRecordingTraffic(double dtS);
   // The bytes of one particle's state, the particle buffers the step carries over (positionMass, velocityVolume, and
   // as the scene needs them F, τ, C and the plastic state): what a step must read once and write once at the least.
   std::size_t particleStateBytes() const;

@@ -15,6 +15,9 @@
 #include "gl/ComputePass.h"
 #include "gl/PassTimer.h"
 #include "gl/ShaderLibrary.h"
+#include "scene/Sampling.h"
+#include "scene/Scene.h"
+#include "sim/Simulation.h"
 
 namespace {
 
@@ -128,6 +131,35 @@ TEST(PassOrder, AProgramUsingABlockItsHeaderDoesNotNameIsRefused) {
     const std::string message = error.what();
     EXPECT_NE(message.find("half_declared.comp uses ys (storage binding 1)"), std::string::npos) << message;
   }
+}
+
+}  // namespace
+
+namespace {
+
+// What one step of the built-in scene (APIC, cubic, explicit, P2G by tiles) moves, as its passes' declarations count
+// it (Simulation::stepRecordingTraffic): the sort reads each position three times and the ranks once (3 × 16 + 4 B),
+// P2G x, v, τ, C and the sorted index (16 + 16 + 48 + 48 + 4 B), G2P x, v, F, the plastic state and the index (16 + 16
+// + 48 + 16 + 4 B); the sort writes the ranks and the sorted indices (4 + 4 B) and G2P the whole 192 B state. Each of
+// its 12 passes but order_tiles (which shares nothing with bin_place before it) waits for the one before it, and
+// the step ends with one barrier for what reads the particles next: 11 barriers, as many as were placed by hand.
+TEST(PassOrder, AStepMovesWhatItsPassesDeclare) {
+  const firn::Scene scene = firn::defaultScene();
+  firn::SimulationOptions tiles;
+  tiles.transferShapes = "tiles";
+  firn::Simulation simulation(scene, firn::sampleBodies(scene), firn::test::glContext().info(), tiles);
+  simulation.step(scene.time.dtS);
+  const firn::Simulation::StepTraffic traffic = simulation.stepRecordingTraffic(scene.time.dtS);
+  std::size_t read = 0, written = 0;
+  for (const firn::Simulation::PassTraffic& dispatch : traffic.dispatches) {
+    read += dispatch.readBytesPerParticle;
+    written += dispatch.writtenBytesPerParticle;
+  }
+  EXPECT_EQ(simulation.particleStateBytes(), 192u);
+  EXPECT_EQ(read, 3u * 16 + 4 + 132 + 100);
+  EXPECT_EQ(written, 4u + 4 + 192);
+  EXPECT_EQ(traffic.dispatches.size(), 12u);
+  EXPECT_EQ(traffic.barriers, 11u);
 }
 
 }  // namespace
