@@ -5,7 +5,7 @@
 // a million particles with the quadratic kernel, the GPU target's configuration. The summary gives each pass's share
 // and their sum. Each pass also says the bytes it reads and writes per particle and per node, as its shader's
 // declarations count them (Simulation::PassTraffic), and the step's total against the floor of one read and one write
-// of each particle's state (docs/numerics.md, "Bytes moved").
+// of each particle's state (docs/numerics.md, "The passes' declarations, barriers and bytes moved").
 #include <filesystem>
 #include <map>
 

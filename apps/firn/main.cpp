@@ -487,6 +487,11 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
     }
     return static_cast<int>(firn::ExitCode::BadInput);
   }
+  // Read until the transfer shape became an option: a script that still sets it would time every shape unawares.
+  const char* oldShape = std::getenv("FIRN_TRANSFER_SHAPE");
+  if (oldShape != nullptr && (world == nullptr || world->rank() == 0)) {
+    std::fprintf(stderr, "firn: warning: FIRN_TRANSFER_SHAPE is no longer read; use --transfer-shape %s\n", oldShape);
+  }
 
   try {
     if (world != nullptr && world->size() > 1 && !run->parsed()) {

@@ -54,36 +54,38 @@ void BufferBindings::barrier(GLbitfield bits) const {
 
 void BufferBindings::beforePass(const StorageAccess& access, const Buffer* commands) const {
   GLbitfield bits = 0;
-  if (!access.declared) {
-    if (writtenSinceBarrier_ != 0) bits |= GL_SHADER_STORAGE_BARRIER_BIT;
-    if (writtenSinceCommandBarrier_ != 0 && commands != nullptr) bits |= GL_COMMAND_BARRIER_BIT;
-  } else {
-    if ((access.reads & writtenSinceBarrier_) || (access.writes & (writtenSinceBarrier_ | readSinceBarrier_))) {
-      bits |= GL_SHADER_STORAGE_BARRIER_BIT;
+  if ((access.reads & writtenSinceBarrier_) || (access.writes & (writtenSinceBarrier_ | readSinceBarrier_))) {
+    bits |= GL_SHADER_STORAGE_BARRIER_BIT;
+  }
+  if (commands != nullptr) {
+    // The commands' bindings, where they are published here; else any pending write may be theirs.
+    BindingSet commandBits = 0;
+    for (std::size_t binding = 0; binding < storage_.size(); ++binding) {
+      if (storage_[binding] == commands) commandBits |= bindingBit(unsigned(binding));
     }
-    if (commands != nullptr) {
-      // The commands' binding, if they are published here; else any pending write may be theirs.
-      BindingSet commandBits = ~BindingSet(0);
-      for (std::size_t binding = 0; binding < storage_.size(); ++binding) {
-        if (storage_[binding] == commands) commandBits = bindingBit(unsigned(binding));
-      }
-      if (writtenSinceCommandBarrier_ & commandBits) bits |= GL_COMMAND_BARRIER_BIT;
-    }
+    if (writtenSinceCommandBarrier_ & (commandBits != 0 ? commandBits : ~BindingSet(0))) bits |= GL_COMMAND_BARRIER_BIT;
   }
   if (bits != 0) barrier(bits);
 }
 
 void BufferBindings::afterPass(const StorageAccess& access, const std::string& phase) const {
   if (record_ != nullptr) record_->push_back({phase, access});
-  if (!access.declared) return;  // its caller's barriers follow it
   readSinceBarrier_ |= access.reads;
   writtenSinceBarrier_ |= access.writes;
   writtenSinceCommandBarrier_ |= access.writes;
 }
 
 void BufferBindings::completeWrites() const {
-  if (writtenSinceBarrier_ == 0) return;
-  barrier(GL_SHADER_STORAGE_BARRIER_BIT | (writtenSinceCommandBarrier_ != 0 ? GL_COMMAND_BARRIER_BIT : 0));
+  if (writtenSinceBarrier_ == 0 && writtenSinceCommandBarrier_ == 0) return;
+  barrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT |
+          (writtenSinceCommandBarrier_ != 0 ? GL_COMMAND_BARRIER_BIT : 0));
+}
+
+void BufferBindings::unpublishAll() {
+  completeWrites();
+  storage_.clear();
+  uniform_.clear();
+  textures_.clear();
 }
 
 }  // namespace firn::gl

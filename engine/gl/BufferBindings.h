@@ -30,12 +30,13 @@ class BufferBindings {
   // each pass around its dispatch. Before a pass that reads a buffer written since the last storage barrier, or
   // writes one read or written since, a storage barrier (GL_SHADER_STORAGE_BARRIER_BIT); before an indirect dispatch
   // whose `commands` were written since the last command barrier, a command barrier (GL_COMMAND_BARRIER_BIT). A pass
-  // that declares nothing waits for every pending write and is followed by its caller's own barriers.
+  // that declares nothing counts as reading and writing every block its program has.
   void beforePass(const StorageAccess& access, const Buffer* commands) const;
   void afterPass(const StorageAccess& access, const std::string& phase) const;
   // One barrier for every write still pending: for what reads without binding from here (the host, the renderer,
   // another pipeline's passes), at the end of a step's work.
   void completeWrites() const;
+  // (GL_BUFFER_UPDATE_BARRIER_BIT too: host uploads and copies after the passes' writes.)
 
   // A pass's record: its phase name and what it read and wrote.
   struct PassRecord {
@@ -45,6 +46,9 @@ class BufferBindings {
   // Records every pass that runs from here on into `record` (null: stop recording): how benchmarks count the bytes
   // each pass moves. The record must outlive the recording.
   void recordPasses(std::vector<PassRecord>* record) const { record_ = record; }
+  // Nothing published any more (for publishing anew, as when buffers are reallocated): the pending writes completed
+  // first, the recording and the count of barriers kept.
+  void unpublishAll();
   // The storage buffer at `binding`, or null where none is published.
   const Buffer* storageAt(GLuint binding) const;
   // The barriers placed so far (each glMemoryBarrier call once).

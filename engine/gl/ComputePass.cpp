@@ -12,6 +12,8 @@ ComputePass::ComputePass(const ShaderLibrary& library, const std::string& shader
       groupSize_(GLuint(program_.workGroupSize().x)) {
   if (const std::optional<DeclaredAccess> declared = declaredAccess(shader, library.file(shader))) {
     access_ = resolveAccess(shader, *declared, program_, library.preprocess(shader, options).text);
+  } else {
+    access_ = undeclaredAccess(shader, program_);
   }
 }
 

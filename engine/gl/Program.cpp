@@ -127,6 +127,7 @@ std::vector<std::pair<std::string, GLuint>> Program::storageMembers() const {
     const GLenum blockIndex = GL_BLOCK_INDEX, bufferBinding = GL_BUFFER_BINDING;
     GLint block = -1, binding = 0;
     glGetProgramResourceiv(id_, GL_BUFFER_VARIABLE, GLuint(variable), 1, &blockIndex, 1, nullptr, &block);
+    if (block < 0) continue;
     glGetProgramResourceiv(id_, GL_SHADER_STORAGE_BLOCK, GLuint(block), 1, &bufferBinding, 1, nullptr, &binding);
     members.emplace_back(name, GLuint(binding));
   }

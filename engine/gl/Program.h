@@ -1,6 +1,7 @@
 #pragma once
 // Move-only owner of a linked program: a compute program, or a vertex + fragment program for drawing.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/mat4x4.hpp>

@@ -48,8 +48,8 @@ std::vector<std::string> listedNames(const std::string& path, const std::string&
   return names;
 }
 
-// GLSL `text` without its comments and the storage blocks' declarations (`buffer X { … };`), lines kept.
-std::string codeOnly(const std::string& text) {
+// GLSL `text` without its comments and (unless `keepBlocks`) the storage blocks' declarations (`buffer X { … };`).
+std::string codeOnly(const std::string& text, bool keepBlocks) {
   std::string code;
   code.reserve(text.size());
   for (std::size_t i = 0; i < text.size();) {
@@ -60,7 +60,7 @@ std::string codeOnly(const std::string& text) {
       const std::size_t end = text.find("*/", i + 2);
       code += ' ';
       i = end == std::string::npos ? text.size() : end + 2;
-    } else if (text.compare(i, 6, "buffer") == 0 && (i == 0 || !isIdentifierChar(text[i - 1])) &&
+    } else if (!keepBlocks && text.compare(i, 6, "buffer") == 0 && (i == 0 || !isIdentifierChar(text[i - 1])) &&
                i + 6 < text.size() && !isIdentifierChar(text[i + 6])) {
       const std::size_t open = text.find('{', i), semicolon = text.find(';', i);
       if (open == std::string::npos || semicolon < open) {  // `buffer` as a word elsewhere: kept
@@ -80,7 +80,7 @@ std::string codeOnly(const std::string& text) {
 // macros they use, and what stands outside every function (declarations, shared arrays). A rough reading of GLSL,
 // which takes every #ifdef's branches alike and an overloaded name's every body: it can only find more, not less.
 std::set<std::string> reachableIdentifiers(const std::string& text) {
-  const std::string code = codeOnly(text);
+  const std::string code = codeOnly(text, false);
   std::map<std::string, std::set<std::string>> bodies;  // functions' and macros'
   std::set<std::string> roots = {"main"};
   std::set<std::string> statement;  // what is read outside the functions since the last `;`: a declaration's
@@ -88,7 +88,7 @@ std::set<std::string> reachableIdentifiers(const std::string& text) {
   std::set<std::string>* current = &statement;  // where the identifiers read now belong
   std::string lastIdentifier, calledName;
   char lastSymbol = 0;
-  int depth = 0;
+  int depth = 0, parentheses = 0;
   for (std::size_t i = 0; i < code.size();) {
     const char c = code[i];
     if (c == '#' && (i == 0 || code[i - 1] == '\n' || std::isspace(static_cast<unsigned char>(code[i - 1])))) {
@@ -114,7 +114,10 @@ std::set<std::string> reachableIdentifiers(const std::string& text) {
       i = end;
       continue;
     }
-    if (c == '(' && depth == 0 && lastSymbol == 'a') calledName = lastIdentifier;
+    // A function's name stands before the first parenthesis of its signature (not a macro's within it).
+    if (c == '(' && depth == 0 && parentheses == 0 && lastSymbol == 'a') calledName = lastIdentifier;
+    if (c == '(') ++parentheses;
+    if (c == ')' && parentheses > 0) --parentheses;
     if (c == '{') {
       if (depth == 0) {
         current = lastSymbol == ')' ? &bodies[calledName] : &skipped;  // a function's body, or a struct's
@@ -160,6 +163,21 @@ std::set<std::string> reachableIdentifiers(const std::string& text) {
   return reached;
 }
 
+// Whether `code` declares the storage block `block` (`buffer <block>`).
+bool declaresBlock(const std::string& code, const std::string& block) {
+  for (std::size_t at = code.find(block); at != std::string::npos; at = code.find(block, at + 1)) {
+    const std::size_t end = at + block.size();
+    if ((end < code.size() && isIdentifierChar(code[end])) || (at > 0 && isIdentifierChar(code[at - 1]))) continue;
+    std::size_t before = at;
+    while (before > 0 && std::isspace(static_cast<unsigned char>(code[before - 1]))) --before;
+    if (before >= 6 && code.compare(before - 6, 6, "buffer") == 0 &&
+        (before == 6 || !isIdentifierChar(code[before - 7]))) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // "FooBarBuffer" for "fooBar".
 std::string blockName(const std::string& name) {
   return std::string(1, char(std::toupper(static_cast<unsigned char>(name[0])))) + name.substr(1) + "Buffer";
@@ -172,8 +190,8 @@ std::optional<DeclaredAccess> declaredAccess(const std::string& path, const std:
   std::string* open = nullptr;  // the list whose last line ended with a comma
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("#version", 0) == 0) continue;
-    if (line.rfind("//", 0) != 0) break;  // the leading comment has ended
+    if (line.rfind("#version", 0) == 0 || trimmed(line).empty()) continue;
+    if (line.rfind("//", 0) != 0) break;  // the first line of code: the header has ended
     const std::string comment = trimmed(line.substr(2));
     if (open != nullptr) {
       *open += " " + comment;
@@ -197,21 +215,44 @@ std::optional<DeclaredAccess> declaredAccess(const std::string& path, const std:
   return DeclaredAccess{listedNames(path, *reads), listedNames(path, *writes)};
 }
 
+namespace {
+
+// Binding `binding`'s bit; a program's bindings lie within the sets' 64 (GpuLayout.h keeps Firn's below 32).
+BindingSet checkedBit(const std::string& path, GLuint binding) {
+  if (binding >= 64) throw std::logic_error(path + ": storage binding " + std::to_string(binding) + " is beyond 63");
+  return bindingBit(binding);
+}
+
+}  // namespace
+
+StorageAccess undeclaredAccess(const std::string& path, const Program& program) {
+  StorageAccess access;
+  for (const GLuint binding : program.storageBindings()) access.reads |= checkedBit(path, binding);
+  access.writes = access.reads;
+  return access;
+}
+
 StorageAccess resolveAccess(const std::string& path, const DeclaredAccess& declared, const Program& program,
                             const std::string& text) {
   StorageAccess access;
   access.declared = true;
+  const std::string code = codeOnly(text, true);
   const auto resolve = [&](const std::vector<std::string>& names, BindingSet& set) {
     for (const std::string& name : names) {
+      // A block this build leaves out drops out; a name no source declares is a mistake, which would lose a barrier.
+      if (!declaresBlock(code, blockName(name))) {
+        throw std::logic_error(path + ": its header names " + name + ", but no block " + blockName(name) +
+                               " is declared in its code");
+      }
       const int binding = program.storageBlockBinding(blockName(name));
-      if (binding >= 0) set |= bindingBit(unsigned(binding));
+      if (binding >= 0) set |= checkedBit(path, GLuint(binding));
     }
   };
   resolve(declared.reads, access.reads);
   resolve(declared.writes, access.writes);
   const std::set<std::string> named = reachableIdentifiers(text);
   for (const auto& [member, binding] : program.storageMembers()) {
-    if ((access.reads | access.writes) & bindingBit(binding) || named.count(member) == 0) continue;
+    if ((access.reads | access.writes) & checkedBit(path, binding) || named.count(member) == 0) continue;
     throw std::logic_error(path + " uses " + member + " (storage binding " + std::to_string(binding) +
                            "), whose block its header's Reads:/Writes: lines do not name");
   }

@@ -72,6 +72,8 @@ class BlockGrid {
   // The sort's per-particle buffers for `particleCapacity` particles (rebuilt every step, so nothing is copied).
   void allocateParticles(std::size_t particleCapacity);
   BlockUsage usage() const;
+  // The pool's slots (no read of the GPU, unlike usage()).
+  std::size_t capacity() const { return capacity_; }
 
   // What the sort leaves for the transfers: the particles by block and base node for every shape, and for the tile
   // passes (P2G's and the Hessian product's tiles, sim/TransferShape.h) also the tiles in order of fill.

@@ -175,7 +175,7 @@ void GpuState::growParticles(std::size_t capacity, const gl::ContextInfo& gl) {
 }
 
 void GpuState::publish() {
-  bindings_ = gl::BufferBindings();
+  bindings_.unpublishAll();
   particles_.publish(bindings_);
   grid_.publish(bindings_);
   if (solver_) solver_->publish(bindings_);
@@ -304,7 +304,7 @@ StorageRecordBytes GpuState::storageRecordBytes() const {
   records.perParticle.assign(FIRN_SOLVER_BINDINGS_END, 0);
   records.perNode.assign(FIRN_SOLVER_BINDINGS_END, 0);
   const std::size_t particles = particleCapacity();
-  const std::size_t nodes = grid_.usage().capacity * std::size_t(gpu::BLOCK_NODES);
+  const std::size_t nodes = grid_.capacity() * std::size_t(gpu::BLOCK_NODES);
   const auto recordOf = [&](unsigned binding, std::size_t count) {
     const gl::Buffer* buffer = bindings_.storageAt(binding);
     return buffer != nullptr && *buffer && count > 0 ? buffer->bytes() / count : 0;

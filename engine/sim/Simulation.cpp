@@ -719,7 +719,7 @@ Simulation::StepTraffic Simulation::stepRecordingTraffic(double dtS) {
     moved.pass = pass.phase;
     for (std::size_t binding = 0; binding < bytes.perParticle.size(); ++binding) {
       const gl::BindingSet bit = gl::bindingBit(unsigned(binding));
-      // A pass that declares nothing may touch every block it has: counted as reading and writing them all.
+      // A pass that declares nothing may touch any block: counted as reading and writing every binding.
       const bool reads = !pass.access.declared || (pass.access.reads & bit);
       const bool writes = !pass.access.declared || (pass.access.writes & bit);
       if (reads) moved.readBytesPerParticle += bytes.perParticle[binding];

@@ -16,7 +16,9 @@
 // Hessian is definite, and elsewhere the solve damps the modes that would soften instead of amplifying them.
 #include "common/materials.glsl"
 
-layout(std430, binding = FIRN_BINDING_SOLVER_PARTICLES) buffer SolverParticlesBuffer { SolverParticle solverParticles[]; };
+layout(std430, binding = FIRN_BINDING_SOLVER_PARTICLES) buffer SolverParticlesBuffer {
+  SolverParticle solverParticles[];
+};
 
 // Ψ's Hessian in the frame of F's singular values: ∂²Ψ/∂σ², and per pair of axes other than 1, 2, 3 (the pair
 // (2, 3), then (3, 1), then (1, 2)) the 2×2 block's eigenvalues on shear and on rotation.

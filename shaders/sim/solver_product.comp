@@ -6,8 +6,9 @@
 // keeps the faster (ImplicitSolver::timeProducts), and both write the same bytes.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
 // which update_grid.comp left in the direction: the first product of a step also sums the nodes' stiffness blocks.
-// Reads: solverStatus (in the solve: the solveProductDispatch record),
-//        blockTable (tileCounts.x and slots[] and after the solve the tileDispatch record), tileOrder, bins,
+// In the solve its dispatch is the solve's status's solveProductDispatch record: the dispatch's commands, which the
+// shader does not read.
+// Reads: blockTable (tileCounts.x and slots[] and after the solve the tileDispatch record), tileOrder, bins,
 //        sortedParticles, blockMap, positionMass (xyz), velocityVolume (w: V0), solverParticles,
 //        elasticDeformation (FIRN_SOLVER_FORCE_DIFFERENCE test builds), plasticState (the same test builds),
 //        materials (the same test builds), solverNodes (u: direction or else preconditioned and the sums' old words),

@@ -7,8 +7,9 @@
 // solver_product.comp: the same contributions, rounded alike, summed exactly.
 // u is the preconditioned residual z, or, built with FIRN_SOLVER_FIRST_PRODUCT, the start x₀ of the initial residual,
 // which update_grid.comp left in the direction: the first product of a step also sums the nodes' stiffness blocks.
-// Reads: solverStatus (in the solve: the solveBlockDispatch record),
-//        blockTable (blockCounts and slots[] and after the solve the blockDispatch record), sortedParticles, blockMap,
+// In the solve its dispatch is the solve's status's solveBlockDispatch record: the dispatch's commands, which the
+// shader does not read.
+// Reads: blockTable (blockCounts and slots[] and after the solve the blockDispatch record), sortedParticles, blockMap,
 //        positionMass (xyz), velocityVolume (w: V0), solverParticles,
 //        elasticDeformation (FIRN_SOLVER_FORCE_DIFFERENCE test builds), plasticState (the same test builds),
 //        materials (the same test builds), solverNodes (u: direction or else preconditioned and the sums' old words),

@@ -177,7 +177,8 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
   } blocks[] = {
       {"common/bindings.glsl", "gridNodes", GL_UNIFORM_BLOCK, "StepUniformsBlock", FIRN_BINDING_STEP_UNIFORMS,
        sizeof(StepUniforms)},
-      {"common/bindings.glsl", "materials[0].model", GL_SHADER_STORAGE_BLOCK, "MaterialsBuffer", FIRN_BINDING_MATERIALS, 0},
+      {"common/bindings.glsl", "materials[0].model", GL_SHADER_STORAGE_BLOCK, "MaterialsBuffer",
+       FIRN_BINDING_MATERIALS, 0},
       // The status and the ledger, then the objects' loads: the driver counts one element of that array.
       {"common/watchdog.glsl", "overflowCount", GL_SHADER_STORAGE_BLOCK, "WatchdogBuffer", FIRN_BINDING_WATCHDOG,
        sizeof(WatchdogStatus) + sizeof(EnergyLedger) + sizeof(ObjectLoad)},

@@ -4,7 +4,6 @@
 // waits for the commands an earlier pass wrote. A program that uses a block its header does not name is refused.
 #include <gtest/gtest.h>
 
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,7 +36,8 @@ const char* const kBlocks =
 
 firn::gl::ShaderLibrary passLibrary() {
   const auto pass = [](const std::string& header, const std::string& body) {
-    return "#version 430 core\n" + header + kBlocks + "void main() { uint i = gl_GlobalInvocationID.x; " + body + " }\n";
+    return "#version 430 core\n" + header + kBlocks + "void main() { uint i = gl_GlobalInvocationID.x; " + body +
+           " }\n";
   };
   return firn::gl::ShaderLibrary({
       {"write_x.comp", pass("// Reads: nothing.\n// Writes: xs.\n", "xs[i] = i + 1u;")},
@@ -47,6 +47,7 @@ firn::gl::ShaderLibrary passLibrary() {
        pass("// Reads: nothing.\n// Writes: commands.\n", "if (i == 0u) groups = uvec4(4u, 1u, 1u, 0u);")},
       {"undeclared_z.comp", pass("// Adds one to z.\n", "zs[i] += 1u;")},
       {"half_declared.comp", pass("// Reads: xs.\n// Writes: nothing.\n", "ys[i] = xs[i];")},
+      {"misspelled.comp", pass("// Reads: xs.\n// Writes: ys, zz.\n", "ys[i] = xs[i];")},
       {"helper_unused.comp",
        "#version 430 core\n// Reads: xs.\n// Writes: zs.\n" + std::string(kBlocks) +
            "uint unused(uint i) { return ys[i]; }\n"
@@ -95,11 +96,13 @@ TEST(PassOrder, BarriersFollowFromTheDeclarations) {
   EXPECT_EQ(buffers.barriers(), 2u);
   passes.writeX.runOver(kValues, 65535, buffers, untimed);
   EXPECT_EQ(buffers.barriers(), 3u) << "x is written after the sum read it";
-  // A pass that declares nothing waits for every pending write; its own caller orders what follows it.
+  // A pass that declares nothing counts as reading and writing every block it has: it waits for every pending write.
   passes.undeclaredZ.runOver(kValues, 65535, buffers, untimed);
   EXPECT_EQ(buffers.barriers(), 4u);
   buffers.completeWrites();
-  EXPECT_EQ(buffers.barriers(), 4u) << "nothing declared was written since";
+  EXPECT_EQ(buffers.barriers(), 5u) << "a pass that declares nothing may have written any of its blocks";
+  buffers.completeWrites();
+  EXPECT_EQ(buffers.barriers(), 5u) << "nothing was written since";
   buffers.recordPasses(nullptr);
 
   const std::vector<std::uint32_t> z = zs.read<std::uint32_t>(kValues);
@@ -117,6 +120,14 @@ TEST(PassOrder, AProgramUsingABlockItsHeaderDoesNotNameIsRefused) {
   firn::test::glContext();
   const firn::gl::ShaderLibrary library = passLibrary();
   EXPECT_NO_THROW(ComputePass(library, "helper_unused.comp", {}));
+  try {
+    const ComputePass pass(library, "misspelled.comp", {});
+    ADD_FAILURE() << "a header naming a block no code declares was accepted";
+  } catch (const std::logic_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("misspelled.comp: its header names zz, but no block ZzBuffer"), std::string::npos)
+        << message;
+  }
   try {
     const ComputePass pass(library, "helper_used.comp", {});
     ADD_FAILURE() << "a pass that reads the commands through a macro without declaring them was built";

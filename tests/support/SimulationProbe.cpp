@@ -54,7 +54,8 @@ const TransferPasses& SimulationProbe::tileTransfers() {
   (void)solver();
   const TransferPasses& first = simulation_.pipeline_.transfers().front();
   if (first.shape().kind != TransferShape::Kind::Tiles) {
-    throw std::logic_error(sceneFileName(simulation_.scene()) + ": the solver's probes need the tiles among the shapes");
+    throw std::logic_error(sceneFileName(simulation_.scene()) +
+                           ": the solver's probes need the tiles among the shapes");
   }
   return first;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "Error.h"
+#include "gl/ShaderLibrary.h"
 #include "gl/StorageAccess.h"
 
 namespace {
@@ -33,6 +34,26 @@ TEST(StorageAccess, HeaderListsNamesWithRemarksAcrossLines) {
   ASSERT_TRUE(none.has_value());
   EXPECT_TRUE(none->reads.empty());
   EXPECT_EQ(none->writes, (Names{"blockTable"}));
+}
+
+// The header runs to the first line of code: a blank line between its paragraphs does not end it.
+TEST(StorageAccess, BlankLinesDoNotEndTheHeader) {
+  const auto declared =
+      declaredAccess("sim/a.comp", "#version 430 core\n// A pass.\n\n// Reads: xs.\n// Writes: ys.\n");
+  ASSERT_TRUE(declared.has_value());
+  EXPECT_EQ(declared->writes, (Names{"ys"}));
+}
+
+// Every pass of the step declares what it reads and writes: the step's barriers follow from nothing else (a pass that
+// declares nothing would count as touching every block, which no test would notice).
+TEST(StorageAccess, EveryPassOfTheStepDeclares) {
+  std::size_t passes = 0;
+  for (const auto& [path, text] : firn::gl::embeddedShaderFiles()) {
+    if (path.rfind("sim/", 0) != 0 || path.size() < 5 || path.compare(path.size() - 5, 5, ".comp") != 0) continue;
+    ++passes;
+    EXPECT_TRUE(declaredAccess(path, text).has_value()) << path;
+  }
+  EXPECT_GE(passes, 34u);
 }
 
 TEST(StorageAccess, AHeaderWithoutDeclarationsDeclaresNothing) {
