@@ -28,6 +28,7 @@
 #include "GlTest.h"
 #include "gl/Limits.h"
 #include "gl/Program.h"
+#include "gl/StorageAccess.h"
 #include "render/Renderer.h"
 #include "scene/Scene.h"
 #include "sim/BlockGrid.h"
@@ -445,6 +446,87 @@ TEST(Portability, EveryProgramCompilesWithGlslangAndFitsTheStatedLimits) {
   for (const auto& [path, row] : table) {
     std::printf("%-34s %7d %8d %7lld %s\n", path.c_str(), row.storageBlocks, row.highestStorageBinding, row.sharedBytes,
                 row.localSize.c_str());
+  }
+  if (!HasFailure()) fs::remove_all(folder);
+}
+
+// The storage blocks whose members a SPIR-V module (as spirv-dis writes it, --raw-id) stores to or changes by an
+// atomic, by the blocks' type names ("PositionMassBuffer"): pointers traced from the blocks' variables through access
+// chains to the OpStore and OpAtomic* that use them.
+std::set<std::string> writtenBlocks(const std::string& disassembly) {
+  static const std::regex name(R"re(^\s*OpName (%\d+) "([^"]*)")re");
+  static const std::regex bufferBlock(R"(^\s*OpDecorate (%\d+) (?:BufferBlock|Block)\b)");
+  static const std::regex pointerType(R"(^\s*(%\d+) = OpTypePointer (\w+) (%\d+))");
+  static const std::regex variable(R"(^\s*(%\d+) = OpVariable (%\d+) (Uniform|StorageBuffer)\b)");
+  static const std::regex chain(R"(^\s*(%\d+) = Op(?:InBounds)?(?:Ptr)?AccessChain %\d+ (%\d+))");
+  static const std::regex store(R"(^\s*OpStore (%\d+) )");
+  static const std::regex atomic(R"(^\s*(?:%\d+ = )?OpAtomic(\w+) (?:%\d+ )?(%\d+))");
+  std::map<std::string, std::string> names, pointee, blockOf;
+  std::set<std::string> blocks, written;
+  std::vector<std::string> lines;
+  std::istringstream text(disassembly);
+  for (std::string line; std::getline(text, line);) lines.push_back(line);
+  std::smatch match;
+  for (const std::string& line : lines) {
+    if (std::regex_search(line, match, name)) names[match[1]] = match[2];
+    if (std::regex_search(line, match, bufferBlock)) blocks.insert(match[1]);
+    if (std::regex_search(line, match, pointerType)) pointee[match[1]] = match[3];
+  }
+  for (const std::string& line : lines) {
+    if (std::regex_search(line, match, variable) && blocks.count(pointee[match[2]]) != 0) {
+      blockOf[match[1]] = names[pointee[match[2]]];
+    } else if (std::regex_search(line, match, chain) && blockOf.count(match[2]) != 0) {
+      blockOf[match[1]] = blockOf[match[2]];
+    } else if (std::regex_search(line, match, store) && blockOf.count(match[1]) != 0) {
+      written.insert(blockOf[match[1]]);
+    } else if (std::regex_search(line, match, atomic) && match[1] != "Load" && blockOf.count(match[2]) != 0) {
+      written.insert(blockOf[match[2]]);
+    }
+  }
+  return written;
+}
+
+// Every pass of the step writes only the storage blocks its header lists under Writes (gl/StorageAccess.h): the
+// barriers follow from those lists, and a write left out would be a barrier left out, which no result on a driver that
+// runs the passes in order shows. Each compute stage under sim/ that production and the tests build, as the driver
+// receives it, compiled to SPIR-V for OpenGL by glslang, its stores and atomics traced to their blocks by spirv-dis.
+TEST(Portability, EveryPassWritesOnlyWhatItsHeaderDeclares) {
+  const std::string glslang = FIRN_GLSLANG_VALIDATOR, disassembler = FIRN_SPIRV_DIS;
+  ASSERT_FALSE(glslang.find("NOTFOUND") != std::string::npos || disassembler.find("NOTFOUND") != std::string::npos)
+      << "glslangValidator or spirv-dis was not found when configuring: install glslang-tools (scripts/setup.sh)";
+  std::vector<Stage> passes;
+  for (const Stage& stage : recordStages()) {
+    if (stage.type == GL_COMPUTE_SHADER && stage.path.rfind("sim/", 0) == 0) passes.push_back(stage);
+  }
+  ASSERT_GE(passes.size(), 34u);
+  char folderTemplate[] = "/tmp/firn-spirv-XXXXXX";
+  ASSERT_NE(mkdtemp(folderTemplate), nullptr);
+  const fs::path folder = folderTemplate;
+  for (std::size_t i = 0; i < passes.size(); ++i) {
+    std::ofstream(folder / (std::to_string(i) + ".comp")) << asGlslangReadsIt(passes[i]);
+  }
+  // One glslang and one spirv-dis per stage, two stages at a time.
+  const std::string command = "cd '" + folder.string() + "' && ls *.comp | xargs -n 1 -P 2 sh -c '\"" + glslang +
+                              "\" -G --target-env opengl --aml -S comp \"$0\" -o \"$0.spv\" > \"$0.log\" 2>&1 && \"" +
+                              disassembler + "\" --raw-id \"$0.spv\" -o \"$0.dis\"; true'";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const firn::gl::ShaderLibrary library;
+  for (std::size_t i = 0; i < passes.size(); ++i) {
+    const Stage& stage = passes[i];
+    const std::string what = stage.path + " with" + describe(stage.options);
+    const fs::path file = folder / (std::to_string(i) + ".comp");
+    ASSERT_TRUE(fs::exists(file.string() + ".dis")) << what << ":\n" << readFile(file.string() + ".log");
+    const auto declared = firn::gl::declaredAccess(stage.path, library.file(stage.path));
+    ASSERT_TRUE(declared.has_value()) << what;
+    std::set<std::string> declaredWrites;
+    for (const std::string& name : declared->writes) {
+      declaredWrites.insert(std::string(1, char(std::toupper(static_cast<unsigned char>(name[0])))) + name.substr(1) +
+                            "Buffer");
+    }
+    for (const std::string& block : writtenBlocks(readFile(file.string() + ".dis"))) {
+      EXPECT_EQ(declaredWrites.count(block), 1u)
+          << what << " writes " << block << ", which its Writes: line leaves out";
+    }
   }
   if (!HasFailure()) fs::remove_all(folder);
 }
