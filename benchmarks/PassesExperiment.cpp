@@ -18,15 +18,19 @@ namespace firn::bench {
 
 namespace {
 
+// Adds what `other` moved to `total`.
+void addTraffic(Simulation::PassTraffic& total, const Simulation::PassTraffic& other) {
+  total.readBytesPerParticle += other.readBytesPerParticle;
+  total.writtenBytesPerParticle += other.writtenBytesPerParticle;
+  total.readBytesPerNode += other.readBytesPerNode;
+  total.writtenBytesPerNode += other.writtenBytesPerNode;
+}
+
 // A step's traffic by pass (the names timePasses gives them), summed over each pass's dispatches.
 std::map<std::string, Simulation::PassTraffic> trafficByPass(const std::vector<Simulation::PassTraffic>& step) {
   std::map<std::string, Simulation::PassTraffic> byPass;
   for (const Simulation::PassTraffic& dispatch : step) {
-    Simulation::PassTraffic& pass = byPass[std::filesystem::path(dispatch.pass).stem().string()];
-    pass.readBytesPerParticle += dispatch.readBytesPerParticle;
-    pass.writtenBytesPerParticle += dispatch.writtenBytesPerParticle;
-    pass.readBytesPerNode += dispatch.readBytesPerNode;
-    pass.writtenBytesPerNode += dispatch.writtenBytesPerNode;
+    addTraffic(byPass[std::filesystem::path(dispatch.pass).stem().string()], dispatch);
   }
   return byPass;
 }
@@ -104,12 +108,7 @@ void measurePasses(BenchRun& run) {
                 nodeCount * double(pass.readBytesPerNode + pass.writtenBytesPerNode)) / 1e6;
       };
       Simulation::PassTraffic step;
-      for (const auto& [name, pass] : traffic) {
-        step.readBytesPerParticle += pass.readBytesPerParticle;
-        step.writtenBytesPerParticle += pass.writtenBytesPerParticle;
-        step.readBytesPerNode += pass.readBytesPerNode;
-        step.writtenBytesPerNode += pass.writtenBytesPerNode;
-      }
+      for (const auto& [name, pass] : traffic) addTraffic(step, pass);
       double totalWallMs = 0, totalGpuMs = 0;
       for (const PassTiming& timing : timings) {
         totalWallMs += timing.wallMs;

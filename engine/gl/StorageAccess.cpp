@@ -40,8 +40,7 @@ std::vector<std::string> listedNames(const std::string& path, const std::string&
   for (std::string item; std::getline(items, item, ',');) {
     const std::string name = trimmed(item);
     const bool identifier = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0])) != 0 &&
-                            name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789") ==
-                                std::string::npos;
+                            std::all_of(name.begin(), name.end(), isIdentifierChar);
     if (!identifier) throw GLError(path + ": Reads:/Writes: names a block \"" + name + "\" (expected a block's name)");
     if (name != "nothing") names.push_back(name);
   }

@@ -718,10 +718,10 @@ Simulation::StepTraffic Simulation::stepRecordingTraffic(double dtS) {
     PassTraffic moved;
     moved.pass = pass.phase;
     for (std::size_t binding = 0; binding < bytes.perParticle.size(); ++binding) {
+      // (A pass that declares nothing counts as reading and writing every block it has: gl::undeclaredAccess.)
       const gl::BindingSet bit = gl::bindingBit(unsigned(binding));
-      // A pass that declares nothing may touch any block: counted as reading and writing every binding.
-      const bool reads = !pass.access.declared || (pass.access.reads & bit);
-      const bool writes = !pass.access.declared || (pass.access.writes & bit);
+      const bool reads = (pass.access.reads & bit) != 0;
+      const bool writes = (pass.access.writes & bit) != 0;
       if (reads) moved.readBytesPerParticle += bytes.perParticle[binding];
       if (writes) moved.writtenBytesPerParticle += bytes.perParticle[binding];
       if (reads) moved.readBytesPerNode += bytes.perNode[binding];
