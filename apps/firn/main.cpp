@@ -378,7 +378,7 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       "fastest: tiles, blocks (each group size), blocks-64, blocks-128 or blocks-256 (default: every shape the scene "
       "can take). They write the same bytes; for benchmarks and tests";
   run->add_option("--transfer-shape", runOptions.transferShapes, transferShapeHelp)
-      ->check(firn::cli::oneOf(firn::transferShapeNames()));
+      ->transform(firn::cli::oneOf(firn::transferShapeNames()));
   int rebalanceEveryFrames = 10;
   run->add_option("--rebalance-every", rebalanceEveryFrames,
                   "Under mpirun: redraw the ranks' slabs for their particle counts every K frames (0: never)")
@@ -402,7 +402,7 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       ->transform(firn::cli::oneOf(colorModes))
       ->default_str("material");
   view->add_option("--transfer-shape", viewOptions.transferShapes, transferShapeHelp)
-      ->check(firn::cli::oneOf(firn::transferShapeNames()));
+      ->transform(firn::cli::oneOf(firn::transferShapeNames()));
   CLI::Option* viewRender = view->add_option("--render", viewRenderMode, renderHelp)
       ->transform(firn::cli::oneOf(renderModes))
       ->default_str("surface");

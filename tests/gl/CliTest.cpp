@@ -86,12 +86,12 @@ TEST(Cli, CheckReportsPreflightAndWritesNothing) {
   EXPECT_FALSE(fs::exists(directory / "refused"));
 }
 
-// `--transfer-shape` gives the run the transfer shapes it times (here one, so none is timed), and its log says so; a
-// name it does not know, or blocks for float sums, is bad input (exit 2).
+// `--transfer-shape` gives the run the transfer shapes it times (here one, so none is timed; the name in any case), and
+// its log says so; a name it does not know, or blocks for float sums, is bad input (exit 2).
 TEST(Cli, TransferShapeOptionGivesTheRunItsShapes) {
   const fs::path directory = freshDirectory("shapes");
   const fs::path scene = writeScene(directory, "small.json", kSmallScene);
-  const Result tiles = runFirn("run " + scene.string() + " --check --transfer-shape tiles");
+  const Result tiles = runFirn("run " + scene.string() + " --check --transfer-shape Tiles");  // any case
   ASSERT_EQ(tiles.exitCode, 0) << tiles.output;
   EXPECT_NE(tiles.output.find("transfers: P2G by tiles, as the run was asked"), std::string::npos) << tiles.output;
   const Result unknown = runFirn("run " + scene.string() + " --check --transfer-shape warps");
