@@ -31,10 +31,6 @@ const Scene& requireDistributable(const Scene& scene, int ranks) {
     throw InputError(file + ": solver.integrator: the semi-implicit solve runs in one process only; use "
                      "\"explicit\" or run without mpirun" + where);
   }
-  if (!scene.rigidBodies.empty()) {
-    throw InputError(file + ": rigid_bodies: bodies run in one process only; remove them or run without mpirun" +
-                     where);
-  }
   return scene;
 }
 
@@ -126,54 +122,87 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   }
   firstHeldBlocks_ = std::size_t(std::count(heldBelow.begin(), heldBelow.end(), false));
 
-  // The sums of every block held elsewhere, read once.
-  std::vector<std::uint32_t> heldSlots;
-  std::vector<std::size_t> sumsAt(mine.size(), 0);  // a held block's place in `sums`, in blocks
+  // The sums of every block held elsewhere, read once; each other rank's shared blocks as places among them.
+  heldSlots_.clear();
+  std::vector<std::size_t> sumsAt(mine.size(), 0);  // a held block's place in the sums read, in blocks
   for (std::size_t i = 0; i < mine.size(); ++i) {
     if (!heldElsewhere[i]) continue;
-    sumsAt[i] = heldSlots.size();
-    heldSlots.push_back(mine[i].slot);
+    sumsAt[i] = heldSlots_.size();
+    heldSlots_.push_back(mine[i].slot);
   }
-  const std::size_t perBlock = grid.sumsPerBlock();
-  std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots);
+  for (std::vector<std::size_t>& places : shared) {
+    for (std::size_t& place : places) place = sumsAt[place];
+  }
+  sharedWith_ = std::move(shared);
+  sharedSums_ = grid.readBlockSums(heldSlots_);
+  addOtherShares(grid.sumsPerBlock(), sharedSums_, sharedSums_);
+  grid.writeBlockSums(heldSlots_, sharedSums_);
+  // What the collisions at a shared block's nodes move — energy, loads, the bodies' sums — is counted by the lowest
+  // rank holding it.
+  std::vector<std::uint32_t> auditedBelow;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    if (heldBelow[i]) auditedBelow.push_back(mine[i].slot);
+  }
+  grid.markAuditedElsewhere(auditedBelow);
 
+  ++traffic_.steps;
+  traffic_.activeBlocks += mine.size();
+  traffic_.sumsS += secondsSince(start);
+}
+
+void MpiShare::sumSharedChanges(BlockGrid& grid) {
+  const auto start = Clock::now();
+  // What this rank added to the shared blocks since their sums were completed, sent as they were.
+  std::vector<glm::ivec4> sums = grid.readBlockSums(heldSlots_);
+  std::vector<glm::ivec4> changes(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k) {
+    changes[k] = glm::ivec4(glm::uvec4(sums[k]) - glm::uvec4(sharedSums_[k]));  // modulo 2³², as the GPU adds
+  }
+  addOtherShares(grid.sumsPerBlock(), changes, sums);
+  grid.writeBlockSums(heldSlots_, sums);
+  sharedSums_ = std::move(sums);
+  traffic_.sumsS += secondsSince(start);
+}
+
+void MpiShare::addOtherShares(std::size_t perBlock, const std::vector<glm::ivec4>& sent,
+                              std::vector<glm::ivec4>& sums) {
   // Each rank sends each other rank its sums of the blocks they share, in block order, and adds what it gets. A
   // block travels as a mask of its nodes whose sums are not all zero, then those nodes' sums (per array): where the
   // sender summed nothing there is nothing to add, and the rank below a slab reaches only the first node layers of
   // the slab's first block layer.
   const std::size_t arrays = perBlock / gpu::BLOCK_NODES;
   std::vector<int> sendCounts(static_cast<std::size_t>(size_)), sendOffsets(static_cast<std::size_t>(size_));
-  std::vector<glm::ivec4> sent;
+  std::vector<glm::ivec4> packed;
   for (int q = 0; q < size_; ++q) {
-    sendOffsets[std::size_t(q)] = int(sent.size());
-    for (const std::size_t i : shared[std::size_t(q)]) {
-      const glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
+    sendOffsets[std::size_t(q)] = int(packed.size());
+    for (const std::size_t at : sharedWith_[std::size_t(q)]) {
+      const glm::ivec4* block = sent.data() + at * perBlock;
       std::uint64_t mask = 0;
       for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
         for (std::size_t a = 0; a < arrays; ++a) {
           if (block[a * gpu::BLOCK_NODES + node] != glm::ivec4(0)) mask |= std::uint64_t(1) << node;
         }
       }
-      sent.emplace_back(int(std::uint32_t(mask)), int(std::uint32_t(mask >> 32)), 0, 0);
+      packed.emplace_back(int(std::uint32_t(mask)), int(std::uint32_t(mask >> 32)), 0, 0);
       for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
         if ((mask >> node & 1u) == 0) continue;
-        for (std::size_t a = 0; a < arrays; ++a) sent.push_back(block[a * gpu::BLOCK_NODES + node]);
+        for (std::size_t a = 0; a < arrays; ++a) packed.push_back(block[a * gpu::BLOCK_NODES + node]);
       }
     }
-    sendCounts[std::size_t(q)] = int(sent.size()) - sendOffsets[std::size_t(q)];
+    sendCounts[std::size_t(q)] = int(packed.size()) - sendOffsets[std::size_t(q)];
   }
   std::vector<int> receiveCounts(static_cast<std::size_t>(size_)), receiveOffsets(static_cast<std::size_t>(size_));
   MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_);
   std::exclusive_scan(receiveCounts.begin(), receiveCounts.end(), receiveOffsets.begin(), 0);
   std::vector<glm::ivec4> received(std::size_t(receiveOffsets.back()) + std::size_t(receiveCounts.back()));
   const RecordType sumType(sizeof(glm::ivec4));
-  MPI_Alltoallv(sent.data(), sendCounts.data(), sendOffsets.data(), sumType.get(), received.data(),
+  MPI_Alltoallv(packed.data(), sendCounts.data(), sendOffsets.data(), sumType.get(), received.data(),
                 receiveCounts.data(), receiveOffsets.data(), sumType.get(), comm_);
   // Integer sums: the order of the ranks' additions cannot matter, so every holder ends with the same bits.
   for (int q = 0; q < size_; ++q) {
     const glm::ivec4* in = received.data() + receiveOffsets[std::size_t(q)];
-    for (const std::size_t i : shared[std::size_t(q)]) {
-      glm::ivec4* block = sums.data() + sumsAt[i] * perBlock;
+    for (const std::size_t at : sharedWith_[std::size_t(q)]) {
+      glm::ivec4* block = sums.data() + at * perBlock;
       const std::uint64_t mask = std::uint64_t(std::uint32_t(in->x)) | std::uint64_t(std::uint32_t(in->y)) << 32;
       ++in;
       for (std::size_t node = 0; node < gpu::BLOCK_NODES; ++node) {
@@ -185,18 +214,7 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
       }
     }
   }
-  grid.writeBlockSums(heldSlots, sums);
-  // The energy the collisions at a shared block's nodes move is counted by the lowest rank holding it.
-  std::vector<std::uint32_t> auditedBelow;
-  for (std::size_t i = 0; i < mine.size(); ++i) {
-    if (heldBelow[i]) auditedBelow.push_back(mine[i].slot);
-  }
-  grid.markAuditedElsewhere(auditedBelow);
-
-  ++traffic_.steps;
-  traffic_.haloBytes += sent.size() * sizeof(glm::ivec4);
-  traffic_.activeBlocks += mine.size();
-  traffic_.sumsS += secondsSince(start);
+  traffic_.haloBytes += packed.size() * sizeof(glm::ivec4);
 }
 
 std::size_t MpiShare::migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,

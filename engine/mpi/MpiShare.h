@@ -59,6 +59,7 @@ class MpiShare final : public DomainShare {
   void balance(const std::vector<glm::vec3>& positionsM) override;
   bool owns(const glm::vec3& positionM) const override { return slabs_.ownerOf(positionM) == rank_; }
   void sumSharedNodes(BlockGrid& grid) override;
+  void sumSharedChanges(BlockGrid& grid) override;
   std::size_t migrate(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
                       const MakeRoom& makeRoom) override;
   std::size_t endFrame(GpuState& state, std::size_t count, std::vector<std::uint32_t>& ids,
@@ -66,6 +67,7 @@ class MpiShare final : public DomainShare {
   double largest(double value) override;
   bool any(bool flag) override;
   void sumExactly(std::vector<std::int64_t>& values) override;
+  bool countsCommonWork() const override { return rank_ == 0; }
   bool writesOutput() const override { return rank_ == 0; }
   std::vector<std::string> gatherRecords(const std::vector<std::string>& records, const std::vector<std::size_t>& strides,
                                          const std::vector<std::uint32_t>& ids) override;
@@ -73,6 +75,10 @@ class MpiShare final : public DomainShare {
   std::size_t activeBlocksInAll() override;
 
  private:
+  // Sends each other rank `sent`, this rank's sums of the blocks they share (laid out as heldSlots_, `perBlock`
+  // sums a block), and adds what each sends to `sums`.
+  void addOtherShares(std::size_t perBlock, const std::vector<glm::ivec4>& sent, std::vector<glm::ivec4>& sums);
+
   MPI_Comm comm_;
   int rank_ = 0;
   int size_ = 1;
@@ -81,6 +87,11 @@ class MpiShare final : public DomainShare {
   int framesSinceBalance_ = 0;
   std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
   ShareTraffic traffic_;
+  // The blocks this rank shares, as sumSharedNodes found them this step: their slots, their sums as last completed,
+  // and per other rank the places among them of the blocks it holds too (in block order, as it lists them).
+  std::vector<std::uint32_t> heldSlots_;
+  std::vector<glm::ivec4> sharedSums_;
+  std::vector<std::vector<std::size_t>> sharedWith_;
   gl::Buffer staging_;               // migration: the leavers' records, read back at once
   int sumsPerNode_;                  // 1, or 2 with PIC/FLIP's impulse sums (as the grid stores them)
 };

@@ -7,7 +7,9 @@
 // What keeps a run on several shares the same, to the bit, as a run on one: P2G's sums are integers, so a node's
 // sum does not depend on which process added which particle's part or in what order, and every other part of a step
 // is a particle's or a node's own. So a share only has to complete the sums of the nodes it holds before the grid
-// update reads them, and keep each particle's record intact as it moves from share to share.
+// update reads them, and keep each particle's record intact as it moves from share to share. The rigid bodies' sums
+// are integers too: each share adds its particles' and its nodes' parts (a node that several shares hold counted by
+// one), the shares sum them, and every share moves every body alike (StepPipeline::step).
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -52,6 +54,10 @@ class DomainShare {
   // (BlockSlot::auditedElsewhere), whose nodes' energy flows that share counts. Every share calls it at the same point
   // of the same step.
   virtual void sumSharedNodes(BlockGrid& grid) = 0;
+  // After passes that add to the sums of the nodes once sumSharedNodes has completed them (the images of the snow's
+  // stress in the rigid bodies, mirror_stress.comp): adds what the other shares added at the shared nodes since, so
+  // that every holder holds the whole sums again. Every share calls it at the same point of the same step.
+  virtual void sumSharedChanges(BlockGrid& grid) = 0;
   // After a step: hands the particles that left this share's region to the shares they entered and appends those
   // that entered it, after `makeRoom(n)` has made room for n particles in the state's buffers; `ids` (each
   // particle's place in the order of a single process) moves with them. Returns the new count.
@@ -69,6 +75,9 @@ class DomainShare {
   // made (the energy audit's ledger, sim/EnergyAudit.h).
   virtual void sumExactly(std::vector<std::int64_t>& values) = 0;
 
+  // What every share does alike — the rigid bodies' motion, from sums every share holds whole — is counted once, in
+  // the energy audit, by the first share: whether this is it.
+  virtual bool countsCommonWork() const = 0;
   // The output, which one share writes: whether this is it. Every share calls the rest together.
   virtual bool writesOutput() const = 0;
   // Every share's particle records in the order of a single process: `records` holds, per array, this share's

@@ -7,6 +7,7 @@
 
 #include "Error.h"
 #include "sim/EnergyAudit.h"
+#include "sim/FixedPoint.h"
 
 namespace firn {
 
@@ -227,6 +228,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
   sortAndTransfer(state, particles, sortFor(), timer);
+  if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
   if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
     listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
     listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
@@ -235,23 +237,28 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
       mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
     };
     // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
-    // pushes change it; whole, once, where the semi-implicit step sums them apart.
+    // pushes change it; whole, once, where the semi-implicit step sums them apart. The second half reads the nodes'
+    // whole sums: every share's pushes at the nodes it shares.
     if (implicitSolver_) {
       scatterImages(0u);
       scatterImages(2u);
     } else {
       scatterImages(1u);
       scatterImages(0u);
+      if (share) share->sumSharedChanges(state.grid());
       scatterImages(1u);
     }
+    if (share) sumBodiesOverShares(state, *share, BodySums::Push);
   }
-  if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
   const bool coupledSolve = rigidBodies_ > 0 && !implicitSolver_;
+  const GLuint bodiesCountedElsewhere = share && !share->countsCommonWork() ? 1u : 0u;
   if (coupledSolve) {  // the bodies take gravity and the images' push before the nodes meet them (eq. 39)
+    predictBodies_.set("bodiesCountedElsewhere", bodiesCountedElsewhere);
     predictBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
   }
   state.grid().run(updateGrid_, sortFor(), buffers, timer);
   if (coupledSolve) {  // each body and the nodes it holds, solved together, then those nodes take its motion
+    if (share) sumBodiesOverShares(state, *share, BodySums::Coupling);
     solveCoupling_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
     state.grid().run(coupleNodes_, sortFor(), buffers, timer);
   }
@@ -261,10 +268,40 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   if (rigidBodies_ > 0) {
+    if (share) sumBodiesOverShares(state, *share, BodySums::Push);
+    integrateBodies_.set("bodiesCountedElsewhere", bodiesCountedElsewhere);
     integrateBodies_.runOver(1, maxWorkGroupsX_, buffers, timer);  // one invocation for all: they meet each other
   }
   buffers.completeWrites();  // for what reads the particles next without binding from here: pictures, surfaces
   return solve;
+}
+
+void StepPipeline::sumBodiesOverShares(GpuState& state, DomainShare& share, BodySums sums) const {
+  state.bindings().completeWrites();  // the passes' atomics, before the host reads them
+  std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
+  // Each sum's 64-bit words, (low, high) per component, as one integer.
+  std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
+  for (gpu::ColliderParams& body : bodies) {
+    if (sums == BodySums::Push) {
+      words.emplace_back(&body.impulseLow, &body.impulseHigh);
+      words.emplace_back(&body.angularLow, &body.angularHigh);
+    } else {
+      for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.couplingLow[w], &body.couplingHigh[w]);
+    }
+  }
+  std::vector<std::int64_t> values;
+  for (const auto& [low, high] : words) {
+    for (int c = 0; c < 4; ++c) values.push_back(joinFixed64((*low)[c], (*high)[c]));
+  }
+  share.sumExactly(values);
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const std::uint64_t value = std::uint64_t(values[4 * k + std::size_t(c)]);
+      (*words[k].first)[c] = std::uint32_t(value);
+      (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
+    }
+  }
+  state.writeColliders(bodies, firstRigidBody_);
 }
 
 void StepPipeline::auditEnergy(GpuState& state, std::size_t particles, bool gridVelocities, gl::PassTimer& timer) const {

@@ -64,9 +64,10 @@ class StepPipeline {
   bool chooseTransferShape(GpuState& state, std::size_t particles);
   // The choice, once made.
   const std::optional<TransferShapeChoice>& transferShapeChoice() const { return transferChoice_; }
-  // One whole step: transferToGrid, the bodies' mirrored stress, the shared nodes' sums completed (with a `share`),
-  // the grid update, the semi-implicit solve if the scene asks for one, grid to particle, the rigid bodies. Returns
-  // how the solve ended (explicit steps: no iterations).
+  // One whole step: transferToGrid, the shared nodes' sums completed (with a `share`), the bodies' mirrored stress,
+  // the grid update, the semi-implicit solve if the scene asks for one, grid to particle, the rigid bodies. With a
+  // `share`, each body's sums are summed over the shares before a pass reads them. Returns how the solve ended
+  // (explicit steps: no iterations).
   SolveReport step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share = nullptr) const;
   // The semi-implicit solve, if the scene has one, and the transfers' shapes in the order they were given (tests
   // reach their passes through them).
@@ -83,6 +84,11 @@ class StepPipeline {
   BlockGrid::SortFor sortFor() const;
   // transferToGrid's passes, their last writes left to the barriers of the passes that follow.
   void sortAndTransfer(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
+  // The rigid bodies' sums a step reads: the snow's push (impulse and its moment) or the coupled solve's.
+  enum class BodySums { Push, Coupling };
+  // Over several shares: the bodies' `sums` that this share's passes added since they were last cleared, summed
+  // over all shares, in integers (the sums one process makes), so that every share moves every body alike.
+  void sumBodiesOverShares(GpuState& state, DomainShare& share, BodySums sums) const;
 
   int maxWorkGroupsX_ = 65535;
   // The transfers in each shape the run was given, P2G's shape and the Hessian product's.

@@ -39,6 +39,7 @@ float colliderDistance(ColliderParams c, vec3 x, float timeS, out vec3 normal) {
 // Adds an impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) to the sums of the body of entry i,
 // in 64-bit fixed point, so that the sums, like P2G's, do not depend on the order of the additions.
 void addToRigidBody(uint i, vec3 impulseKgMPerS, vec3 momentKgM2PerS) {
+  if (!countedHere) return;
   float unitsPerKgMPerS = ldexp(1.0, fixedPointFractionBits) * momentumUnitsPerKgMPerS;
   uvec4 low;
   ivec4 high;
@@ -143,6 +144,7 @@ bool heldInCoupling(ColliderParams body, vec3 v, vec3 normal, vec3 freeSurfaceVe
 // columns of P G. The sums are in P2G's nondimensional units (mass m_ref, length h, velocity h / Δt_ref) and 64-bit
 // fixed point, so that they do not depend on the order of the GPU's additions.
 void addToCoupling(uint i, vec3 x, float timeS, float massKg, vec3 v) {
+  if (!countedHere) return;
   ColliderParams body = colliders[i];
   vec3 normal;
   if (colliderDistance(body, x, timeS, normal) > 0.0) return;

@@ -8,9 +8,11 @@
 #include "common/fixed64.glsl"
 #include "common/watchdog.glsl"
 
-// Whether this invocation counts what its collisions move: not at a node that a share of the domain of a lower rank
-// holds too and counts (BlockSlot.auditedElsewhere); the passes over nodes set it before they collide.
-bool energyAuditedHere = true;
+// Whether this invocation counts what its collisions move — the energy flows, the objects' loads, the rigid bodies'
+// sums: not at a node that a share of the domain of a lower rank holds too and counts (BlockSlot.auditedElsewhere),
+// which the passes over nodes set before they collide, nor in the passes that move the bodies, which every share runs
+// alike, but on the first share (StepPipeline::step).
+bool countedHere = true;
 
 // Joules as the ledger's units, each as its (low, high) words. A value beyond StepUniforms.particleEnergyLimit, or not
 // finite, is left out of the sums and counted (counts.x): the host reads that count as energy beyond the scene's
@@ -26,7 +28,7 @@ void energyUnits(vec4 joules, out uvec4 low, out ivec4 high) {
 // removed, z the energy the bodies' coupling gave, w the energy snow's hardening gave its elastic strain. Most nodes
 // and particles meet nothing and add nothing.
 void addEnergyFlows(vec4 flowsJ) {
-  if (flowsJ == vec4(0.0) || !energyAuditedHere) return;
+  if (flowsJ == vec4(0.0) || !countedHere) return;
   uvec4 low;
   ivec4 high;
   energyUnits(flowsJ, low, high);
@@ -42,7 +44,7 @@ float wallsRemovedJ(float massKg, vec3 before, vec3 after) {
 // Adds an impulse (kg·m/s) that object i of the collider table gave the snow, and the work (J) it did with it, to the
 // object's load (gpu::ObjectLoad): bodies.csv's force and work.
 void addObjectLoad(uint i, vec3 impulseKgMPerS, float workJ) {
-  if (!energyAuditedHere) return;
+  if (!countedHere) return;
   // The impulse in 2^−24 of m_ref h per second: a unit that no step's length changes (adaptive steps' do).
   uvec4 low;
   ivec4 high;

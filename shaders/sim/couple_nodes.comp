@@ -25,7 +25,7 @@ void coupleNode(uint slot) {
   uint i = slot * uint(BLOCK_NODES) + gl_LocalInvocationIndex;
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   if (velocityMass.w == 0.0) return;
-  energyAuditedHere = slots[slot].auditedElsewhere == 0u;
+  countedHere = slots[slot].auditedElsewhere == 0u;
   float massKg = velocityMass.w;
   vec3 velocity = velocityMass.xyz;
   for (uint b = colliderCount - rigidBodyCount; b < colliderCount; ++b) {

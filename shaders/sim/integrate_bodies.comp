@@ -21,6 +21,10 @@
 
 layout(local_size_x = 1) in;
 
+// 1 on every share of the domain but the first (StepPipeline::step): each moves the bodies alike, and one counts the
+// energy that moves.
+uniform uint bodiesCountedElsewhere;
+
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
 // approach at every probe; a resting box settles within a few.
 const int CONTACT_PASSES = 10;
@@ -110,6 +114,7 @@ void setVelocities(uint i, vec3 v, vec3 angularMomentum, mat3 inverseInertia) {
 
 void main() {
   if (gl_GlobalInvocationID.x != 0u) return;
+  countedHere = bodiesCountedElsewhere == 0u;
   uint staticColliders = colliderCount - rigidBodyCount;
   float workJ = 0.0;      // of the moving colliders through the contacts
   float couplingJ = 0.0;  // the explicit coupling's own energy

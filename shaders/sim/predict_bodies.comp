@@ -15,9 +15,14 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
+// 1 on every share of the domain but the first (StepPipeline::step): each moves the bodies alike, and one counts the
+// energy that moves.
+uniform uint bodiesCountedElsewhere;
+
 void main() {
   uint b = gl_GlobalInvocationID.x;
   if (b >= rigidBodyCount) return;
+  countedHere = bodiesCountedElsewhere == 0u;
   uint i = colliderCount - rigidBodyCount + b;
   ColliderParams body = colliders[i];
   if (body.shapeBoundary.w == 0) return;  // parked

@@ -41,7 +41,7 @@ void main() {
 #endif
   vec4 velocityMass = storedFloats(gridMomentumMass[i]);
   if (velocityMass.w <= 0.0) return;
-  energyAuditedHere = slots[slot].auditedElsewhere == 0u;  // another process holding the node counts it
+  countedHere = slots[slot].auditedElsewhere == 0u;  // another process holding the node counts it
   int code = int(solverNodes[i].constraint.w);
   vec3 x = nodePosition(node);
   vec3 velocity = velocityMass.xyz;

@@ -42,7 +42,7 @@ void updateNode(uint slot) {
   float approachMPerS = 0.0;
 #endif
   // A node that another process holds too is counted there (docs/distributed.md).
-  energyAuditedHere = slots[slot].auditedElsewhere == 0u;
+  countedHere = slots[slot].auditedElsewhere == 0u;
   if (sums.w > 0.0) {
     massKg = sums.w * referenceMassKg;
     float unitsToVelocity = momentumUnitKgMPerS / massKg;
