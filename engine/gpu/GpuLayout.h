@@ -84,8 +84,7 @@ static_assert(sizeof(ParticlePlasticState) == 16, "std430 ParticlePlasticState")
 static_assert(sizeof(MaterialParams) == 64, "std430 MaterialParams");
 static_assert(sizeof(ColliderParams) == 560, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 144 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
-static_assert(sizeof(BlockSlot) == 20, "std430 BlockSlot");
-static_assert(sizeof(BlockTableHeader) % sizeof(BlockSlot) == 0, "the slots follow the header in whole slots");
+static_assert(sizeof(BlockSlot) == 24, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
 static_assert(sizeof(EnergyLedger) == 80, "std430 EnergyLedger");
 static_assert(sizeof(ObjectLoad) == 32, "std430 ObjectLoad");

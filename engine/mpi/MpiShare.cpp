@@ -51,6 +51,9 @@ int commSize(MPI_Comm comm) {
   return size;
 }
 
+// The top bit of a block's index as the ranks list their blocks: only images claimed it (BlockSlot::claimedForImages).
+constexpr std::uint32_t kImagesOnly = 0x80000000u;
+
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // A record of `bytes` bytes as one MPI element, so that counts and offsets count records: an int of bytes overflows
@@ -94,8 +97,11 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
   // This rank's blocks by their index in the domain, and every rank's.
   std::vector<ActiveBlock> mine = grid.activeBlocks();
   std::sort(mine.begin(), mine.end(), [](const ActiveBlock& a, const ActiveBlock& b) { return a.block < b.block; });
+  // A block only images claimed travels with its top bit set (block indices stay below 256³: grid.cells ≤ 1024).
   std::vector<std::uint32_t> myBlocks(mine.size());
-  for (std::size_t i = 0; i < mine.size(); ++i) myBlocks[i] = mine[i].block;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    myBlocks[i] = mine[i].block | (mine[i].claimedForImages ? kImagesOnly : 0u);
+  }
   const int myCount = int(myBlocks.size());
   std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
   MPI_Allgather(&myCount, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
@@ -105,22 +111,28 @@ void MpiShare::sumSharedNodes(BlockGrid& grid) {
                  MPI_UINT32_T, comm_);
 
   // The blocks this rank holds with each other rank, as places in `mine` (in block order, as the other rank lists
-  // them too), and whether a lower rank holds each (then that rank counts it).
+  // them too), and whether a lower rank holds each (then that rank counts it). The blocks the particles reached are
+  // counted as one process counts them: each where a particle's stencil claimed it, on the lowest such rank.
   std::vector<std::vector<std::size_t>> shared(static_cast<std::size_t>(size_));
   std::vector<bool> heldBelow(mine.size(), false), heldElsewhere(mine.size(), false);
+  std::vector<bool> reachedBelow(mine.size(), false);
+  const auto blockOf = [](std::uint32_t listed) { return listed & ~kImagesOnly; };
   for (int q = 0; q < size_; ++q) {
     if (q == rank_) continue;
     const std::uint32_t* other = everyBlock.data() + offsets[std::size_t(q)];
     const std::uint32_t* otherEnd = other + counts[std::size_t(q)];
     for (std::size_t i = 0; i < myBlocks.size() && other != otherEnd; ++i) {
-      other = std::lower_bound(other, otherEnd, myBlocks[i]);
-      if (other == otherEnd || *other != myBlocks[i]) continue;
+      other = std::lower_bound(other, otherEnd, mine[i].block,
+                               [&](std::uint32_t listed, std::uint32_t block) { return blockOf(listed) < block; });
+      if (other == otherEnd || blockOf(*other) != mine[i].block) continue;
       shared[std::size_t(q)].push_back(i);
       heldElsewhere[i] = true;
       if (q < rank_) heldBelow[i] = true;
+      if (q < rank_ && (*other & kImagesOnly) == 0) reachedBelow[i] = true;
     }
   }
-  firstHeldBlocks_ = std::size_t(std::count(heldBelow.begin(), heldBelow.end(), false));
+  firstHeldBlocks_ = 0;
+  for (std::size_t i = 0; i < mine.size(); ++i) firstHeldBlocks_ += !mine[i].claimedForImages && !reachedBelow[i];
 
   // The sums of every block held elsewhere, read once; each other rank's shared blocks as places among them.
   heldSlots_.clear();

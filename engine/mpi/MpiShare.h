@@ -85,7 +85,7 @@ class MpiShare final : public DomainShare {
   Slabs slabs_;
   int rebalanceEveryFrames_;
   int framesSinceBalance_ = 0;
-  std::size_t firstHeldBlocks_ = 0;  // this rank's active blocks that no lower rank holds (each counted once)
+  std::size_t firstHeldBlocks_ = 0;  // this rank's blocks its particles reached and no lower rank's did (counted once)
   ShareTraffic traffic_;
   // The blocks this rank shares, as sumSharedNodes found them this step: their slots, their sums as last completed,
   // and per other rank the places among them of the blocks it holds too (in block order, as it lists them).

@@ -72,6 +72,7 @@ void BlockGrid::sortParticles(std::size_t particles, SortFor sortFor, const gl::
   prepareBlocks_.runOnce(buffers, timer);
   run(releaseBlocks_, sortFor, buffers, timer);
   markBlocks_.runOver(particles, maxWorkGroupsX_, buffers, timer);
+  if (claimImageBlocks_) claimImageBlocks_->runOver(particles, maxWorkGroupsX_, buffers, timer);
   countBlocks_.runOnce(buffers, timer);
   binCount_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   if (sortFor == SortFor::Tiles) {
@@ -146,13 +147,18 @@ std::vector<std::uint32_t> BlockGrid::listedParticles(std::size_t counterOffset)
 }
 
 std::vector<ActiveBlock> BlockGrid::activeBlocks() const {
-  const std::size_t active = usage().lastStep;
-  const std::vector<gpu::BlockSlot> slots =
-      blockTable_.read<gpu::BlockSlot>(active, sizeof(gpu::BlockTableHeader) / sizeof(gpu::BlockSlot));
+  std::vector<gpu::BlockSlot> slots(usage().lastStep);
+  blockTable_.download(sizeof(gpu::BlockTableHeader), slots.size() * sizeof(gpu::BlockSlot), slots.data());
   std::vector<ActiveBlock> blocks;
   blocks.reserve(slots.size());
-  for (std::size_t i = 0; i < slots.size(); ++i) blocks.push_back({slots[i].block, static_cast<std::uint32_t>(i)});
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    blocks.push_back({slots[i].block, static_cast<std::uint32_t>(i), slots[i].claimedForImages != 0});
+  }
   return blocks;
+}
+
+void BlockGrid::claimImageBlocks() {
+  if (!claimImageBlocks_) claimImageBlocks_.emplace(gl::ShaderLibrary(), "sim/claim_image_blocks.comp", shaderOptions_);
 }
 
 template <class Self, class Visit>

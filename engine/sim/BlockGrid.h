@@ -40,6 +40,7 @@ struct BlockUsage {
 struct ActiveBlock {
   std::uint32_t block = 0;
   std::uint32_t slot = 0;
+  bool claimedForImages = false;  // no particle's stencil reached it, only an image's (claimImageBlocks)
 };
 
 // One node of the grid as stored after P2G: its index per axis and its sums (fixed point or float bits).
@@ -128,6 +129,9 @@ class BlockGrid {
   // Marks the blocks in `slots` as audited by another share of the domain (BlockSlot::auditedElsewhere): the energy
   // their nodes' collisions move is that share's to count (common/energy.glsl).
   void markAuditedElsewhere(const std::vector<std::uint32_t>& slots);
+  // From the next sort on, the particles near a rigid body claim the blocks their images reach too
+  // (claim_image_blocks.comp): a share of the domain with rigid bodies needs them, one process never does.
+  void claimImageBlocks();
 
  private:
   // The particles a pass listed in particleRanks, as many as the block table's counter at `counterOffset` says, in
@@ -163,9 +167,10 @@ class BlockGrid {
   gl::ComputePass blockOffsets_;
   gl::ComputePass binPlace_;
   gl::ComputePass orderTiles_;
-  // Compiled at a share's first migration (particlesOutside): a single process never needs it.
+  // Compiled where a share of the domain needs them (particlesOutside, claimImageBlocks): one process never does.
   gl::ShaderOptions shaderOptions_;
   std::optional<gl::ComputePass> listLeavers_;
+  std::optional<gl::ComputePass> claimImageBlocks_;
 };
 
 }  // namespace firn

@@ -178,6 +178,9 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     diagnostics_.noteParticles(initial);
     diagnostics_.noteParticles(pendingParticles_);
     diagnostics_.followIds(&ids_);
+    // A body's images push the nodes that hold snow, which another share's particles may fill: this share must hold
+    // those nodes' blocks too (docs/distributed.md).
+    if (!scene_.rigidBodies.empty()) state_.grid().claimImageBlocks();
   }
   const std::vector<ParticleSeed> particles = ownParticles(initial, 0);
   writeParticles(0, particles);

@@ -31,7 +31,7 @@ layout(std430, binding = FIRN_BINDING_SORTED_PARTICLES) buffer SortedParticlesBu
 layout(std430, binding = FIRN_BINDING_PARTICLE_RANKS) buffer ParticleRanksBuffer { uint particleRanks[]; };
 layout(std430, binding = FIRN_BINDING_TILE_ORDER) buffer TileOrderBuffer { uint tileOrder[]; };  // slot · BLOCK_TILES + tile
 
-// A block being claimed in mark_blocks.comp: its slot is not yet written.
+// A block being claimed (common/claim_blocks.glsl): its slot is not yet written.
 const uint CLAIMED = 0xffffffffu;
 
 ivec3 blocksPerAxis() { return (gridNodes + BLOCK_WIDTH - 1) / BLOCK_WIDTH; }

@@ -278,12 +278,15 @@ FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 //                    (k < BlockTableHeader.mirrorBlocks.w)
 //   auditedElsewhere 1 where a share of the domain of a lower rank holds the block too (docs/distributed.md), which
 //                    then counts the energy its nodes' collisions move (common/energy.glsl); 0 from its claim
+//   claimedForImages 1 where no particle's stencil reached the block, only a particle's image in a rigid body
+//                    (claim_image_blocks.comp: over several processes); 0 where a particle's stencil claimed it
 #define FIRN_BLOCK_SLOT(member, array) \
   member(uint, block)                  \
   member(uint, firstParticle)          \
   member(uint, particles)              \
   member(uint, mirrorBlock)            \
-  member(uint, auditedElsewhere)
+  member(uint, auditedElsewhere)       \
+  member(uint, claimedForImages)
 FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 
 // The semi-implicit solve (common/solver.glsl, docs/numerics.md "The semi-implicit solve"): how a grid node's

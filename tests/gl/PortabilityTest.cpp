@@ -174,9 +174,11 @@ std::vector<Stage> recordStages() {
       const firn::GpuStateLayout layout =
           firn::GpuStateLayout::forScene(scene, 1, 1, firn::needsDeformationGradient(scene, programs));
       firn::BlockGrid grid(layout, firn::gl::ShaderLibrary(), firn::stepShaderOptions(scene, programs), info);
-      // The pass a share builds at its first migration (BlockGrid::particlesOutside).
+      // The passes a share builds: at its first migration (BlockGrid::particlesOutside), and with rigid bodies the
+      // claims of their images' blocks (BlockGrid::claimImageBlocks).
       const firn::gl::ComputePass listLeavers(firn::gl::ShaderLibrary(), "sim/list_leavers.comp",
                                               firn::stepShaderOptions(scene, programs));
+      if (!scene.rigidBodies.empty()) grid.claimImageBlocks();
     }
     Scene severalMaterials = firn::defaultScene();
     severalMaterials.materials.push_back(severalMaterials.materials.front());
