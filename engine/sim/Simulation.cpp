@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <iterator>
 #include <limits>
 #include <ostream>
@@ -50,49 +49,6 @@ double initialFastestSignalMPerS(const Scene& scene, const std::vector<ParticleS
     fastestMPerS = std::max(fastestMPerS, rigidBodySurfaceSpeedMPerS(body));
   }
   return fastestMPerS;
-}
-
-// The scene, once a share's slabs are drawn for all its seeds: first, since its buffers are sized for its own.
-const Scene& startShare(DomainShare* share, const Scene& scene, const std::vector<ParticleSeed>& seeds) {
-  if (share == nullptr) return scene;
-  std::vector<glm::vec3> positionsM;
-  positionsM.reserve(seeds.size());
-  for (const ParticleSeed& seed : seeds) positionsM.push_back(seed.positionM);
-  share->balance(positionsM);
-  return scene;
-}
-
-// A share's particle buffers start with room for its own seeds (shareParticleCapacity), and grow as particles come
-// (Simulation::growParticles); one process's hold all `capacity`.
-std::size_t particleCapacityOf(const DomainShare* share, const std::vector<ParticleSeed>& seeds, std::size_t capacity) {
-  if (share == nullptr) return capacity;
-  const auto own = std::size_t(std::count_if(seeds.begin(), seeds.end(),
-                                             [share](const ParticleSeed& seed) { return share->owns(seed.positionM); }));
-  return shareParticleCapacity(own, capacity);
-}
-
-// Records `particles` of `bytes` (a buffer's contents: `capacity` records), packed at the start of a buffer of
-// `packedCapacity` records, the rest zero: a share's particles of a whole checkpoint.
-std::string recordsOf(const std::string& bytes, std::size_t capacity, const std::vector<std::uint32_t>& particles,
-                      std::size_t packedCapacity) {
-  const std::size_t stride = bytes.size() / capacity;
-  std::string packed(packedCapacity * stride, '\0');
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    std::memcpy(packed.data() + i * stride, bytes.data() + std::size_t(particles[i]) * stride, stride);
-  }
-  return packed;
-}
-
-template <typename T>
-std::string bytesOf(const std::vector<T>& values) {
-  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-}
-
-template <typename T>
-std::vector<T> valuesOf(const std::string& bytes) {
-  std::vector<T> values(bytes.size() / sizeof(T));
-  std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
-  return values;
 }
 
 // A pool of `wanted` blocks, or of as many as the driver's buffers hold if that is fewer but still the `needed`; a
@@ -148,12 +104,13 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
 
 Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seeds, const gl::ContextInfo& gl,
                        ColliderFields colliderFields, const SimulationOptions& options)
-    : scene_(startShare(options.share, requireParticles(scene, seeds), seeds)),
+    : scene_(requireParticles(scene, seeds)),
+      shared_(options.share, std::max(options.particleCapacity, seeds.size()), seeds),
       pipeline_(scene_, options.programs, gl, transferShapeCandidates(scene_, options.transferShapes)),
       materialTable_(buildMaterialTable(scene_)),
       colliderFields_(std::move(colliderFields)),
       state_(GpuStateLayout::forScene(
-                 scene_, particleCapacityOf(options.share, seeds, std::max(options.particleCapacity, seeds.size())),
+                 scene_, shared_.startCapacity(seeds),
                  options.blockCapacity > 0 ? options.blockCapacity
                                            : initialBlockCapacity(scene_, seeds, options.share, gl),
                  needsDeformationGradient(scene_, options.programs)),
@@ -167,22 +124,21 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       totalCapacity_(std::max(options.particleCapacity, seeds.size())),
       sceneFingerprint_(sceneFingerprint(scene_, totalCapacity_, materialTable_, colliderFields_, seeds)),
       keyframedColliders_(std::any_of(scene_.colliders.begin(), scene_.colliders.end(),
-                                      [](const Collider& c) { return !c.keyframes.empty(); })),
-      share_(options.share) {
+                                      [](const Collider& c) { return !c.keyframes.empty(); })) {
   const std::vector<ParticleSeed> initial = splitByRelease(seeds, pendingParticles_);
   initialParticles_ = initial.size();
   initialInverseMassSum_ = inverseMassSum_ = inverseMassSum(initial);
   initialMassKg_ = massKg_ = massSum(initial);
-  if (share_) {
+  if (shared_.share()) {
     // The diagnostics know every particle of the scene, in one process's order: the first, then the emitters'.
     diagnostics_.noteParticles(initial);
     diagnostics_.noteParticles(pendingParticles_);
-    diagnostics_.followIds(&ids_);
+    diagnostics_.followIds(&shared_.ids());
     // A body's images push the nodes that hold snow, which another share's particles may fill: this share must hold
     // those nodes' blocks too (docs/distributed.md).
     if (!scene_.rigidBodies.empty()) state_.grid().claimImageBlocks();
   }
-  const std::vector<ParticleSeed> particles = ownParticles(initial, 0);
+  const std::vector<ParticleSeed> particles = shared_.own(initial, 0);
   writeParticles(0, particles);
   particleCount_ = particles.size();
 
@@ -198,7 +154,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
       state_.resizeBlockPool(poolCapacity(scene_, usage.mostInAStep, 2 * usage.mostInAStep, gl_), gl_);
       pipeline_.transferToGrid(state_, particleCount_, passTimer_);
     }
-    if (share_) share_->sumSharedNodes(state_.grid());
+    shared_.sumSharedNodes(state_.grid());
     pipeline_.computeVolumes(state_, particleCount_, passTimer_);
   }
   // P2G's shape, timed on these particles (sim/TransferShape.h); a scene whose particles all come later chooses at
@@ -217,17 +173,6 @@ void Simulation::writeParticles(std::size_t first, const std::vector<ParticleSee
   diagnostics_.noteParticles(particles);
 }
 
-std::vector<ParticleSeed> Simulation::ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId) {
-  if (!share_) return particles;
-  std::vector<ParticleSeed> own;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (!share_->owns(particles[i].positionM)) continue;
-    own.push_back(particles[i]);
-    ids_.push_back(static_cast<std::uint32_t>(firstId + i));
-  }
-  return own;
-}
-
 void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
   appendParticles(particles);
@@ -243,7 +188,7 @@ void Simulation::addParticles(const std::vector<ParticleSeed>& particles) {
 
 void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
   if (particles.empty()) return;
-  if (share_) growParticles(particleCount_ + particles.size());
+  growParticles(particleCount_ + particles.size());
   if (particles.size() > particleCapacity() - particleCount_) {
     throw std::length_error("addParticles: " + std::to_string(particles.size()) + " particles do not fit: " +
                             std::to_string(particleCount_) + " of " + std::to_string(particleCapacity()) + " in use");
@@ -261,7 +206,7 @@ void Simulation::appendParticles(const std::vector<ParticleSeed>& particles) {
 }
 
 void Simulation::growParticles(std::size_t needed) {
-  if (needed <= particleCapacity()) return;
+  if (needed <= particleCapacity() || particleCapacity() >= totalCapacity_) return;
   state_.growParticles(shareParticleCapacity(needed, totalCapacity_), gl_);
 }
 
@@ -277,21 +222,20 @@ void Simulation::releaseDueParticles() {
   energy_.noteArrival(arrivingEnergyJ(scene_, due));  // all shares' alike: every share knows every emitter's particles
   inverseMassSum_ += inverseMassSum(due);
   massKg_ += massSum(due);
-  appendParticles(ownParticles(due, firstId));
+  appendParticles(shared_.own(due, firstId));
 }
 
 void Simulation::step(double dtS) {
-  viewGathered_ = false;
-  if (share_) share_->beginStep(steps_);
+  shared_.beginStep(steps_);
   releaseDueParticles();
   // A keyframed collider's pose changes from one segment of its motion to the next (docs/algorithm.md, Colliders).
   // The rigid bodies' entries after them are the GPU's own (integrate_bodies.comp).
   if (keyframedColliders_) state_.writeColliders(colliderEntries(scene_, colliderFields_, timeS_));
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, dtS, timeS_, particleCount_, steps_));
   pipeline_.chooseTransferShape(state_, particleCount_);  // at the first step with particles, and as they grow
-  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_, share_);
+  const SolveReport solve = pipeline_.step(state_, particleCount_, passTimer_, shared_.share());
   if (scene_.solver.semiImplicit()) noteSolve(solve);
-  if (share_) particleCount_ = share_->migrate(state_, particleCount_, ids_, [this](std::size_t n) { growParticles(n); });
+  particleCount_ = shared_.migrate(state_, particleCount_, [this](std::size_t n) { growParticles(n); });
   timeS_ += dtS;
   ++steps_;
   largestDtSinceAudit_ = std::max(largestDtSinceAudit_, dtS);
@@ -327,7 +271,7 @@ int Simulation::advanceTo(double timeS) {
   // Every share steps alike: by the fastest signal in any of them.
   const int steps = stepping_.advance(
       timeS_, timeS, [this](double dtS) { step(dtS); },
-      [this] { return share_ ? share_->largest(state_.fastestSignalMPerS()) : state_.fastestSignalMPerS(); });
+      [this] { return shared_.largest(state_.fastestSignalMPerS()); });
   if (stepping_.adaptive() || steps > 0) timeS_ = timeS;  // exactly, whatever the steps' rounding
   growBlockPool(kBlockPoolGrowthFullness);
   return steps;
@@ -354,7 +298,7 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
     // A frame whose particles reached more blocks than the pool held left some out of a step: it is redone from
     // its start with the pool advanceTo grew, which gives the bytes a pool large enough from the start would. Shares
     // step together, so a frame one of them redoes, all redo.
-    const bool beyondPool = share_ ? share_->any(blocksBeyondPool_ > 0) : blocksBeyondPool_ > 0;
+    const bool beyondPool = shared_.any(blocksBeyondPool_ > 0);
     if (beyondPool && poolRetries < kBlockPoolRetries) {
       ++poolRetries;
       if (blocksBeyondPool_ > 0) {
@@ -374,15 +318,13 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
     } catch (const SimulationError& error) {
       failure = error;
     }
-    const bool failed = share_ ? share_->any(failure.has_value()) : failure.has_value();
+    const bool failed = shared_.any(failure.has_value());
     if (!failed) {
       stepping_.resetStepScale();
       // P2G's shape, timed at the frame's first step with particles or again after the particles grew.
       const std::optional<TransferShapeChoice>& shape = transferShapeChoice();
       if (shape && shape->particles != shapeTimedOn) log << "\nfirn: transfers: " << shape->describe() << "\n";
-      if (share_) {
-        particleCount_ = share_->endFrame(state_, particleCount_, ids_, [this](std::size_t n) { growParticles(n); });
-      }
+      particleCount_ = shared_.endFrame(state_, particleCount_, [this](std::size_t n) { growParticles(n); });
       return steps;
     }
     if (!stepping_.adaptive() || !stepping_.shrinkForRetry(attempt++)) {
@@ -398,19 +340,18 @@ int Simulation::advanceFrame(double frameTimeS, std::ostream& log) {
 
 void Simulation::saveState() {
   state_.save();
-  saved_ = {timeS_,         steps_,         particleCount_, ids_, nextPending_, stepping_.fastestSignalMPerS(),
+  saved_ = {timeS_,         steps_,         particleCount_, shared_.ids(), nextPending_, stepping_.fastestSignalMPerS(),
             solverSummary_, solverFailure_, energy_.pendingArrivalJ(), largestDtSinceAudit_, inverseMassSum_,
             massKg_,  quantizationSinceAudit_, energy_.account(), auditedSteps_, auditedTimeS_,
             loadImpulses_, loadDurationS_, objectWork_};
 }
 
 void Simulation::restoreState() {
-  viewGathered_ = false;
   state_.restore();
   timeS_ = saved_.timeS;
   steps_ = saved_.steps;
   particleCount_ = saved_.particleCount;
-  ids_ = saved_.ids;
+  shared_.restore(saved_.ids);
   diagnostics_.keepParticles(particleCount_);
   nextPending_ = saved_.nextPending;
   stepping_.setFastestSignalMPerS(saved_.fastestSignalMPerS);
@@ -445,26 +386,8 @@ Checkpoint Simulation::checkpoint(int frame) const {
   }
   checkpoint.objectLoadDurationS = loadDurationS_;
   checkpoint.buffers = state_.stateBytes();
-  if (!share_) return checkpoint;
-  // Every share's particles in one process's order, and the watchdogs as one, on the writing share: the bytes of
-  // one process's checkpoint, past the particles as zero as its never-written records are.
-  const std::size_t arrays = state_.particles().stateBuffers().size();
-  std::vector<std::string> records;
-  std::vector<std::size_t> strides;
-  for (std::size_t a = 0; a < arrays; ++a) {
-    strides.push_back(checkpoint.buffers[a].size() / particleCapacity());
-    records.push_back(checkpoint.buffers[a].substr(0, particleCount_ * strides[a]));
-  }
-  // (A share's buffers hold its own particles; one process's, all the scene's capacity.)
-  std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
-  const gpu::WatchdogStatus watchdog = share_->combineWatchdogs(state_.watchdog());
-  if (all.empty()) return checkpoint;
-  checkpoint.particleCount = all[0].size() / strides[0];
-  for (std::size_t a = 0; a < arrays; ++a) {
-    all[a].resize(totalCapacity_ * strides[a], '\0');
-    checkpoint.buffers[a] = std::move(all[a]);
-  }
-  std::memcpy(checkpoint.buffers[arrays].data(), &watchdog, sizeof watchdog);
+  // Over several processes: every share's particles in one process's order, and the watchdogs as one.
+  shared_.gatherCheckpoint(checkpoint, state_.particles(), particleCount_, state_.watchdog());
   return checkpoint;
 }
 
@@ -489,29 +412,10 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
                      "run never checkpoints such a state, so this file cannot be resumed");
   }
   state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
-  viewGathered_ = false;
-  if (share_) {
-    // The checkpoint's particles (of any number of shares, or one process) drawn anew into slabs, and each share's
-    // packed at the start of its buffers; their places in the checkpoint are their ids.
-    std::vector<glm::vec3> positionsM;
-    for (const glm::vec4& positionMass : valuesOf<glm::vec4>(checkpoint.buffers[0])) {  // x and mass come first
-      if (positionsM.size() == checkpoint.particleCount) break;
-      positionsM.emplace_back(positionMass);
-    }
-    share_->balance(positionsM);
-    ids_.clear();
-    for (std::size_t i = 0; i < positionsM.size(); ++i) {
-      if (share_->owns(positionsM[i])) ids_.push_back(static_cast<std::uint32_t>(i));
-    }
-    growParticles(ids_.size());
-    std::vector<std::string> mine = checkpoint.buffers;
-    for (std::size_t a = 0; a < state_.particles().stateBuffers().size(); ++a) {
-      mine[a] = recordsOf(mine[a], totalCapacity_, ids_, particleCapacity());
-    }
-    state_.loadStateBytes(mine);
-  } else {
-    state_.loadStateBytes(checkpoint.buffers);
-  }
+  std::vector<std::string> stateBytes;
+  const std::size_t particles =
+      shared_.scatterCheckpoint(checkpoint, state_, [this](std::size_t n) { growParticles(n); }, stateBytes);
+  state_.loadStateBytes(stateBytes);
   timeS_ = checkpoint.timeS;
   steps_ = checkpoint.steps;
   auditedSteps_ = steps_;
@@ -538,7 +442,7 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   const auto released = pendingParticles_.begin() + std::ptrdiff_t(nextPending_);
   diagnostics_.noteParticles({released, pendingParticles_.begin() + std::ptrdiff_t(checkpoint.releasedEmitterParticles)});
   nextPending_ = checkpoint.releasedEmitterParticles;
-  particleCount_ = share_ ? ids_.size() : checkpoint.particleCount;
+  particleCount_ = particles;
 }
 
 EnergySums Simulation::readEnergySums() {
@@ -547,16 +451,15 @@ EnergySums Simulation::readEnergySums() {
                                         particleCount_, steps_));
   pipeline_.auditEnergy(state_, particleCount_, gridHoldsVelocities_, passTimer_);
   EnergySums sums = energySums(state_.energyLedger());
-  if (share_) {
-    std::vector<std::int64_t> values = {sums.particles[0], sums.particles[1], sums.particles[2],
-                                        sums.stepTerm,     sums.flows[0],     sums.flows[1],
-                                        sums.flows[2],     sums.flows[3],     std::int64_t(sums.beyondLimit)};
-    share_->sumExactly(values);
-    sums.particles = {values[0], values[1], values[2]};
-    sums.stepTerm = values[3];
-    sums.flows = {values[4], values[5], values[6], values[7]};
-    sums.beyondLimit = std::uint64_t(values[8]);
-  }
+  // All shares' summed (one process: as they are).
+  std::vector<std::int64_t> values = {sums.particles[0], sums.particles[1], sums.particles[2],
+                                      sums.stepTerm,     sums.flows[0],     sums.flows[1],
+                                      sums.flows[2],     sums.flows[3],     std::int64_t(sums.beyondLimit)};
+  shared_.sumExactly(values);
+  sums.particles = {values[0], values[1], values[2]};
+  sums.stepTerm = values[3];
+  sums.flows = {values[4], values[5], values[6], values[7]};
+  sums.beyondLimit = std::uint64_t(values[8]);
   return sums;
 }
 
@@ -573,7 +476,7 @@ void Simulation::checkWatchdog() {
       loads.push_back(joinFixed64(objectLoads[i].low[c], objectLoads[i].high[c]));
     }
   }
-  if (share_ && !loads.empty()) share_->sumExactly(loads);
+  shared_.sumExactly(loads);
   std::optional<EnergyEvent> energyEvent;
   if (energy.creation) energyEvent = EnergyEvent{*energy.creation, auditedSteps_, steps_};
   const BlockUsage usage = state_.blockUsage();
@@ -593,42 +496,14 @@ void Simulation::checkWatchdog() {
   quantizationSinceAudit_ = 0;
 }
 
-ParticleSnapshot Simulation::snapshot() const {
-  if (!share_) return state_.particles().read(particleCount_);
-  // Gathered already for the view at this step: read on the writer, not gathered again.
-  if (viewGathered_) return gathered_ ? gathered_->read(gatheredCount_) : ParticleSnapshot{};
-  ParticleSnapshot mine = state_.particles().read(particleCount_);
-  const std::vector<std::string> all =
-      share_->gatherRecords({bytesOf(mine.positionMass), bytesOf(mine.velocityVolume), bytesOf(mine.plasticJ)},
-                            {sizeof(glm::vec4), sizeof(glm::vec4), sizeof(float)}, ids_);
-  if (all.empty()) return {};
-  return {valuesOf<glm::vec4>(all[0]), valuesOf<glm::vec4>(all[1]), valuesOf<float>(all[2])};
-}
+ParticleSnapshot Simulation::snapshot() const { return shared_.snapshot(state_.particles(), particleCount_); }
 
 ParticleView Simulation::particleView() const {
-  if (gathered_) return gathered_->view(gatheredCount_, timeS_);
+  if (const std::optional<ParticleView> gathered = shared_.view(timeS_)) return *gathered;
   return state_.particles().view(particleCount_, timeS_);
 }
 
-void Simulation::gatherParticleView() {
-  if (!share_) return;
-  const ParticleView mine = state_.particles().view(particleCount_, timeS_);
-  std::vector<std::string> records;
-  std::vector<std::size_t> strides;
-  for (const gl::Buffer* array : {mine.positionMass, mine.velocityVolume, mine.kirchhoffStress, mine.plasticState}) {
-    strides.push_back(array->bytes() / particleCapacity());
-    std::string& bytes = records.emplace_back(particleCount_ * strides.back(), '\0');
-    array->download(0, bytes.size(), bytes.data());
-  }
-  const std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
-  viewGathered_ = true;
-  if (all.empty()) return;
-  // Without F and C, a particle buffers' state is the view's four arrays, in the view's order.
-  if (!gathered_) gathered_.emplace(totalCapacity_, false, false);
-  const std::vector<gl::Buffer*> buffers = gathered_->stateBuffers();
-  for (std::size_t a = 0; a < all.size(); ++a) buffers[a]->upload(0, all[a].size(), all[a].data());
-  gatheredCount_ = all[0].size() / strides[0];
-}
+void Simulation::gatherParticleView() { shared_.gatherView(state_.particles(), particleCount_); }
 
 GridTotals Simulation::transferToGrid() {
   // Added in node order: the same node sums (fixed point's do not depend on the particles' order) give the same

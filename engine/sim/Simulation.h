@@ -5,6 +5,7 @@
 //   SteppingPolicy  fixed or adaptive steps, and retries (sim/SteppingPolicy.h)
 //   Diagnostics     what the watchdog saw, in words (sim/Diagnostics.h)
 //   EnergyAudit     the run's energy account, and whether a frame made energy from nothing (sim/EnergyAudit.h)
+//   SharedParticles with a share of the domain over several processes, its particles' bookkeeping (sim/SharedParticles.h)
 // and the scene's conversion into buffers (sim/SceneUpload.h, gpu/Materials.h).
 #include <array>
 #include <cstdint>
@@ -30,6 +31,7 @@
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/SceneUpload.h"
+#include "sim/SharedParticles.h"
 #include "sim/StepPipeline.h"
 #include "sim/SteppingPolicy.h"
 
@@ -135,7 +137,7 @@ class Simulation {
   ParticleSnapshot snapshot() const;
   // With a share: each particle's place in the order a single process would hold it (the snapshot's order); empty
   // without one.
-  const std::vector<std::uint32_t>& particleIds() const { return ids_; }
+  const std::vector<std::uint32_t>& particleIds() const { return shared_.ids(); }
   // Each rigid body's frame now, in the scene's order (SceneObjects.h: a point p of the body's frame is at
   // positionM + orientation · p), with its velocity and angular velocity: read back from the GPU.
   std::vector<ObjectPose> rigidBodyPoses() const;
@@ -216,7 +218,8 @@ class Simulation {
   // too small for `neededBlocks`).
   void growBlockPoolTo(std::size_t neededBlocks);
   void releaseDueParticles();
-  // With a share: room in its particle buffers for `needed` particles, and some more (never beyond one process's).
+  // Room in the particle buffers for `needed` particles, and some more, never beyond one process's capacity: a share's
+  // grow as particles come; one process's hold it all from the start.
   void growParticles(std::size_t needed);
   // The energy audit's sums of the steps since the last check and of the particles now (audit_energy.comp), all
   // shares' summed.
@@ -228,12 +231,10 @@ class Simulation {
   // addParticles without growing the pool: emitters' particles, which the pool was sized for.
   void appendParticles(const std::vector<ParticleSeed>& particles);
   void writeParticles(std::size_t first, const std::vector<ParticleSeed>& particles);
-  // The share's own of `particles`, whose places in a single process's order start at `firstId` (all of them without
-  // a share); their ids are appended to ids_.
-  std::vector<ParticleSeed> ownParticles(const std::vector<ParticleSeed>& particles, std::size_t firstId);
 
   // In the order of their checks: the float atomics the pipeline needs, the buffer sizes, the fixed-point range.
   Scene scene_;
+  SharedParticles shared_;  // with a share of the domain: its particles' ids, their gathering (none: all of it)
   StepPipeline pipeline_;
   MaterialTable materialTable_;
   ColliderFields colliderFields_;  // baked once: the collider table's mesh entries and the bodies' probes index it
@@ -262,12 +263,7 @@ class Simulation {
   std::size_t totalCapacity_ = 0;  // one process's particle capacity (a share's buffers hold its own particles)
   std::uint64_t sceneFingerprint_ = 0;
   bool keyframedColliders_ = false;  // whether the collider table changes as the steps go
-  DomainShare* share_ = nullptr;     // the part of the domain this simulates, or none: all of it
-  std::vector<std::uint32_t> ids_;   // with a share: each particle's place in a single process's order
   std::size_t initialParticles_ = 0; // the particles present from the start, in all shares
-  std::optional<ParticleBuffers> gathered_;  // with a share, on the writer: every share's particles (gatherParticleView)
-  std::size_t gatheredCount_ = 0;
-  bool viewGathered_ = false;  // since the last step: snapshot() reads the gathered copy (every share alike)
 
   std::size_t particleCount_ = 0;
   std::vector<ParticleSeed> pendingParticles_;  // emitters' particles not yet released, by release time
