@@ -126,8 +126,9 @@ class BlockGrid {
   std::size_t sumsPerBlock() const { return (withImpulse_ ? 2 : 1) * std::size_t(gpu::BLOCK_NODES); }
   std::vector<glm::ivec4> readBlockSums(const std::vector<std::uint32_t>& slots) const;
   void writeBlockSums(const std::vector<std::uint32_t>& slots, const std::vector<glm::ivec4>& sums);
-  // Marks the blocks in `slots` as audited by another share of the domain (BlockSlot::auditedElsewhere): the energy
-  // their nodes' collisions move is that share's to count (common/energy.glsl).
+  // Marks the blocks in `slots` as audited by another share of the domain (BlockSlot::auditedElsewhere): what their
+  // nodes' collisions move — energy, the objects' loads, the rigid bodies' sums — is that share's to count
+  // (common/energy.glsl).
   void markAuditedElsewhere(const std::vector<std::uint32_t>& slots);
   // From the next sort on, the particles near a rigid body claim the blocks their images reach too
   // (claim_image_blocks.comp): a share of the domain with rigid bodies needs them, one process never does.

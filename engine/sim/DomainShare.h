@@ -51,8 +51,8 @@ class DomainShare {
   virtual bool owns(const glm::vec3& positionM) const = 0;
   // After P2G: adds to the sums of this share's active nodes what the other shares summed at the same nodes, so
   // that every share holding a node holds its whole sum, and marks the blocks a share of a lower rank holds too
-  // (BlockSlot::auditedElsewhere), whose nodes' energy flows that share counts. Every share calls it at the same point
-  // of the same step.
+  // (BlockSlot::auditedElsewhere), whose nodes' energy flows, loads and pushes on rigid bodies that share counts. Every
+  // share calls it at the same point of the same step.
   virtual void sumSharedNodes(BlockGrid& grid) = 0;
   // After passes that add to the sums of the nodes once sumSharedNodes has completed them (the images of the snow's
   // stress in the rigid bodies, mirror_stress.comp): adds what the other shares added at the shared nodes since, so

@@ -120,9 +120,9 @@ std::optional<ParticleView> SharedParticles::view(double timeS) const {
   return gathered_->view(gatheredCount_, timeS);
 }
 
-void SharedParticles::gatherCheckpoint(Checkpoint& checkpoint, const ParticleBuffers& mine, std::size_t count,
-                                       const gpu::WatchdogStatus& watchdog) const {
+void SharedParticles::gatherCheckpoint(Checkpoint& checkpoint, const GpuState& state, std::size_t count) const {
   if (!share_) return;
+  const ParticleBuffers& mine = state.particles();
   // (A share's buffers hold its own particles; one process's, all the scene's capacity.)
   const std::size_t arrays = mine.stateBuffers().size();
   std::vector<std::string> records;
@@ -132,7 +132,7 @@ void SharedParticles::gatherCheckpoint(Checkpoint& checkpoint, const ParticleBuf
     records.push_back(checkpoint.buffers[a].substr(0, count * strides[a]));
   }
   std::vector<std::string> all = share_->gatherRecords(records, strides, ids_);
-  const gpu::WatchdogStatus combined = share_->combineWatchdogs(watchdog);
+  const gpu::WatchdogStatus combined = share_->combineWatchdogs(state.watchdog());
   if (all.empty()) return;
   checkpoint.particleCount = all[0].size() / strides[0];
   for (std::size_t a = 0; a < arrays; ++a) {
@@ -143,10 +143,12 @@ void SharedParticles::gatherCheckpoint(Checkpoint& checkpoint, const ParticleBuf
 }
 
 std::size_t SharedParticles::scatterCheckpoint(const Checkpoint& checkpoint, GpuState& state,
-                                               const MakeRoom& makeRoom, std::vector<std::string>& stateBytes) {
+                                               const MakeRoom& makeRoom) {
   viewGathered_ = false;
-  stateBytes = checkpoint.buffers;
-  if (!share_) return checkpoint.particleCount;
+  if (!share_) {
+    state.loadStateBytes(checkpoint.buffers);
+    return checkpoint.particleCount;
+  }
   // The checkpoint's particles (of any number of shares, or one process) drawn anew into regions, and each share's
   // packed at the start of its buffers; their places in the checkpoint are their ids.
   std::vector<glm::vec3> positionsM;
@@ -160,9 +162,11 @@ std::size_t SharedParticles::scatterCheckpoint(const Checkpoint& checkpoint, Gpu
     if (share_->owns(positionsM[i])) ids_.push_back(static_cast<std::uint32_t>(i));
   }
   makeRoom(ids_.size());
+  std::vector<std::string> mine = checkpoint.buffers;
   for (std::size_t a = 0; a < state.particles().stateBuffers().size(); ++a) {
-    stateBytes[a] = recordsOf(stateBytes[a], totalCapacity_, ids_, state.particleCapacity());
+    mine[a] = recordsOf(mine[a], totalCapacity_, ids_, state.particleCapacity());
   }
+  state.loadStateBytes(mine);
   return ids_.size();
 }
 

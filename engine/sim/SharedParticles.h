@@ -34,7 +34,6 @@ class SharedParticles {
   DomainShare* share() const { return share_; }
   // With a share, each of its particles' place in one process's order (the snapshot's); empty without one.
   const std::vector<std::uint32_t>& ids() const { return ids_; }
-  void setIds(std::vector<std::uint32_t> ids) { ids_ = std::move(ids); }
 
   // The share's own of `particles`, whose places in one process's order start at `firstId` (all of them without a
   // share); their ids are appended.
@@ -71,18 +70,14 @@ class SharedParticles {
   // The gathered copy's view at `timeS`, if there is one.
   std::optional<ParticleView> view(double timeS) const;
 
-  // With a share: the checkpoint's particles and watchdog made every share's, in one process's order, on the writer:
-  // the bytes of one process's checkpoint (past the particles, zero, as its never-written records are): the state's
-  // first buffers are `mine`'s, with the share's first `count` particles, the next the watchdog's, `watchdog` the
-  // share's. Every share calls it.
-  void gatherCheckpoint(Checkpoint& checkpoint, const ParticleBuffers& mine, std::size_t count,
-                        const gpu::WatchdogStatus& watchdog) const;
-  // The state bytes this share loads from `checkpoint` (every share's, or one process's): its own particles (with a
-  // share the regions are drawn anew for the checkpoint's particles, and the ids are their places in it), packed at
-  // the start of its buffers, after `makeRoom(n)` has made room for them; `state` gives the buffers' capacity then.
-  // Returns the particles it holds.
-  std::size_t scatterCheckpoint(const Checkpoint& checkpoint, GpuState& state, const MakeRoom& makeRoom,
-                                std::vector<std::string>& stateBytes);
+  // With a share: the checkpoint of `state` (its buffers' bytes, the share's first `count` particles in its particle
+  // buffers, then the watchdog's) made every share's, in one process's order, on the writer: the bytes of one
+  // process's checkpoint (past the particles, zero, as its never-written records are). Every share calls it.
+  void gatherCheckpoint(Checkpoint& checkpoint, const GpuState& state, std::size_t count) const;
+  // Loads `checkpoint` (every share's, or one process's) into `state`: with a share, its own particles (the regions
+  // drawn anew for the checkpoint's particles, the ids their places in it) packed at the start of its buffers, after
+  // `makeRoom(n)` has made room for them. Returns the particles it holds.
+  std::size_t scatterCheckpoint(const Checkpoint& checkpoint, GpuState& state, const MakeRoom& makeRoom);
 
  private:
   DomainShare* share_ = nullptr;

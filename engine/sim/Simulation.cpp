@@ -387,7 +387,7 @@ Checkpoint Simulation::checkpoint(int frame) const {
   checkpoint.objectLoadDurationS = loadDurationS_;
   checkpoint.buffers = state_.stateBytes();
   // Over several processes: every share's particles in one process's order, and the watchdogs as one.
-  shared_.gatherCheckpoint(checkpoint, state_.particles(), particleCount_, state_.watchdog());
+  shared_.gatherCheckpoint(checkpoint, state_, particleCount_);
   return checkpoint;
 }
 
@@ -412,10 +412,8 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
                      "run never checkpoints such a state, so this file cannot be resumed");
   }
   state_.particles().checkFinite(checkpoint.buffers, checkpoint.particleCount, source.string());
-  std::vector<std::string> stateBytes;
   const std::size_t particles =
-      shared_.scatterCheckpoint(checkpoint, state_, [this](std::size_t n) { growParticles(n); }, stateBytes);
-  state_.loadStateBytes(stateBytes);
+      shared_.scatterCheckpoint(checkpoint, state_, [this](std::size_t n) { growParticles(n); });
   timeS_ = checkpoint.timeS;
   steps_ = checkpoint.steps;
   auditedSteps_ = steps_;

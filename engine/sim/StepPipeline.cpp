@@ -248,9 +248,11 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
       if (share) share->sumSharedChanges(state.grid());
       scatterImages(1u);
     }
-    if (share) sumBodiesOverShares(state, *share, BodySums::Push);
   }
   const bool coupledSolve = rigidBodies_ > 0 && !implicitSolver_;
+  // The images' push, which the explicit step's bodies take before the grid update (the semi-implicit step's take it
+  // with the rest, after G2P).
+  if (share && coupledSolve) sumBodiesOverShares(state, *share, BodySums::Push);
   const GLuint bodiesCountedElsewhere = share && !share->countsCommonWork() ? 1u : 0u;
   if (coupledSolve) {  // the bodies take gravity and the images' push before the nodes meet them (eq. 39)
     predictBodies_.set("bodiesCountedElsewhere", bodiesCountedElsewhere);

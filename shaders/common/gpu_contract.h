@@ -277,7 +277,8 @@ FIRN_STRUCT(BlockTableHeader, FIRN_BLOCK_TABLE_HEADER)
 //   mirrorBlock      the k-th slot's: the slot of the k-th block list_mirror_blocks.comp listed this step
 //                    (k < BlockTableHeader.mirrorBlocks.w)
 //   auditedElsewhere 1 where a share of the domain of a lower rank holds the block too (docs/distributed.md), which
-//                    then counts the energy its nodes' collisions move (common/energy.glsl); 0 from its claim
+//                    then counts what its nodes' collisions move: energy, the objects' loads, the rigid bodies' sums
+//                    (common/energy.glsl, countedHere); 0 from its claim
 //   claimedForImages 1 where no particle's stencil reached the block, only a particle's image in a rigid body
 //                    (claim_image_blocks.comp: over several processes); 0 where a particle's stencil claimed it
 #define FIRN_BLOCK_SLOT(member, array) \
