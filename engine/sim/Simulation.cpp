@@ -543,28 +543,13 @@ std::vector<Simulation::ObjectLoadReading> Simulation::objectLoads() const {
 }
 
 std::vector<std::optional<ObjectPose>> Simulation::bodyPosesInPlay() const {
-  std::vector<std::optional<ObjectPose>> poses;
-  if (scene_.rigidBodies.empty()) return poses;
-  const std::vector<gpu::ColliderParams> entries = state_.readColliders(scene_.colliders.size(), scene_.rigidBodies.size());
-  const std::vector<ObjectPose> all = rigidBodyPoses();
-  for (std::size_t b = 0; b < all.size(); ++b) {
-    poses.push_back(entries[b].shapeBoundary.w != 0 ? std::optional<ObjectPose>(all[b]) : std::nullopt);
-  }
-  return poses;
+  const RigidBodies* bodies = pipeline_.rigidBodies();
+  return bodies ? bodies->posesInPlay(state_) : std::vector<std::optional<ObjectPose>>();
 }
 
 std::vector<ObjectPose> Simulation::rigidBodyPoses() const {
-  std::vector<ObjectPose> poses;
-  if (scene_.rigidBodies.empty()) return poses;
-  for (const gpu::ColliderParams& entry : state_.readColliders(scene_.colliders.size(), scene_.rigidBodies.size())) {
-    ObjectPose& pose = poses.emplace_back();
-    // The entry's pose is at the time of its pivotTime.w, the end of the last step (or t = 0): now.
-    pose.positionM = glm::dvec3(glm::vec3(entry.pivotTime));
-    pose.orientation = glm::dquat(entry.rotation.w, entry.rotation.x, entry.rotation.y, entry.rotation.z);
-    pose.velocityMPerS = glm::dvec3(glm::vec3(entry.velocityFriction));
-    pose.angularVelocityRadPerS = glm::dvec3(glm::vec3(entry.angularVelocity));
-  }
-  return poses;
+  const RigidBodies* bodies = pipeline_.rigidBodies();
+  return bodies ? bodies->poses(state_) : std::vector<ObjectPose>();
 }
 
 void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
@@ -572,8 +557,7 @@ void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
   body.parked = false;
   energy_.noteArrival(rigidBodyKineticEnergyJ(body, pose) +
                       potentialEnergyJ(scene_.gravityMPerS2, potentialFloorM(scene_), body.massKg, pose.positionM));
-  state_.writeColliders({rigidBodyEntry(body, colliderFields_, index, pose, timeS_)},
-                        scene_.colliders.size() + index);
+  pipeline_.rigidBodies()->write(state_, index, rigidBodyEntry(body, colliderFields_, index, pose, timeS_));
 }
 
 Simulation::StepTraffic Simulation::stepRecordingTraffic(double dtS) {

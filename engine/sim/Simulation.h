@@ -1,7 +1,8 @@
 #pragma once
 // The MPM simulation on the GPU, as one object: a façade over the parts that each do one job —
 //   GpuState        the buffers in named parts (particles, block grid, solver), save and restore (sim/GpuState.h)
-//   StepPipeline    the compute passes of one step, in paper order (sim/StepPipeline.h)
+//   StepPipeline    the compute passes of one step, in paper order (sim/StepPipeline.h), the rigid bodies' among
+//                   them (sim/RigidBodies.h)
 //   SteppingPolicy  fixed or adaptive steps, and retries (sim/SteppingPolicy.h)
 //   Diagnostics     what the watchdog saw, in words (sim/Diagnostics.h)
 //   EnergyAudit     the run's energy account, and whether a frame made energy from nothing (sim/EnergyAudit.h)

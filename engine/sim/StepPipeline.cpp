@@ -7,7 +7,6 @@
 
 #include "Error.h"
 #include "sim/EnergyAudit.h"
-#include "sim/FixedPoint.h"
 
 namespace firn {
 
@@ -130,20 +129,7 @@ StepPipeline::StepPipeline(const Scene& scene, MaterialPrograms programs, const 
   gridToParticle_ = gl::ComputePass(library, "sim/g2p.comp", options);
   computeVolumes_ = gl::ComputePass(library, "sim/compute_volumes.comp", options);
   auditEnergy_ = gl::ComputePass(library, "sim/audit_energy.comp", options);
-  if (!scene.rigidBodies.empty()) {
-    listMirrorBlocks_ = gl::ComputePass(library, "sim/list_mirror_blocks.comp", options);
-    listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
-    mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
-    integrateBodies_ = gl::ComputePass(library, "sim/integrate_bodies.comp", options);
-    rigidBodies_ = scene.rigidBodies.size();
-    firstRigidBody_ = scene.colliders.size();
-    if (!scene.solver.semiImplicit()) {
-      predictBodies_ = gl::ComputePass(library, "sim/predict_bodies.comp", options);
-      solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
-      coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
-                                         offsetof(gpu::BlockTableHeader, blockDispatch));
-    }
-  }
+  if (!scene.rigidBodies.empty()) bodies_.emplace(scene, library, options, maxWorkGroupsX_);
   if (scene.solver.semiImplicit()) implicitSolver_.emplace(scene, library, options);
 }
 
@@ -207,7 +193,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     // bodies as the step's will, and adds the energy its collisions move to the ledger: the bodies' entries and the
     // ledger are put back as they were.
     transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
-    const std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
+    const std::vector<gpu::ColliderParams> bodies = bodies_ ? bodies_->save(state) : std::vector<gpu::ColliderParams>();
     const std::string energy = state.energyRecords();
     state.grid().run(updateGrid_, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
     choice.msPerProduct =
@@ -215,7 +201,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     productChosen_ = fastestEntry(choice.msPerProduct);
     choice.productShape = transfers_[productChosen_].shape();
     state.bindings().completeWrites();
-    if (!bodies.empty()) state.writeColliders(bodies, firstRigidBody_);
+    if (bodies_) bodies_->restore(state, bodies);
     state.writeEnergyRecords(energy);
   }
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
@@ -226,84 +212,20 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
 
 SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassTimer& timer, DomainShare* share) const {
   const gl::BufferBindings& buffers = state.bindings();
-  const gl::Buffer& blockTable = state.grid().blockTable();
   sortAndTransfer(state, particles, sortFor(), timer);
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
-  if (rigidBodies_ > 0) {  // the snow's stress mirrored into the bodies (docs/algorithm.md eq. 38)
-    listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
-    listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
-    const auto scatterImages = [&](GLuint measuringWork) {
-      mirrorStress_.set("measuringWork", measuringWork);
-      mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
-    };
-    // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
-    // pushes change it; whole, once, where the semi-implicit step sums them apart. The second half reads the nodes'
-    // whole sums: every share's pushes at the nodes it shares.
-    if (implicitSolver_) {
-      scatterImages(0u);
-      scatterImages(2u);
-    } else {
-      scatterImages(1u);
-      scatterImages(0u);
-      if (share) share->sumSharedChanges(state.grid());
-      scatterImages(1u);
-    }
-  }
-  const bool coupledSolve = rigidBodies_ > 0 && !implicitSolver_;
-  // The images' push, which the explicit step's bodies take before the grid update (the semi-implicit step's take it
-  // with the rest, after G2P).
-  if (share && coupledSolve) sumBodiesOverShares(state, *share, BodySums::Push);
-  const GLuint bodiesCountedElsewhere = share && !share->countsCommonWork() ? 1u : 0u;
-  if (coupledSolve) {  // the bodies take gravity and the images' push before the nodes meet them (eq. 39)
-    predictBodies_.set("bodiesCountedElsewhere", bodiesCountedElsewhere);
-    predictBodies_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
-  }
+  if (bodies_) bodies_->afterTransfer(state, share, timer);
+  if (bodies_) bodies_->beforeGridUpdate(state, share, timer);
   state.grid().run(updateGrid_, sortFor(), buffers, timer);
-  if (coupledSolve) {  // each body and the nodes it holds, solved together, then those nodes take its motion
-    if (share) sumBodiesOverShares(state, *share, BodySums::Coupling);
-    solveCoupling_.runOver(rigidBodies_, maxWorkGroupsX_, buffers, timer);
-    state.grid().run(coupleNodes_, sortFor(), buffers, timer);
-  }
+  if (bodies_) bodies_->afterGridUpdate(state, sortFor(), share, timer);
   SolveReport solve;
   if (implicitSolver_) {
     solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, transfers_[productChosen_], timer);
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
-  if (rigidBodies_ > 0) {
-    if (share) sumBodiesOverShares(state, *share, BodySums::Push);
-    integrateBodies_.set("bodiesCountedElsewhere", bodiesCountedElsewhere);
-    integrateBodies_.runOver(1, maxWorkGroupsX_, buffers, timer);  // one invocation for all: they meet each other
-  }
+  if (bodies_) bodies_->afterGridToParticle(state, share, timer);
   buffers.completeWrites();  // for what reads the particles next without binding from here: pictures, surfaces
   return solve;
-}
-
-void StepPipeline::sumBodiesOverShares(GpuState& state, DomainShare& share, BodySums sums) const {
-  state.bindings().completeWrites();  // the passes' atomics, before the host reads them
-  std::vector<gpu::ColliderParams> bodies = state.readColliders(firstRigidBody_, rigidBodies_);
-  // Each sum's 64-bit words, (low, high) per component, as one integer.
-  std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
-  for (gpu::ColliderParams& body : bodies) {
-    if (sums == BodySums::Push) {
-      words.emplace_back(&body.impulseLow, &body.impulseHigh);
-      words.emplace_back(&body.angularLow, &body.angularHigh);
-    } else {
-      for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.couplingLow[w], &body.couplingHigh[w]);
-    }
-  }
-  std::vector<std::int64_t> values;
-  for (const auto& [low, high] : words) {
-    for (int c = 0; c < 4; ++c) values.push_back(joinFixed64((*low)[c], (*high)[c]));
-  }
-  share.sumExactly(values);
-  for (std::size_t k = 0; k < words.size(); ++k) {
-    for (int c = 0; c < 4; ++c) {
-      const std::uint64_t value = std::uint64_t(values[4 * k + std::size_t(c)]);
-      (*words[k].first)[c] = std::uint32_t(value);
-      (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
-    }
-  }
-  state.writeColliders(bodies, firstRigidBody_);
 }
 
 void StepPipeline::auditEnergy(GpuState& state, std::size_t particles, bool gridVelocities, gl::PassTimer& timer) const {

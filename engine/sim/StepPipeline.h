@@ -19,6 +19,7 @@
 #include "sim/FixedPoint.h"
 #include "sim/GpuState.h"
 #include "sim/ImplicitSolver.h"
+#include "sim/RigidBodies.h"
 #include "sim/TransferPasses.h"
 #include "sim/TransferShape.h"
 
@@ -73,6 +74,8 @@ class StepPipeline {
   // reach their passes through them).
   const ImplicitSolver* implicitSolver() const { return implicitSolver_ ? &*implicitSolver_ : nullptr; }
   const std::vector<TransferPasses>& transfers() const { return transfers_; }
+  // The rigid bodies' part, if the scene has bodies.
+  const RigidBodies* rigidBodies() const { return bodies_ ? &*bodies_ : nullptr; }
   // The initial volumes V0 = m / ρ_grid (§6 step 2), after a transferToGrid of the first particles.
   void computeVolumes(GpuState& state, std::size_t particles, gl::PassTimer& timer) const;
   // The energy audit's sums over the particles into the ledger (audit_energy.comp; sim/EnergyAudit.h); with
@@ -84,12 +87,6 @@ class StepPipeline {
   BlockGrid::SortFor sortFor() const;
   // transferToGrid's passes, their last writes left to the barriers of the passes that follow.
   void sortAndTransfer(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
-  // The rigid bodies' sums a step reads: the snow's push (impulse and its moment) or the coupled solve's.
-  enum class BodySums { Push, Coupling };
-  // Over several shares: the bodies' `sums` that this share's passes added since they were last cleared, summed
-  // over all shares, in integers (the sums one process makes), so that every share moves every body alike.
-  void sumBodiesOverShares(GpuState& state, DomainShare& share, BodySums sums) const;
-
   int maxWorkGroupsX_ = 65535;
   // The transfers in each shape the run was given, P2G's shape and the Hessian product's.
   std::vector<TransferPasses> transfers_;
@@ -101,16 +98,7 @@ class StepPipeline {
   gl::ComputePass gridToParticle_;
   gl::ComputePass computeVolumes_;
   gl::ComputePass auditEnergy_;
-  gl::ComputePass listMirrorBlocks_;  // scenes with rigid bodies
-  gl::ComputePass listMirrored_;      // scenes with rigid bodies
-  gl::ComputePass mirrorStress_;      // scenes with rigid bodies
-  gl::ComputePass integrateBodies_;   // scenes with rigid bodies
-  // The explicit step's coupled solve of the bodies and the nodes they hold (docs/algorithm.md, eq. 39).
-  gl::ComputePass predictBodies_;
-  gl::ComputePass solveCoupling_;
-  BlockGrid::StepPass coupleNodes_;
-  std::size_t rigidBodies_ = 0;
-  std::size_t firstRigidBody_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
+  std::optional<RigidBodies> bodies_;  // scenes with rigid bodies
   std::optional<ImplicitSolver> implicitSolver_;
 };
 

@@ -1,0 +1,146 @@
+#include "sim/RigidBodies.h"
+
+#include <cstdint>
+#include <utility>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "sim/FixedPoint.h"
+
+namespace firn {
+
+namespace {
+
+ObjectPose poseOf(const gpu::ColliderParams& entry) {
+  ObjectPose pose;
+  // The entry's pose is at the time of its pivotTime.w, the end of the last step (or t = 0): now.
+  pose.positionM = glm::dvec3(glm::vec3(entry.pivotTime));
+  pose.orientation = glm::dquat(entry.rotation.w, entry.rotation.x, entry.rotation.y, entry.rotation.z);
+  pose.velocityMPerS = glm::dvec3(glm::vec3(entry.velocityFriction));
+  pose.angularVelocityRadPerS = glm::dvec3(glm::vec3(entry.angularVelocity));
+  return pose;
+}
+
+}  // namespace
+
+RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
+                         int maxWorkGroupsX)
+    : count_(scene.rigidBodies.size()),
+      first_(scene.colliders.size()),
+      semiImplicit_(scene.solver.semiImplicit()),
+      maxWorkGroupsX_(maxWorkGroupsX),
+      listMirrorBlocks_(library, "sim/list_mirror_blocks.comp", options),
+      listMirrored_(library, "sim/list_mirrored.comp", options),
+      mirrorStress_(library, "sim/mirror_stress.comp", options),
+      integrateBodies_(library, "sim/integrate_bodies.comp", options) {
+  if (!semiImplicit_) {
+    predictBodies_ = gl::ComputePass(library, "sim/predict_bodies.comp", options);
+    solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
+    coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
+                                       offsetof(gpu::BlockTableHeader, blockDispatch));
+  }
+}
+
+void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
+  const gl::BufferBindings& buffers = state.bindings();
+  const gl::Buffer& blockTable = state.grid().blockTable();
+  listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
+  listMirrored_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorBlocks), buffers, timer);
+  const auto scatterImages = [&](GLuint measuringWork) {
+    mirrorStress_.set("measuringWork", measuringWork);
+    mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
+  };
+  // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
+  // pushes change it; whole, once, where the semi-implicit step sums them apart. The second half reads the nodes'
+  // whole sums: every share's pushes at the nodes it shares.
+  if (semiImplicit_) {
+    scatterImages(0u);
+    scatterImages(2u);
+    return;
+  }
+  scatterImages(1u);
+  scatterImages(0u);
+  if (share) share->sumSharedChanges(state.grid());
+  scatterImages(1u);
+  // The images' push, which the explicit step's bodies take before the grid update (the semi-implicit step's take it
+  // with the rest, after G2P).
+  if (share) sumOverShares(state, *share, Sums::Push);
+}
+
+void RigidBodies::beforeGridUpdate(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
+  if (semiImplicit_) return;
+  // The bodies take gravity and the images' push before the nodes meet them (eq. 39).
+  predictBodies_.set("bodiesCountedElsewhere", share && !share->countsCommonWork() ? 1u : 0u);
+  predictBodies_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
+}
+
+void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, DomainShare* share,
+                                  gl::PassTimer& timer) const {
+  if (semiImplicit_) return;
+  // Each body and the nodes it holds, solved together, then those nodes take its motion.
+  if (share) sumOverShares(state, *share, Sums::Coupling);
+  solveCoupling_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
+  state.grid().run(coupleNodes_, sortFor, state.bindings(), timer);
+}
+
+void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
+  if (share) sumOverShares(state, *share, Sums::Push);
+  integrateBodies_.set("bodiesCountedElsewhere", share && !share->countsCommonWork() ? 1u : 0u);
+  integrateBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation for all: they meet
+}
+
+void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) const {
+  state.bindings().completeWrites();  // the passes' atomics, before the host reads them
+  std::vector<gpu::ColliderParams> bodies = save(state);
+  // Each sum's 64-bit words, (low, high) per component, as one integer.
+  std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
+  for (gpu::ColliderParams& body : bodies) {
+    if (sums == Sums::Push) {
+      words.emplace_back(&body.impulseLow, &body.impulseHigh);
+      words.emplace_back(&body.angularLow, &body.angularHigh);
+    } else {
+      for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.couplingLow[w], &body.couplingHigh[w]);
+    }
+  }
+  std::vector<std::int64_t> values;
+  for (const auto& [low, high] : words) {
+    for (int c = 0; c < 4; ++c) values.push_back(joinFixed64((*low)[c], (*high)[c]));
+  }
+  share.sumExactly(values);
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const std::uint64_t value = std::uint64_t(values[4 * k + std::size_t(c)]);
+      (*words[k].first)[c] = std::uint32_t(value);
+      (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
+    }
+  }
+  restore(state, bodies);
+}
+
+std::vector<gpu::ColliderParams> RigidBodies::save(const GpuState& state) const {
+  return state.readColliders(first_, count_);
+}
+
+void RigidBodies::restore(GpuState& state, const std::vector<gpu::ColliderParams>& entries) const {
+  if (!entries.empty()) state.writeColliders(entries, first_);
+}
+
+std::vector<ObjectPose> RigidBodies::poses(const GpuState& state) const {
+  std::vector<ObjectPose> poses;
+  for (const gpu::ColliderParams& entry : save(state)) poses.push_back(poseOf(entry));
+  return poses;
+}
+
+std::vector<std::optional<ObjectPose>> RigidBodies::posesInPlay(const GpuState& state) const {
+  std::vector<std::optional<ObjectPose>> inPlay;
+  for (const gpu::ColliderParams& entry : save(state)) {
+    inPlay.push_back(entry.shapeBoundary.w != 0 ? std::optional<ObjectPose>(poseOf(entry)) : std::nullopt);
+  }
+  return inPlay;
+}
+
+void RigidBodies::write(GpuState& state, std::size_t index, const gpu::ColliderParams& entry) const {
+  state.writeColliders({entry}, first_ + index);
+}
+
+}  // namespace firn
