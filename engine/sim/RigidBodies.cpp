@@ -1,5 +1,6 @@
 #include "sim/RigidBodies.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 

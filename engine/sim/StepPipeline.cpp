@@ -214,8 +214,10 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   const gl::BufferBindings& buffers = state.bindings();
   sortAndTransfer(state, particles, sortFor(), timer);
   if (share) share->sumSharedNodes(state.grid());  // the nodes' whole sums, where other shares' particles reach too
-  if (bodies_) bodies_->afterTransfer(state, share, timer);
-  if (bodies_) bodies_->beforeGridUpdate(state, share, timer);
+  if (bodies_) {
+    bodies_->afterTransfer(state, share, timer);
+    bodies_->beforeGridUpdate(state, share, timer);
+  }
   state.grid().run(updateGrid_, sortFor(), buffers, timer);
   if (bodies_) bodies_->afterGridUpdate(state, sortFor(), share, timer);
   SolveReport solve;

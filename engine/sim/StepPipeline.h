@@ -87,6 +87,7 @@ class StepPipeline {
   BlockGrid::SortFor sortFor() const;
   // transferToGrid's passes, their last writes left to the barriers of the passes that follow.
   void sortAndTransfer(GpuState& state, std::size_t particles, BlockGrid::SortFor sortFor, gl::PassTimer& timer) const;
+
   int maxWorkGroupsX_ = 65535;
   // The transfers in each shape the run was given, P2G's shape and the Hessian product's.
   std::vector<TransferPasses> transfers_;
