@@ -87,22 +87,22 @@ TEST(Budget, GpuMemoryTheDriverReportsBindsWithTheSolversBuffers) {
   // A driver with large buffers and 320 MiB free: the particles' bytes in all bind, 152 explicit (positions,
   // velocities, plastic state, F, τ, sort keys) and 296 semi-implicit, after the grid's start. That start is a pool
   // of four times the 15³ blocks of 4³ nodes the box reaches with the stencil, 13,500 blocks: 2.6 KiB each explicit
-  // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.06 MiB, and 14,352 bytes more
-  // semi-implicit (64 SolverNodes and SolverPreconditioners, and a vec4), 218.8 MiB.
+  // (two node buffers, PIC/FLIP's impulse among them, bins, tile order, slot), 34.11 MiB, and 14,352 bytes more
+  // semi-implicit (64 SolverNodes and SolverPreconditioners, and a vec4), 218.9 MiB.
   gl::ContextInfo gl = driver();
   gl.maxStorageBlockBytes = 1LL << 30;
   gl.availableMemoryBytes = 320LL << 20;
   const ParticleBudget explicitBudget = checkParticleBudget(boxScene(kExplicit), gl, 0);
   EXPECT_NE(explicitBudget.limit.find("of GPU memory a test driver has free (152 bytes per particle in all, after "
-                                      "34.06 MiB for the grid)"),
+                                      "34.11 MiB for the grid)"),
             std::string::npos)
       << explicitBudget.limit;
-  // (320 − 34.06) MiB / 152 B = 1,972,561; the message's 34.06 MiB is rounded to 0.005 MiB, 35 particles' worth.
-  EXPECT_NEAR(double(explicitBudget.maxParticles), 1972561, 35);
-  // (320 − 218.85) MiB / 296 B = 358,379: the million are refused.
+  // (320 − 34.11) MiB / 152 B = 1,972,214; the message's 34.11 MiB is rounded to 0.005 MiB, 35 particles' worth.
+  EXPECT_NEAR(double(explicitBudget.maxParticles), 1972214, 35);
+  // (320 − 218.89) MiB / 296 B = 358,191: the million are refused.
   const std::string message = refusal(boxScene(kSemiImplicit), gl);
-  EXPECT_NE(message.find("the 358,3"), std::string::npos) << message;
-  EXPECT_NE(message.find("(296 bytes per particle in all, after 218.8 MiB for the grid)"), std::string::npos)
+  EXPECT_NE(message.find("the 358,1"), std::string::npos) << message;
+  EXPECT_NE(message.find("(296 bytes per particle in all, after 218.9 MiB for the grid)"), std::string::npos)
       << message;
 }
 
