@@ -49,8 +49,8 @@ SharedParticles::SharedParticles(DomainShare* share, std::size_t totalCapacity,
 
 std::size_t SharedParticles::startCapacity(const std::vector<ParticleSeed>& seeds) const {
   if (share_ == nullptr) return totalCapacity_;
-  const auto own = std::size_t(std::count_if(seeds.begin(), seeds.end(),
-                                             [this](const ParticleSeed& seed) { return share_->owns(seed.positionM); }));
+  const auto owned = [this](const ParticleSeed& seed) { return share_->owns(seed.positionM); };
+  const auto own = std::size_t(std::count_if(seeds.begin(), seeds.end(), owned));
   return shareParticleCapacity(own, totalCapacity_);
 }
 

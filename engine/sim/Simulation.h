@@ -6,7 +6,8 @@
 //   SteppingPolicy  fixed or adaptive steps, and retries (sim/SteppingPolicy.h)
 //   Diagnostics     what the watchdog saw, in words (sim/Diagnostics.h)
 //   EnergyAudit     the run's energy account, and whether a frame made energy from nothing (sim/EnergyAudit.h)
-//   SharedParticles with a share of the domain over several processes, its particles' bookkeeping (sim/SharedParticles.h)
+//   SharedParticles with a share of the domain over several processes, its particles' bookkeeping
+//                   (sim/SharedParticles.h)
 // and the scene's conversion into buffers (sim/SceneUpload.h, gpu/Materials.h).
 #include <array>
 #include <cstdint>
