@@ -22,6 +22,10 @@ ObjectPose poseOf(const gpu::ColliderParams& entry) {
   return pose;
 }
 
+// The body passes' bodiesCountedElsewhere (common/bodies.glsl): every share moves the bodies alike, and one counts
+// the energy that moves.
+unsigned countedElsewhere(const DomainShare* share) { return share && !share->countsCommonWork() ? 1u : 0u; }
+
 }  // namespace
 
 RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
@@ -71,7 +75,7 @@ void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTim
 void RigidBodies::beforeGridUpdate(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
   if (semiImplicit_) return;
   // The bodies take gravity and the images' push before the nodes meet them (eq. 39).
-  predictBodies_.set("bodiesCountedElsewhere", share && !share->countsCommonWork() ? 1u : 0u);
+  predictBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
   predictBodies_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
 }
 
@@ -86,7 +90,7 @@ void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, D
 
 void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
   if (share) sumOverShares(state, *share, Sums::Push);
-  integrateBodies_.set("bodiesCountedElsewhere", share && !share->countsCommonWork() ? 1u : 0u);
+  integrateBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
   integrateBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation for all: they meet
 }
 

@@ -2,6 +2,10 @@
 // the world, and the snow's push summed in its entry (eq. 35).
 #include "common/fixed64.glsl"
 
+// 1 on every share of the domain but the first (RigidBodies.cpp): each moves the bodies alike, and one counts the
+// energy that moves.
+uniform uint bodiesCountedElsewhere;
+
 mat3 rotationMatrix(vec4 q) {
   return mat3(rotateByQuaternion(q, vec3(1.0, 0.0, 0.0)), rotateByQuaternion(q, vec3(0.0, 1.0, 0.0)),
               rotateByQuaternion(q, vec3(0.0, 0.0, 1.0)));

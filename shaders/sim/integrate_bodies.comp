@@ -21,10 +21,6 @@
 
 layout(local_size_x = 1) in;
 
-// 1 on every share of the domain but the first (StepPipeline::step): each moves the bodies alike, and one counts the
-// energy that moves.
-uniform uint bodiesCountedElsewhere;
-
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
 // approach at every probe; a resting box settles within a few.
 const int CONTACT_PASSES = 10;

@@ -15,10 +15,6 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-// 1 on every share of the domain but the first (StepPipeline::step): each moves the bodies alike, and one counts the
-// energy that moves.
-uniform uint bodiesCountedElsewhere;
-
 void main() {
   uint b = gl_GlobalInvocationID.x;
   if (b >= rigidBodyCount) return;
