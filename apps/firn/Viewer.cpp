@@ -15,11 +15,16 @@
 
 #include "gl/GL.h"  // GLEW's header must come before GLFW's
 #include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "EditorInput.h"
 #include "Error.h"
+#include "SceneEditor.h"
 #include "gl/Context.h"
 #include "io/Text.h"
 #include "run/SimulationSession.h"
@@ -150,6 +155,13 @@ class OrbitCamera {
 
   void zoom(double wheelSteps) { distanceM_ *= float(std::pow(0.9, wheelSteps)); }
 
+  // The same view of another scene (the editor's next simulation).
+  OrbitCamera of(const Scene& scene) const {
+    OrbitCamera camera = *this;
+    camera.scene_ = &scene;
+    return camera;
+  }
+
  private:
   glm::vec3 direction() const {
     return {std::cos(pitchRad_) * std::sin(yawRad_), std::sin(pitchRad_), std::cos(pitchRad_) * std::cos(yawRad_)};
@@ -182,10 +194,70 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
   return enter;
 }
 
+// The editor's half of the window (--edit): Dear ImGui's context with its GLFW and OpenGL 3 backends, the scene
+// editor, and its input replayed from a file or recorded into one. It lives as long as the window, across the
+// simulations the editor runs.
+class EditorLayer {
+ public:
+  EditorLayer(GLFWwindow* window, const ViewOptions& options, const gl::ContextInfo& gl)
+      : options_(options), editor_((ImGui::CreateContext(), SceneDocument::open(options.scenePath)), gl) {
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
+    // The window's callbacks are the viewer's, which pass the events on (ImGui_ImplGlfw_*Callback).
+    ImGui_ImplGlfw_InitForOpenGL(window, false);
+    ImGui_ImplOpenGL3_Init("#version 430 core");
+    if (!options.replayPath.empty()) replay_.emplace(readEditorEvents(options.replayPath));
+  }
+  ~EditorLayer() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+  EditorLayer(const EditorLayer&) = delete;
+  EditorLayer& operator=(const EditorLayer&) = delete;
+
+  SceneEditor& editor() { return editor_; }
+  EditorRecorder* recorder() { return options_.recordPath.empty() ? nullptr : &recorder_; }
+  bool capturesKeys() const { return ImGui::GetIO().WantCaptureKeyboard; }
+  bool capturesMouse() const { return ImGui::GetIO().WantCaptureMouse; }
+
+  // Starts the frame `frame` (counted from 1) with its input and draws the panel; `closes` is set when replayed
+  // input closes the window.
+  SceneEditor::Request beginFrame(int frame, bool running, bool& closes) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    closes = replay_ && replay_->apply(frame, editor_);
+    ImGui::NewFrame();
+    return editor_.draw(running);
+  }
+  void endFrame() {
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+  void writeRecording() const {
+    if (!options_.recordPath.empty()) recorder_.write(options_.recordPath);
+  }
+
+ private:
+  const ViewOptions& options_;
+  SceneEditor editor_;
+  std::optional<EditorReplay> replay_;
+  EditorRecorder recorder_;
+};
+
+// What passes from one simulation of the window to the next (the editor runs each scene it is given afresh).
+struct WindowState {
+  int frame = 0;              // frames drawn
+  bool editing = false;       // the editor's panel shown, the simulation paused at its start
+  std::string sceneText;      // the editor's document the simulation was made from
+  std::optional<OrbitCamera> orbit;
+};
+
 class Viewer {
  public:
-  Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl)
+  Viewer(const Scene& scene, const ViewOptions& options, GLFWwindow* window, const gl::ContextInfo& gl,
+         EditorLayer* layer, WindowState& state)
       : scene_(withSpareBalls(scene)), firstSpareBall_(scene.rigidBodies.size()), options_(options), window_(window),
+        layer_(layer), state_(state),
         snowballTemplate_(sampleSnowball()),
         session_(scene_, gl, sessionOptions(scene_, options, snowballTemplate_.size()), std::cerr), renderer_(scene_),
         orbit_(render::defaultCamera(scene_, float(options.widthPx) / float(options.heightPx)), scene_),
@@ -193,29 +265,34 @@ class Viewer {
         renderMode_(session_.pictureRenderMode(options.renderMode)) {
     // The surface is made (and reported) with the rest of the start.
     if (renderMode_ == render::RenderMode::Surface) session_.surface();
-    renderer_.setDomainEdges(options.domainBox);
-    glfwSetWindowUserPointer(window_, this);
-    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
-      if (action != GLFW_RELEASE) static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onKey(key, mods);
-    });
-    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->onCursor(x, y);
-    });
-    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
-      static_cast<Viewer*>(glfwGetWindowUserPointer(w))->orbit_.zoom(y);
-    });
+    if (state_.orbit) orbit_ = state_.orbit->of(scene_);
+    setEditing(state_.editing);
+    installCallbacks();
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, "
-                "O throw a ball, F reframe, Q quit\n",
-                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str());
+                "O throw a ball, F reframe, %sQ quit\n",
+                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str(),
+                layer_ ? "Tab edit/run, " : "");
   }
 
-  void run() {
+  // Runs until the window closes (or the scripted frames end): nothing; or until the editor runs a scene other than
+  // this simulation's: that scene.
+  std::optional<Scene> run() {
     auto lastFrame = Clock::now();
     auto lastTitle = lastFrame;
-    int frame = 0;
+    int& frame = state_.frame;
     while (glfwWindowShouldClose(window_) == GLFW_FALSE) {
       glfwPollEvents();
+      if (layer_) {
+        bool closes = false;
+        const SceneEditor::Request request = layer_->beginFrame(frame + 1, !editing_, closes);
+        if (closes) requestClose();
+        if (std::optional<Scene> next = follow(request)) {
+          ImGui::EndFrame();
+          state_.orbit = orbit_;
+          return next;
+        }
+      }
       const auto now = Clock::now();
       const double frameWallS = std::chrono::duration<double>(now - lastFrame).count();
       lastFrame = now;
@@ -226,11 +303,16 @@ class Viewer {
       glm::ivec2 framebufferPx;
       glfwGetFramebufferSize(window_, &framebufferPx.x, &framebufferPx.y);
       // A minimised window has no pixels to draw into.
-      if (framebufferPx.x > 0 && framebufferPx.y > 0) {
+      // While editing, the view lies beside the editor's panel.
+      const int panelPx = editing_ ? std::min(SceneEditor::panelWidthPx(window_), framebufferPx.x - 1) : 0;
+      const glm::ivec2 viewPx(framebufferPx.x - panelPx, framebufferPx.y);
+      if (viewPx.x > 0 && viewPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        renderer_.draw(simulation().particleView(), shownBodyPoses(), orbit_.camera(), framebufferPx, colorMode_,
+        renderer_.setViewportOrigin({panelPx, 0});
+        renderer_.draw(simulation().particleView(), shownBodyPoses(), orbit_.camera(), viewPx, colorMode_,
                        currentSurface());
       }
+      if (layer_) layer_->endFrame();
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
       if (options_.frames && frame >= *options_.frames) {
@@ -249,9 +331,111 @@ class Viewer {
         lastTitle = now;
       }
     }
+    return std::nullopt;
   }
 
  private:
+  // The window's callbacks: each event to the editor's panel first, where there is one, and to the view when the
+  // panel does not take it.
+  void installCallbacks() {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      if (viewer.layer_) {
+        ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
+        if (EditorRecorder* recorder = viewer.layer_->recorder(); recorder && action == GLFW_PRESS) {
+          recorder->key(viewer.state_.frame + 1, key, mods);
+        }
+        if (viewer.layer_->capturesKeys()) return;
+      }
+      if (action != GLFW_RELEASE) viewer.onKey(key, mods);
+    });
+    glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned codepoint) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      if (!viewer.layer_) return;
+      ImGui_ImplGlfw_CharCallback(w, codepoint);
+      if (EditorRecorder* recorder = viewer.layer_->recorder()) recorder->text(viewer.state_.frame + 1, codepoint);
+    });
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int mods) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      if (!viewer.layer_) return;
+      ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+      if (EditorRecorder* recorder = viewer.layer_->recorder()) {
+        recorder->button(viewer.state_.frame + 1, viewer.cursorX_, viewer.cursorY_, button, action == GLFW_PRESS);
+      }
+    });
+    glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      const bool dragging = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
+                            glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+      if (viewer.layer_ && viewer.layer_->recorder() && dragging) {
+        viewer.layer_->recorder()->move(viewer.state_.frame + 1, x, y);
+      }
+      const bool panelHasIt = viewer.layer_ && viewer.layer_->capturesMouse();
+      viewer.onCursor(x, y, !panelHasIt);
+    });
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double x, double y) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      if (viewer.layer_) {
+        ImGui_ImplGlfw_ScrollCallback(w, x, y);
+        if (viewer.layer_->capturesMouse()) return;
+      }
+      viewer.orbit_.zoom(y);
+    });
+    glfwSetWindowCloseCallback(window_, [](GLFWwindow* w) {
+      Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
+      glfwSetWindowShouldClose(w, GLFW_FALSE);
+      if (viewer.layer_ && viewer.layer_->recorder()) viewer.layer_->recorder()->close(viewer.state_.frame + 1);
+      viewer.requestClose();
+    });
+  }
+
+  // Closes the window, unless the editor holds changes not saved: then it asks first (SceneEditor::closeRequested).
+  void requestClose() {
+    if (!layer_ || quitting_ || layer_->editor().closeRequested()) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+  }
+
+  // Editing: the simulation back at its start and paused, the domain's box shown; running: the box as asked.
+  void setEditing(bool editing) {
+    editing_ = editing;
+    state_.editing = editing;
+    if (editing) {
+      resetSimulation();
+      paused_ = true;
+    }
+    renderer_.setDomainEdges(editing || options_.domainBox);
+  }
+
+  // Does what the editor's panel asked; returns the scene to run when it is not this simulation's.
+  std::optional<Scene> follow(SceneEditor::Request request) {
+    switch (request) {
+      case SceneEditor::Request::None: break;
+      case SceneEditor::Request::Edit: setEditing(true); break;
+      case SceneEditor::Request::Quit:
+        quitting_ = true;
+        glfwSetWindowShouldClose(window_, GLFW_TRUE);
+        break;
+      case SceneEditor::Request::Run: {
+        std::optional<Scene> scene = layer_->editor().runnableScene();
+        if (!scene) {
+          std::printf("firn view: cannot run: %s\n", layer_->editor().problemMessage().value_or("").c_str());
+          break;
+        }
+        const std::string text = layer_->editor().document().json().dump();
+        state_.editing = false;
+        if (text != state_.sceneText) {
+          state_.sceneText = text;
+          return scene;
+        }
+        setEditing(false);
+        paused_ = false;
+        accumulator_.reset();
+        break;
+      }
+    }
+    return std::nullopt;
+  }
+
   // The session the command line asks for: room for the snowballs, in the budget and in the particle buffers;
   // a surface asked for on the command line checked before the simulation is built (bad settings are exit 2).
   static SessionOptions sessionOptions(const Scene& scene, const ViewOptions& options, std::size_t snowballParticles) {
@@ -339,15 +523,19 @@ class Viewer {
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
                   withThousands(double(simulation().particleCount())).c_str(), simulation().timeS(), speed_,
                   render::renderModeName(renderMode_), render::colorModeName(colorMode_),
-                  unstable_ ? " | UNSTABLE (R resets)" : paused_ ? " | paused" : "");
+                  unstable_ ? " | UNSTABLE (R resets)" : editing_ ? " | editing (Tab runs)" : paused_ ? " | paused" : "");
     glfwSetWindowTitle(window_, text);
     stepsSinceTitle_ = 0;
   }
 
   void onKey(int key, int mods) {
+    // While editing, the simulation stays at its start: only the window's and the camera's keys.
+    const bool viewKey = key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q || key == GLFW_KEY_F || key == GLFW_KEY_B ||
+                         key == GLFW_KEY_C || key == GLFW_KEY_V;
+    if (editing_ && !viewKey) return;
     switch (key) {
       case GLFW_KEY_ESCAPE:
-      case GLFW_KEY_Q: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
+      case GLFW_KEY_Q: requestClose(); break;
       case GLFW_KEY_SPACE: paused_ = !paused_ || unstable_; accumulator_.reset(); break;
       case GLFW_KEY_S:
       case GLFW_KEY_RIGHT:
@@ -374,10 +562,12 @@ class Viewer {
     }
   }
 
-  void onCursor(double x, double y) {
+  // The pointer moved; `toView`: the editor's panel does not take it, and a drag turns or pans the camera.
+  void onCursor(double x, double y, bool toView) {
     const double dx = x - cursorX_, dy = y - cursorY_;
     cursorX_ = x;
     cursorY_ = y;
+    if (!toView) return;
     const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
     const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
                        glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
@@ -470,6 +660,8 @@ class Viewer {
   std::size_t ballsThrown_ = 0;
   const ViewOptions& options_;
   GLFWwindow* window_;
+  EditorLayer* layer_;  // the editor's panel, or none
+  WindowState& state_;
   std::vector<ParticleSeed> snowballTemplate_;
   SimulationSession session_;
   render::Renderer renderer_;
@@ -489,6 +681,8 @@ class Viewer {
   SurfaceKey surfaceKey_{0, 0, render::ColorMode::Material};
   bool surfaceIsCurrent_ = false;
   bool paused_ = false;
+  bool editing_ = false;
+  bool quitting_ = false;  // the editor's dialog answered: close without asking again
   bool unstable_ = false;
   int pendingSingleSteps_ = 0;
   double speed_ = 1;
@@ -516,8 +710,37 @@ void runViewer(const Scene& scene, const ViewOptions& options) {
   gl::ContextInfo info;
   info.platform = "GLFW window";
   gl::loadGLFunctions(info);
-  Viewer viewer(scene, options, window.get(), info);
-  viewer.run();
+  std::optional<EditorLayer> layer;
+  WindowState state;
+  if (options.edit) {
+    layer.emplace(window.get(), options, info);
+    state.editing = true;
+    state.sceneText = layer->editor().document().json().dump();
+  }
+  // The editor runs each scene it is given in a simulation of its own; a scene that cannot start (a surface its
+  // particles do not suit) leaves the last one, back at editing.
+  std::optional<Scene> next = scene;
+  Scene last = scene;
+  std::string lastText = state.sceneText;
+  bool first = true;
+  while (next) {
+    std::optional<Viewer> viewer;
+    try {
+      viewer.emplace(*next, options, window.get(), info, layer ? &*layer : nullptr, state);
+    } catch (const InputError& error) {
+      if (!layer || first) throw;
+      std::fprintf(stderr, "firn view: cannot run: %s\n", error.what());
+      state.editing = true;
+      state.sceneText = lastText;
+      next = last;
+      continue;
+    }
+    last = *next;
+    lastText = state.sceneText;
+    first = false;
+    next = viewer->run();
+  }
+  if (layer) layer->writeRecording();
 }
 
 }  // namespace firn

@@ -89,6 +89,9 @@ int runCommand(const std::string& scenePath, firn::RunOptions options, const fir
 int viewCommand(const std::string& scenePath, firn::ViewOptions options) {
   // Said before the session, not when it ends.
   if (!options.screenshotPath.empty()) firn::checkWritableFile(options.screenshotPath, "--screenshot");
+  if (!options.recordPath.empty()) firn::checkWritableFile(options.recordPath, "--record");
+  // The editor edits a file, which it saves back.
+  if (options.edit && scenePath.empty()) throw firn::InputError("--edit: name the scene file to edit (firn view SCENE --edit)");
   options.showProgress = true;
   firn::runViewer(sceneOrDefault(scenePath), options);
   return 0;
@@ -407,6 +410,14 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       ->transform(firn::cli::oneOf(renderModes))
       ->default_str("surface");
   view->add_flag("--domain-box", viewOptions.domainBox, domainBoxHelp);
+  CLI::Option* edit = view->add_flag("--edit", viewOptions.edit,
+                                     "Open the scene editor: a panel that edits, checks and saves SCENE, which stays at "
+                                     "its start until run (Tab switches between editing and running)");
+  std::string replayPath, recordPath;
+  view->add_option("--replay", replayPath, "With --edit: replay the editor's input from this JSON file (tests, demos)")
+      ->check(CLI::ExistingFile)->needs(edit);
+  view->add_option("--record", recordPath, "With --edit: write the editor's input to this JSON file for --replay")
+      ->needs(edit);
 
   VoxelizeOptions voxelizeOptions;
   std::vector<double> rotateDeg, translateM;
@@ -509,6 +520,9 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
     }
     if (view->parsed()) {
       viewOptions.screenshotPath = screenshotPath;
+      viewOptions.scenePath = scenePath;
+      viewOptions.replayPath = replayPath;
+      viewOptions.recordPath = recordPath;
       if (viewRender->count() > 0) viewOptions.renderMode = viewRenderMode;
       return viewCommand(scenePath, viewOptions);
     }

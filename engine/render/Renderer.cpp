@@ -229,7 +229,7 @@ void Renderer::draw(const ParticleView& particles, const std::vector<ObjectPose>
   }
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  glViewport(0, 0, viewportPx.x, viewportPx.y);
+  glViewport(viewportOriginPx_.x, viewportOriginPx_.y, viewportPx.x, viewportPx.y);
   glDepthMask(GL_TRUE);
   const GLfloat farDepth = 1;
   glClearBufferfv(GL_DEPTH, 0, &farDepth);

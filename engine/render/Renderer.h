@@ -60,6 +60,9 @@ class Renderer {
   void draw(const ParticleView& particles, const std::vector<ObjectPose>& bodyPoses, const Camera& camera,
             glm::ivec2 viewportPx, ColorMode mode, const surface::SurfaceReconstruction* snowSurface = nullptr);
 
+  // Where draw()'s viewport starts in the framebuffer (the window's view beside the scene editor's panel).
+  void setViewportOrigin(glm::ivec2 originPx) { viewportOriginPx_ = originPx; }
+
   // Whether draw() outlines the domain's box (off by default: the pictures show the snow, not the box).
   void setDomainEdges(bool shown) { domainEdges_ = shown; }
   bool domainEdges() const { return domainEdges_; }
@@ -137,6 +140,7 @@ class Renderer {
   gl::VertexArray edgeArray_;
   GLsizei edgeVertexCount_ = 0;
   bool domainEdges_ = false;
+  glm::ivec2 viewportOriginPx_{0, 0};
 
   // Whether draw() shows the surface: a rigid body's only with a pose.
   static bool isPosed(const SurfaceDraw& surface, const std::vector<ObjectPose>& bodyPoses);

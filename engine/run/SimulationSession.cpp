@@ -4,12 +4,12 @@
 #include <functional>
 #include <optional>
 #include <ostream>
+#include <sstream>
 #include <string>
 
 #include "Error.h"
 #include "render/Renderer.h"
 #include "run/Budget.h"
-#include "run/Preflight.h"
 #include "run/Progress.h"
 #include "sim/DomainShare.h"
 #include "sim/Simulation.h"
@@ -34,6 +34,33 @@ std::vector<ParticleSeed> sampleShowingProgress(const Scene& scene, const gl::Co
 
 }  // namespace
 
+std::vector<std::string> startLines(const Scene& scene, std::size_t particles, const PreflightReport& report,
+                                    const gl::ContextInfo& gl, std::optional<int> lastFrame) {
+  std::ostringstream opening;
+  opening << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << particles << " particles, "
+          << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z << " cells, dt "
+          << scene.time.dtS << " s" << (lastFrame ? ", " + std::to_string(*lastFrame) + " frames" : std::string())
+          << " on " << gl.renderer;
+  std::vector<std::string> lines{opening.str()};
+  lines.insert(lines.end(), report.notes.begin(), report.notes.end());
+  for (const std::string& warning : report.warnings) lines.push_back("warning: " + warning);
+  return lines;
+}
+
+StartNumbers numbersBeforeRunning(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options) {
+  const int shares = options.share ? options.share->shares() : 1;
+  const ParticleBudget budget = checkParticleBudget(scene, gl, options.reservedParticles, shares);
+  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, gl, options.reservedParticles, {}, shares);
+  const PreflightReport report = preflight(scene, seeds, options.lastFrame);
+  StartNumbers numbers;
+  numbers.lines = startLines(scene, seeds.size(), report, gl, options.lastFrame);
+  numbers.particles = seeds.size();
+  numbers.maxParticles = budget.maxParticles;
+  numbers.limit = budget.limit;
+  numbers.stableDtS = report.stableDtS;
+  return numbers;
+}
+
 SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options,
                                      std::ostream& log)
     : scene_(scene), gl_(gl), messagePrefix_(options.messagePrefix), log_(log),
@@ -44,13 +71,9 @@ SimulationSession::SimulationSession(const Scene& scene, const gl::ContextInfo& 
   // Surface settings that do not suit the particles are bad input before the GPU's buffers are made.
   if (options.withSurface) surface::checkKernelRange(scene, seeds_);
   restart();
-  log << messagePrefix_ << ": " << (scene.name.empty() ? std::string("scene") : scene.name) << ": " << seeds_.size()
-      << " particles, " << scene.grid.cells.x << "×" << scene.grid.cells.y << "×" << scene.grid.cells.z << " cells, dt "
-      << scene.time.dtS << " s"
-      << (options.lastFrame ? ", " + std::to_string(*options.lastFrame) + " frames" : std::string()) << " on "
-      << gl.renderer << "\n";
-  for (const std::string& note : report.notes) log << messagePrefix_ << ": " << note << "\n";
-  for (const std::string& warning : report.warnings) log << messagePrefix_ << ": warning: " << warning << "\n";
+  for (const std::string& line : startLines(scene, seeds_.size(), report, gl, options.lastFrame)) {
+    log << messagePrefix_ << ": " << line << "\n";
+  }
   log << messagePrefix_ << ": " << transfersLine(simulation_->transferShapeChoice()) << "\n";
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gl/Context.h"
+#include "run/Preflight.h"
 #include "scene/Scene.h"
 #include "sim/SceneUpload.h"
 
@@ -36,6 +37,23 @@ struct SessionOptions {
   DomainShare* share = nullptr;          // the part of the domain this process simulates (sim/DomainShare.h), or all
   std::string transferShapes;            // the transfer shapes to time (SimulationOptions); empty: every shape
 };
+
+// What a session says of a scene as it starts, a line each without the message prefix: the opening line (its name,
+// particles, cells, dt, the run's frames and the renderer), the pre-flight's notes, and its warnings ("warning: …").
+std::vector<std::string> startLines(const Scene& scene, std::size_t particles, const PreflightReport& report,
+                                    const gl::ContextInfo& gl, std::optional<int> lastFrame);
+
+// What a scene would start with, found as a session finds it but without building the simulation (the scene
+// editor's numbers before running): the budget, the bodies sampled within it, and the pre-flight.
+struct StartNumbers {
+  std::vector<std::string> lines;  // startLines
+  std::size_t particles = 0;       // the bodies' particles
+  std::size_t maxParticles = 0;    // what the budget leaves for them (run/Budget.h)
+  std::string limit;               // the limit that binds, in words
+  double stableDtS = 0;            // the pre-flight's bound on the step
+};
+// Throws InputError as a session would (over the budget, refused by the pre-flight).
+StartNumbers numbersBeforeRunning(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options);
 
 class SimulationSession {
  public:
