@@ -151,6 +151,9 @@ std::optional<std::string> SceneEditor::problemMessage() const {
 bool SceneEditor::closeRequested() {
   if (!document_.modified()) return true;
   closeDialog_ = true;
+  std::printf("firn view: %s has changes not saved: the window asks whether to save them\n",
+              document_.path().string().c_str());
+  std::fflush(stdout);
   return false;
 }
 
@@ -231,7 +234,10 @@ SceneEditor::Request SceneEditor::draw(bool running) {
 
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(kPanelWidthPx, io.DisplaySize.y));
-  ImGui::Begin("Scene", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  // The scroll bar always there, so that the wrapped lines keep their width and the fields their places as the
+  // panel's content grows past its height.
+  ImGui::Begin("Scene", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                     ImGuiWindowFlags_AlwaysVerticalScrollbar);
   // Tab runs the scene: it does not step from field to field.
   ImGui::PushAllowKeyboardFocus(false);
   drawToolbar(running, request);
@@ -250,23 +256,23 @@ SceneEditor::Request SceneEditor::draw(bool running) {
 
 void SceneEditor::drawToolbar(bool running, Request& request) {
   ImGui::TextUnformatted((document_.path().filename().string() + (document_.modified() ? " *" : "")).c_str());
-  const bool blocked = problemMessage().has_value();
-  if (blocked) ImGui::BeginDisabled();
+  ImGui::BeginDisabled(problemMessage().has_value());
   if (ImGui::Button("Run (Tab)")) request = running ? Request::Edit : Request::Run;
+  ImGui::EndDisabled();
   remember("#run");
-  if (blocked) ImGui::EndDisabled();
   ImGui::SameLine();
   if (ImGui::Button("Save (Ctrl+S)")) save();
   remember("#save");
   ImGui::SameLine();
-  if (!document_.canUndo()) ImGui::BeginDisabled();
+  // Each button's state as it was drawn: its press changes the document.
+  ImGui::BeginDisabled(!document_.canUndo());
   if (ImGui::Button("Undo")) edit([&] { document_.undo(); });
-  if (!document_.canUndo()) ImGui::EndDisabled();
+  ImGui::EndDisabled();
   remember("#undo");
   ImGui::SameLine();
-  if (!document_.canRedo()) ImGui::BeginDisabled();
+  ImGui::BeginDisabled(!document_.canRedo());
   if (ImGui::Button("Redo")) edit([&] { document_.redo(); });
-  if (!document_.canRedo()) ImGui::EndDisabled();
+  ImGui::EndDisabled();
   remember("#redo");
   if (!saveMessage_.empty()) ImGui::TextWrapped("%s", saveMessage_.c_str());
 }

@@ -1,0 +1,193 @@
+// The scene editor (`firn view SCENE --edit`, apps/firn/SceneEditor.h) as a user drives it: scripted clicks, keys and
+// text replayed into the window under a virtual X server (apps/firn/EditorInput.h), the file it saves, the loader's
+// message that blocks a bad value from running, the question before quitting with changes unsaved, and the numbers
+// it shows before running, which are `firn run`'s.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "Cli.h"
+#include "GlTest.h"
+#include "io/InputFile.h"
+#include "run/SimulationSession.h"
+#include "scene/Scene.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using firn::test::freshDirectory;
+using firn::test::kOnXvfb;
+using firn::test::Result;
+using firn::test::runFirn;
+using firn::test::writeScene;
+using Json = nlohmann::ordered_json;
+
+// A ball of 0.2 m radius at 8 particles per cell (cells 0.05 m): about 2,145 particles, a quick start.
+const char* const kBallScene = R"({
+  "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+  "time": { "dt": 1e-3, "frame_rate": 50, "frames": 2 },
+  "materials": { "snow": { "preset": "stomakhin" } },
+  "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.2, "material": "snow" } ] })";
+
+std::vector<std::string> linesAfter(const std::string& output, const std::string& prefix) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(prefix, 0) == 0) lines.push_back(line.substr(prefix.size()));
+  }
+  return lines;
+}
+
+Json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return Json::parse(in);
+}
+
+Result edit(const fs::path& scene, const fs::path& events, int frames) {
+  return runFirn("view " + scene.string() + " --edit --replay " + events.string() + " --frames " +
+                     std::to_string(frames) + " --width 1000 --height 720",
+                 kOnXvfb);
+}
+
+// The steps of the run the window ended in: "firn view: 40 frames, 30 steps, …".
+int stepsTaken(const std::string& output) {
+  std::smatch match;
+  static const std::regex ending(R"(firn view: [0-9]+ frames, ([0-9]+) steps)");
+  return std::regex_search(output, match, ending) ? std::stoi(match[1]) : -1;
+}
+
+// A user adds Young's modulus to the material and leaves it at 0: the loader's message stands, and Tab does not run
+// the scene. Then the user types 5e5 into the field, saves with Ctrl+S and runs with Tab: the file holds what the
+// user typed and nothing else changed (every other key and the keys' order kept), and the window steps the scene.
+TEST(SceneEditor, EditsAKeyShowsTheLoadersMessageSavesAndRuns) {
+  const fs::path folder = freshDirectory("scene_editor_edit");
+  const fs::path scene = writeScene(folder, "ball.json", kBallScene);
+  const fs::path events = writeScene(folder, "events.json", R"([
+    {"frame": 3, "click": "/materials/snow#new-key"},
+    {"frame": 5, "text": "youngs_modulus"},
+    {"frame": 6, "click": "/materials/snow#add-key"},
+    {"frame": 9, "key": "TAB"},
+    {"frame": 11, "click": "/materials/snow/youngs_modulus"},
+    {"frame": 13, "key": "A", "mods": ["ctrl"]},
+    {"frame": 14, "text": "5e5"},
+    {"frame": 15, "key": "ENTER"},
+    {"frame": 18, "key": "S", "mods": ["ctrl"]},
+    {"frame": 20, "key": "TAB"}])");
+  const Result result = edit(scene, events, 40);
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+
+  Json expected = Json::parse(kBallScene);
+  expected["materials"]["snow"]["youngs_modulus"] = 5e5;
+  EXPECT_EQ(readJson(scene), expected) << result.output;
+  // The bad value's message, the loader's own, and the run it refused before the save.
+  const std::string message = scene.string() + ": materials.snow.youngs_modulus: must be greater than 0 (got 0)";
+  const std::vector<std::string> refused = linesAfter(result.output, "firn view: cannot run: ");
+  ASSERT_FALSE(refused.empty()) << result.output;
+  EXPECT_EQ(refused.front(), message);
+  EXPECT_LT(result.output.find(message), result.output.find("firn view: saved " + scene.string())) << result.output;
+  // Run from frame 20 of 40: the window stepped (1 ms steps of a 20 ms frame, as many as its budget per frame allows).
+  EXPECT_GT(stepsTaken(result.output), 0) << result.output;
+}
+
+// Closing the window with an edit unsaved asks first. "Cancel" keeps the window; "Save and quit" saves the scene as
+// the edits left it (a body duplicated, the duplicate undone and redone: two bodies) and closes the window before its
+// scripted frames end; "Quit without saving" leaves the file as it was.
+TEST(SceneEditor, AsksBeforeQuittingWithChangesUnsaved) {
+  const fs::path folder = freshDirectory("scene_editor_quit");
+  const fs::path scene = writeScene(folder, "ball.json", kBallScene);
+  const std::string asked = "firn view: " + scene.string() + " has changes not saved";
+  const fs::path saving = writeScene(folder, "save.json", R"([
+    {"frame": 3, "click": "/bodies/0#duplicate"},
+    {"frame": 5, "click": "#undo"},
+    {"frame": 7, "click": "#redo"},
+    {"frame": 9, "close": true},
+    {"frame": 12, "click": "#cancel"},
+    {"frame": 15, "close": true},
+    {"frame": 18, "click": "#save-and-quit"}])");
+  const Result saved = edit(scene, saving, 400);
+  ASSERT_EQ(saved.exitCode, 0) << saved.output;
+  EXPECT_EQ(stepsTaken(saved.output), -1) << "the window ran its 400 frames: " << saved.output;
+  const std::size_t first = saved.output.find(asked);
+  ASSERT_NE(first, std::string::npos) << saved.output;
+  EXPECT_NE(saved.output.find(asked, first + 1), std::string::npos) << "asked once, not again after Cancel";
+  Json twoBodies = Json::parse(kBallScene);
+  twoBodies["bodies"].push_back(twoBodies["bodies"][0]);
+  EXPECT_EQ(readJson(scene), twoBodies) << saved.output;
+
+  const std::string before = firn::readRegularFile(scene, "scene", 1 << 20);
+  const fs::path discarding = writeScene(folder, "discard.json", R"([
+    {"frame": 3, "click": "/bodies/1#delete"},
+    {"frame": 5, "close": true},
+    {"frame": 8, "click": "#quit-without-saving"}])");
+  const Result discarded = edit(scene, discarding, 400);
+  ASSERT_EQ(discarded.exitCode, 0) << discarded.output;
+  EXPECT_NE(discarded.output.find(asked), std::string::npos) << discarded.output;
+  EXPECT_EQ(stepsTaken(discarded.output), -1) << discarded.output;
+  EXPECT_EQ(firn::readRegularFile(scene, "scene", 1 << 20), before);
+}
+
+// A script that does not fit the editor, or is not a script, is bad input (exit 2) that names the file and the event.
+TEST(SceneEditor, ReplayedInputThatDoesNotFitIsBadInput) {
+  const fs::path folder = freshDirectory("scene_editor_bad_events");
+  const fs::path scene = writeScene(folder, "ball.json", kBallScene);
+  const fs::path unknownKey = writeScene(folder, "key.json", R"([{"frame": 2, "key": "F13"}])");
+  const Result key = edit(scene, unknownKey, 10);
+  EXPECT_EQ(key.exitCode, 2) << key.output;
+  EXPECT_NE(key.output.find(unknownKey.string() + ": events[0].key: is not a key an event may name"), std::string::npos)
+      << key.output;
+  const fs::path missingField = writeScene(folder, "field.json", R"([{"frame": 2, "click": "/bodies/7/radius"}])");
+  const Result field = edit(scene, missingField, 10);
+  EXPECT_EQ(field.exitCode, 2) << field.output;
+  EXPECT_NE(field.output.find("--replay: the event at frame 2 clicks \"/bodies/7/radius\", which the editor did not draw"),
+            std::string::npos)
+      << field.output;
+}
+
+// The window's panel prints the numbers it shows (run/SimulationSession.h, numbersBeforeRunning) under "firn view:
+// before running:"; they are `firn run`'s start for the same scene, word for word.
+TEST(SceneEditor, ShowsTheNumbersFirnRunStartsWith) {
+  const fs::path folder = freshDirectory("scene_editor_numbers");
+  const fs::path scene = writeScene(folder, "ball.json", kBallScene);
+  const fs::path events = writeScene(folder, "events.json", "[]");
+  const Result view = edit(scene, events, 2);
+  ASSERT_EQ(view.exitCode, 0) << view.output;
+  const Result run = runFirn("run " + scene.string() + " --check");
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  const std::vector<std::string> viewLines = linesAfter(view.output, "firn view: ");
+  const auto shown = std::find(viewLines.begin(), viewLines.end(), "before running:");
+  ASSERT_NE(shown, viewLines.end()) << view.output;
+  const std::vector<std::string> runLines = linesAfter(run.output, "firn: ");
+  ASSERT_GT(runLines.size(), 3u) << run.output;
+  // The opening line up to the renderer (a window's context names it as it likes), then each note and warning.
+  ASSERT_GT(viewLines.end() - shown, 3) << view.output;
+  EXPECT_EQ(shown[1].substr(0, shown[1].find(" on ")), runLines[0].substr(0, runLines[0].find(" on ")));
+  for (std::size_t i = 1; i < 4; ++i) EXPECT_EQ(shown[std::ptrdiff_t(i) + 1], runLines[i]);
+}
+
+// And for every scene Firn ships: the panel's numbers (numbersBeforeRunning, as `firn run` would start) equal the
+// lines `firn run --check` prints before its transfers' timing.
+TEST(SceneEditor, NumbersBeforeRunningAreFirnRunsForEveryShippedScene) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(FIRN_SOURCE_DIR) / "assets/scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    const firn::Scene scene = firn::loadScene(entry.path());
+    firn::SessionOptions options;
+    options.lastFrame = scene.time.frames;
+    const firn::StartNumbers numbers = firn::numbersBeforeRunning(scene, firn::test::glContext().info(), options);
+    const Result run = runFirn("run " + entry.path().string() + " --check");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    const std::vector<std::string> runLines = linesAfter(run.output, "firn: ");
+    ASSERT_GT(runLines.size(), numbers.lines.size()) << run.output;
+    for (std::size_t i = 0; i < numbers.lines.size(); ++i) {
+      EXPECT_EQ(numbers.lines[i], runLines[i]) << entry.path();
+    }
+  }
+}
+
+}  // namespace
