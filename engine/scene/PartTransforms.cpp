@@ -1,0 +1,92 @@
+#include "scene/PartTransforms.h"
+
+#include <cmath>
+
+namespace firn {
+namespace {
+
+// A part's shape word: a body's or rigid body's "shape", a collider's "type".
+std::string shapeOf(const json::Json& part) {
+  for (const char* key : {"shape", "type"}) {
+    if (part.contains(key) && part[key].is_string()) return part[key].get<std::string>();
+  }
+  return "";
+}
+
+bool isPlaced(const json::Json& part) {
+  const std::string shape = shapeOf(part);
+  return shape == "mesh" || shape == "points";
+}
+
+// A vec3 key's numbers, or `fallback` where the key is absent or not three numbers (the loader names that).
+glm::dvec3 vec3Of(const json::Json& part, const char* key, const glm::dvec3& fallback) {
+  if (!part.contains(key)) return fallback;
+  const json::Json& value = part[key];
+  if (!value.is_array() || value.size() != 3) return fallback;
+  for (const json::Json& component : value) {
+    if (!component.is_number()) return fallback;
+  }
+  return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
+// A changed number as the file should read it: to 1e-9 (a nanometre, a nanodegree), so that 0.6 + 0.1 writes 0.7
+// and not the sum's 0.7000000000000001.
+double clean(double value) { return std::round(value * 1e9) / 1e9; }
+
+json::Json arrayOf(const glm::dvec3& v) { return json::Json::array({clean(v.x), clean(v.y), clean(v.z)}); }
+
+// Sets a vec3 key that holds three numbers; leaves one that does not (the loader's message stays).
+void addTo(json::Json& part, const char* key, const glm::dvec3& deltaM) {
+  const glm::dvec3 none(std::nan(""));
+  const glm::dvec3 value = vec3Of(part, key, none);
+  if (!std::isnan(value.x)) part[key] = arrayOf(value + deltaM);
+}
+
+}  // namespace
+
+json::Json movedPart(const json::Json& part, const glm::dvec3& deltaM) {
+  json::Json moved = part;
+  for (const char* key : {"center", "point", "pivot", "min", "max"}) addTo(moved, key, deltaM);
+  if (isPlaced(part)) moved["translate"] = arrayOf(vec3Of(part, "translate", glm::dvec3(0.0)) + deltaM);
+  return moved;
+}
+
+bool partTurns(const json::Json& part, const std::string& section) {
+  const std::string shape = shapeOf(part);
+  if (shape == "mesh") return true;
+  if (shape == "points") return section == "bodies";
+  return shape == "box" && section == "rigid_bodies";
+}
+
+json::Json turnedPart(const json::Json& part, int axis, double degrees) {
+  json::Json turned = part;
+  glm::dvec3 rotation = vec3Of(part, "rotate_deg", glm::dvec3(0.0));
+  rotation[axis] += degrees;
+  turned["rotate_deg"] = arrayOf(rotation);
+  return turned;
+}
+
+bool partScales(const json::Json& part) { return shapeOf(part) != "plane"; }
+
+json::Json scaledPart(const json::Json& part, double factor) {
+  json::Json scaled = part;
+  if (part.contains("radius") && part["radius"].is_number()) scaled["radius"] = clean(part["radius"].get<double>() * factor);
+  const glm::dvec3 none(std::nan(""));
+  const glm::dvec3 size = vec3Of(part, "size", none);
+  if (!std::isnan(size.x)) scaled["size"] = arrayOf(size * factor);
+  const glm::dvec3 minM = vec3Of(part, "min", none), maxM = vec3Of(part, "max", none);
+  if (!std::isnan(minM.x) && !std::isnan(maxM.x)) {
+    const glm::dvec3 middle = 0.5 * (minM + maxM), half = 0.5 * (maxM - minM) * factor;
+    scaled["min"] = arrayOf(middle - half);
+    scaled["max"] = arrayOf(middle + half);
+  }
+  if (isPlaced(part)) {
+    const double scale = part.contains("scale") && part["scale"].is_number() ? part["scale"].get<double>() : 1.0;
+    scaled["scale"] = clean(scale * factor);
+  }
+  return scaled;
+}
+
+double snapTo(double value, double step) { return std::round(value / step) * step; }
+
+}  // namespace firn
