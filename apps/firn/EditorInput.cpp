@@ -50,13 +50,26 @@ const json::Choices<int> kButtons = {{"left", 0}, {"right", 1}, {"middle", 2}};
 
 EditorEvent readEvent(const json::Value& value) {
   const json::Object object(value);
-  object.checkKeys({"frame", "click", "mouse", "button", "action", "key", "mods", "text", "close"}, "an editor event");
+  object.checkKeys({"frame", "click", "drag", "by", "mouse", "button", "action", "key", "mods", "text", "close"},
+                   "an editor event");
   EditorEvent event;
   event.frame = object.required("frame").integer(1, kMaxFrame);
   int kinds = 0;
   if (const std::optional<json::Value> click = object.optional("click")) {
     event.click = click->string();
     ++kinds;
+  }
+  if (const std::optional<json::Value> drag = object.optional("drag")) {
+    event.drag = drag->string();
+    const json::Value by = object.required("by");
+    const json::Json& pixels = by.json();
+    if (!pixels.is_array() || pixels.size() != 2 || !pixels[0].is_number() || !pixels[1].is_number()) {
+      by.fail("must be [dx, dy], how far the drag goes in pixels");
+    }
+    event.dragByPx = ImVec2(pixels[0].get<float>(), pixels[1].get<float>());
+    ++kinds;
+  } else if (object.has("by")) {
+    object.fail("drag", "\"by\" goes with a drag");
   }
   if (const std::optional<json::Value> mouse = object.optional("mouse")) {
     const json::Json& place = mouse->json();
@@ -97,7 +110,7 @@ EditorEvent readEvent(const json::Value& value) {
     event.close = true;
     ++kinds;
   }
-  if (kinds != 1) value.fail("must be one of a click, a mouse event, a key, a text or a close (found " +
+  if (kinds != 1) value.fail("must be one of a click, a drag, a mouse event, a key, a text or a close (found " +
                              std::to_string(kinds) + ")");
   return event;
 }
@@ -125,6 +138,10 @@ json::Json editorEventsJson(const std::vector<EditorEvent>& events) {
   for (const EditorEvent& event : events) {
     json::Json entry = {{"frame", event.frame}};
     if (!event.click.empty()) entry["click"] = event.click;
+    if (!event.drag.empty()) {
+      entry["drag"] = event.drag;
+      entry["by"] = {event.dragByPx.x, event.dragByPx.y};
+    }
     if (event.mousePx) {
       entry["mouse"] = {event.mousePx->x, event.mousePx->y};
       if (event.button >= 0) {
@@ -154,8 +171,34 @@ bool EditorReplay::apply(int frame, SceneEditor& editor) {
   io.KeyCtrl = io.KeyShift = io.KeyAlt = false;
   if (releaseButtonAt_ == frame) buttons_[0] = false;
   bool close = false;
-  for (; next_ < events_.size() && events_[next_].frame + delayFrames_ <= frame; ++next_) {
+  // A drag goes halfway, then all the way, then lets go; the events after it wait for its end.
+  if (dragStart_ >= 0) {
+    const int step = frame - dragStart_;
+    const float part = std::min(float(step), 2.0f) / 2;
+    mousePx_ = ImVec2(dragFromPx_.x + part * dragByPx_.x, dragFromPx_.y + part * dragByPx_.y);
+    if (step >= 3) {
+      buttons_[0] = false;
+      dragStart_ = -1;
+    } else {
+      ++delayFrames_;
+    }
+  }
+  for (; dragStart_ < 0 && next_ < events_.size() && events_[next_].frame + delayFrames_ <= frame; ++next_) {
     const EditorEvent& event = events_[next_];
+    if (!event.drag.empty()) {
+      const std::optional<ImVec2> from = editor.fieldCentre(event.drag);
+      if (!from) {
+        throw InputError("--replay: the event at frame " + std::to_string(event.frame) + " drags \"" + event.drag +
+                         "\", which the editor did not draw in the frame before");
+      }
+      dragFromPx_ = *from;
+      dragByPx_ = event.dragByPx;
+      dragStart_ = frame;
+      mousePx_ = from;
+      buttons_[0] = true;
+      ++next_;
+      break;
+    }
     if (!event.click.empty()) {
       const std::optional<ImVec2> centre = editor.fieldCentre(event.click);
       // A field scrolled out of the panel is scrolled into it first: the click, and the events after it, wait.

@@ -8,6 +8,8 @@
 //                                                              (SceneEditor::fieldCentre), or of a button ("#save")
 //   {"frame": 5, "mouse": [300, 120], "button": "left", "action": "press"}   a button pressed or released there
 //   {"frame": 5, "mouse": [310, 120]}                          the pointer moved there
+//   {"frame": 8, "drag": "#handle-x", "by": [50, 0]}           a left drag from a field's or handle's centre, `by`
+//                                                              pixels over two frames, released at the third
 //   {"frame": 6, "key": "A", "mods": ["ctrl"]}                 a key pressed (and released at the next frame)
 //   {"frame": 7, "text": "5e5"}                                text typed
 //   {"frame": 9, "close": true}                                the window's close button
@@ -30,6 +32,8 @@ class SceneEditor;
 struct EditorEvent {
   int frame = 0;
   std::string click;                 // a field's pointer
+  std::string drag;                  // a field's or handle's name, dragged from
+  ImVec2 dragByPx;
   std::optional<ImVec2> mousePx;     // where the pointer is
   int button = -1;                   // 0 left, 1 right, 2 middle; with `pressed`
   bool pressed = false;
@@ -60,6 +64,9 @@ class EditorReplay {
   std::optional<ImVec2> mousePx_;
   bool buttons_[3] = {false, false, false};
   int releaseButtonAt_ = -1;  // a click's release, the frame after its press
+  // A drag under way: where it started, by how much, and at which frame.
+  ImVec2 dragFromPx_, dragByPx_;
+  int dragStart_ = -1;
   std::vector<int> keysDown_;  // pressed in the last frame: released in this one
   // A click's field out of the panel's view is scrolled to; the frames that has taken, which a few suffice for.
   static constexpr int kRevealFrames = 4;

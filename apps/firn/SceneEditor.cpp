@@ -1,7 +1,10 @@
 #include "SceneEditor.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -11,6 +14,9 @@
 
 #include "Error.h"
 #include "io/Text.h"
+#include "render/Picking.h"
+#include "scene/PartTransforms.h"
+#include "scene/SceneObjects.h"
 
 namespace firn {
 namespace {
@@ -19,7 +25,6 @@ using Clock = std::chrono::steady_clock;
 
 // Edits this close together are one burst: the numbers before running, which sample the bodies, wait for its end.
 constexpr double kNumbersAfterEditsS = 0.3;
-constexpr float kPanelWidthPx = 460;
 const ImVec4 kProblemColour(1.0f, 0.45f, 0.4f, 1.0f);
 const ImVec4 kWarningColour(1.0f, 0.8f, 0.3f, 1.0f);
 
@@ -84,41 +89,74 @@ std::string elementLabel(std::size_t index, const json::Json& element) {
   return label;
 }
 
-// The middle of the domain, where a new part is put.
-json::Json domainCentre(const Scene& scene) {
-  const glm::dvec3 centre = scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
-  return json::Json::array({centre.x, centre.y, centre.z});
+// A vec3 as the file writes it.
+json::Json arrayOf(const glm::dvec3& v) { return json::Json::array({v.x, v.y, v.z}); }
+
+// The middle of the domain, where the panel's "add" buttons put a part.
+glm::dvec3 domainCentre(const Scene& scene) {
+  return scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
 }
 
-// The parts a section's "add" buttons make: a sphere and a box of a few cells at the domain's centre, as a user would
-// write them (docs/scene-format.md).
-std::vector<std::pair<std::string, json::Json>> newParts(const std::string& section, const Scene& scene,
-                                                         const json::Json& document) {
-  const double h = scene.grid.cellSizeM;
-  const json::Json centre = domainCentre(scene);
-  const json::Json size = json::Json::array({8 * h, 8 * h, 8 * h});
-  std::string material = "snow";
-  if (document.contains("materials") && document["materials"].is_object() && !document["materials"].empty()) {
-    material = document["materials"].begin().key();
+// The parts each section's "add" offers, by the names its buttons and menus give them.
+const std::vector<std::pair<std::string, std::vector<std::string>>>& partKinds() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> kinds = {
+      {"bodies", {"sphere", "box", "emitter"}}, {"colliders", {"plane", "sphere", "box"}},
+      {"rigid_bodies", {"sphere", "box"}}};
+  return kinds;
+}
+
+// A new part of `section` of kind `kind` centred at `centreM`, a few cells across (a sphere of radius 4 h, a box
+// of 8 h), as a user would write it (docs/scene-format.md): snow of the first material, colliders that slip or
+// part, rigid bodies of ice's density; an emitter is a box of snow poured down over its first 10 frames.
+json::Json newPart(const std::string& section, const std::string& kind, const glm::dvec3& centreM, double h,
+                   const std::string& material) {
+  const json::Json centre = arrayOf(centreM);
+  const json::Json low = arrayOf(centreM - 4 * h), high = arrayOf(centreM + 4 * h);
+  if (section == "bodies") {
+    if (kind == "sphere") {
+      return {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"material", material},
+              {"particles_per_cell", 8}};
+    }
+    json::Json box = {{"shape", "box"}, {"min", low}, {"max", high}, {"material", material}, {"particles_per_cell", 8}};
+    if (kind == "emitter") {
+      box["velocity"] = json::Json::array({0, -2, 0});
+      box["start_frame"] = 0;
+      box["duration_frames"] = 10;
+    }
+    return box;
   }
-  if (section == "/bodies") {
-    return {{"sphere", {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"material", material},
-                        {"particles_per_cell", 8}}},
-            {"box", {{"shape", "box"}, {"center", centre}, {"size", size}, {"material", material},
-                     {"particles_per_cell", 8}}}};
+  if (section == "colliders") {
+    if (kind == "plane") {
+      return {{"type", "plane"}, {"point", centre}, {"normal", {0, 1, 0}}, {"friction", 0.5}, {"boundary", "slip"}};
+    }
+    if (kind == "sphere") {
+      return {{"type", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"friction", 0.5}, {"boundary", "separate"}};
+    }
+    return {{"type", "box"}, {"min", low}, {"max", high}, {"friction", 0.5}, {"boundary", "separate"}};
   }
-  if (section == "/colliders") {
-    return {{"plane", {{"type", "plane"}, {"point", centre}, {"normal", {0, 1, 0}}, {"friction", 0.5},
-                       {"boundary", "slip"}}},
-            {"sphere", {{"type", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"friction", 0.5},
-                        {"boundary", "separate"}}},
-            {"box", {{"type", "box"}, {"center", centre}, {"size", size}, {"friction", 0.5}, {"boundary", "separate"}}}};
+  if (kind == "sphere") return {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"density", 917}};
+  return {{"shape", "box"}, {"center", centre}, {"size", arrayOf(glm::dvec3(8 * h))}, {"density", 917}};
+}
+
+// A mesh part of `section` from `path` (as the file names it) placed with its origin at `atM`.
+json::Json newMeshPart(const std::string& section, const std::string& path, const glm::dvec3& atM,
+                       const std::string& material) {
+  if (section == "bodies") {
+    return {{"shape", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"material", material},
+            {"particles_per_cell", 8}};
   }
-  if (section == "/rigid_bodies") {
-    return {{"sphere", {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"density", 917}}},
-            {"box", {{"shape", "box"}, {"center", centre}, {"size", size}, {"density", 917}}}};
+  if (section == "colliders") {
+    return {{"type", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"friction", 0.5}, {"boundary", "separate"}};
   }
-  return {};
+  return {{"shape", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"density", 917}};
+}
+
+// The files a mesh may come from (assimp reads them; docs/scene-format.md).
+bool isMeshFile(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".obj" || extension == ".ply" || extension == ".stl" || extension == ".gltf" ||
+         extension == ".glb" || extension == ".fbx" || extension == ".off";
 }
 
 bool keyPressed(int key) { return ImGui::IsKeyPressed(key, false); }
@@ -139,7 +177,13 @@ int SceneEditor::panelWidthPx(GLFWwindow* window) {
 
 std::optional<Scene> SceneEditor::runnableScene() const {
   if (problemMessage()) return std::nullopt;
-  return document_.scene();
+  return scene_;
+}
+
+std::optional<Scene> SceneEditor::settledScene(std::string& text) const {
+  if (numbersText_ != checkedText_ || problemMessage() || handles_.dragging() || !typing_.empty()) return std::nullopt;
+  text = checkedText_;
+  return scene_;
 }
 
 std::optional<std::string> SceneEditor::problemMessage() const {
@@ -158,8 +202,8 @@ bool SceneEditor::closeRequested() {
 }
 
 std::optional<ImVec2> SceneEditor::fieldCentre(const std::string& pointer) const {
-  const auto found = lastFieldCentres_.find(pointer);
-  if (found == lastFieldCentres_.end() || !found->second.visible) return std::nullopt;
+  const auto found = fieldCentres_.find(pointer);
+  if (found == fieldCentres_.end() || !found->second.visible) return std::nullopt;
   return found->second.centre;
 }
 
@@ -195,15 +239,17 @@ void SceneEditor::refresh() {
     checkedText_ = text;
     problem_ = document_.problem();
     problemPointer_ = problem_ ? pointerOfKeyPath(problem_->keyPath) : "";
+    scene_.reset();
+    if (!problem_) scene_ = document_.scene();
   }
   // The numbers sample the bodies: once edits pause, and only of a scene the loader takes.
   const bool settled = std::chrono::duration<double>(Clock::now() - lastEdit_).count() >= kNumbersAfterEditsS;
   if (problem_ || numbersText_ == checkedText_ || !settled) return;
   numbersText_ = checkedText_;
   SessionOptions options;  // `firn run`'s
-  options.lastFrame = document_.scene().time.frames;
+  options.lastFrame = scene_->time.frames;
   try {
-    numbers_ = numbersBeforeRunning(document_.scene(), gl_, options);
+    numbers_ = numbersBeforeRunning(*scene_, gl_, options);
     numbersError_.reset();
     std::printf("firn view: before running:\n");
     for (const std::string& line : numbers_->lines) std::printf("firn view: %s\n", line.c_str());
@@ -216,9 +262,8 @@ void SceneEditor::refresh() {
   }
 }
 
-SceneEditor::Request SceneEditor::draw(bool running) {
+SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCamera>& view) {
   refresh();
-  lastFieldCentres_ = std::move(fieldCentres_);
   fieldCentres_.clear();
   Request request = Request::None;
   const ImGuiIO& io = ImGui::GetIO();
@@ -230,6 +275,22 @@ SceneEditor::Request SceneEditor::draw(bool running) {
     if (keyPressed(GLFW_KEY_Z) && !io.KeyShift) edit([&] { document_.undo(); });
     if (keyPressed(GLFW_KEY_Y) || (keyPressed(GLFW_KEY_Z) && io.KeyShift)) edit([&] { document_.redo(); });
     if (keyPressed(GLFW_KEY_S)) save();
+    if (keyPressed(GLFW_KEY_D) && !selected_.empty()) {
+      const std::size_t index = std::stoul(selected_.substr(selected_.rfind('/') + 1));
+      const json::Json part = document_.json()[json::Json::json_pointer(selected_)];
+      edit([&] { document_.insert(parentPointer(selected_), index + 1, part); });
+      select(parentPointer(selected_) + "/" + std::to_string(index + 1));
+    }
+  }
+  if (!io.WantTextInput && !control) {
+    if (keyPressed(GLFW_KEY_W)) mode_ = HandleMode::Move;
+    if (keyPressed(GLFW_KEY_E)) mode_ = HandleMode::Turn;
+    if (keyPressed(GLFW_KEY_R)) mode_ = HandleMode::Scale;
+    if (keyPressed(GLFW_KEY_DELETE) && !selected_.empty()) {
+      const std::string removed = selected_;
+      select("");
+      edit([&] { document_.remove(removed); });
+    }
   }
 
   ImGui::SetNextWindowPos(ImVec2(0, 0));
@@ -241,6 +302,7 @@ SceneEditor::Request SceneEditor::draw(bool running) {
   // Tab runs the scene: it does not step from field to field.
   ImGui::PushAllowKeyboardFocus(false);
   drawToolbar(running, request);
+  drawModes();
   drawProblem();
   drawNumbers();
   ImGui::Separator();
@@ -248,6 +310,8 @@ SceneEditor::Request SceneEditor::draw(bool running) {
     drawValue("/" + pointerToken(it.key()), it.key(), it.value(), 0, false);
   }
   drawAddKey("");
+  if (view && scene_) followView(*view);
+  drawMeshDialog();
   drawCloseDialog(request);
   ImGui::PopAllowKeyboardFocus();
   ImGui::End();
@@ -324,9 +388,16 @@ void SceneEditor::drawValue(const std::string& pointer, const std::string& label
     ImGui::PopID();
     return;
   }
-  // The scene's sections open at first; their parts' own objects (keyframes, a material's keys) too.
+  // The scene's sections open at first; their parts' own objects (keyframes, a material's keys) too; and the
+  // selection's, when it is picked.
   ImGui::SetNextItemOpen(depth < 3, ImGuiCond_Once);
-  const bool open = ImGui::TreeNode(label.c_str());
+  const auto opening = std::find(toOpen_.begin(), toOpen_.end(), pointer);
+  if (opening != toOpen_.end()) {
+    ImGui::SetNextItemOpen(true);
+    toOpen_.erase(opening);
+  }
+  const bool open = ImGui::TreeNodeEx(label.c_str(), pointer == selected_ ? ImGuiTreeNodeFlags_Selected : 0);
+  if (element && ImGui::IsItemClicked() && depth == 1) select(pointer);
   remember(pointer);
   if (element) {
     ImGui::SameLine();
@@ -336,7 +407,10 @@ void SceneEditor::drawValue(const std::string& pointer, const std::string& label
     }
     remember(pointer + "#duplicate");
     ImGui::SameLine();
-    if (ImGui::SmallButton("delete")) edit([&] { document_.remove(pointer); });
+    if (ImGui::SmallButton("delete")) {
+      if (selected_.rfind(pointer, 0) == 0) select("");
+      edit([&] { document_.remove(pointer); });
+    }
     remember(pointer + "#delete");
   } else {
     ImGui::SameLine();
@@ -407,17 +481,27 @@ void SceneEditor::drawLeaf(const std::string& pointer, const json::Json& value) 
   }
 }
 
-void SceneEditor::drawArrayTools(const std::string& pointer, const json::Json& array) {
-  std::optional<Scene> scene;
-  try {
-    scene = document_.scene();
-  } catch (const InputError&) {
-    // A part is added to a scene the loader takes: its grid places it.
+std::string SceneEditor::firstMaterial() const {
+  const json::Json& document = document_.json();
+  if (document.contains("materials") && document["materials"].is_object() && !document["materials"].empty()) {
+    return document["materials"].begin().key();
   }
-  if (scene) {
-    for (const auto& [name, part] : newParts(pointer, *scene, document_.json())) {
-      if (ImGui::SmallButton(("add " + name).c_str())) edit([&] { document_.insert(pointer, array.size(), part); });
-      remember(pointer + "#add-" + name);
+  return "snow";
+}
+
+void SceneEditor::drawArrayTools(const std::string& pointer, const json::Json& array) {
+  // A part is added to a scene the loader takes: its grid places it.
+  if (!scene_) return;
+  for (const auto& [section, kinds] : partKinds()) {
+    if (pointer != "/" + section) continue;
+    for (const std::string& kind : kinds) {
+      if (ImGui::SmallButton(("add " + kind).c_str())) {
+        const json::Json part =
+            newPart(section, kind, domainCentre(*scene_), scene_->grid.cellSizeM, firstMaterial());
+        edit([&] { document_.insert(pointer, array.size(), part); });
+        select(pointer + "/" + std::to_string(array.size()));
+      }
+      remember(pointer + "#add-" + kind);
       ImGui::SameLine();
     }
     ImGui::NewLine();
@@ -473,6 +557,199 @@ void SceneEditor::drawCloseDialog(Request& request) {
   ImGui::SameLine();
   if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
   remember("#cancel");
+  ImGui::EndPopup();
+}
+
+void SceneEditor::drawModes() {
+  int mode = int(mode_);
+  ImGui::RadioButton("Move (W)", &mode, int(HandleMode::Move));
+  remember("#move");
+  ImGui::SameLine();
+  ImGui::RadioButton("Turn (E)", &mode, int(HandleMode::Turn));
+  remember("#turn");
+  ImGui::SameLine();
+  ImGui::RadioButton("Scale (R)", &mode, int(HandleMode::Scale));
+  remember("#scale");
+  mode_ = HandleMode(mode);
+  ImGui::SameLine();
+  ImGui::Checkbox("Snap to cells", &snap_);
+  remember("#snap");
+  if (selected_.empty()) {
+    ImGui::TextDisabled("Click a part in the view to select it; right-click to add one there.");
+  } else {
+    ImGui::TextWrapped("Selected %s: drag its handles; Delete removes it, Ctrl+D duplicates it.", selected_.c_str());
+  }
+}
+
+void SceneEditor::select(const std::string& pointer) {
+  if (pointer == selected_) return;
+  selected_ = pointer;
+  handles_.cancel();
+  toOpen_.clear();
+  if (pointer.empty()) return;
+  // The part's tree node and its section's, opened and scrolled to.
+  toOpen_ = {parentPointer(pointer), pointer};
+  reveal_ = pointer;
+}
+
+void SceneEditor::addPart(const std::string& section, const json::Json& part) {
+  const std::string pointer = "/" + section;
+  const json::Json& document = document_.json();
+  if (document.contains(section) && document[section].is_array()) {
+    const std::size_t index = document[section].size();
+    edit([&] { document_.insert(pointer, index, part); });
+    select(pointer + "/" + std::to_string(index));
+  } else {
+    edit([&] { document_.set(pointer, json::Json::array({part})); });
+    select(pointer + "/0");
+  }
+}
+
+std::optional<HandledPart> SceneEditor::handledPart() const {
+  if (selected_.empty() || !scene_) return std::nullopt;
+  const std::string section = selected_.substr(1, selected_.rfind('/') - 1);
+  const std::size_t index = std::stoul(selected_.substr(selected_.rfind('/') + 1));
+  const json::Json::json_pointer at(selected_);
+  if (!document_.json().contains(at)) return std::nullopt;
+  HandledPart part;
+  part.pointer = selected_;
+  part.section = section;
+  part.object = document_.json()[at];
+  if (section == "bodies") {
+    if (index >= scene_->bodies.size()) return std::nullopt;
+    const Body& body = scene_->bodies[index];
+    part.boundsM = std::make_pair(body.boundsMinM(), body.boundsMaxM());
+    part.anchorM = 0.5 * (body.boundsMinM() + body.boundsMaxM());
+    return part;
+  }
+  const ObjectKind kind = section == "colliders" ? ObjectKind::Collider : ObjectKind::RigidBody;
+  if (kind == ObjectKind::Collider && index >= scene_->colliders.size()) return std::nullopt;
+  if (kind == ObjectKind::RigidBody && index >= scene_->rigidBodies.size()) return std::nullopt;
+  if (kind == ObjectKind::Collider && scene_->colliders[index].shape == ColliderShape::Plane) {
+    part.anchorM = scene_->colliders[index].pointM;  // a plane has no bounds to outline
+    return part;
+  }
+  for (const SceneObject& object : sceneObjects(*scene_)) {
+    if (object.kind != kind || std::size_t(object.index) != index) continue;
+    const ObjectPose pose = kind == ObjectKind::Collider ? colliderObjectPose(scene_->colliders[index], 0.0)
+                                                         : initialBodyPose(scene_->rigidBodies[index]);
+    const voxelizer::TriangleMesh placed = posedMesh(object.meshM, pose);
+    glm::dvec3 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+    for (const glm::dvec3& vertex : placed.vertices) {
+      low = glm::min(low, vertex);
+      high = glm::max(high, vertex);
+    }
+    part.boundsM = std::make_pair(low, high);
+    // A rigid body turns about its centre of mass; a collider's handles sit in the middle of its bounds.
+    part.anchorM = kind == ObjectKind::RigidBody ? pose.positionM : 0.5 * (low + high);
+    return part;
+  }
+  return std::nullopt;
+}
+
+void SceneEditor::followView(const ViewCamera& view) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (const std::optional<HandledPart> part = handledPart()) {
+    if (const std::optional<json::Json> moved = handles_.update(view, *part, mode_, snap_, scene_->grid.cellSizeM)) {
+      edit([&] { document_.set(part->pointer, *moved); });
+    }
+    for (const auto& [name, centre] : handles_.targets()) fieldCentres_[name] = Field{centre, view.contains(centre)};
+  }
+  // A click on the view (a press and a release without a drag between, which turns the view) picks what it shows;
+  // a right-click opens the menu of parts to add there.
+  const bool overPanel = ImGui::IsWindowHovered(ImGuiHoveredFlags_AnyWindow);
+  if (io.MouseClicked[0] || io.MouseClicked[1]) {
+    pressPx_ = io.MousePos;
+    pressInView_ = view.contains(io.MousePos) && !overPanel && !handles_.dragging();
+  }
+  const bool still = std::hypot(io.MousePos.x - pressPx_.x, io.MousePos.y - pressPx_.y) < 4;
+  if (pressInView_ && still && io.MouseReleased[0]) {
+    pressInView_ = false;
+    const std::optional<render::PickedPart> picked = render::pickPart(*scene_, view.ray(io.MousePos));
+    select(picked ? picked->pointer() : "");
+  }
+  if (pressInView_ && still && io.MouseReleased[1]) {
+    pressInView_ = false;
+    // On the surface the pointer shows, or as far off as the camera's target.
+    const render::Ray ray = view.ray(io.MousePos);
+    const double h = scene_->grid.cellSizeM;
+    const std::optional<render::PickedPart> picked = render::pickPart(*scene_, ray);
+    addAtM_ = picked ? picked->pointM + 4 * h * picked->normal
+                     : ray.originM + glm::distance(glm::dvec3(view.camera.targetM), ray.originM) * ray.direction;
+    if (snap_) {
+      const glm::dvec3 originM = scene_->grid.originM;
+      for (int i = 0; i < 3; ++i) addAtM_[i] = originM[i] + snapTo(addAtM_[i] - originM[i], h);
+    }
+    ImGui::OpenPopup("add here");
+  }
+  drawAddHere();
+}
+
+void SceneEditor::drawAddHere() {
+  if (!ImGui::BeginPopup("add here")) return;
+  const char* const sectionNames[] = {"snow", "collider", "rigid body"};
+  for (std::size_t s = 0; s < partKinds().size(); ++s) {
+    const auto& [section, kinds] = partKinds()[s];
+    for (const std::string& kind : kinds) {
+      const std::string name = std::string(sectionNames[s]) + " " + kind;
+      if (ImGui::MenuItem(name.c_str())) {
+        addPart(section, newPart(section, kind, addAtM_, scene_->grid.cellSizeM, firstMaterial()));
+      }
+      remember("#add-here/" + section + "/" + kind);
+    }
+    if (ImGui::MenuItem((std::string(sectionNames[s]) + " mesh…").c_str())) {
+      meshSection_ = section;
+      if (meshFolder_.empty()) meshFolder_ = std::filesystem::absolute(document_.path()).parent_path();
+    }
+    remember("#add-here/" + section + "/mesh");
+    ImGui::Separator();
+  }
+  ImGui::EndPopup();
+}
+
+void SceneEditor::drawMeshDialog() {
+  if (meshSection_.empty()) return;
+  if (!ImGui::IsPopupOpen("Choose a mesh")) ImGui::OpenPopup("Choose a mesh");
+  ImGui::SetNextWindowSize(ImVec2(420, 360), ImGuiCond_Appearing);
+  if (!ImGui::BeginPopupModal("Choose a mesh")) return;
+  ImGui::TextWrapped("%s", meshFolder_.string().c_str());
+  // The folder's folders, then its mesh files (OBJ, PLY, STL, glTF, FBX, OFF), by name.
+  std::vector<std::filesystem::path> folders, meshes;
+  std::error_code error;
+  for (const std::filesystem::directory_entry& entry : std::filesystem::directory_iterator(meshFolder_, error)) {
+    if (entry.is_directory(error)) {
+      folders.push_back(entry.path());
+    } else if (isMeshFile(entry.path())) {
+      meshes.push_back(entry.path());
+    }
+  }
+  std::sort(folders.begin(), folders.end());
+  std::sort(meshes.begin(), meshes.end());
+  ImGui::BeginChild("files", ImVec2(0, -ImGui::GetFrameHeightWithSpacing()), true);
+  if (ImGui::Selectable("../")) meshFolder_ = meshFolder_.parent_path();
+  remember("#file/..");
+  for (const std::filesystem::path& folder : folders) {
+    if (ImGui::Selectable((folder.filename().string() + "/").c_str())) meshFolder_ = folder;
+    remember("#file/" + folder.filename().string());
+  }
+  for (const std::filesystem::path& mesh : meshes) {
+    if (ImGui::Selectable(mesh.filename().string().c_str())) {
+      // Named as the scene's other paths are: from the scene file's folder.
+      const std::filesystem::path sceneFolder = std::filesystem::absolute(document_.path()).parent_path();
+      const std::filesystem::path relative = mesh.lexically_relative(sceneFolder);
+      const std::string path = (relative.empty() ? mesh : relative).generic_string();
+      addPart(meshSection_, newMeshPart(meshSection_, path, addAtM_, firstMaterial()));
+      meshSection_.clear();
+      ImGui::CloseCurrentPopup();
+    }
+    remember("#file/" + mesh.filename().string());
+  }
+  ImGui::EndChild();
+  if (ImGui::Button("Cancel")) {
+    meshSection_.clear();
+    ImGui::CloseCurrentPopup();
+  }
+  remember("#file-cancel");
   ImGui::EndPopup();
 }
 

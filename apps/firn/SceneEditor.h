@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <utility>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 
 struct GLFWwindow;
 
+#include "PartHandles.h"
 #include "gl/Context.h"
 #include "run/SimulationSession.h"
 #include "scene/SceneDocument.h"
@@ -31,15 +33,21 @@ class SceneEditor {
   // What the user asked of the window in this frame.
   enum class Request { None, Run, Edit, Quit };
   // Draws the panel (between ImGui::NewFrame and ImGui::Render). `running`: the window is running the scene, not
-  // editing it; the keys are left to the view while it runs, but for Tab (back to editing).
-  Request draw(bool running);
+  // editing it; the keys are left to the view while it runs, but for Tab (back to editing). While editing, `view` is
+  // where the window shows the scene: a click there picks the part it shows (its handles then move, turn or scale
+  // it), and a right-click adds a part where it points.
+  Request draw(bool running, const std::optional<ViewCamera>& view);
 
-  // The panel's width in the framebuffer's pixels: the view beside it starts there.
+  // The panel's width in the window's pixels, and in its framebuffer's: the view beside it starts there.
+  static constexpr float kPanelWidthPx = 460;
   static int panelWidthPx(GLFWwindow* window);
 
   const SceneDocument& document() const { return document_; }
   // The scene to run: the document's, when the loader and the numbers before running found no problem.
   std::optional<Scene> runnableScene() const;
+  // The document's JSON (`text`) and its scene once edits have settled (the numbers before running are of it, no drag
+  // or typing is under way) and it can run: the window shows it while editing. Nothing before then.
+  std::optional<Scene> settledScene(std::string& text) const;
   // The loader's or the pre-flight's message while the scene cannot run.
   std::optional<std::string> problemMessage() const;
   // The window asks to close: at once without unsaved changes (true), else after the user's answer in a dialog.
@@ -49,8 +57,13 @@ class SceneEditor {
   // the last frame drawn, in the window's coordinates; nothing if it was not drawn. Scripted input clicks there.
   std::optional<ImVec2> fieldCentre(const std::string& pointer) const;
   // Whether the last frame drew that field at all, in view or scrolled out of it; reveal() scrolls it into view.
-  bool drewField(const std::string& pointer) const { return lastFieldCentres_.count(pointer) > 0; }
+  bool drewField(const std::string& pointer) const { return fieldCentres_.count(pointer) > 0; }
   void reveal(const std::string& pointer) { reveal_ = pointer; }
+
+  // Whether a press at `px` falls on the selected part's handles (the view does not turn then), or a drag of them lasts.
+  bool holdsPointer(const ImVec2& px) const { return handles_.dragging() || handles_.handleAt(px); }
+  // The selected part's pointer ("/bodies/0"), or empty.
+  const std::string& selected() const { return selected_; }
 
  private:
   void drawToolbar(bool running, Request& request);
@@ -63,6 +76,18 @@ class SceneEditor {
   void drawArrayTools(const std::string& pointer, const json::Json& array);
   void drawAddKey(const std::string& pointer);
   void drawCloseDialog(Request& request);
+  void drawModes();
+  // The name of the scene's first material, which new snow is made of ("snow" where it has none).
+  std::string firstMaterial() const;
+  // The view's picking, handles and "add here" menu.
+  void followView(const ViewCamera& view);
+  void drawAddHere();
+  void drawMeshDialog();
+  void select(const std::string& pointer);
+  // Adds `part` to the end of its section ("/bodies"), the section made where the file has none, and selects it.
+  void addPart(const std::string& section, const json::Json& part);
+  // The selected part as its handles need it, from the loaded scene; nothing if there is none or it is not loaded.
+  std::optional<HandledPart> handledPart() const;
   void showMessageAt(const std::string& pointer);
   void remember(const std::string& pointer);
   // Applies an edit through `change`, reporting a refused one (a malformed pointer) on stderr.
@@ -75,6 +100,7 @@ class SceneEditor {
   SceneDocument document_;
   gl::ContextInfo gl_;
   std::string checkedText_;        // the document's JSON the problem and the numbers are of
+  std::optional<Scene> scene_;     // the document as the loader reads it, while it has no problem
   std::optional<SceneDocument::Problem> problem_;
   std::string problemPointer_;     // the JSON pointer of problem_'s key path
   std::optional<StartNumbers> numbers_;
@@ -87,11 +113,21 @@ class SceneEditor {
     ImVec2 centre;
     bool visible;  // in the panel's view, not scrolled out of it
   };
-  std::map<std::string, Field> fieldCentres_;      // this frame's
-  std::map<std::string, Field> lastFieldCentres_;  // the last frame's
+  std::map<std::string, Field> fieldCentres_;      // the frame's: complete between two frames
   std::string reveal_;                             // a field to scroll into view when next drawn
   std::string saveMessage_;
   bool closeDialog_ = false;
+  // Selecting and handling parts in the view.
+  std::string selected_;
+  std::vector<std::string> toOpen_;  // tree nodes to open for the selection (it and its parents)
+  PartHandles handles_;
+  HandleMode mode_ = HandleMode::Move;
+  bool snap_ = false;
+  ImVec2 pressPx_;
+  bool pressInView_ = false;  // the last press fell on the view, not the panel or a handle
+  glm::dvec3 addAtM_{0.0};     // where the "add here" menu puts a part
+  std::string meshSection_;   // the mesh dialog's: the section a chosen mesh joins ("" while closed)
+  std::filesystem::path meshFolder_;
 };
 
 }  // namespace firn

@@ -222,12 +222,12 @@ class EditorLayer {
 
   // Starts the frame `frame` (counted from 1) with its input and draws the panel; `closes` is set when replayed
   // input closes the window.
-  SceneEditor::Request beginFrame(int frame, bool running, bool& closes) {
+  SceneEditor::Request beginFrame(int frame, bool running, const std::optional<ViewCamera>& view, bool& closes) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     closes = replay_ && replay_->apply(frame, editor_);
     ImGui::NewFrame();
-    return editor_.draw(running);
+    return editor_.draw(running, view);
   }
   void endFrame() {
     ImGui::Render();
@@ -285,9 +285,20 @@ class Viewer {
       glfwPollEvents();
       if (layer_) {
         bool closes = false;
-        const SceneEditor::Request request = layer_->beginFrame(frame + 1, !editing_, closes);
+        const SceneEditor::Request request = layer_->beginFrame(frame + 1, !editing_, editorView(), closes);
         if (closes) requestClose();
-        if (std::optional<Scene> next = follow(request)) {
+        std::optional<Scene> next = follow(request);
+        // While editing, the view shows the scene as the edits leave it, once they settle.
+        std::string settledText;
+        if (!next && editing_) {
+          if (std::optional<Scene> settled = layer_->editor().settledScene(settledText)) {
+            if (settledText != state_.sceneText) {
+              state_.sceneText = settledText;
+              next = std::move(settled);
+            }
+          }
+        }
+        if (next) {
           ImGui::EndFrame();
           state_.orbit = orbit_;
           return next;
@@ -308,6 +319,12 @@ class Viewer {
       const glm::ivec2 viewPx(framebufferPx.x - panelPx, framebufferPx.y);
       if (viewPx.x > 0 && viewPx.y > 0) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (panelPx > 0) {
+          // The panel's side too: the view's drawing leaves it as the last frame left it.
+          glViewport(0, 0, framebufferPx.x, framebufferPx.y);
+          glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
+          glClear(GL_COLOR_BUFFER_BIT);
+        }
         renderer_.setViewportOrigin({panelPx, 0});
         renderer_.draw(simulation().particleView(), shownBodyPoses(), orbit_.camera(), viewPx, colorMode_,
                        currentSurface());
@@ -360,6 +377,11 @@ class Viewer {
       Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
       if (!viewer.layer_) return;
       ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+      // A press on the selected part's handles drags them, not the view.
+      if (button == GLFW_MOUSE_BUTTON_LEFT) {
+        viewer.handleHeld_ = action == GLFW_PRESS && viewer.editing_ &&
+                             viewer.layer_->editor().holdsPointer(ImVec2(float(viewer.cursorX_), float(viewer.cursorY_)));
+      }
       if (EditorRecorder* recorder = viewer.layer_->recorder()) {
         recorder->button(viewer.state_.frame + 1, viewer.cursorX_, viewer.cursorY_, button, action == GLFW_PRESS);
       }
@@ -371,7 +393,7 @@ class Viewer {
       if (viewer.layer_ && viewer.layer_->recorder() && dragging) {
         viewer.layer_->recorder()->move(viewer.state_.frame + 1, x, y);
       }
-      const bool panelHasIt = viewer.layer_ && viewer.layer_->capturesMouse();
+      const bool panelHasIt = viewer.layer_ && (viewer.layer_->capturesMouse() || viewer.handleHeld_);
       viewer.onCursor(x, y, !panelHasIt);
     });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double x, double y) {
@@ -388,6 +410,16 @@ class Viewer {
       if (viewer.layer_ && viewer.layer_->recorder()) viewer.layer_->recorder()->close(viewer.state_.frame + 1);
       viewer.requestClose();
     });
+  }
+
+  // Where the editor's view of the scene lies in the window, beside its panel, and its camera; none while running.
+  std::optional<ViewCamera> editorView() const {
+    if (!editing_) return std::nullopt;
+    int widthPx = 0, heightPx = 0;
+    glfwGetWindowSize(window_, &widthPx, &heightPx);
+    const float panelPx = std::min(SceneEditor::kPanelWidthPx, float(widthPx));
+    if (float(widthPx) <= panelPx || heightPx <= 0) return std::nullopt;
+    return ViewCamera{orbit_.camera(), ImVec2(panelPx, 0), ImVec2(float(widthPx) - panelPx, float(heightPx))};
   }
 
   // Closes the window, unless the editor holds changes not saved: then it asks first (SceneEditor::closeRequested).
@@ -682,6 +714,7 @@ class Viewer {
   bool surfaceIsCurrent_ = false;
   bool paused_ = false;
   bool editing_ = false;
+  bool handleHeld_ = false;  // the left button went down on the editor's handles
   bool quitting_ = false;  // the editor's dialog answered: close without asking again
   bool unstable_ = false;
   int pendingSingleSteps_ = 0;
