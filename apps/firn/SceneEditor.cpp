@@ -90,7 +90,9 @@ std::string elementLabel(std::size_t index, const json::Json& element) {
 }
 
 // A vec3 as the file writes it.
-json::Json arrayOf(const glm::dvec3& v) { return json::Json::array({v.x, v.y, v.z}); }
+json::Json arrayOf(const glm::dvec3& v) {
+  return json::Json::array({fileNumber(v.x), fileNumber(v.y), fileNumber(v.z)});
+}
 
 // The middle of the domain, where the panel's "add" buttons put a part.
 glm::dvec3 domainCentre(const Scene& scene) {
@@ -114,7 +116,7 @@ json::Json newPart(const std::string& section, const std::string& kind, const gl
   const json::Json low = arrayOf(centreM - 4 * h), high = arrayOf(centreM + 4 * h);
   if (section == "bodies") {
     if (kind == "sphere") {
-      return {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"material", material},
+      return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"material", material},
               {"particles_per_cell", 8}};
     }
     json::Json box = {{"shape", "box"}, {"min", low}, {"max", high}, {"material", material}, {"particles_per_cell", 8}};
@@ -130,11 +132,11 @@ json::Json newPart(const std::string& section, const std::string& kind, const gl
       return {{"type", "plane"}, {"point", centre}, {"normal", {0, 1, 0}}, {"friction", 0.5}, {"boundary", "slip"}};
     }
     if (kind == "sphere") {
-      return {{"type", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"friction", 0.5}, {"boundary", "separate"}};
+      return {{"type", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"friction", 0.5}, {"boundary", "separate"}};
     }
     return {{"type", "box"}, {"min", low}, {"max", high}, {"friction", 0.5}, {"boundary", "separate"}};
   }
-  if (kind == "sphere") return {{"shape", "sphere"}, {"center", centre}, {"radius", 4 * h}, {"density", 917}};
+  if (kind == "sphere") return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"density", 917}};
   return {{"shape", "box"}, {"center", centre}, {"size", arrayOf(glm::dvec3(8 * h))}, {"density", 917}};
 }
 

@@ -29,11 +29,9 @@ glm::dvec3 vec3Of(const json::Json& part, const char* key, const glm::dvec3& fal
   return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
 }
 
-// A changed number as the file should read it: to 1e-9 (a nanometre, a nanodegree), so that 0.6 + 0.1 writes 0.7
-// and not the sum's 0.7000000000000001.
-double clean(double value) { return std::round(value * 1e9) / 1e9; }
-
-json::Json arrayOf(const glm::dvec3& v) { return json::Json::array({clean(v.x), clean(v.y), clean(v.z)}); }
+json::Json arrayOf(const glm::dvec3& v) {
+  return json::Json::array({fileNumber(v.x), fileNumber(v.y), fileNumber(v.z)});
+}
 
 // Sets a vec3 key that holds three numbers; leaves one that does not (the loader's message stays).
 void addTo(json::Json& part, const char* key, const glm::dvec3& deltaM) {
@@ -70,7 +68,7 @@ bool partScales(const json::Json& part) { return shapeOf(part) != "plane"; }
 
 json::Json scaledPart(const json::Json& part, double factor) {
   json::Json scaled = part;
-  if (part.contains("radius") && part["radius"].is_number()) scaled["radius"] = clean(part["radius"].get<double>() * factor);
+  if (part.contains("radius") && part["radius"].is_number()) scaled["radius"] = fileNumber(part["radius"].get<double>() * factor);
   const glm::dvec3 none(std::nan(""));
   const glm::dvec3 size = vec3Of(part, "size", none);
   if (!std::isnan(size.x)) scaled["size"] = arrayOf(size * factor);
@@ -82,10 +80,12 @@ json::Json scaledPart(const json::Json& part, double factor) {
   }
   if (isPlaced(part)) {
     const double scale = part.contains("scale") && part["scale"].is_number() ? part["scale"].get<double>() : 1.0;
-    scaled["scale"] = clean(scale * factor);
+    scaled["scale"] = fileNumber(scale * factor);
   }
   return scaled;
 }
+
+double fileNumber(double value) { return std::round(value * 1e9) / 1e9; }
 
 double snapTo(double value, double step) { return std::round(value / step) * step; }
 

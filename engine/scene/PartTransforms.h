@@ -28,6 +28,10 @@ bool partScales(const json::Json& part);
 // middle, a mesh's or points body's `scale`.
 json::Json scaledPart(const json::Json& part, double factor);
 
+// A number a change computed, as the file should read it: to 1e-9 (a nanometre, a nanodegree), so that 0.6 + 0.1
+// writes 0.7 and not the sum's 0.7000000000000001.
+double fileNumber(double value);
+
 // `value` to the nearest multiple of `step` (step > 0).
 double snapTo(double value, double step);
 

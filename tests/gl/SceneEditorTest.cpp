@@ -13,9 +13,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
 #include "Cli.h"
 #include "GlTest.h"
 #include "io/InputFile.h"
+#include "render/Camera.h"
 #include "run/SimulationSession.h"
 #include "scene/Scene.h"
 
@@ -131,6 +135,89 @@ TEST(SceneEditor, AsksBeforeQuittingWithChangesUnsaved) {
   EXPECT_NE(discarded.output.find(asked), std::string::npos) << discarded.output;
   EXPECT_EQ(stepsTaken(discarded.output), -1) << discarded.output;
   EXPECT_EQ(firn::readRegularFile(scene, "scene", 1 << 20), before);
+}
+
+// A ball of snow and a rigid box seen square-on from 2 m (h = 0.05 m: at that distance 0.1 m is about 50 pixels).
+const char* const kTwoPartsScene = R"({
+  "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+  "time": { "dt": 1e-3, "frame_rate": 50, "frames": 2 },
+  "materials": { "snow": { "preset": "stomakhin" } },
+  "bodies": [ { "shape": "sphere", "center": [0.45, 0.6, 0.6], "radius": 0.1, "material": "snow" } ],
+  "rigid_bodies": [ { "shape": "box", "center": [0.8, 0.6, 0.6], "size": [0.1, 0.1, 0.1], "density": 500 } ],
+  "camera": { "position": [0.6, 0.6, 2.6], "target": [0.6, 0.6, 0.6], "fov_deg": 40 } })";
+
+// The window `edit` opens is 1000 × 720 pixels, the panel 460 wide: the view is the 540 × 720 beside it.
+constexpr float kPanelPx = 460, kViewWidthPx = 540, kViewHeightPx = 720;
+
+// Where the scene's camera shows a point in the window, as the editor's view projects it.
+glm::vec2 windowPixel(const firn::Scene& scene, const glm::dvec3& pointM) {
+  const float aspect = kViewWidthPx / kViewHeightPx;
+  const firn::render::Camera camera = firn::render::defaultCamera(scene, aspect);
+  const glm::dvec4 clip =
+      glm::dmat4(camera.projection(aspect)) * glm::dmat4(camera.view()) * glm::dvec4(pointM, 1.0);
+  return {kPanelPx + float((clip.x / clip.w * 0.5 + 0.5) * kViewWidthPx),
+          float((0.5 - clip.y / clip.w * 0.5) * kViewHeightPx)};
+}
+
+std::string pixelJson(const glm::vec2& px) { return "[" + std::to_string(px.x) + ", " + std::to_string(px.y) + "]"; }
+
+// A click at a pixel of the window (a press and a release a frame later) with `button`.
+std::string clickAt(int frame, const glm::vec2& px, const std::string& button) {
+  return R"({"frame": )" + std::to_string(frame) + R"(, "mouse": )" + pixelJson(px) + R"(, "button": ")" + button +
+         R"(", "action": "press"}, {"frame": )" + std::to_string(frame + 1) + R"(, "mouse": )" + pixelJson(px) +
+         R"(, "button": ")" + button + R"(", "action": "release"})";
+}
+
+// From the scene's own camera: a click on the rigid box picks it and its y handle drags it up 0.1 m; a click on the
+// ball picks it and its x handle drags it 0.1 m along x (snapped to the 0.05 m cells, so a drag of about 0.1 m is
+// exactly 0.1 m); a right-click where nothing is adds a rigid mesh from the file dialog at the point the ray reaches
+// at the camera's distance to its target. The saved file is the scene with those three changes and no other.
+TEST(SceneEditor, PicksDragsAndAddsPartsInTheView) {
+  const fs::path folder = freshDirectory("scene_editor_view");
+  const fs::path scene = writeScene(folder, "two.json", kTwoPartsScene);
+  // A closed cube of 0.1 m about its origin, faces wound outwards.
+  writeScene(folder, "cube.obj", R"(v -0.05 -0.05 -0.05
+v 0.05 -0.05 -0.05
+v 0.05 0.05 -0.05
+v -0.05 0.05 -0.05
+v -0.05 -0.05 0.05
+v 0.05 -0.05 0.05
+v 0.05 0.05 0.05
+v -0.05 0.05 0.05
+f 1 4 3
+f 1 3 2
+f 5 6 7
+f 5 7 8
+f 1 2 6
+f 1 6 5
+f 4 8 7
+f 4 7 3
+f 1 5 8
+f 1 8 4
+f 2 3 7
+f 2 7 6
+)");
+  const firn::Scene loaded = firn::parseScene(kTwoPartsScene, scene);
+  const glm::vec2 box = windowPixel(loaded, {0.8, 0.6, 0.6});
+  const glm::vec2 boxUp = windowPixel(loaded, {0.8, 0.7, 0.6}) - box;
+  const glm::vec2 ball = windowPixel(loaded, {0.45, 0.6, 0.6});
+  const glm::vec2 ballAlong = windowPixel(loaded, {0.55, 0.6, 0.6}) - ball;
+  const glm::vec2 empty = windowPixel(loaded, {0.6, 0.9, 0.6});
+  const fs::path events = writeScene(folder, "events.json", "[" + std::string(R"({"frame": 3, "click": "#snap"}, )") +
+      clickAt(5, box, "left") + R"(, {"frame": 8, "drag": "#handle-y", "by": )" + pixelJson(boxUp) + "}, " +
+      clickAt(14, ball, "left") + R"(, {"frame": 17, "drag": "#handle-x", "by": )" + pixelJson(ballAlong) + "}, " +
+      clickAt(23, empty, "right") + R"(, {"frame": 26, "click": "#add-here/rigid_bodies/mesh"},
+      {"frame": 29, "click": "#file/cube.obj"}, {"frame": 33, "key": "S", "mods": ["ctrl"]}])");
+  const Result result = edit(scene, events, 60);
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+
+  Json expected = Json::parse(kTwoPartsScene);
+  expected["bodies"][0]["center"] = {0.55, 0.6, 0.6};
+  expected["rigid_bodies"][0]["center"] = {0.8, 0.7, 0.6};
+  // The camera's ray through that pixel, 2 m out (its distance to its target), snapped: (0.6, 0.897, 0.622) → cells.
+  expected["rigid_bodies"].push_back({{"shape", "mesh"}, {"path", "cube.obj"}, {"translate", {0.6, 0.9, 0.6}},
+                                      {"density", 917}});
+  EXPECT_EQ(readJson(scene), expected) << result.output;
 }
 
 // A script that does not fit the editor, or is not a script, is bad input (exit 2) that names the file and the event.
