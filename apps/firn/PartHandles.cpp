@@ -241,8 +241,8 @@ std::optional<json::Json> PartHandles::update(const ViewCamera& view, const Hand
     const ImU32 colour = hovered == axis ? kActiveColour : kAxisColours[axis];
     draw->AddLine(anchorPx_, tipsPx_[axis], colour, 3.0f);
     if (mode == HandleMode::Scale) {
-      draw->AddRectFilled(ImVec2(tipsPx_[axis].x - 4, tipsPx_[axis].y - 4), ImVec2(tipsPx_[axis].x + 4, tipsPx_[axis].y + 4),
-                          colour);
+      const ImVec2 tip = tipsPx_[axis];
+      draw->AddRectFilled(ImVec2(tip.x - 4, tip.y - 4), ImVec2(tip.x + 4, tip.y + 4), colour);
     } else {
       draw->AddCircleFilled(tipsPx_[axis], mode == HandleMode::Turn ? 6.0f : 4.5f, colour);
     }

@@ -132,11 +132,14 @@ json::Json newPart(const std::string& section, const std::string& kind, const gl
       return {{"type", "plane"}, {"point", centre}, {"normal", {0, 1, 0}}, {"friction", 0.5}, {"boundary", "slip"}};
     }
     if (kind == "sphere") {
-      return {{"type", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"friction", 0.5}, {"boundary", "separate"}};
+      return {{"type", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"friction", 0.5},
+              {"boundary", "separate"}};
     }
     return {{"type", "box"}, {"min", low}, {"max", high}, {"friction", 0.5}, {"boundary", "separate"}};
   }
-  if (kind == "sphere") return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"density", 917}};
+  if (kind == "sphere") {
+    return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"density", 917}};
+  }
   return {{"shape", "box"}, {"center", centre}, {"size", arrayOf(glm::dvec3(8 * h))}, {"density", 917}};
 }
 

@@ -60,7 +60,8 @@ class SceneEditor {
   bool drewField(const std::string& pointer) const { return fieldCentres_.count(pointer) > 0; }
   void reveal(const std::string& pointer) { reveal_ = pointer; }
 
-  // Whether a press at `px` falls on the selected part's handles (the view does not turn then), or a drag of them lasts.
+  // Whether a press at `px` falls on the selected part's handles (the view does not turn then), or a drag of them
+  // lasts.
   bool holdsPointer(const ImVec2& px) const { return handles_.dragging() || handles_.handleAt(px); }
   // The selected part's pointer ("/bodies/0"), or empty.
   const std::string& selected() const { return selected_; }

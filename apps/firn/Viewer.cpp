@@ -271,8 +271,8 @@ class Viewer {
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, "
                 "O throw a ball, F reframe, %sQ quit\n",
-                scene.name.empty() ? "scene" : scene.name.c_str(), withThousands(double(session_.seeds().size())).c_str(),
-                layer_ ? "Tab edit/run, " : "");
+                scene.name.empty() ? "scene" : scene.name.c_str(),
+                withThousands(double(session_.seeds().size())).c_str(), layer_ ? "Tab edit/run, " : "");
   }
 
   // Runs until the window closes (or the scripted frames end): nothing; or until the editor runs a scene other than
@@ -379,8 +379,8 @@ class Viewer {
       ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
       // A press on the selected part's handles drags them, not the view.
       if (button == GLFW_MOUSE_BUTTON_LEFT) {
-        viewer.handleHeld_ = action == GLFW_PRESS && viewer.editing_ &&
-                             viewer.layer_->editor().holdsPointer(ImVec2(float(viewer.cursorX_), float(viewer.cursorY_)));
+        const ImVec2 cursorPx(float(viewer.cursorX_), float(viewer.cursorY_));
+        viewer.handleHeld_ = action == GLFW_PRESS && viewer.editing_ && viewer.layer_->editor().holdsPointer(cursorPx);
       }
       if (EditorRecorder* recorder = viewer.layer_->recorder()) {
         recorder->button(viewer.state_.frame + 1, viewer.cursorX_, viewer.cursorY_, button, action == GLFW_PRESS);
@@ -555,7 +555,10 @@ class Viewer {
                   scene_.name.empty() ? "scene" : scene_.name.c_str(), stepsPerS, stepCostS_ * 1e3,
                   withThousands(double(simulation().particleCount())).c_str(), simulation().timeS(), speed_,
                   render::renderModeName(renderMode_), render::colorModeName(colorMode_),
-                  unstable_ ? " | UNSTABLE (R resets)" : editing_ ? " | editing (Tab runs)" : paused_ ? " | paused" : "");
+                  unstable_  ? " | UNSTABLE (R resets)"
+                  : editing_ ? " | editing (Tab runs)"
+                  : paused_  ? " | paused"
+                             : "");
     glfwSetWindowTitle(window_, text);
     stepsSinceTitle_ = 0;
   }

@@ -91,7 +91,9 @@ int viewCommand(const std::string& scenePath, firn::ViewOptions options) {
   if (!options.screenshotPath.empty()) firn::checkWritableFile(options.screenshotPath, "--screenshot");
   if (!options.recordPath.empty()) firn::checkWritableFile(options.recordPath, "--record");
   // The editor edits a file, which it saves back.
-  if (options.edit && scenePath.empty()) throw firn::InputError("--edit: name the scene file to edit (firn view SCENE --edit)");
+  if (options.edit && scenePath.empty()) {
+    throw firn::InputError("--edit: name the scene file to edit (firn view SCENE --edit)");
+  }
   options.showProgress = true;
   firn::runViewer(sceneOrDefault(scenePath), options);
   return 0;
@@ -411,8 +413,8 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
       ->default_str("surface");
   view->add_flag("--domain-box", viewOptions.domainBox, domainBoxHelp);
   CLI::Option* edit = view->add_flag("--edit", viewOptions.edit,
-                                     "Open the scene editor: a panel that edits, checks and saves SCENE, which stays at "
-                                     "its start until run (Tab switches between editing and running)");
+                                     "Open the scene editor: a panel that edits, checks and saves SCENE, which stays "
+                                     "at its start until run (Tab switches between editing and running)");
   std::string replayPath, recordPath;
   view->add_option("--replay", replayPath, "With --edit: replay the editor's input from this JSON file (tests, demos)")
       ->check(CLI::ExistingFile)->needs(edit);

@@ -106,7 +106,9 @@ Ray cameraRay(const Camera& camera, float aspect, const glm::dvec2& ndc) {
 }
 
 std::string PickedPart::pointer() const {
-  const char* section = kind == PartKind::Body ? "/bodies/" : kind == PartKind::Collider ? "/colliders/" : "/rigid_bodies/";
+  const char* section = kind == PartKind::Body       ? "/bodies/"
+                        : kind == PartKind::Collider ? "/colliders/"
+                                                     : "/rigid_bodies/";
   return section + std::to_string(index);
 }
 
@@ -117,7 +119,9 @@ std::optional<PickedPart> pickPart(const Scene& scene, const Ray& ray) {
     const glm::dvec3 normal = glm::dot(hit->normal, ray.direction) > 0 ? -hit->normal : hit->normal;
     nearest = PickedPart{kind, index, hit->distanceM, ray.originM + hit->distanceM * ray.direction, normal};
   };
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) consider(PartKind::Body, int(i), meetBody(ray, scene.bodies[i]));
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    consider(PartKind::Body, int(i), meetBody(ray, scene.bodies[i]));
+  }
   for (const SceneObject& object : sceneObjects(scene)) {
     const ObjectPose pose = object.kind == ObjectKind::Collider
                                 ? colliderObjectPose(scene.colliders[std::size_t(object.index)], 0.0)

@@ -1,8 +1,9 @@
 #pragma once
 // Which part of a scene a ray from the camera meets first: the scene editor's picking (apps/firn/SceneEditor.h) and
 // where it puts what it adds. The snow's bodies are met as their shapes (a sphere, a box, the placed mesh; a points
-// body as its bounds); the colliders and the rigid bodies as the renderer draws them at the start (scene/SceneObjects.h:
-// the analytic shapes tessellated, meshes as placed, planes as their squares across the domain). No GL here.
+// body as its bounds); the colliders and the rigid bodies as the renderer draws them at the start
+// (scene/SceneObjects.h: the analytic shapes tessellated, meshes as placed, planes as their squares across the
+// domain). No GL here.
 #include <optional>
 #include <string>
 

@@ -68,7 +68,9 @@ bool partScales(const json::Json& part) { return shapeOf(part) != "plane"; }
 
 json::Json scaledPart(const json::Json& part, double factor) {
   json::Json scaled = part;
-  if (part.contains("radius") && part["radius"].is_number()) scaled["radius"] = fileNumber(part["radius"].get<double>() * factor);
+  if (part.contains("radius") && part["radius"].is_number()) {
+    scaled["radius"] = fileNumber(part["radius"].get<double>() * factor);
+  }
   const glm::dvec3 none(std::nan(""));
   const glm::dvec3 size = vec3Of(part, "size", none);
   if (!std::isnan(size.x)) scaled["size"] = arrayOf(size * factor);

@@ -232,8 +232,8 @@ TEST(SceneEditor, ReplayedInputThatDoesNotFitIsBadInput) {
   const fs::path missingField = writeScene(folder, "field.json", R"([{"frame": 2, "click": "/bodies/7/radius"}])");
   const Result field = edit(scene, missingField, 10);
   EXPECT_EQ(field.exitCode, 2) << field.output;
-  EXPECT_NE(field.output.find("--replay: the event at frame 2 clicks \"/bodies/7/radius\", which the editor did not draw"),
-            std::string::npos)
+  const std::string notDrawn = "--replay: the event at frame 2 clicks \"/bodies/7/radius\", which the editor did not draw";
+  EXPECT_NE(field.output.find(notDrawn), std::string::npos)
       << field.output;
 }
 

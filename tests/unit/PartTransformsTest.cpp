@@ -10,15 +10,18 @@ namespace {
 using json::Json;
 
 TEST(PartTransforms, MovesEachPartByTheKeysItIsWrittenWith) {
-  const Json sphere = Json::parse(R"({"shape": "sphere", "center": [0.6, 0.45, 0.48], "radius": 0.12, "material": "snow"})");
+  const Json sphere =
+      Json::parse(R"({"shape": "sphere", "center": [0.6, 0.45, 0.48], "radius": 0.12, "material": "snow"})");
   // 0.6 + 0.1 is 0.7000000000000001 in doubles: the file gets 0.7, what the user dragged to.
   EXPECT_EQ(movedPart(sphere, {0.1, 0, -0.02}),
             Json::parse(R"({"shape": "sphere", "center": [0.7, 0.45, 0.46], "radius": 0.12, "material": "snow"})"));
-  const Json box = Json::parse(R"({"shape": "box", "min": [0.1, 0.1, 0.1], "max": [0.3, 0.2, 0.4], "material": "snow"})");
+  const Json box =
+      Json::parse(R"({"shape": "box", "min": [0.1, 0.1, 0.1], "max": [0.3, 0.2, 0.4], "material": "snow"})");
   EXPECT_EQ(movedPart(box, {0, 0.05, 0}),
             Json::parse(R"({"shape": "box", "min": [0.1, 0.15, 0.1], "max": [0.3, 0.25, 0.4], "material": "snow"})"));
   const Json plane = Json::parse(R"({"type": "plane", "point": [0, 0.08, 0], "normal": [0, 1, 0]})");
-  EXPECT_EQ(movedPart(plane, {0, 0.02, 0}), Json::parse(R"({"type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0]})"));
+  EXPECT_EQ(movedPart(plane, {0, 0.02, 0}),
+            Json::parse(R"({"type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0]})"));
   // A mesh moves by its placement, which a file may leave out; a collider's keyframes are displacements from its rest.
   const Json mesh = Json::parse(R"({"type": "mesh", "path": "rock.obj", "scale": 0.5,
                                     "keyframes": [{"time_s": 0}, {"time_s": 1, "translate": [0.1, 0, 0]}]})");
@@ -32,7 +35,8 @@ TEST(PartTransforms, MovesEachPartByTheKeysItIsWrittenWith) {
 }
 
 TEST(PartTransforms, TurnsWhatTheFileLetsTurnAboutItsOwnAxes) {
-  const Json rigidBox = Json::parse(R"({"shape": "box", "center": [0.5, 0.6, 0.5], "size": [0.2, 0.1, 0.3], "density": 600})");
+  const Json rigidBox =
+      Json::parse(R"({"shape": "box", "center": [0.5, 0.6, 0.5], "size": [0.2, 0.1, 0.3], "density": 600})");
   EXPECT_TRUE(partTurns(rigidBox, "rigid_bodies"));
   EXPECT_FALSE(partTurns(rigidBox, "bodies"));  // a snow box is axis-aligned (min, max)
   EXPECT_FALSE(partTurns(Json::parse(R"({"type": "sphere", "center": [0, 0, 0], "radius": 1})"), "colliders"));
