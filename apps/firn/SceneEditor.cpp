@@ -272,6 +272,7 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   fieldCentres_.clear();
   Request request = Request::None;
   const ImGuiIO& io = ImGui::GetIO();
+  if (headless_) drawHeadlessRunEnd();
   if (!io.WantTextInput && keyPressed(GLFW_KEY_TAB)) request = running ? Request::Edit : Request::Run;
   if (running) return request;
 
@@ -309,6 +310,7 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   drawToolbar(running, request);
   drawModes();
   drawProblem();
+  drawHeadlessRun();
   drawNumbers();
   ImGui::Separator();
   for (auto it = document_.json().begin(); it != document_.json().end(); ++it) {
@@ -756,6 +758,62 @@ void SceneEditor::drawMeshDialog() {
   }
   remember("#file-cancel");
   ImGui::EndPopup();
+}
+
+void SceneEditor::drawHeadlessRunEnd() {
+  headless_->poll();
+  if (headless_->running() || headlessReported_) return;
+  headlessReported_ = true;
+  const std::string last = headless_->lines().empty() ? "" : headless_->lines().back();
+  std::printf("firn view: the headless run ended (exit %d): %s\n", *headless_->exitCode(), last.c_str());
+  std::fflush(stdout);
+}
+
+void SceneEditor::finishHeadlessRun() {
+  if (!headless_ || !headless_->running()) return;
+  headless_->wait();
+  drawHeadlessRunEnd();
+}
+
+void SceneEditor::drawHeadlessRun() {
+  const bool open = ImGui::CollapsingHeader("Run headless");
+  remember("#headless");
+  if (!open) return;
+  if (headlessOut_.empty()) {
+    const std::filesystem::path scene = std::filesystem::absolute(document_.path());
+    headlessOut_ = (scene.parent_path() / (scene.stem().string() + "_out")).string();
+  }
+  const bool going = headless_ && headless_->running();
+  ImGui::SetNextItemWidth(-1);
+  ImGui::InputTextWithHint("##out", "output folder", &headlessOut_);
+  remember("#headless-out");
+  ImGui::BeginDisabled(going || problemMessage().has_value());
+  if (ImGui::Button("Start the run")) {
+    // `firn run` takes the scene from its file: the edits go there first.
+    if (document_.modified()) save();
+    if (!document_.modified()) {
+      try {
+        headless_ = std::make_unique<HeadlessJob>(document_.path(), headlessOut_);
+        headlessReported_ = false;
+        std::printf("firn view: running headless: firn run %s --out %s\n", document_.path().string().c_str(),
+                    headlessOut_.c_str());
+        std::fflush(stdout);
+      } catch (const std::runtime_error& error) {
+        saveMessage_ = std::string("run headless: ") + error.what();
+      }
+    }
+  }
+  ImGui::EndDisabled();
+  remember("#run-headless");
+  if (!headless_) return;
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!going);
+  if (ImGui::Button("Stop")) headless_->stop();
+  ImGui::EndDisabled();
+  remember("#stop-headless");
+  ImGui::ProgressBar(float(headless_->fraction()));
+  if (!headless_->lines().empty()) ImGui::TextWrapped("%s", headless_->lines().back().c_str());
+  if (!going) ImGui::Text("ended with exit status %d", *headless_->exitCode());
 }
 
 }  // namespace firn

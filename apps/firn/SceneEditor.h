@@ -9,6 +9,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <utility>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 
 struct GLFWwindow;
 
+#include "HeadlessJob.h"
 #include "PartHandles.h"
 #include "gl/Context.h"
 #include "run/SimulationSession.h"
@@ -60,6 +62,9 @@ class SceneEditor {
   bool drewField(const std::string& pointer) const { return fieldCentres_.count(pointer) > 0; }
   void reveal(const std::string& pointer) { reveal_ = pointer; }
 
+  // A headless run the panel started, still going: waited for (a scripted window's end), or stopped.
+  void finishHeadlessRun();
+
   // Whether a press at `px` falls on the selected part's handles (the view does not turn then), or a drag of them
   // lasts.
   bool holdsPointer(const ImVec2& px) const { return handles_.dragging() || handles_.handleAt(px); }
@@ -78,6 +83,9 @@ class SceneEditor {
   void drawAddKey(const std::string& pointer);
   void drawCloseDialog(Request& request);
   void drawModes();
+  void drawHeadlessRun();
+  // Reads the headless run's output, and reports its end once.
+  void drawHeadlessRunEnd();
   // The name of the scene's first material, which new snow is made of ("snow" where it has none).
   std::string firstMaterial() const;
   // The view's picking, handles and "add here" menu.
@@ -127,6 +135,10 @@ class SceneEditor {
   ImVec2 pressPx_;
   bool pressInView_ = false;  // the last press fell on the view, not the panel or a handle
   glm::dvec3 addAtM_{0.0};     // where the "add here" menu puts a part
+  // `firn run` of the saved scene, started from the panel, and where it writes.
+  std::unique_ptr<HeadlessJob> headless_;
+  std::string headlessOut_;
+  bool headlessReported_ = false;
   std::string meshSection_;   // the mesh dialog's: the section a chosen mesh joins ("" while closed)
   std::filesystem::path meshFolder_;
 };

@@ -333,6 +333,8 @@ class Viewer {
       ++frame;
       if (std::count(options_.throwAtFrames.begin(), options_.throwAtFrames.end(), frame) > 0) throwSnowball();
       if (options_.frames && frame >= *options_.frames) {
+        // A scripted window waits for the run it started headless.
+        if (layer_) layer_->editor().finishHeadlessRun();
         if (!options_.screenshotPath.empty()) {
           render::writePng(options_.screenshotPath, render::readFramebuffer(framebufferPx));
           std::printf("firn view: wrote %s\n", options_.screenshotPath.string().c_str());

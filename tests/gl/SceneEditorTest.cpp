@@ -220,6 +220,37 @@ f 2 7 6
   EXPECT_EQ(readJson(scene), expected) << result.output;
 }
 
+// "Run headless" hands the scene, saved first, to `firn run` in a process of its own, with the usual outputs in the
+// folder the panel names (SCENE's stem + "_out" beside it); a scripted window waits for it to end and says how it
+// ended. The ball scene's 2 frames at 50 per second are 40 steps of 1 ms: frames 0, 1 and 2 on disk.
+TEST(SceneEditor, RunsTheEditedSceneHeadless) {
+  const fs::path folder = freshDirectory("scene_editor_headless");
+  const fs::path scene = writeScene(folder, "ball.json", kBallScene);
+  const fs::path events = writeScene(folder, "events.json", R"([
+    {"frame": 3, "click": "/time/frames"},
+    {"frame": 4, "key": "A", "mods": ["ctrl"]},
+    {"frame": 5, "text": "1"},
+    {"frame": 6, "key": "ENTER"},
+    {"frame": 8, "click": "#headless"},
+    {"frame": 10, "click": "#run-headless"}])");
+  const Result result = edit(scene, events, 14);
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  // The edit (1 frame, not 2) reached the file before the run took it.
+  EXPECT_EQ(readJson(scene)["time"]["frames"], 1) << result.output;
+  const fs::path out = folder / "ball_out";
+  EXPECT_NE(result.output.find("firn view: running headless: firn run " + scene.string() + " --out " + out.string()),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("firn view: the headless run ended (exit 0): firn: wrote 2 frames (2167 particles, 20 "
+                               "steps)"),
+            std::string::npos)
+      << result.output;
+  for (const char* file : {"run.json", "stats.csv", "frame_0000.ply", "frame_0001.ply"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+  EXPECT_FALSE(fs::exists(out / "frame_0002.ply"));
+}
+
 // A script that does not fit the editor, or is not a script, is bad input (exit 2) that names the file and the event.
 TEST(SceneEditor, ReplayedInputThatDoesNotFitIsBadInput) {
   const fs::path folder = freshDirectory("scene_editor_bad_events");
