@@ -7,6 +7,7 @@ packages=(
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # EGL + OpenGL; Mesa's llvmpipe where there is no GPU
   libglew-dev libglfw3-dev libglm-dev libassimp-dev nlohmann-json3-dev libcli11-dev libstb-dev
   libimgui-dev          # the scene editor's panel (firn view --edit), with its GLFW and OpenGL 3 backends
+  fonts-dejavu-core     # the panel's font, with the characters Firn's messages use (√, ≤, –)
   zlib1g-dev            # the checkpoints' CRC-32
   libopenmpi-dev openmpi-bin  # runs over several processes (mpirun -np N firn run)
   libgtest-dev libbenchmark-dev

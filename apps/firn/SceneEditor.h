@@ -62,6 +62,10 @@ class SceneEditor {
   bool drewField(const std::string& pointer) const { return fieldCentres_.count(pointer) > 0; }
   void reveal(const std::string& pointer) { reveal_ = pointer; }
 
+  // What running the scene in the window cost here: `msPerStep` for `particles` particles. The numbers before running
+  // then estimate the edited scene's step at this rate per particle.
+  void noteStepCost(double msPerStep, std::size_t particles);
+
   // A headless run the panel started, still going: waited for (a scripted window's end), or stopped.
   void finishHeadlessRun();
 
@@ -114,6 +118,7 @@ class SceneEditor {
   std::string problemPointer_;     // the JSON pointer of problem_'s key path
   std::optional<StartNumbers> numbers_;
   std::optional<std::string> numbersError_;  // the budget's or the pre-flight's refusal
+  double msPerParticleStep_ = 0;   // measured while running in this window; 0 before
   std::string numbersText_;        // the document's JSON the numbers are of
   std::chrono::steady_clock::time_point lastEdit_;
   std::map<std::string, std::string> typing_;       // the text of fields being edited, by pointer

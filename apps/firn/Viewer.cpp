@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -194,6 +195,17 @@ std::optional<float> rayEntersBox(const glm::vec3& origin, const glm::vec3& dire
   return enter;
 }
 
+// The panel's font: Debian's DejaVu Sans (fonts-dejavu-core) with the characters Firn's messages use — Greek,
+// punctuation such as "–", super- and subscripts, arrows and mathematical operators ("√", "≤", "×"); ImGui's own font
+// has Latin-1 alone and shows the rest as "?". Without the file, ImGui's own.
+void useMessagesFont() {
+  static const ImWchar ranges[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2000, 0x206F, 0x2070, 0x209F,
+                                   0x2190, 0x21FF, 0x2200, 0x22FF, 0};
+  const char* const path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  std::error_code error;
+  if (std::filesystem::is_regular_file(path, error)) ImGui::GetIO().Fonts->AddFontFromFileTTF(path, 15.0f, nullptr, ranges);
+}
+
 // The editor's half of the window (--edit): Dear ImGui's context with its GLFW and OpenGL 3 backends, the scene
 // editor, and its input replayed from a file or recorded into one. It lives as long as the window, across the
 // simulations the editor runs.
@@ -202,6 +214,7 @@ class EditorLayer {
   EditorLayer(GLFWwindow* window, const ViewOptions& options, const gl::ContextInfo& gl)
       : options_(options), editor_((ImGui::CreateContext(), SceneDocument::open(options.scenePath)), gl) {
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
+    useMessagesFont();
     // The window's callbacks are the viewer's, which pass the events on (ImGui_ImplGlfw_*Callback).
     ImGui_ImplGlfw_InitForOpenGL(window, false);
     ImGui_ImplOpenGL3_Init("#version 430 core");
@@ -444,7 +457,11 @@ class Viewer {
   std::optional<Scene> follow(SceneEditor::Request request) {
     switch (request) {
       case SceneEditor::Request::None: break;
-      case SceneEditor::Request::Edit: setEditing(true); break;
+      case SceneEditor::Request::Edit:
+        // What the run cost, for the editor's estimate of the next.
+        if (stepCostS_ > 0) layer_->editor().noteStepCost(stepCostS_ * 1e3, simulation().particleCount());
+        setEditing(true);
+        break;
       case SceneEditor::Request::Quit:
         quitting_ = true;
         glfwSetWindowShouldClose(window_, GLFW_TRUE);
