@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -35,6 +36,24 @@ inline Result runFirn(const std::string& arguments, const std::string& environme
 // The wrapper that runs a command on a virtual X server (xvfb-run) and exits with the command's own status, for the
 // viewer's tests: tests/support/on-xvfb.sh says why xvfb-run's own status will not do.
 inline const std::string kOnXvfb = FIRN_SOURCE_DIR "/tests/support/on-xvfb.sh";
+
+// A ball of 0.2 m radius at 8 particles per cell (cells 0.05 m): about 8 · (4π/3) 4³ = 2,145 particles (2,167
+// sampled), two frames of 20 steps: a scene that starts and runs in a moment.
+inline const char* const kBallScene = R"({
+  "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
+  "time": { "dt": 1e-3, "frame_rate": 50, "frames": 2 },
+  "materials": { "snow": { "preset": "stomakhin" } },
+  "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.2, "material": "snow" } ] })";
+
+// The lines of `output` that start with `prefix`, without it.
+inline std::vector<std::string> linesAfter(const std::string& output, const std::string& prefix) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(prefix, 0) == 0) lines.push_back(line.substr(prefix.size()));
+  }
+  return lines;
+}
 
 inline std::filesystem::path writeScene(const std::filesystem::path& directory, const std::string& name,
                                         const std::string& json) {

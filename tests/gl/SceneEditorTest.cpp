@@ -27,27 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using firn::test::freshDirectory;
+using firn::test::kBallScene;
 using firn::test::kOnXvfb;
+using firn::test::linesAfter;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
 using Json = nlohmann::ordered_json;
-
-// A ball of 0.2 m radius at 8 particles per cell (cells 0.05 m): about 2,145 particles, a quick start.
-const char* const kBallScene = R"({
-  "grid": { "cells": [24, 24, 24], "cell_size": 0.05 },
-  "time": { "dt": 1e-3, "frame_rate": 50, "frames": 2 },
-  "materials": { "snow": { "preset": "stomakhin" } },
-  "bodies": [ { "shape": "sphere", "center": [0.6, 0.6, 0.6], "radius": 0.2, "material": "snow" } ] })";
-
-std::vector<std::string> linesAfter(const std::string& output, const std::string& prefix) {
-  std::vector<std::string> lines;
-  std::istringstream in(output);
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind(prefix, 0) == 0) lines.push_back(line.substr(prefix.size()));
-  }
-  return lines;
-}
 
 Json readJson(const fs::path& path) {
   std::ifstream in(path);
