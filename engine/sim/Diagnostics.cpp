@@ -28,6 +28,11 @@ const char* channelName(std::uint32_t channel) {
 
 }  // namespace
 
+void Diagnostics::setMaterials(const Scene& scene) {
+  stableDtS_ = scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS;
+  materials_ = scene.materials;
+}
+
 Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
     : grid_(scene.grid), dtS_(scene.time.dtS),
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),

@@ -27,6 +27,8 @@ struct EnergyEvent {
 class Diagnostics {
  public:
   Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint);
+  // The scene's materials changed while it runs (Simulation::setMaterials): its elastic bound with them.
+  void setMaterials(const Scene& scene);
 
   // Records the body and material of particles as they are written, in order; forgets those beyond `count`
   // (a restored state holds fewer). Both do nothing once ids are followed: the notes are then fixed.

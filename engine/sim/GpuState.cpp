@@ -206,6 +206,10 @@ void GpuState::writeColliders(const std::vector<gpu::ColliderParams>& colliders,
                     colliders.data());
 }
 
+void GpuState::writeMaterials(const MaterialTable& materials) {
+  materials_.upload(0, materials.entries.size() * sizeof(gpu::MaterialParams), materials.entries.data());
+}
+
 std::vector<gpu::ColliderParams> GpuState::readColliders(std::size_t first, std::size_t count) const {
   return colliders_.read<gpu::ColliderParams>(count, first);
 }

@@ -68,6 +68,8 @@ class GpuState {
   // launched body's state. The table keeps its size.
   void writeColliders(const std::vector<gpu::ColliderParams>& colliders, std::size_t first = 0);
   std::vector<gpu::ColliderParams> readColliders(std::size_t first, std::size_t count) const;
+  // The material table's entries, as many as it holds (Simulation::setMaterials).
+  void writeMaterials(const MaterialTable& materials);
   gpu::WatchdogStatus watchdog() const;
   // The energy audit's ledger, after the status in the watchdog's buffer (sim/EnergyAudit.h), and the collider
   // table's entries' loads after it (gpu::ObjectLoad).

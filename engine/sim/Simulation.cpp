@@ -443,6 +443,48 @@ void Simulation::resume(const Checkpoint& checkpoint, const std::filesystem::pat
   particleCount_ = particles;
 }
 
+void Simulation::setMaterials(const std::vector<Material>& materials) {
+  const std::string file = sceneFileName(scene_);
+  if (materials.size() != scene_.materials.size()) {
+    throw InputError(file + ": materials: a material added or removed applies when the scene starts again");
+  }
+  for (std::size_t m = 0; m < materials.size(); ++m) {
+    const Material& now = scene_.materials[m];
+    const Material& edited = materials[m];
+    const std::string key = "materials." + now.name;
+    if (edited.name != now.name) {
+      throw InputError(file + ": " + key + ": a renamed material applies when the scene starts again");
+    }
+    if (edited.model != now.model) {
+      throw InputError(file + ": " + key +
+                       ".model: another model applies when the scene starts again (the passes are compiled for it)");
+    }
+    if (edited.densityKgPerM3 != now.densityKgPerM3) {
+      throw InputError(file + ": " + key +
+                       ".density: a density is the particles' mass: it applies when the scene is sampled again");
+    }
+  }
+  Scene edited = scene_;
+  edited.materials = materials;
+  const StiffestBody stiffest = stiffestBody(edited);
+  if (scene_.solver.semiImplicit() && stiffest.waveSpeedMPerS > stiffestBody(scene_).waveSpeedMPerS) {
+    const std::string name =
+        materials[std::size_t(scene_.bodies[std::size_t(stiffest.bodyIndex)].materialIndex)].name;
+    throw InputError(file + ": materials." + name + ": a wave faster than the stiffest at the start (" +
+                     format("%.4g", stiffest.waveSpeedMPerS) + " m/s against " +
+                     format("%.4g", stiffestBody(scene_).waveSpeedMPerS) +
+                     ") applies when the scene starts again: the semi-implicit solve's fixed point is set for it");
+  }
+  checkWatchdog();  // the account so far, with the old moduli
+  MaterialTable table = buildMaterialTable(edited);
+  state_.writeMaterials(table);
+  materialTable_ = std::move(table);
+  scene_.materials = materials;
+  diagnostics_.setMaterials(scene_);
+  energy_ = EnergyAudit(scene_, fixedPoint_);
+  energy_.start(readEnergySums(), bodyPosesInPlay());
+}
+
 EnergySums Simulation::readEnergySums() {
   // The uniforms of the last step's dt (the step's term) and of the particles now (some may have been added).
   state_.writeStepUniforms(stepUniforms(scene_, fixedPoint_, lastDtS_ > 0 ? lastDtS_ : scene_.time.dtS, timeS_,

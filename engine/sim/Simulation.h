@@ -153,6 +153,15 @@ class Simulation {
   // Sets parked rigid body `index` (Scene::rigidBodies, RigidBody::parked) going from the start of the next step at
   // `pose`: its position, orientation, velocity and angular velocity. A restart parks it again.
   void launchRigidBody(std::size_t index, const ObjectPose& pose);
+
+  // Takes `materials` (the scene's, edited: the scene editor's live materials) from the next step on, where a step can
+  // take them without the scene sampled again: the same materials by name and model, at the same densities (a density
+  // is the particles' mass; a model, the passes compiled), and for the semi-implicit step no wave faster than the
+  // stiffest at the start (its fixed point is set for that). Throws InputError naming the material and the key that
+  // needs a new start. The step's moduli, Poisson's ratios, snow's θc, θs and ξ, water's k, γ and viscosity and sand's
+  // friction change; the energy account starts again from the particles as they are (the same strain holds another
+  // elastic energy), the watchdog read first.
+  void setMaterials(const std::vector<Material>& materials);
   // The particles as the readers beside the simulation see them (the renderer, the surface reconstruction): their
   // buffers, read in place, the live count and the time; valid until the next step or addParticles.
   ParticleView particleView() const;
