@@ -185,36 +185,31 @@ bool EditorReplay::apply(int frame, SceneEditor& editor) {
   }
   for (; dragStart_ < 0 && next_ < events_.size() && events_[next_].frame + delayFrames_ <= frame; ++next_) {
     const EditorEvent& event = events_[next_];
-    if (!event.drag.empty()) {
-      const std::optional<ImVec2> from = editor.fieldCentre(event.drag);
-      if (!from) {
-        throw InputError("--replay: the event at frame " + std::to_string(event.frame) + " drags \"" + event.drag +
-                         "\", which the editor did not draw in the frame before");
-      }
-      dragFromPx_ = *from;
-      dragByPx_ = event.dragByPx;
-      dragStart_ = frame;
-      mousePx_ = from;
-      buttons_[0] = true;
-      ++next_;
-      break;
-    }
-    if (!event.click.empty()) {
-      const std::optional<ImVec2> centre = editor.fieldCentre(event.click);
-      // A field scrolled out of the panel is scrolled into it first: the click, and the events after it, wait.
-      if (!centre && editor.drewField(event.click) && revealFrames_ < kRevealFrames) {
-        editor.reveal(event.click);
+    const std::string& target = !event.click.empty() ? event.click : event.drag;
+    if (!target.empty()) {
+      const std::optional<ImVec2> centre = editor.fieldCentre(target);
+      // A field scrolled out of the panel is scrolled into it first: the click or drag, and the events after it, wait.
+      if (!centre && editor.drewField(target) && revealFrames_ < kRevealFrames) {
+        editor.reveal(target);
         ++revealFrames_;
         ++delayFrames_;
         break;
       }
       if (!centre) {
-        throw InputError("--replay: the event at frame " + std::to_string(event.frame) + " clicks \"" + event.click +
-                         "\", which the editor did not draw in the frame before");
+        throw InputError("--replay: the event at frame " + std::to_string(event.frame) +
+                         (event.click.empty() ? " drags \"" : " clicks \"") + target +
+                         "\", which the editor did not draw in the frame before, or not where a click can reach it");
       }
       revealFrames_ = 0;
       mousePx_ = centre;
       buttons_[0] = true;
+      if (!event.drag.empty()) {
+        dragFromPx_ = *centre;
+        dragByPx_ = event.dragByPx;
+        dragStart_ = frame;
+        ++next_;
+        break;
+      }
       releaseButtonAt_ = frame + 1;
     }
     if (event.mousePx) mousePx_ = event.mousePx;

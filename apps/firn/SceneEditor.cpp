@@ -186,7 +186,10 @@ std::optional<Scene> SceneEditor::runnableScene() const {
 }
 
 std::optional<Scene> SceneEditor::settledScene(std::string& text) const {
-  if (numbersText_ != checkedText_ || problemMessage() || handles_.dragging() || !typing_.empty()) return std::nullopt;
+  if (numbersText_ != checkedText_ || problemMessage() || handles_.dragging() || !typing_.empty() ||
+      !sliding_.empty()) {
+    return std::nullopt;
+  }
   text = checkedText_;
   return scene_;
 }
@@ -274,7 +277,6 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   const ImGuiIO& io = ImGui::GetIO();
   if (headless_) drawHeadlessRunEnd();
   if (!io.WantTextInput && keyPressed(GLFW_KEY_TAB)) request = running ? Request::Edit : Request::Run;
-  if (running) return request;
 
   const bool control = io.KeyCtrl;
   if (!io.WantTextInput && control) {
@@ -288,7 +290,8 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
       select(parentPointer(selected_) + "/" + std::to_string(index + 1));
     }
   }
-  if (!io.WantTextInput && !control) {
+  // While running, the view's own keys (R resets) are the view's.
+  if (!io.WantTextInput && !control && !running) {
     if (keyPressed(GLFW_KEY_W)) mode_ = HandleMode::Move;
     if (keyPressed(GLFW_KEY_E)) mode_ = HandleMode::Turn;
     if (keyPressed(GLFW_KEY_R)) mode_ = HandleMode::Scale;
@@ -308,7 +311,7 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   // Tab runs the scene: it does not step from field to field.
   ImGui::PushAllowKeyboardFocus(false);
   drawToolbar(running, request);
-  drawModes();
+  drawModes(running);
   drawProblem();
   drawHeadlessRun();
   drawNumbers();
@@ -328,7 +331,7 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
 void SceneEditor::drawToolbar(bool running, Request& request) {
   ImGui::TextUnformatted((document_.path().filename().string() + (document_.modified() ? " *" : "")).c_str());
   ImGui::BeginDisabled(problemMessage().has_value());
-  if (ImGui::Button("Run (Tab)")) request = running ? Request::Edit : Request::Run;
+  if (ImGui::Button(running ? "Edit (Tab)" : "Run (Tab)")) request = running ? Request::Edit : Request::Run;
   ImGui::EndDisabled();
   remember("#run");
   ImGui::SameLine();
@@ -346,6 +349,11 @@ void SceneEditor::drawToolbar(bool running, Request& request) {
   ImGui::EndDisabled();
   remember("#redo");
   if (!saveMessage_.empty()) ImGui::TextWrapped("%s", saveMessage_.c_str());
+  if (running) {
+    ImGui::TextWrapped("Running: edits of the materials apply at the next step where the step can take them; the "
+                       "others when you go back to editing (Tab).");
+    if (!liveNote_.empty()) ImGui::TextWrapped("%s", liveNote_.c_str());
+  }
 }
 
 void SceneEditor::drawProblem() {
@@ -389,14 +397,19 @@ void SceneEditor::showMessageAt(const std::string& pointer) {
   ImGui::PopStyleColor();
 }
 
+void SceneEditor::drawLabel(const std::string& label) {
+  // The fields line up in a column, past the label and the tree's indent.
+  const float startPx = ImGui::GetCursorPosX();
+  ImGui::AlignTextToFramePadding();
+  ImGui::TextUnformatted(label.c_str());
+  ImGui::SameLine(std::max(startPx + 110.0f, 190.0f));
+}
+
 void SceneEditor::drawValue(const std::string& pointer, const std::string& label, const json::Json& value, int depth,
                             bool element) {
   ImGui::PushID(pointer.c_str());
   if (!value.is_object() && !(value.is_array() && !isFlatArray(value))) {
-    const float startPx = ImGui::GetCursorPosX();
-    ImGui::AlignTextToFramePadding();
-    ImGui::TextUnformatted(label.c_str());
-    ImGui::SameLine(std::max(startPx + 110.0f, 190.0f));
+    drawLabel(label);
     drawLeaf(pointer, value);
     // Right-click on the field: the key out of the file (the loader says if it may not be).
     if (ImGui::BeginPopupContextItem("key menu")) {
@@ -438,6 +451,7 @@ void SceneEditor::drawValue(const std::string& pointer, const std::string& label
   }
   showMessageAt(pointer);
   if (open) {
+    if (depth == 1 && pointer.rfind("/materials/", 0) == 0) drawMaterialSliders(pointer, label);
     // Edits change the document under the loop: draw from a copy.
     const json::Json children = value;
     if (children.is_object()) {
@@ -579,7 +593,8 @@ void SceneEditor::drawCloseDialog(Request& request) {
   ImGui::EndPopup();
 }
 
-void SceneEditor::drawModes() {
+void SceneEditor::drawModes(bool running) {
+  if (running) return;
   int mode = int(mode_);
   ImGui::RadioButton("Move (W)", &mode, int(HandleMode::Move));
   remember("#move");
@@ -826,6 +841,68 @@ void SceneEditor::drawHeadlessRun() {
   ImGui::ProgressBar(float(headless_->fraction()));
   if (!headless_->lines().empty()) ImGui::TextWrapped("%s", headless_->lines().back().c_str());
   if (!going) ImGui::Text("ended with exit status %d", *headless_->exitCode());
+}
+
+void SceneEditor::drawMaterialSliders(const std::string& pointer, const std::string& name) {
+  if (!scene_) return;
+  const auto material = std::find_if(scene_->materials.begin(), scene_->materials.end(),
+                                     [&](const Material& m) { return m.name == name; });
+  if (material == scene_->materials.end()) return;
+  // The model's keys (docs/scene-format.md) at the values the scene runs with, a preset's included; the moduli and
+  // densities on a logarithmic scale.
+  struct Slider {
+    const char* key;
+    const char* label;
+    double value;
+    float low, high;
+    bool logarithmic;
+  };
+  const Slider youngs{"youngs_modulus", "E (Pa)", material->youngsModulusPa, 1e3f, 1e10f, true};
+  const Slider poisson{"poisson_ratio", "ν", material->poissonRatio, 0.0f, 0.49f, false};
+  const Slider density{"density", "ρ (kg/m³)", material->densityKgPerM3, 1.0f, 2e4f, true};
+  std::vector<Slider> sliders;
+  switch (material->model) {
+    case MaterialModel::Snow:
+      sliders = {youngs, poisson, density, {"critical_compression", "θc", material->criticalCompression, 0, 0.2f, false},
+                 {"critical_stretch", "θs", material->criticalStretch, 0, 0.05f, false},
+                 {"hardening", "ξ", material->hardening, 0, 50, false}};
+      break;
+    case MaterialModel::Water:
+      sliders = {density, {"bulk_modulus", "k (Pa)", material->bulkModulusPa, 1e3f, 1e10f, true},
+                 {"gamma", "γ", material->gamma, 1, 10, false},
+                 {"viscosity", "η (Pa·s)", material->viscosityPaS, 0, 10, false}};
+      break;
+    case MaterialModel::DruckerPrager:
+      sliders = {youngs, poisson, density};
+      // A constant angle; a hardening law (an array) is edited as its field.
+      if (!document_.json()[json::Json::json_pointer(pointer)].contains("hardening")) {
+        sliders.push_back({"friction_angle_deg", "φ (°)", material->hardeningH0Deg, 0, 89, false});
+      }
+      break;
+    default: sliders = {youngs, poisson, density}; break;
+  }
+  for (const Slider& slider : sliders) {
+    const std::string at = pointer + "/" + slider.key;
+    auto pending = sliding_.find(at);
+    float value = pending != sliding_.end() ? pending->second : float(slider.value);
+    drawLabel(slider.label);
+    ImGui::SetNextItemWidth(-1);
+    const std::string id = std::string("##") + slider.key;
+    if (ImGui::SliderFloat(id.c_str(), &value, slider.low, slider.high, "%.4g",
+                           slider.logarithmic ? ImGuiSliderFlags_Logarithmic : 0)) {
+      sliding_[at] = value;
+    }
+    remember(pointer + "#slider-" + slider.key);
+    if (ImGui::IsItemDeactivated()) {
+      pending = sliding_.find(at);
+      if (pending != sliding_.end()) {
+        // To the four digits the slider shows.
+        const double chosen = std::stod(format("%.4g", double(pending->second)));
+        sliding_.erase(pending);
+        edit([&] { document_.set(at, chosen); });
+      }
+    }
+  }
 }
 
 }  // namespace firn

@@ -66,6 +66,9 @@ class SceneEditor {
   // then estimate the edited scene's step at this rate per particle.
   void noteStepCost(double msPerStep, std::size_t particles);
 
+  // What became of the last edit made while running (applied live, or waiting for the next start), for the panel.
+  void noteLive(const std::string& note) { liveNote_ = note; }
+
   // A headless run the panel started, still going: waited for (a scripted window's end), or stopped.
   void finishHeadlessRun();
 
@@ -83,10 +86,14 @@ class SceneEditor {
   void drawValue(const std::string& pointer, const std::string& label, const json::Json& value, int depth,
                  bool element);
   void drawLeaf(const std::string& pointer, const json::Json& value);
+  // A field's label, and the cursor at the column where the fields start.
+  void drawLabel(const std::string& label);
   void drawArrayTools(const std::string& pointer, const json::Json& array);
   void drawAddKey(const std::string& pointer);
   void drawCloseDialog(Request& request);
-  void drawModes();
+  void drawModes(bool running);
+  // Sliders for the material's keys, at the values it runs with; a release is one edit of the key.
+  void drawMaterialSliders(const std::string& pointer, const std::string& name);
   void drawHeadlessRun();
   // Reads the headless run's output, and reports its end once.
   void drawHeadlessRunEnd();
@@ -119,9 +126,11 @@ class SceneEditor {
   std::optional<StartNumbers> numbers_;
   std::optional<std::string> numbersError_;  // the budget's or the pre-flight's refusal
   double msPerParticleStep_ = 0;   // measured while running in this window; 0 before
+  std::string liveNote_;
   std::string numbersText_;        // the document's JSON the numbers are of
   std::chrono::steady_clock::time_point lastEdit_;
   std::map<std::string, std::string> typing_;       // the text of fields being edited, by pointer
+  std::map<std::string, float> sliding_;            // the value of sliders being dragged, by pointer
   std::map<std::string, std::string> newKeyNames_;  // the "add key" fields, by object pointer
   struct Field {
     ImVec2 centre;

@@ -29,6 +29,7 @@
 #include "gl/Context.h"
 #include "io/Text.h"
 #include "run/SimulationSession.h"
+#include "scene/JsonChecker.h"
 #include "run/StepAccumulator.h"
 #include "scene/Sampling.h"
 #include "sim/Simulation.h"
@@ -279,6 +280,7 @@ class Viewer {
     // The surface is made (and reported) with the rest of the start.
     if (renderMode_ == render::RenderMode::Surface) session_.surface();
     if (state_.orbit) orbit_ = state_.orbit->of(scene_);
+    liveText_ = state_.sceneText;
     setEditing(state_.editing);
     installCallbacks();
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
@@ -301,6 +303,7 @@ class Viewer {
         const SceneEditor::Request request = layer_->beginFrame(frame + 1, !editing_, editorView(), closes);
         if (closes) requestClose();
         std::optional<Scene> next = follow(request);
+        if (!editing_) applyLiveEdits();
         // While editing, the view shows the scene as the edits leave it, once they settle.
         std::string settledText;
         if (!next && editing_) {
@@ -427,6 +430,37 @@ class Viewer {
     });
   }
 
+  // While running: a settled edit of the materials alone goes to the simulation at once (Simulation::setMaterials),
+  // where the step can take it; the panel says what became of it.
+  void applyLiveEdits() {
+    std::string text;
+    const std::optional<Scene> settled = layer_->editor().settledScene(text);
+    if (!settled || text == liveText_) return;
+    liveText_ = text;
+    if (text == state_.sceneText) return;
+    json::Json edited = json::Json::parse(text), running = json::Json::parse(state_.sceneText);
+    edited.erase("materials");
+    running.erase("materials");
+    if (edited != running) {
+      layer_->editor().noteLive("The edits beyond the materials apply when you go back to editing (Tab).");
+      return;
+    }
+    try {
+      simulation().setMaterials(settled->materials);
+      liveMaterials_ = settled->materials;
+      char note[96];
+      std::snprintf(note, sizeof note, "The materials as edited apply from t = %.4f s.", simulation().timeS());
+      layer_->editor().noteLive(note);
+      std::printf("firn view: %s\n", note);
+    } catch (const InputError& error) {
+      layer_->editor().noteLive(std::string("Not live: ") + error.what());
+    } catch (const SimulationError& error) {
+      std::fprintf(stderr, "firn view: %s\nfirn view: paused; press R to reset\n", error.what());
+      unstable_ = true;
+      paused_ = true;
+    }
+  }
+
   // Where the editor's view of the scene lies in the window, beside its panel, and its camera; none while running.
   std::optional<ViewCamera> editorView() const {
     if (!editing_) return std::nullopt;
@@ -447,6 +481,7 @@ class Viewer {
     editing_ = editing;
     state_.editing = editing;
     if (editing) {
+      liveMaterials_.reset();  // the document's edits make the next simulation
       resetSimulation();
       paused_ = true;
     }
@@ -511,6 +546,8 @@ class Viewer {
 
   void resetSimulation() {
     session_.restart();  // parks the thrown balls again
+    // The materials edited live stay, while running; editing starts from the file's.
+    if (liveMaterials_ && !editing_) simulation().setMaterials(*liveMaterials_);
     ballsThrown_ = 0;
     accumulator_.reset();
     unstable_ = false;
@@ -737,6 +774,8 @@ class Viewer {
   bool paused_ = false;
   bool editing_ = false;
   bool handleHeld_ = false;  // the left button went down on the editor's handles
+  std::string liveText_;     // the editor's document last looked at while running
+  std::optional<std::vector<Material>> liveMaterials_;  // the materials it applied live
   bool quitting_ = false;  // the editor's dialog answered: close without asking again
   bool unstable_ = false;
   int pendingSingleSteps_ = 0;

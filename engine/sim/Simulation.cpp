@@ -483,6 +483,7 @@ void Simulation::setMaterials(const std::vector<Material>& materials) {
   diagnostics_.setMaterials(scene_);
   energy_ = EnergyAudit(scene_, fixedPoint_);
   energy_.start(readEnergySums(), bodyPosesInPlay());
+  state_.writeEnergyRecords();  // the ledger sums afresh for the next reading, as at the start
 }
 
 EnergySums Simulation::readEnergySums() {

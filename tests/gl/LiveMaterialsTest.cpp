@@ -51,6 +51,13 @@ TEST(LiveMaterials, AStifferModulusAppliesAtTheNextStep) {
   stiffened.setMaterials(materials);
   EXPECT_FALSE(unstableWithin(unchanged, 40));
   EXPECT_TRUE(unstableWithin(stiffened, 40));
+  // A softer one is stable: the energy account, started again at the change, holds.
+  Simulation softened(scene, seeds, test::glContext().info());
+  for (int s = 0; s < 5; ++s) softened.step(1e-3);
+  softened.checkWatchdog();
+  materials[0].youngsModulusPa = scene.materials[0].youngsModulusPa / 2;
+  softened.setMaterials(materials);
+  EXPECT_FALSE(unstableWithin(softened, 40));
 }
 
 // A density is the particles' mass and a model the passes compiled: both wait for a new start, and say so.
