@@ -365,7 +365,11 @@ void SceneEditor::drawProblem() {
 }
 
 void SceneEditor::noteStepCost(double msPerStep, std::size_t particles) {
-  if (particles > 0 && msPerStep > 0) msPerParticleStep_ = msPerStep / double(particles);
+  if (particles == 0 || !(msPerStep > 0)) return;
+  msPerParticleStep_ = msPerStep / double(particles);
+  std::printf("firn view: a step of %s particles took %.3g ms here\n", withThousands(double(particles)).c_str(),
+              msPerStep);
+  std::fflush(stdout);
 }
 
 void SceneEditor::drawNumbers() {
@@ -375,10 +379,10 @@ void SceneEditor::drawNumbers() {
   // The step's cost goes with its particles (the transfers and the deformation update are per particle); the grid's
   // passes add a little, which a rate from a run of a similar scene carries.
   if (msPerParticleStep_ > 0) {
-    ImGui::TextWrapped("about %.3g ms per step here, at the %.3g µs per particle this window measured running",
+    ImGui::TextWrapped("about %.3g ms per step here, at the %.3g µs per particle step measured in this window",
                        msPerParticleStep_ * double(numbers_->particles), msPerParticleStep_ * 1e3);
   } else {
-    ImGui::TextDisabled("ms per step: run once (Tab) to measure this device's rate");
+    ImGui::TextDisabled("ms per step: measured when the scene shown can start");
   }
   ImGui::TextWrapped("particles: %s of at most %s (%s)", withThousands(double(numbers_->particles)).c_str(),
               withThousands(double(numbers_->maxParticles)).c_str(), numbers_->limit.c_str());

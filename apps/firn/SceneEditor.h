@@ -62,8 +62,8 @@ class SceneEditor {
   bool drewField(const std::string& pointer) const { return fieldCentres_.count(pointer) > 0; }
   void reveal(const std::string& pointer) { reveal_ = pointer; }
 
-  // What running the scene in the window cost here: `msPerStep` for `particles` particles. The numbers before running
-  // then estimate the edited scene's step at this rate per particle.
+  // What a step of the scene in the window cost here: `msPerStep` for `particles` particles (timed at its start, or
+  // while it ran). The numbers before running estimate the edited scene's step at this rate per particle.
   void noteStepCost(double msPerStep, std::size_t particles);
 
   // What became of the last edit made while running (applied live, or waiting for the next start), for the panel.

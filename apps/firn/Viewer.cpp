@@ -282,6 +282,7 @@ class Viewer {
     if (state_.orbit) orbit_ = state_.orbit->of(scene_);
     liveText_ = state_.sceneText;
     setEditing(state_.editing);
+    if (layer_ && editing_) measureStepCost();
     installCallbacks();
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
                 "S step, R reset, +/- speed, C colour, V particles/surface, B domain box, T throw a snowball, "
@@ -459,6 +460,23 @@ class Viewer {
       unstable_ = true;
       paused_ = true;
     }
+  }
+
+  // How fast the scene the editor shows steps here, before it runs: a few steps timed from its start, which is then
+  // put back (Simulation::saveState), so the panel can say it (SceneEditor::noteStepCost). The first step is left
+  // out of the time: a driver may compile the passes at their first dispatch.
+  void measureStepCost() {
+    constexpr int kTimedSteps = 3;
+    if (simulation().particleCount() == 0) return;
+    simulation().saveState();
+    simulation().step(scene_.time.dtS);
+    glFinish();
+    const auto start = Clock::now();
+    for (int s = 0; s < kTimedSteps; ++s) simulation().step(scene_.time.dtS);
+    glFinish();
+    const double msPerStep = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / kTimedSteps;
+    simulation().restoreState();
+    layer_->editor().noteStepCost(msPerStep, simulation().particleCount());
   }
 
   // Where the editor's view of the scene lies in the window, beside its panel, and its camera; none while running.

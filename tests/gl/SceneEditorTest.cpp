@@ -296,6 +296,10 @@ TEST(SceneEditor, ShowsTheNumbersFirnRunStartsWith) {
   ASSERT_GT(viewLines.end() - shown, 3) << view.output;
   EXPECT_EQ(shown[1].substr(0, shown[1].find(" on ")), runLines[0].substr(0, runLines[0].find(" on ")));
   for (std::size_t i = 1; i < 4; ++i) EXPECT_EQ(shown[std::ptrdiff_t(i) + 1], runLines[i]);
+  // And how fast it steps here, timed from its start before it runs.
+  const std::vector<std::string> timed = linesAfter(view.output, "firn view: a step of 2,167 particles took ");
+  ASSERT_EQ(timed.size(), 1u) << view.output;
+  EXPECT_GT(std::stod(timed[0]), 0.0) << timed[0];
 }
 
 // And for every scene Firn ships: the panel's numbers (numbersBeforeRunning, as `firn run` would start) equal the
