@@ -30,7 +30,8 @@ std::string ownExecutable() {
 HeadlessJob::HeadlessJob(const std::filesystem::path& scene, const std::filesystem::path& outputDir)
     : outputDir_(outputDir) {
   int pipeEnds[2];
-  if (pipe(pipeEnds) != 0) throw std::runtime_error(std::string("no pipe: ") + std::strerror(errno));
+  // Close-on-exec: the run takes its own ends (the file actions' dup2), no other child takes any.
+  if (pipe2(pipeEnds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("no pipe: ") + std::strerror(errno));
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipeEnds[1], STDOUT_FILENO);
@@ -78,32 +79,38 @@ void HeadlessJob::take(const std::string& line) {
   if (line.rfind("firn: wrote ", 0) == 0) fraction_ = 1;
 }
 
-void HeadlessJob::poll() {
-  if (output_ >= 0) {
-    char buffer[4096];
-    for (;;) {
-      const ssize_t count = read(output_, buffer, sizeof buffer);
-      if (count > 0) {
-        partial_.append(buffer, std::size_t(count));
-        continue;
-      }
-      if (count == 0) {  // the run closed its output: it is ending
-        close(output_);
-        output_ = -1;
-      }
-      break;  // nothing more now (EAGAIN), or an error: the exit status says what happened
+void HeadlessJob::readOutput() {
+  if (output_ < 0) return;
+  char buffer[4096];
+  for (;;) {
+    const ssize_t count = read(output_, buffer, sizeof buffer);
+    if (count > 0) {
+      partial_.append(buffer, std::size_t(count));
+      continue;
     }
-    for (std::size_t end; (end = partial_.find('\n')) != std::string::npos; partial_.erase(0, end + 1)) {
-      take(partial_.substr(0, end));
+    if (count == 0 || errno != EAGAIN) {  // the run closed its output (it is ending), or it cannot be read
+      close(output_);
+      output_ = -1;
     }
+    break;
   }
+  for (std::size_t end; (end = partial_.find('\n')) != std::string::npos; partial_.erase(0, end + 1)) {
+    take(partial_.substr(0, end));
+  }
+}
+
+void HeadlessJob::poll() {
+  readOutput();
   if (exitCode_ || pid_ < 0) return;
   int status = 0;
-  if (waitpid(pid_, &status, WNOHANG) == pid_) {
-    exitCode_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    if (!partial_.empty()) take(partial_);
-    partial_.clear();
-  }
+  const pid_t waited = waitpid(pid_, &status, WNOHANG);
+  if (waited == 0) return;
+  // Ended (or no longer this process's child: its status is lost). What it wrote before it ended is all in the pipe
+  // now, its last line (a pipe's stdout is flushed at exit) with it: read to the end before saying it ended.
+  exitCode_ = waited == pid_ ? (WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)) : 255;
+  readOutput();
+  if (!partial_.empty()) take(partial_);
+  partial_.clear();
 }
 
 void HeadlessJob::wait() {

@@ -27,7 +27,8 @@ class HeadlessJob {
   void stop();
 
   bool running() const { return !exitCode_.has_value(); }
-  // The run's exit status once it has ended (docs/command-line.md, Exit codes; 128 + the signal that ended it).
+  // The run's exit status once it has ended (docs/command-line.md, Exit codes; 128 + the signal that ended it;
+  // 255 where it could not be known).
   std::optional<int> exitCode() const { return exitCode_; }
   // Its lines so far, and the fraction of its frames done (from its progress lines; 1 once it wrote them all).
   const std::vector<std::string>& lines() const { return lines_; }
@@ -36,6 +37,8 @@ class HeadlessJob {
 
  private:
   void take(const std::string& line);
+  // Reads what the pipe holds now, line by line; closes it at its end.
+  void readOutput();
 
   std::filesystem::path outputDir_;
   pid_t pid_ = -1;

@@ -16,7 +16,7 @@ namespace firn {
 namespace {
 
 constexpr float kArrowPx = 90;       // an arrow's length on screen
-constexpr float kPlaneAt = 0.3f;     // a plane's square, along both its axes, as a fraction of an arrow
+constexpr float kPlaneAt = 0.3f;     // a plane's disc, along both its axes, as a fraction of an arrow
 constexpr float kHitPx = 8;          // how near a press must fall to a handle
 constexpr double kDegreesPerPx = 0.5;
 constexpr double kScaleDoublingPx = 140;  // a drag this far right doubles the part's size
@@ -147,14 +147,14 @@ json::Json PartHandles::dragged(const ViewCamera& view, const HandledPart& part,
     if (snap) angleDeg = snapTo(angleDeg, kSnapDegrees);
     std::snprintf(text, sizeof text, "turn by %.4g° about %s", angleDeg, kAxisNames[drag.axis % 3]);
     change = text;
-    return turnedPart(part.object, drag.axis % 3, angleDeg);
+    return turnedPart(part.object, drag.axis % 3, angleDeg, part.anchorM);
   }
   factor = std::exp2(acrossPx / kScaleDoublingPx);
   const double size = halfSize(part);
   if (snap && size > 0) factor = std::max(snapTo(size * factor, 0.5 * cellSizeM), 0.5 * cellSizeM) / size;
   std::snprintf(text, sizeof text, "scale by %.4g", factor);
   change = text;
-  return scaledPart(part.object, factor);
+  return scaledPart(part.object, factor, part.anchorM);
 }
 
 std::optional<json::Json> PartHandles::update(const ViewCamera& view, const HandledPart& part, HandleMode mode,
@@ -163,7 +163,8 @@ std::optional<json::Json> PartHandles::update(const ViewCamera& view, const Hand
   const ImGuiIO& io = ImGui::GetIO();
   targets_.clear();
   drawn_ = planesDrawn_ = false;
-  if (drag_ && drag_->pointer != part.pointer) drag_.reset();  // the selection changed under the drag
+  // The selection or the mode changed under the drag: it ends, unmade.
+  if (drag_ && (drag_->pointer != part.pointer || drag_->mode != mode)) drag_.reset();
   const std::optional<ImVec2> anchor = view.project(part.anchorM);
   if (!anchor) return std::nullopt;
   const bool turns = partTurns(part.object, part.section), scales = partScales(part.object);

@@ -1,9 +1,9 @@
 #pragma once
 // The scene editor's handles in the view (apps/firn/SceneEditor.h): three arrows along x, y and z from the selected
-// part's middle and, for moving, a square in each plane between two of them. Dragging an arrow moves the part along
-// that axis (the point of the axis nearest the pointer's ray follows the pointer), a square moves it in that plane
-// (where the pointer's ray meets the plane), and in the other modes an arrow turns the part about that axis or scales
-// it, by how far the pointer goes across the view. While a drag lasts the part's outline shows where it goes; its end
+// part's middle and, for moving, a disc in each plane between two of them. Dragging an arrow moves the part along
+// that axis (the point of the axis nearest the pointer's ray follows the pointer), a disc moves it in that plane
+// (where the pointer's ray meets the plane), and in the other modes an arrow turns the part about the world's axis
+// through its middle or scales it about its middle, by how far the pointer goes across the view. While a drag lasts the part's outline shows where it goes; its end
 // is one edit of the part (scene/PartTransforms.h), snapped to whole cells, 15° or the cell's size when asked.
 #include <map>
 #include <optional>

@@ -196,6 +196,7 @@ std::optional<Scene> SceneEditor::settledScene(std::string& text) const {
 
 std::optional<std::string> SceneEditor::problemMessage() const {
   if (problem_) return problem_->message;
+  if (startFailure_ && startFailure_->first == checkedText_) return startFailure_->second;
   if (numbersError_ && numbersText_ == checkedText_) return numbersError_;
   return std::nullopt;
 }
@@ -249,6 +250,8 @@ void SceneEditor::refresh() {
     problemPointer_ = problem_ ? pointerOfKeyPath(problem_->keyPath) : "";
     scene_.reset();
     if (!problem_) scene_ = document_.scene();
+    // An undo, or a part removed before it, can take the selection away.
+    if (!selected_.empty() && !document_.json().contains(json::Json::json_pointer(selected_))) select("");
   }
   // The numbers sample the bodies: once edits pause, and only of a scene the loader takes.
   const bool settled = std::chrono::duration<double>(Clock::now() - lastEdit_).count() >= kNumbersAfterEditsS;
@@ -283,7 +286,8 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
     if (keyPressed(GLFW_KEY_Z) && !io.KeyShift) edit([&] { document_.undo(); });
     if (keyPressed(GLFW_KEY_Y) || (keyPressed(GLFW_KEY_Z) && io.KeyShift)) edit([&] { document_.redo(); });
     if (keyPressed(GLFW_KEY_S)) save();
-    if (keyPressed(GLFW_KEY_D) && !selected_.empty()) {
+    if (keyPressed(GLFW_KEY_D) && !selected_.empty() &&
+        document_.json().contains(json::Json::json_pointer(selected_))) {
       const std::size_t index = std::stoul(selected_.substr(selected_.rfind('/') + 1));
       const json::Json part = document_.json()[json::Json::json_pointer(selected_)];
       edit([&] { document_.insert(parentPointer(selected_), index + 1, part); });
@@ -316,7 +320,9 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   drawHeadlessRun();
   drawNumbers();
   ImGui::Separator();
-  for (auto it = document_.json().begin(); it != document_.json().end(); ++it) {
+  // Edits change the document under the loop: draw from a copy.
+  const json::Json top = document_.json();
+  for (auto it = top.begin(); it != top.end(); ++it) {
     drawValue("/" + pointerToken(it.key()), it.key(), it.value(), 0, false);
   }
   drawAddKey("");
@@ -325,6 +331,14 @@ SceneEditor::Request SceneEditor::draw(bool running, const std::optional<ViewCam
   drawCloseDialog(request);
   ImGui::PopAllowKeyboardFocus();
   ImGui::End();
+  // A field being typed into or a slider being dragged that this frame did not draw (its part folded away) will not
+  // be left by the user: what it held is dropped, so that the edits can settle.
+  for (std::map<std::string, std::string>::iterator it = typing_.begin(); it != typing_.end();) {
+    it = fieldCentres_.count(it->first) > 0 ? std::next(it) : typing_.erase(it);
+  }
+  for (std::map<std::string, float>::iterator it = sliding_.begin(); it != sliding_.end();) {
+    it = fieldCentres_.count(it->first) > 0 ? std::next(it) : sliding_.erase(it);
+  }
   return request;
 }
 
@@ -444,7 +458,12 @@ void SceneEditor::drawValue(const std::string& pointer, const std::string& label
     remember(pointer + "#duplicate");
     ImGui::SameLine();
     if (ImGui::SmallButton("delete")) {
-      if (selected_.rfind(pointer, 0) == 0) select("");
+      // The selection goes with the part, and with a part before it in its array (its index would name the next).
+      const std::string array = parentPointer(pointer);
+      if (parentPointer(selected_) == array &&
+          std::stoul(selected_.substr(array.size() + 1)) >= std::stoul(pointer.substr(array.size() + 1))) {
+        select("");
+      }
       edit([&] { document_.remove(pointer); });
     }
     remember(pointer + "#delete");
@@ -844,7 +863,7 @@ void SceneEditor::drawHeadlessRun() {
   remember("#stop-headless");
   ImGui::ProgressBar(float(headless_->fraction()));
   if (!headless_->lines().empty()) ImGui::TextWrapped("%s", headless_->lines().back().c_str());
-  if (!going) ImGui::Text("ended with exit status %d", *headless_->exitCode());
+  if (const std::optional<int> code = headless_->exitCode()) ImGui::Text("ended with exit status %d", *code);
 }
 
 void SceneEditor::drawMaterialSliders(const std::string& pointer, const std::string& name) {
@@ -865,40 +884,39 @@ void SceneEditor::drawMaterialSliders(const std::string& pointer, const std::str
   const Slider poisson{"poisson_ratio", "ν", material->poissonRatio, 0.0f, 0.49f, false};
   const Slider density{"density", "ρ (kg/m³)", material->densityKgPerM3, 1.0f, 2e4f, true};
   std::vector<Slider> sliders;
-  switch (material->model) {
-    case MaterialModel::Snow:
-      sliders = {youngs, poisson, density, {"critical_compression", "θc", material->criticalCompression, 0, 0.2f, false},
-                 {"critical_stretch", "θs", material->criticalStretch, 0, 0.05f, false},
-                 {"hardening", "ξ", material->hardening, 0, 50, false}};
-      break;
-    case MaterialModel::Water:
-      sliders = {density, {"bulk_modulus", "k (Pa)", material->bulkModulusPa, 1e3f, 1e10f, true},
-                 {"gamma", "γ", material->gamma, 1, 10, false},
-                 {"viscosity", "η (Pa·s)", material->viscosityPaS, 0, 10, false}};
-      break;
-    case MaterialModel::DruckerPrager:
-      sliders = {youngs, poisson, density};
-      // A constant angle; a hardening law (an array) is edited as its field.
-      if (!document_.json()[json::Json::json_pointer(pointer)].contains("hardening")) {
-        sliders.push_back({"friction_angle_deg", "φ (°)", material->hardeningH0Deg, 0, 89, false});
-      }
-      break;
-    default: sliders = {youngs, poisson, density}; break;
+  if (material->model != MaterialModel::Water) {
+    sliders.push_back(youngs);
+    sliders.push_back(poisson);
+  }
+  sliders.push_back(density);
+  if (material->model == MaterialModel::Snow) {
+    sliders.push_back({"critical_compression", "θc", material->criticalCompression, 0, 0.2f, false});
+    sliders.push_back({"critical_stretch", "θs", material->criticalStretch, 0, 0.05f, false});
+    sliders.push_back({"hardening", "ξ", material->hardening, 0, 50, false});
+  } else if (material->model == MaterialModel::Water) {
+    sliders.push_back({"bulk_modulus", "k (Pa)", material->bulkModulusPa, 1e3f, 1e10f, true});
+    sliders.push_back({"gamma", "γ", material->gamma, 1, 10, false});
+    sliders.push_back({"viscosity", "η (Pa·s)", material->viscosityPaS, 0, 10, false});
+  } else if (material->model == MaterialModel::DruckerPrager &&
+             !document_.json()[json::Json::json_pointer(pointer)].contains("hardening")) {
+    // A constant angle; a hardening law (an array) is edited as its field.
+    sliders.push_back({"friction_angle_deg", "φ (°)", material->hardeningH0Deg, 0, 89, false});
   }
   for (const Slider& slider : sliders) {
     const std::string at = pointer + "/" + slider.key;
-    auto pending = sliding_.find(at);
+    const std::string field = pointer + "#slider-" + slider.key;
+    auto pending = sliding_.find(field);
     float value = pending != sliding_.end() ? pending->second : float(slider.value);
     drawLabel(slider.label);
     ImGui::SetNextItemWidth(-1);
     const std::string id = std::string("##") + slider.key;
     if (ImGui::SliderFloat(id.c_str(), &value, slider.low, slider.high, "%.4g",
                            slider.logarithmic ? ImGuiSliderFlags_Logarithmic : 0)) {
-      sliding_[at] = value;
+      sliding_[field] = value;
     }
-    remember(pointer + "#slider-" + slider.key);
+    remember(field);
     if (ImGui::IsItemDeactivated()) {
-      pending = sliding_.find(at);
+      pending = sliding_.find(field);
       if (pending != sliding_.end()) {
         // To the four digits the slider shows.
         const double chosen = std::stod(format("%.4g", double(pending->second)));

@@ -66,6 +66,11 @@ class SceneEditor {
   // while it ran). The numbers before running estimate the edited scene's step at this rate per particle.
   void noteStepCost(double msPerStep, std::size_t particles);
 
+  // The window could not start the scene of the document's JSON `text` (InputError's `message`: a setting of the
+  // window's own, such as the surface's, that the numbers before running do not check): it stays the panel's
+  // problem, and cannot run, until the document changes.
+  void noteStartFailure(const std::string& text, const std::string& message) { startFailure_ = {text, message}; }
+
   // What became of the last edit made while running (applied live, or waiting for the next start), for the panel.
   void noteLive(const std::string& note) { liveNote_ = note; }
 
@@ -127,10 +132,11 @@ class SceneEditor {
   std::optional<std::string> numbersError_;  // the budget's or the pre-flight's refusal
   double msPerParticleStep_ = 0;   // measured while running in this window; 0 before
   std::string liveNote_;
+  std::optional<std::pair<std::string, std::string>> startFailure_;  // the JSON that failed to start, and why
   std::string numbersText_;        // the document's JSON the numbers are of
   std::chrono::steady_clock::time_point lastEdit_;
   std::map<std::string, std::string> typing_;       // the text of fields being edited, by pointer
-  std::map<std::string, float> sliding_;            // the value of sliders being dragged, by pointer
+  std::map<std::string, float> sliding_;            // the value of sliders being dragged, by field name
   std::map<std::string, std::string> newKeyNames_;  // the "add key" fields, by object pointer
   struct Field {
     ImVec2 centre;

@@ -204,16 +204,37 @@ void useMessagesFont() {
                                    0x2190, 0x21FF, 0x2200, 0x22FF, 0};
   const char* const path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   std::error_code error;
-  if (std::filesystem::is_regular_file(path, error)) ImGui::GetIO().Fonts->AddFontFromFileTTF(path, 15.0f, nullptr, ranges);
+  if (std::filesystem::is_regular_file(path, error)) {
+    ImGui::GetIO().Fonts->AddFontFromFileTTF(path, 15.0f, nullptr, ranges);
+  }
 }
 
 // The editor's half of the window (--edit): Dear ImGui's context with its GLFW and OpenGL 3 backends, the scene
 // editor, and its input replayed from a file or recorded into one. It lives as long as the window, across the
 // simulations the editor runs.
+// Dear ImGui's context, made first and destroyed last of the editor's half (the editor's panel draws into it).
+class ImGuiContextHolder {
+ public:
+  ImGuiContextHolder() { ImGui::CreateContext(); }
+  ~ImGuiContextHolder() { ImGui::DestroyContext(); }
+  ImGuiContextHolder(const ImGuiContextHolder&) = delete;
+  ImGuiContextHolder& operator=(const ImGuiContextHolder&) = delete;
+};
+
+// The document the editor opens: the scene file, or for a file that does not exist yet Firn's built-in scene, to be
+// saved there (a scene begun in the window, without writing JSON first).
+SceneDocument openOrBegin(const std::filesystem::path& path) {
+  std::error_code error;
+  if (std::filesystem::exists(path, error)) return SceneDocument::open(path);
+  std::printf("firn view: %s does not exist yet: editing Firn's built-in scene, which Ctrl+S saves there\n",
+              path.string().c_str());
+  return SceneDocument::create(embeddedSceneFiles().at("snowball_wall.json"), path);
+}
+
 class EditorLayer {
  public:
   EditorLayer(GLFWwindow* window, const ViewOptions& options, const gl::ContextInfo& gl)
-      : options_(options), editor_((ImGui::CreateContext(), SceneDocument::open(options.scenePath)), gl) {
+      : options_(options), editor_(openOrBegin(options.scenePath), gl) {
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
     useMessagesFont();
     // The window's callbacks are the viewer's, which pass the events on (ImGui_ImplGlfw_*Callback).
@@ -224,7 +245,6 @@ class EditorLayer {
   ~EditorLayer() {
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
   }
   EditorLayer(const EditorLayer&) = delete;
   EditorLayer& operator=(const EditorLayer&) = delete;
@@ -252,6 +272,7 @@ class EditorLayer {
   }
 
  private:
+  ImGuiContextHolder context_;
   const ViewOptions& options_;
   SceneEditor editor_;
   std::optional<EditorReplay> replay_;
@@ -281,7 +302,8 @@ class Viewer {
     if (renderMode_ == render::RenderMode::Surface) session_.surface();
     if (state_.orbit) orbit_ = state_.orbit->of(scene_);
     liveText_ = state_.sceneText;
-    setEditing(state_.editing);
+    // The session has just built the simulation at its start: editing needs no reset.
+    setEditing(state_.editing, false);
     if (layer_ && editing_) measureStepCost();
     installCallbacks();
     std::printf("firn view: %s, %s particles; drag to orbit (right or shift-drag: pan, wheel: zoom); space pause, "
@@ -423,6 +445,13 @@ class Viewer {
       }
       viewer.orbit_.zoom(y);
     });
+    // ImGui's backend follows the pointer only while the window has the focus and the pointer: it is told both.
+    glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int focused) {
+      if (static_cast<Viewer*>(glfwGetWindowUserPointer(w))->layer_) ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    });
+    glfwSetCursorEnterCallback(window_, [](GLFWwindow* w, int entered) {
+      if (static_cast<Viewer*>(glfwGetWindowUserPointer(w))->layer_) ImGui_ImplGlfw_CursorEnterCallback(w, entered);
+    });
     glfwSetWindowCloseCallback(window_, [](GLFWwindow* w) {
       Viewer& viewer = *static_cast<Viewer*>(glfwGetWindowUserPointer(w));
       glfwSetWindowShouldClose(w, GLFW_FALSE);
@@ -495,12 +524,12 @@ class Viewer {
   }
 
   // Editing: the simulation back at its start and paused, the domain's box shown; running: the box as asked.
-  void setEditing(bool editing) {
+  void setEditing(bool editing, bool reset = true) {
     editing_ = editing;
     state_.editing = editing;
     if (editing) {
       liveMaterials_.reset();  // the document's edits make the next simulation
-      resetSimulation();
+      if (reset) resetSimulation();
       paused_ = true;
     }
     renderer_.setDomainEdges(editing || options_.domainBox);
@@ -842,6 +871,8 @@ void runViewer(const Scene& scene, const ViewOptions& options) {
     } catch (const InputError& error) {
       if (!layer || first) throw;
       std::fprintf(stderr, "firn view: cannot run: %s\n", error.what());
+      // The editor holds it as its problem until the document changes, so that it is not tried again.
+      layer->editor().noteStartFailure(state.sceneText, error.what());
       state.editing = true;
       state.sceneText = lastText;
       next = last;

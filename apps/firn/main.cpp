@@ -94,8 +94,14 @@ int viewCommand(const std::string& scenePath, firn::ViewOptions options) {
   if (options.edit && scenePath.empty()) {
     throw firn::InputError("--edit: name the scene file to edit (firn view SCENE --edit)");
   }
+  if (!options.edit && !scenePath.empty()) {
+    const std::string missing = CLI::ExistingFile(scenePath);
+    if (!missing.empty()) throw firn::InputError("scene: " + missing);
+  }
   options.showProgress = true;
-  firn::runViewer(sceneOrDefault(scenePath), options);
+  // The editor begins a scene that does not exist yet from the built-in one (apps/firn/Viewer.cpp).
+  const bool beginning = options.edit && !std::filesystem::exists(scenePath);
+  firn::runViewer(beginning ? firn::defaultScene() : sceneOrDefault(scenePath), options);
   return 0;
 }
 
@@ -392,7 +398,8 @@ int firnMain(int argc, char** argv, const firn::mpi::MpiWorld* world) {
   firn::ViewOptions viewOptions;
   std::string screenshotPath;
   CLI::App* view = app.add_subcommand("view", "Open a window and watch the scene (GLFW; needs a display or xvfb-run)");
-  view->add_option("scene", scenePath, sceneHelp)->check(CLI::ExistingFile);
+  // A file that does not exist is one to begin with the editor (--edit); without it, an error as `firn run`'s.
+  view->add_option("scene", scenePath, sceneHelp);
   view->add_option("--frames", viewOptions.frames, "Exit after this many drawn frames")->check(firn::cli::inRange(1, 100000000));
   view->add_option("--screenshot", screenshotPath, "With --frames: write the last frame to this PNG file")
       ->needs("--frames");

@@ -201,6 +201,7 @@ void Renderer::setView(const gl::Program& program, const FrameView& view) const 
   program.set("projectionMatrix", view.projection);
   program.set("inverseProjectionMatrix", glm::inverse(view.projection));
   program.set("viewportSizePx", view.viewportPx);
+  program.set("viewportOriginPx", glm::vec2(viewportOriginPx_));
 }
 
 void Renderer::setGround(const gl::Program& program, const PlaneQuad& ground) const {

@@ -19,14 +19,16 @@ json::Json movedPart(const json::Json& part, const glm::dvec3& deltaM);
 // Whether the scene file lets the part turn: a mesh or points body, a mesh collider, a rigid box or mesh (their
 // `rotate_deg`). A sphere, a snow or collider box (axis-aligned) and a plane do not.
 bool partTurns(const json::Json& part, const std::string& section);
-// The part turned by `degrees` more about its own `rotate_deg` axis `axis` (0 x, 1 y, 2 z; R = R_z R_y R_x).
-json::Json turnedPart(const json::Json& part, int axis, double degrees);
+// The part turned by `degrees` about the world's axis `axis` (0 x, 1 y, 2 z) through `pivotM`: its `rotate_deg`
+// (R = R_z R_y R_x) becomes that of R_axis R, and its placement (`center`, a mesh's `translate`) turns about the pivot.
+json::Json turnedPart(const json::Json& part, int axis, double degrees, const glm::dvec3& pivotM);
 
 // Whether the part has a size to scale: all but a plane.
 bool partScales(const json::Json& part);
-// The part scaled by `factor` about its centre: a sphere's `radius`, a box's `size` or its `min` and `max` about their
-// middle, a mesh's or points body's `scale`.
-json::Json scaledPart(const json::Json& part, double factor);
+// The part scaled by `factor` about `pivotM`: a sphere's `radius` and a box's `size` (about their centre, the pivot
+// the editor gives them), a box's `min` and `max` about their middle, a mesh's or points body's `scale` with its
+// `translate` drawn towards the pivot or away from it.
+json::Json scaledPart(const json::Json& part, double factor, const glm::dvec3& pivotM);
 
 // A number a change computed, as the file should read it: to 1e-9 (a nanometre, a nanodegree), so that 0.6 + 0.1
 // writes 0.7 and not the sum's 0.7000000000000001.

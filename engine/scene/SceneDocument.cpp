@@ -125,6 +125,12 @@ SceneDocument SceneDocument::open(const std::filesystem::path& path) {
   return document;
 }
 
+SceneDocument SceneDocument::create(const std::string& text, const std::filesystem::path& path) {
+  SceneDocument document(text, path);
+  document.savedAt_ = kNever;  // no file holds it yet
+  return document;
+}
+
 SceneDocument::SceneDocument(const std::string& text, std::filesystem::path path)
     : json_(json::parse(text, path.string())), path_(std::move(path)) {
   if (!json_.is_object()) throw InputError(path_.string() + ": a scene is a JSON object");

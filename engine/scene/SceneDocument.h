@@ -18,6 +18,8 @@ class SceneDocument {
  public:
   // Reads `path` and checks it as loadScene does; throws InputError as loadScene does.
   static SceneDocument open(const std::filesystem::path& path);
+  // A new scene to be saved at `path`, which does not exist yet: `text`'s (a built-in scene's), not saved.
+  static SceneDocument create(const std::string& text, const std::filesystem::path& path);
   // The document of `text`, as if read from `path` (paths inside it are relative to its folder). Throws InputError
   // for text that is not a JSON object; a scene the loader refuses is a document with a problem().
   SceneDocument(const std::string& text, std::filesystem::path path);

@@ -5,10 +5,11 @@ uniform mat4 viewMatrix;               // world → view (m); a rigid motion
 uniform mat4 projectionMatrix;         // view → clip
 uniform mat4 inverseProjectionMatrix;  // clip → view
 uniform vec2 viewportSizePx;
+uniform vec2 viewportOriginPx;         // the viewport's corner in the framebuffer (the window's view beside a panel)
 
 // View-space direction of the ray from the eye through a pixel (fragCoord: gl_FragCoord.xy).
 vec3 viewRayDirection(vec2 fragCoord) {
-  vec2 ndc = 2.0 * fragCoord / viewportSizePx - 1.0;
+  vec2 ndc = 2.0 * (fragCoord - viewportOriginPx) / viewportSizePx - 1.0;
   vec4 pointOnFarPlane = inverseProjectionMatrix * vec4(ndc, 1.0, 1.0);
   return normalize(pointOnFarPlane.xyz / pointOnFarPlane.w);
 }

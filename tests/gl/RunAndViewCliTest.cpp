@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,7 +21,6 @@ using firn::test::onPath;
 using firn::test::Result;
 using firn::test::runFirn;
 using firn::test::writeScene;
-
 
 Result runScene(const fs::path& scene, const fs::path& folder) {
   return runFirn("run " + scene.string() + " --frames 0 --no-ply --out " + (folder / "out").string());

@@ -4,10 +4,10 @@
 // it shows before running, which are `firn run`'s.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -231,7 +231,7 @@ TEST(SceneEditor, MaterialsEditedWhileRunningApplyAtTheNextStep) {
 
 // "Run headless" hands the scene, saved first, to `firn run` in a process of its own, with the usual outputs in the
 // folder the panel names (SCENE's stem + "_out" beside it); a scripted window waits for it to end and says how it
-// ended. The ball scene's 2 frames at 50 per second are 40 steps of 1 ms: frames 0, 1 and 2 on disk.
+// ended. The edit leaves the ball scene 1 frame at 50 per second, 20 steps of 1 ms: frames 0 and 1 on disk.
 TEST(SceneEditor, RunsTheEditedSceneHeadless) {
   const fs::path folder = freshDirectory("scene_editor_headless");
   const fs::path scene = writeScene(folder, "ball.json", kBallScene);
@@ -272,7 +272,8 @@ TEST(SceneEditor, ReplayedInputThatDoesNotFitIsBadInput) {
   const fs::path missingField = writeScene(folder, "field.json", R"([{"frame": 2, "click": "/bodies/7/radius"}])");
   const Result field = edit(scene, missingField, 10);
   EXPECT_EQ(field.exitCode, 2) << field.output;
-  const std::string notDrawn = "--replay: the event at frame 2 clicks \"/bodies/7/radius\", which the editor did not draw";
+  const std::string notDrawn =
+      "--replay: the event at frame 2 clicks \"/bodies/7/radius\", which the editor did not draw";
   EXPECT_NE(field.output.find(notDrawn), std::string::npos)
       << field.output;
 }
