@@ -40,9 +40,9 @@ Json readJson(const fs::path& path) {
   return Json::parse(in);
 }
 
-Result edit(const fs::path& scene, const fs::path& events, int frames) {
+Result edit(const fs::path& scene, const fs::path& events, int frames, const std::string& more = "") {
   return runFirn("view " + scene.string() + " --edit --replay " + events.string() + " --frames " +
-                     std::to_string(frames) + " --width 1000 --height 720",
+                     std::to_string(frames) + " --width 1000 --height 720" + more,
                  kOnXvfb);
 }
 
@@ -258,6 +258,46 @@ TEST(SceneEditor, RunsTheEditedSceneHeadless) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   EXPECT_FALSE(fs::exists(out / "frame_0002.ply"));
+}
+
+// A scene file that does not exist yet is begun from Firn's built-in scene and saved there. Edits that take parts away
+// leave nothing dangling: a sphere added (and selected), undone, then Ctrl+D on the selection the undo took away; the
+// last section removed while the panel draws it. The file saved is the built-in scene without its camera.
+TEST(SceneEditor, BeginsANewSceneAndSurvivesEditsThatTakePartsAway) {
+  const fs::path folder = freshDirectory("scene_editor_new");
+  const fs::path scene = folder / "new.json";
+  const fs::path events = writeScene(folder, "events.json", R"([
+    {"frame": 3, "click": "/bodies#add-sphere"},
+    {"frame": 6, "click": "#undo"},
+    {"frame": 8, "key": "D", "mods": ["ctrl"]},
+    {"frame": 10, "click": "/camera#remove"},
+    {"frame": 13, "key": "S", "mods": ["ctrl"]}])");
+  const Result result = edit(scene, events, 40);
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_NE(result.output.find("firn view: " + scene.string() + " does not exist yet"), std::string::npos)
+      << result.output;
+  Json expected = readJson(fs::path(FIRN_SOURCE_DIR) / "assets/scenes/snowball_wall.json");
+  expected.erase("camera");
+  ASSERT_TRUE(fs::exists(scene)) << result.output;
+  EXPECT_EQ(readJson(scene), expected) << result.output;
+}
+
+// A scene the loader and the pre-flight take but the window cannot start (a surface its particles do not suit, with
+// --render surface) stays the panel's problem: said once, not tried again frame after frame, and the window goes on.
+TEST(SceneEditor, ASceneTheWindowCannotStartIsSaidOnce) {
+  const fs::path folder = freshDirectory("scene_editor_unstartable");
+  const std::string ball = kBallScene;
+  const fs::path scene = writeScene(folder, "surface.json", ball.substr(0, ball.rfind('}')) +
+                                                                R"(, "surface": { "resolution": 2, "smoothing": 3 } })");
+  const fs::path events = writeScene(folder, "events.json", R"([
+    {"frame": 3, "click": "/surface/resolution"}, {"frame": 4, "key": "A", "mods": ["ctrl"]},
+    {"frame": 5, "text": "8"}, {"frame": 6, "key": "ENTER"},
+    {"frame": 8, "click": "/surface/smoothing"}, {"frame": 9, "key": "A", "mods": ["ctrl"]},
+    {"frame": 10, "text": "6"}, {"frame": 11, "key": "ENTER"}])");
+  const Result result = edit(scene, events, 40, " --render surface");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_EQ(linesAfter(result.output, "firn view: cannot run: ").size(), 1u) << result.output;
+  EXPECT_NE(result.output.find("firn view: 40 frames"), std::string::npos) << result.output;
 }
 
 // A script that does not fit the editor, or is not a script, is bad input (exit 2) that names the file and the event.
