@@ -219,10 +219,12 @@ std::optional<ImVec2> SceneEditor::fieldCentre(const std::string& pointer) const
 void SceneEditor::remember(const std::string& pointer) {
   const ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
   const ImVec2 centre(0.5f * (min.x + max.x), 0.5f * (min.y + max.y));
-  // Visible: the whole item inside the panel's clipping, so that a click at its centre lands on it.
+  // Visible: the item's centre inside its window's clipping, where a click at it lands on the item (a list's rows
+  // reach under its scroll bar; the whole row need not show).
   const ImVec2 clipMin = ImGui::GetWindowDrawList()->GetClipRectMin();
   const ImVec2 clipMax = ImGui::GetWindowDrawList()->GetClipRectMax();
-  const bool visible = min.x >= clipMin.x && min.y >= clipMin.y && max.x <= clipMax.x && max.y <= clipMax.y;
+  const bool visible = centre.x >= clipMin.x && centre.y >= clipMin.y && centre.x < clipMax.x && centre.y < clipMax.y &&
+                       min.y >= clipMin.y && max.y <= clipMax.y;
   fieldCentres_[pointer] = Field{centre, visible};
   if (pointer == reveal_) {
     ImGui::SetScrollHereY(0.5f);
@@ -250,6 +252,7 @@ void SceneEditor::refresh() {
     problemPointer_ = problem_ ? pointerOfKeyPath(problem_->keyPath) : "";
     scene_.reset();
     if (!problem_) scene_ = document_.scene();
+    allowedKeys_.clear();
     // An undo, or a part removed before it, can take the selection away.
     if (!selected_.empty() && !document_.json().contains(json::Json::json_pointer(selected_))) select("");
   }
@@ -565,17 +568,34 @@ void SceneEditor::drawArrayTools(const std::string& pointer, const json::Json& a
 }
 
 void SceneEditor::drawAddKey(const std::string& pointer) {
+  // The keys the format allows here and the file leaves out, as the loader lists them (asked once the list opens: it
+  // reads the document); a new key is 0 until the user says more, and the loader names what it should hold.
+  ImGui::SetNextItemWidth(200);
+  const bool open = ImGui::BeginCombo("##add key", "add key…");
+  remember(pointer + "#add-key");
+  if (!open) return;
+  auto allowed = allowedKeys_.find(pointer);
+  if (allowed == allowedKeys_.end()) allowed = allowedKeys_.emplace(pointer, document_.keysAllowedAt(pointer)).first;
+  const json::Json& object = pointer.empty() ? document_.json() : document_.json()[json::Json::json_pointer(pointer)];
+  std::string added;
+  for (const std::string& key : allowed->second) {
+    if (object.contains(key)) continue;
+    if (ImGui::Selectable(key.c_str())) added = key;
+    remember(pointer + "#add-key/" + key);
+  }
+  // Where the loader lists none (a material's name, or another problem stands first), a name to type.
   std::string& name = newKeyNames_[pointer];
-  ImGui::SetNextItemWidth(160);
-  ImGui::InputTextWithHint("##new key", "new key", &name);
+  ImGui::SetNextItemWidth(-60);
+  ImGui::InputTextWithHint("##new key", "another key", &name);
   remember(pointer + "#new-key");
   ImGui::SameLine();
-  if (ImGui::SmallButton("add key") && !name.empty()) {
-    // 0 until the user says more: the loader names what the key should hold.
-    edit([&] { document_.set(pointer + "/" + pointerToken(name), 0); });
+  if (ImGui::SmallButton("add") && !name.empty()) added = name;
+  remember(pointer + "#add-named-key");
+  ImGui::EndCombo();
+  if (!added.empty()) {
+    edit([&] { document_.set(pointer + "/" + pointerToken(added), 0); });
     name.clear();
   }
-  remember(pointer + "#add-key");
 }
 
 void SceneEditor::save() {

@@ -138,6 +138,7 @@ class SceneEditor {
   std::map<std::string, std::string> typing_;       // the text of fields being edited, by pointer
   std::map<std::string, float> sliding_;            // the value of sliders being dragged, by field name
   std::map<std::string, std::string> newKeyNames_;  // the "add key" fields, by object pointer
+  std::map<std::string, std::vector<std::string>> allowedKeys_;  // the format's keys, by object pointer
   struct Field {
     ImVec2 centre;
     bool visible;  // in the panel's view, not scrolled out of it

@@ -1,7 +1,9 @@
 #include "scene/SceneDocument.h"
 
+#include <cstring>
 #include <limits>
 #include <regex>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -217,6 +219,37 @@ std::optional<SceneDocument::Problem> SceneDocument::problem() const {
 }
 
 Scene SceneDocument::scene() const { return parseScene(json_.dump(), path_); }
+
+std::vector<std::string> SceneDocument::keysAllowedAt(const std::string& pointer) const {
+  const Pointer at = pointerOf(pointer);
+  if (!json_.contains(at) || !json_[at].is_object()) return {};
+  // A key no scene uses: the loader's "unknown key (… allowed in WHAT: a, b, c)" lists the rest.
+  constexpr const char* kProbe = "firn_editor_probe";
+  json::Json probed = json_;
+  probed[at][kProbe] = 0;
+  try {
+    (void)parseScene(probed.dump(), path_);
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    const std::string named = keyPathOf(message, path_.string());
+    if (named.size() < std::strlen(kProbe) || named.compare(named.size() - std::strlen(kProbe), std::string::npos,
+                                                             kProbe) != 0) {
+      return {};
+    }
+    const std::size_t allowed = message.find("allowed in ");
+    const std::size_t list = allowed == std::string::npos ? allowed : message.find(": ", allowed);
+    const std::size_t end = message.rfind(')');
+    if (list == std::string::npos || end == std::string::npos || end < list) return {};
+    std::vector<std::string> keys;
+    std::istringstream names(message.substr(list + 2, end - list - 2));
+    for (std::string name; std::getline(names, name, ',');) {
+      name.erase(0, name.find_first_not_of(' '));
+      if (!name.empty()) keys.push_back(name);
+    }
+    return keys;
+  }
+  return {};
+}
 
 std::string SceneDocument::text() const {
   std::string out;

@@ -54,6 +54,11 @@ class SceneDocument {
   // The scene as the loader reads the document; throws InputError as problem() says.
   Scene scene() const;
 
+  // The keys the scene format allows in the object at `pointer` ("/grid", "/bodies/0"), as the loader lists them
+  // when it meets a key it does not know: asked by reading the document with one such key added there. Empty where the
+  // loader names none — the object's keys are names (materials), or the document has another problem first.
+  std::vector<std::string> keysAllowedAt(const std::string& pointer) const;
+
   // The document as save() writes it: two-space indents, an array of numbers or strings on one line.
   std::string text() const;
   // Writes the document to `path` through a temporary file, its bodies', colliders' and rigid bodies' `path` keys

