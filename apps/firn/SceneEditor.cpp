@@ -244,6 +244,15 @@ void SceneEditor::edit(Change change) {
   refresh();
 }
 
+bool SceneEditor::pointerBusy() {
+  if (ImGui::GetCurrentContext() == nullptr) return false;  // before the window's first frame
+  const ImGuiIO& io = ImGui::GetIO();
+  for (int b = 0; b < 3; ++b) {
+    if (io.MouseDown[b] || io.MouseReleased[b]) return true;
+  }
+  return false;
+}
+
 void SceneEditor::refresh() {
   const std::string text = document_.json().dump();
   if (text != checkedText_) {
@@ -256,9 +265,11 @@ void SceneEditor::refresh() {
     // An undo, or a part removed before it, can take the selection away.
     if (!selected_.empty() && !document_.json().contains(json::Json::json_pointer(selected_))) select("");
   }
-  // The numbers sample the bodies: once edits pause, and only of a scene the loader takes.
+  // The numbers sample the bodies: once edits pause, and only of a scene the loader takes. Not in a frame with a
+  // button pressed, held or let go: the new lines would move the fields under a click between its press (aimed where
+  // the last frame drew them) and its release.
   const bool settled = std::chrono::duration<double>(Clock::now() - lastEdit_).count() >= kNumbersAfterEditsS;
-  if (problem_ || numbersText_ == checkedText_ || !settled) return;
+  if (problem_ || numbersText_ == checkedText_ || !settled || pointerBusy()) return;
   numbersText_ = checkedText_;
   SessionOptions options;  // `firn run`'s
   options.lastFrame = scene_->time.frames;
@@ -395,11 +406,13 @@ void SceneEditor::drawNumbers() {
   if (!numbers_) return;
   // The step's cost goes with its particles (the transfers and the deformation update are per particle); the grid's
   // passes add a little, which a rate from a run of a similar scene carries.
+  // One line either way, whatever the numbers: the fields below stay where a click aims (the rate comes with a new
+  // simulation, between two frames).
   if (msPerParticleStep_ > 0) {
-    ImGui::TextWrapped("about %.3g ms per step here, at the %.3g µs per particle step measured in this window",
-                       msPerParticleStep_ * double(numbers_->particles), msPerParticleStep_ * 1e3);
+    ImGui::Text("about %.3g ms per step here (%.3g µs per particle)", msPerParticleStep_ * double(numbers_->particles),
+                msPerParticleStep_ * 1e3);
   } else {
-    ImGui::TextDisabled("ms per step: measured when the scene shown can start");
+    ImGui::TextDisabled("ms per step: timed when the scene can start");
   }
   ImGui::TextWrapped("particles: %s of at most %s (%s)", withThousands(double(numbers_->particles)).c_str(),
               withThousands(double(numbers_->maxParticles)).c_str(), numbers_->limit.c_str());

@@ -121,6 +121,8 @@ class SceneEditor {
   void save();
   // After the document changed: the loader's problem, and once edits pause, the numbers before running.
   void refresh();
+  // Whether a mouse button is down, or let go, in this frame.
+  static bool pointerBusy();
 
   SceneDocument document_;
   gl::ContextInfo gl_;
