@@ -5,6 +5,7 @@
 
 #include "gl/GL.h"  // GLEW's header must come before GLFW's
 #include <GLFW/glfw3.h>
+#include <imgui_internal.h>
 
 #include "Error.h"
 #include "SceneEditor.h"
@@ -242,23 +243,9 @@ void EditorRecorder::key(int frame, int key, int mods) {
 }
 
 void EditorRecorder::text(int frame, unsigned codepoint) {
-  // As UTF-8, joined with the text typed just before in the same frame.
-  std::string utf8;
-  if (codepoint < 0x80) {
-    utf8 += char(codepoint);
-  } else if (codepoint < 0x800) {
-    utf8 += char(0xC0 | (codepoint >> 6));
-    utf8 += char(0x80 | (codepoint & 0x3F));
-  } else if (codepoint < 0x10000) {
-    utf8 += char(0xE0 | (codepoint >> 12));
-    utf8 += char(0x80 | ((codepoint >> 6) & 0x3F));
-    utf8 += char(0x80 | (codepoint & 0x3F));
-  } else {
-    utf8 += char(0xF0 | (codepoint >> 18));
-    utf8 += char(0x80 | ((codepoint >> 12) & 0x3F));
-    utf8 += char(0x80 | ((codepoint >> 6) & 0x3F));
-    utf8 += char(0x80 | (codepoint & 0x3F));
-  }
+  // As UTF-8 (ImGui's own encoder), joined with the text typed just before in the same frame.
+  char bytes[5];
+  const std::string utf8 = ImTextCharToUtf8(bytes, codepoint);
   if (!events_.empty() && events_.back().frame == frame && !events_.back().text.empty()) {
     events_.back().text += utf8;
     return;

@@ -89,11 +89,6 @@ std::string elementLabel(std::size_t index, const json::Json& element) {
   return label;
 }
 
-// A vec3 as the file writes it.
-json::Json arrayOf(const glm::dvec3& v) {
-  return json::Json::array({fileNumber(v.x), fileNumber(v.y), fileNumber(v.z)});
-}
-
 // The middle of the domain, where the panel's "add" buttons put a part.
 glm::dvec3 domainCentre(const Scene& scene) {
   return scene.grid.originM + 0.5 * glm::dvec3(scene.grid.cells) * scene.grid.cellSizeM;
@@ -112,8 +107,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& partKinds()
 // part, rigid bodies of ice's density; an emitter is a box of snow poured down over its first 10 frames.
 json::Json newPart(const std::string& section, const std::string& kind, const glm::dvec3& centreM, double h,
                    const std::string& material) {
-  const json::Json centre = arrayOf(centreM);
-  const json::Json low = arrayOf(centreM - 4 * h), high = arrayOf(centreM + 4 * h);
+  const json::Json centre = fileVector(centreM);
+  const json::Json low = fileVector(centreM - 4 * h), high = fileVector(centreM + 4 * h);
   if (section == "bodies") {
     if (kind == "sphere") {
       return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"material", material},
@@ -140,20 +135,20 @@ json::Json newPart(const std::string& section, const std::string& kind, const gl
   if (kind == "sphere") {
     return {{"shape", "sphere"}, {"center", centre}, {"radius", fileNumber(4 * h)}, {"density", 917}};
   }
-  return {{"shape", "box"}, {"center", centre}, {"size", arrayOf(glm::dvec3(8 * h))}, {"density", 917}};
+  return {{"shape", "box"}, {"center", centre}, {"size", fileVector(glm::dvec3(8 * h))}, {"density", 917}};
 }
 
 // A mesh part of `section` from `path` (as the file names it) placed with its origin at `atM`.
 json::Json newMeshPart(const std::string& section, const std::string& path, const glm::dvec3& atM,
                        const std::string& material) {
   if (section == "bodies") {
-    return {{"shape", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"material", material},
+    return {{"shape", "mesh"}, {"path", path}, {"translate", fileVector(atM)}, {"material", material},
             {"particles_per_cell", 8}};
   }
   if (section == "colliders") {
-    return {{"type", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"friction", 0.5}, {"boundary", "separate"}};
+    return {{"type", "mesh"}, {"path", path}, {"translate", fileVector(atM)}, {"friction", 0.5}, {"boundary", "separate"}};
   }
-  return {{"shape", "mesh"}, {"path", path}, {"translate", arrayOf(atM)}, {"density", 917}};
+  return {{"shape", "mesh"}, {"path", path}, {"translate", fileVector(atM)}, {"density", 917}};
 }
 
 // The files a mesh may come from (assimp reads them; docs/scene-format.md).
@@ -257,10 +252,8 @@ void SceneEditor::refresh() {
   const std::string text = document_.json().dump();
   if (text != checkedText_) {
     checkedText_ = text;
-    problem_ = document_.problem();
+    scene_ = document_.sceneOrProblem(problem_);  // one reading: a mesh is loaded once per edit
     problemPointer_ = problem_ ? pointerOfKeyPath(problem_->keyPath) : "";
-    scene_.reset();
-    if (!problem_) scene_ = document_.scene();
     allowedKeys_.clear();
     // An undo, or a part removed before it, can take the selection away.
     if (!selected_.empty() && !document_.json().contains(json::Json::json_pointer(selected_))) select("");

@@ -187,7 +187,11 @@ ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl
 std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
                                              const std::function<void(std::size_t body, double fraction)>& progress,
                                              int shares) {
-  const ParticleBudget budget = checkParticleBudget(scene, gl, reservedParticles, shares);
+  return sampleWithinBudget(scene, checkParticleBudget(scene, gl, reservedParticles, shares), progress);
+}
+
+std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const ParticleBudget& budget,
+                                             const std::function<void(std::size_t body, double fraction)>& progress) {
   SamplingLimits limits;
   limits.maxParticles = budget.maxParticles;
   limits.reason = budget.limit;

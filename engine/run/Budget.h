@@ -36,5 +36,8 @@ ParticleBudget checkParticleBudget(const Scene& scene, const gl::ContextInfo& gl
 std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const gl::ContextInfo& gl, double reservedParticles,
                                              const std::function<void(std::size_t body, double fraction)>& progress,
                                              int shares = 1);
+// The same with the budget checked already.
+std::vector<ParticleSeed> sampleWithinBudget(const Scene& scene, const ParticleBudget& budget,
+                                             const std::function<void(std::size_t body, double fraction)>& progress);
 
 }  // namespace firn

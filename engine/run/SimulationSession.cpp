@@ -50,7 +50,7 @@ std::vector<std::string> startLines(const Scene& scene, std::size_t particles, c
 StartNumbers numbersBeforeRunning(const Scene& scene, const gl::ContextInfo& gl, const SessionOptions& options) {
   const int shares = options.share ? options.share->shares() : 1;
   const ParticleBudget budget = checkParticleBudget(scene, gl, options.reservedParticles, shares);
-  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, gl, options.reservedParticles, {}, shares);
+  const std::vector<ParticleSeed> seeds = sampleWithinBudget(scene, budget, {});
   const PreflightReport report = preflight(scene, seeds, options.lastFrame);
   StartNumbers numbers;
   numbers.lines = startLines(scene, seeds.size(), report, gl, options.lastFrame);

@@ -34,15 +34,11 @@ glm::dvec3 vec3Of(const json::Json& part, const char* key, const glm::dvec3& fal
   return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
 }
 
-json::Json arrayOf(const glm::dvec3& v) {
-  return json::Json::array({fileNumber(v.x), fileNumber(v.y), fileNumber(v.z)});
-}
-
 // Sets a vec3 key that holds three numbers; leaves one that does not (the loader's message stays).
 void addTo(json::Json& part, const char* key, const glm::dvec3& deltaM) {
   const glm::dvec3 none(std::nan(""));
   const glm::dvec3 value = vec3Of(part, key, none);
-  if (!std::isnan(value.x)) part[key] = arrayOf(value + deltaM);
+  if (!std::isnan(value.x)) part[key] = fileVector(value + deltaM);
 }
 
 // R = R_z(γ) R_y(β) R_x(α) of `rotate_deg` = (α, β, γ) (docs/scene-format.md).
@@ -75,7 +71,7 @@ glm::dvec3 eulerZyxDeg(const glm::dmat3& rotation) {
 json::Json movedPart(const json::Json& part, const glm::dvec3& deltaM) {
   json::Json moved = part;
   for (const char* key : {"center", "point", "pivot", "min", "max"}) addTo(moved, key, deltaM);
-  if (isPlaced(part)) moved["translate"] = arrayOf(vec3Of(part, "translate", glm::dvec3(0.0)) + deltaM);
+  if (isPlaced(part)) moved["translate"] = fileVector(vec3Of(part, "translate", glm::dvec3(0.0)) + deltaM);
   return moved;
 }
 
@@ -92,13 +88,13 @@ json::Json turnedPart(const json::Json& part, int axis, double degrees, const gl
   worldAxis[axis] = 1;
   const glm::dmat3 turn = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(degrees), worldAxis));
   const glm::dvec3 rotationDeg = vec3Of(part, "rotate_deg", glm::dvec3(0.0));
-  turned["rotate_deg"] = arrayOf(eulerZyxDeg(turn * rotationZyx(rotationDeg)));
+  turned["rotate_deg"] = fileVector(eulerZyxDeg(turn * rotationZyx(rotationDeg)));
   if (isPlaced(part)) {
-    turned["translate"] = arrayOf(pivotM + turn * (vec3Of(part, "translate", glm::dvec3(0.0)) - pivotM));
+    turned["translate"] = fileVector(pivotM + turn * (vec3Of(part, "translate", glm::dvec3(0.0)) - pivotM));
   }
   const glm::dvec3 none(std::nan(""));
   const glm::dvec3 centerM = vec3Of(part, "center", none);
-  if (!std::isnan(centerM.x)) turned["center"] = arrayOf(pivotM + turn * (centerM - pivotM));
+  if (!std::isnan(centerM.x)) turned["center"] = fileVector(pivotM + turn * (centerM - pivotM));
   return turned;
 }
 
@@ -111,23 +107,27 @@ json::Json scaledPart(const json::Json& part, double factor, const glm::dvec3& p
   }
   const glm::dvec3 none(std::nan(""));
   const glm::dvec3 size = vec3Of(part, "size", none);
-  if (!std::isnan(size.x)) scaled["size"] = arrayOf(size * factor);
+  if (!std::isnan(size.x)) scaled["size"] = fileVector(size * factor);
   const glm::dvec3 minM = vec3Of(part, "min", none), maxM = vec3Of(part, "max", none);
   if (!std::isnan(minM.x) && !std::isnan(maxM.x)) {
     const glm::dvec3 middle = 0.5 * (minM + maxM), half = 0.5 * (maxM - minM) * factor;
-    scaled["min"] = arrayOf(middle - half);
-    scaled["max"] = arrayOf(middle + half);
+    scaled["min"] = fileVector(middle - half);
+    scaled["max"] = fileVector(middle + half);
   }
   if (isPlaced(part)) {
     const double scale = part.contains("scale") && part["scale"].is_number() ? part["scale"].get<double>() : 1.0;
     scaled["scale"] = fileNumber(scale * factor);
     // p' = translate + R (scale · p): the file's origin sits at `translate`, and moves with the scaling about the pivot.
-    scaled["translate"] = arrayOf(pivotM + factor * (vec3Of(part, "translate", glm::dvec3(0.0)) - pivotM));
+    scaled["translate"] = fileVector(pivotM + factor * (vec3Of(part, "translate", glm::dvec3(0.0)) - pivotM));
   }
   return scaled;
 }
 
 double fileNumber(double value) { return std::round(value * 1e9) / 1e9; }
+
+json::Json fileVector(const glm::dvec3& value) {
+  return json::Json::array({fileNumber(value.x), fileNumber(value.y), fileNumber(value.z)});
+}
 
 double snapTo(double value, double step) { return std::round(value / step) * step; }
 

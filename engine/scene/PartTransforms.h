@@ -34,6 +34,9 @@ json::Json scaledPart(const json::Json& part, double factor, const glm::dvec3& p
 // writes 0.7 and not the sum's 0.7000000000000001.
 double fileNumber(double value);
 
+// A point or vector as the file writes it: three numbers, each a fileNumber.
+json::Json fileVector(const glm::dvec3& value);
+
 // `value` to the nearest multiple of `step` (step > 0).
 double snapTo(double value, double step);
 

@@ -209,13 +209,20 @@ void SceneDocument::apply(const Edit& edit, bool forward) {
   }
 }
 
-std::optional<SceneDocument::Problem> SceneDocument::problem() const {
+std::optional<Scene> SceneDocument::sceneOrProblem(std::optional<Problem>& problem) const {
+  problem.reset();
   try {
-    (void)scene();
+    return scene();
   } catch (const InputError& error) {
-    return Problem{keyPathOf(error.what(), path_.string()), error.what()};
+    problem = Problem{keyPathOf(error.what(), path_.string()), error.what()};
   }
   return std::nullopt;
+}
+
+std::optional<SceneDocument::Problem> SceneDocument::problem() const {
+  std::optional<Problem> found;
+  (void)sceneOrProblem(found);
+  return found;
 }
 
 Scene SceneDocument::scene() const { return parseScene(json_.dump(), path_); }

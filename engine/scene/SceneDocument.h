@@ -53,6 +53,8 @@ class SceneDocument {
   std::optional<Problem> problem() const;
   // The scene as the loader reads the document; throws InputError as problem() says.
   Scene scene() const;
+  // Both in one reading: the scene, or nothing and the problem.
+  std::optional<Scene> sceneOrProblem(std::optional<Problem>& problem) const;
 
   // The keys the scene format allows in the object at `pointer` ("/grid", "/bodies/0"), as the loader lists them
   // when it meets a key it does not know: asked by reading the document with one such key added there. Empty where the
