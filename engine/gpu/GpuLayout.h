@@ -71,7 +71,8 @@ static_assert(bindingsWithin(kGridBindingPoints, kGridBindings), "a block grid b
 constexpr int kTableBindingPoints[] = {FIRN_BINDING_MATERIALS, FIRN_BINDING_COLLIDERS, FIRN_BINDING_WATCHDOG};
 static_assert(bindingsWithin(kTableBindingPoints, kTableBindings), "a table binding outside its range");
 constexpr int kSolverBindingPoints[] = {FIRN_BINDING_SOLVER_NODES, FIRN_BINDING_SOLVER_PARTICLES,
-                                        FIRN_BINDING_SOLVER_STATUS, FIRN_BINDING_SOLVER_PRECONDITIONER};
+                                        FIRN_BINDING_SOLVER_STATUS, FIRN_BINDING_SOLVER_PRECONDITIONER,
+                                        FIRN_BINDING_SOLVER_BODIES};
 static_assert(bindingsWithin(kSolverBindingPoints, kSolverBindings), "a solver binding outside its range");
 constexpr int kUniformBindingPoints[] = {FIRN_BINDING_STEP_UNIFORMS, FIRN_BINDING_SURFACE_UNIFORMS,
                                          FIRN_BINDING_SURFACE_CASES};
@@ -91,6 +92,7 @@ static_assert(sizeof(ObjectLoad) == 32, "std430 ObjectLoad");
 static_assert(sizeof(StepUniforms) == 144, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
 static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
+static_assert(sizeof(SolverBody) == 592, "std430 SolverBody");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");
 static_assert(sizeof(SolverStatus) == 80 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
 

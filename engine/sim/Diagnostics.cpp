@@ -82,10 +82,10 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 }
 
 std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
-  if (!rigidBodies_) return "";
-  return "; the rigid bodies take the snow's mirrored stress explicitly (and move explicitly in the semi-implicit "
-         "step), and one much lighter than the snow it presses on can rock apart at steps below " + bound +
-         ": make it heavier or reduce time.dt";
+  // The semi-implicit step solves the bodies with the snow and mirrors no stress (docs/algorithm.md, eq. 39a).
+  if (!rigidBodies_ || solver_.semiImplicit()) return "";
+  return "; the rigid bodies take the snow's mirrored stress explicitly, and one much lighter than the snow it presses "
+         "on can rock apart at steps below " + bound + ": make it heavier or reduce time.dt";
 }
 
 // Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}
@@ -152,14 +152,15 @@ void Diagnostics::check(const gpu::WatchdogStatus& status, const GpuState& state
     return;
   }
 
-  // A semi-implicit step is not bounded by the elastic wave, an explicit one is; rigid bodies, coupled explicitly in
-  // either, may need less than that bound (docs/algorithm.md, Rigid bodies: the coupling's own step bound).
+  // A semi-implicit step is not bounded by the elastic wave, an explicit one is; rigid bodies, whose images push them
+  // explicitly in the explicit step, may need less than that bound there (docs/algorithm.md, Rigid bodies: the
+  // coupling's own step bound).
   const std::string elasticBound = "h / c = " + format("%.4g", stableDtS_) + " s for the stiffest material (scene dt " +
                                    format("%.4g", dtS_) + " s)";
   std::string stiffness = solver_.semiImplicit()
                               ? "the semi-implicit step is bounded by the particles' CFL condition dt < h / |v|"
                               : "the elastic wave bound is dt < " + elasticBound;
-  stiffness += rigidBodyHint(solver_.semiImplicit() ? elasticBound : "that bound");
+  stiffness += rigidBodyHint("that bound");
   auto when = [&](std::uint32_t step) {
     return "step " + std::to_string(step) + " (t ≈ " + format("%.4g", double(step) * dtS_) + " s)";
   };

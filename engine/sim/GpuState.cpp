@@ -103,7 +103,7 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
     : layout_(checkedLayout(layout, gl)),
       particles_(layout_.particleCapacity, layout_.deformationGradient, layout_.affine),
       grid_(layout_, gl::ShaderLibrary(), options, gl) {
-  if (layout_.semiImplicit) solver_.emplace(layout_.particleCapacity);
+  if (layout_.semiImplicit) solver_.emplace(layout_.particleCapacity, layout_.rigidBodies);
   materials_ = gl::Buffer::fromVector(materials.entries).labelled("materials");
   colliders_ = gl::Buffer::fromVector(colliders).labelled("colliders");
   if (colliderFields.size() > std::size_t(gl.maxTextureBufferTexels)) {
@@ -159,7 +159,7 @@ void GpuState::growParticles(std::size_t capacity, const gl::ContextInfo& gl) {
   layout_ = layout;
   grid_.allocateParticles(capacity);
   if (solver_) {  // per step only: nothing to keep
-    solver_.emplace(capacity);
+    solver_.emplace(capacity, layout_.rigidBodies);
     solver_->allocatePool(grid_.usage().capacity);
   }
   if (!saved_.empty()) {

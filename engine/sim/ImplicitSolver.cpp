@@ -36,6 +36,13 @@ ImplicitSolver::ImplicitSolver(const Scene& scene, const gl::ShaderLibrary& libr
   reduce_ = gl::ComputePass(library, "sim/solver_reduce.comp", options);
   finish_ = gl::ComputePass(library, "sim/solver_finish.comp", options);
   if (needsSolutionProduct(scene)) solution_ = gl::ComputePass(library, "sim/solver_solution.comp", options);
+  bodyCount_ = scene.rigidBodies.size();
+  if (bodyCount_ > 0) {
+    bodies_ = BodyPasses{gl::ComputePass(library, "sim/solver_bodies_residual.comp", options),
+                         gl::ComputePass(library, "sim/solver_bodies_apply.comp", options),
+                         gl::ComputePass(library, "sim/solver_bodies_step.comp", options),
+                         gl::ComputePass(library, "sim/solver_bodies_finish.comp", options)};
+  }
 }
 
 void ImplicitSolver::prepare(const GpuState& state, std::size_t particles, int maxWorkGroupsX,
@@ -94,6 +101,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   // reference (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*).
   product.productInSolve(TransferPasses::Product::First, state, timer);
   residual_.runIndirect(status, kBlockDispatch, buffers, timer);
+  if (bodies_) bodies_->residual.runIndirect(status, kReduceDispatch, buffers, timer);
   reduce(state, 0, kResidual | kReference, timer);
 
   // Where the GPU ended the solve (solver_reduce.comp): 1 + the register of the residual that met the tolerance.
@@ -102,7 +110,9 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
     const unsigned iteration = static_cast<unsigned>(k);
     product.productInSolve(TransferPasses::Product::Iteration, state, timer);
     apply_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
+    if (bodies_) bodies_->apply.set("iteration", iteration).runIndirect(status, kReduceDispatch, buffers, timer);
     reduce(state, iteration, kProduct | kDirectionProduct, timer);
+    if (bodies_) bodies_->step.set("iteration", iteration).runIndirect(status, kReduceDispatch, buffers, timer);
     step_.set("iteration", iteration).runIndirect(status, kBlockDispatch, buffers, timer);
     reduce(state, iteration + 1, kResidual, timer);
     if ((k + 1) % checkInterval == 0 || k + 1 == maxIterations_) end = state.solver()->readEnd();
@@ -110,6 +120,7 @@ SolveReport ImplicitSolver::solve(const GpuState& state, std::size_t particles, 
   // Not ended: max_iterations were taken, and the last residual is the solve's.
   const SolveReport solved = report(state, end > 0 ? int(end) - 1 : maxIterations_);
   const gl::Buffer& blockTable = state.grid().blockTable();
+  if (bodies_) bodies_->finish.runOver(bodyCount_, maxWorkGroupsX, buffers, timer);
   if (solution_) {
     // The product of the solution, whose held components are the colliders' push that the rigid bodies take back and
     // the moving colliders do work with (solver_finish.comp). The iterations' dispatches may be emptied by now: the block table's are the step's.

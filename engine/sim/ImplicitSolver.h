@@ -37,7 +37,8 @@ class ImplicitSolver {
                     gl::PassTimer& timer) const;
   // Times the step's first Hessian product by each of `shapes` (fastestOfRounds, `rounds` timed), on the grid the
   // grid update has just left (its start x₀). Each product's sums are taken by the residual pass after it, so
-  // nothing carries into the next solve. Returns each shape's time (ms), in their order.
+  // nothing carries into the next solve but the rigid bodies' sums (SolverState::clearBodies). Returns each shape's
+  // time (ms), in their order.
   std::vector<std::pair<TransferShape, double>> timeProducts(const GpuState& state, std::size_t particles,
                                                              int maxWorkGroupsX,
                                                              const std::vector<TransferPasses>& shapes,
@@ -63,6 +64,16 @@ class ImplicitSolver {
   gl::ComputePass finish_;
   // With rigid bodies: the solution into z, for a last product of it (solver_solution.comp).
   std::optional<gl::ComputePass> solution_;
+  // With rigid bodies: their six velocities as unknowns of the solve (common/solver_bodies.glsl), started, multiplied
+  // and stepped after the nodes' passes of the same name, and given to the bodies' entries at the end.
+  struct BodyPasses {
+    gl::ComputePass residual;
+    gl::ComputePass apply;
+    gl::ComputePass step;
+    gl::ComputePass finish;
+  };
+  std::optional<BodyPasses> bodies_;
+  std::size_t bodyCount_;
 };
 
 }  // namespace firn

@@ -34,12 +34,14 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
       first_(scene.colliders.size()),
       semiImplicit_(scene.solver.semiImplicit()),
       maxWorkGroupsX_(maxWorkGroupsX),
-      listMirrorBlocks_(library, "sim/list_mirror_blocks.comp", options),
-      listMirrored_(library, "sim/list_mirrored.comp", options),
-      mirrorStress_(library, "sim/mirror_stress.comp", options),
+      predictBodies_(library, "sim/predict_bodies.comp", options),
       integrateBodies_(library, "sim/integrate_bodies.comp", options) {
+  // The semi-implicit step's bodies are unknowns of its solve (ImplicitSolver), and it mirrors no stress into them:
+  // the images' push is explicit and as stiff as the snow (docs/algorithm.md, Rigid bodies in the semi-implicit step).
   if (!semiImplicit_) {
-    predictBodies_ = gl::ComputePass(library, "sim/predict_bodies.comp", options);
+    listMirrorBlocks_ = gl::ComputePass(library, "sim/list_mirror_blocks.comp", options);
+    listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
+    mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
     solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
     coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
                                        offsetof(gpu::BlockTableHeader, blockDispatch));
@@ -47,6 +49,7 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
 }
 
 void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
+  if (semiImplicit_) return;
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
   listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);
@@ -56,25 +59,17 @@ void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTim
     mirrorStress_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, mirrorDispatch), buffers, timer);
   };
   // The pushes' work on the nodes (mirror_stress.comp): half at their velocity before and half after, where the
-  // pushes change it; whole, once, where the semi-implicit step sums them apart. The second half reads the nodes'
-  // whole sums: every share's pushes at the nodes it shares.
-  if (semiImplicit_) {
-    scatterImages(0u);
-    scatterImages(2u);
-    return;
-  }
+  // pushes change it. The second half reads the nodes' whole sums: every share's pushes at the nodes it shares.
   scatterImages(1u);
   scatterImages(0u);
   if (share) share->sumSharedChanges(state.grid());
   scatterImages(1u);
-  // The images' push, which the explicit step's bodies take before the grid update (the semi-implicit step's take it
-  // with the rest, after G2P).
+  // The images' push, which the bodies take before the grid update.
   if (share) sumOverShares(state, *share, Sums::Push);
 }
 
 void RigidBodies::beforeGridUpdate(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
-  if (semiImplicit_) return;
-  // The bodies take gravity and the images' push before the nodes meet them (eq. 39).
+  // The bodies take gravity and the images' push before the nodes meet them (eq. 39, 39a).
   predictBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
   predictBodies_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
 }

@@ -6,9 +6,11 @@
 // over the shares before a pass reads them, so that every share moves every body alike (docs/distributed.md).
 //
 // The step's points, in order (StepPipeline::step):
-//   afterTransfer        the snow's stress mirrored into the bodies (eq. 38), once the nodes hold their whole sums
-//   beforeGridUpdate     explicit step: each body takes gravity and the images' push (predict_bodies.comp)
-//   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39)
+//   afterTransfer        explicit step: the snow's stress mirrored into the bodies (eq. 38), once the nodes hold
+//                        their whole sums
+//   beforeGridUpdate     each body takes gravity and the images' push (predict_bodies.comp)
+//   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39); the
+//                        semi-implicit step solves them with the snow (ImplicitSolver, eq. 39a)
 //   afterGridToParticle  the snow's push, the contacts, the motion (integrate_bodies.comp)
 #include <cstddef>
 #include <optional>
@@ -59,12 +61,13 @@ class RigidBodies {
   std::size_t first_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
   bool semiImplicit_ = false;
   int maxWorkGroupsX_ = 65535;
+  gl::ComputePass predictBodies_;
+  gl::ComputePass integrateBodies_;
+  // The explicit step's images of the snow's stress (eq. 38) and coupled solve of the bodies and the nodes they hold
+  // (docs/algorithm.md, eq. 39).
   gl::ComputePass listMirrorBlocks_;
   gl::ComputePass listMirrored_;
   gl::ComputePass mirrorStress_;
-  gl::ComputePass integrateBodies_;
-  // The explicit step's coupled solve of the bodies and the nodes they hold (docs/algorithm.md, eq. 39).
-  gl::ComputePass predictBodies_;
   gl::ComputePass solveCoupling_;
   BlockGrid::StepPass coupleNodes_;
 };

@@ -1,15 +1,21 @@
 #include "sim/SolverState.h"
 
+#include <algorithm>
+
 #include "gpu/GpuLayout.h"
 
 namespace firn {
 
-SolverState::SolverState(std::size_t particleCapacity)
-    : particles_(gl::Buffer(particleCapacity * sizeof(gpu::SolverParticle)).labelled("solver: particle stiffness")) {}
+SolverState::SolverState(std::size_t particleCapacity, std::size_t rigidBodies)
+    : particles_(gl::Buffer(particleCapacity * sizeof(gpu::SolverParticle)).labelled("solver: particle stiffness")),
+      rigidBodies_(rigidBodies) {
+  bodies_ = gl::Buffer(std::max<std::size_t>(rigidBodies, 1) * sizeof(gpu::SolverBody)).labelled("solver: bodies");
+}
 
 void SolverState::allocatePool(std::size_t blocks) {
   nodes_ = gl::Buffer(blocks * gpu::BLOCK_NODES * sizeof(gpu::SolverNode)).labelled("solver: node vectors");
-  status_ = gl::Buffer(sizeof(gpu::SolverStatus) + blocks * sizeof(glm::vec4)).labelled("solver: status");
+  status_ =
+      gl::Buffer(sizeof(gpu::SolverStatus) + (blocks + rigidBodies_) * sizeof(glm::vec4)).labelled("solver: status");
   preconditioners_ =
       gl::Buffer(blocks * gpu::BLOCK_NODES * sizeof(gpu::SolverPreconditioner)).labelled("solver: preconditioner");
 }
@@ -29,6 +35,7 @@ void SolverState::publish(gl::BufferBindings& bindings) const {
   bindings.storage(FIRN_BINDING_SOLVER_PARTICLES, particles_);
   bindings.storage(FIRN_BINDING_SOLVER_STATUS, status_);
   bindings.storage(FIRN_BINDING_SOLVER_PRECONDITIONER, preconditioners_);
+  bindings.storage(FIRN_BINDING_SOLVER_BODIES, bodies_);
 }
 
 }  // namespace firn

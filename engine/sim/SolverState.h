@@ -1,7 +1,7 @@
 #pragma once
 // The semi-implicit solve's state on the GPU (common/solver.glsl): the conjugate residual method's vectors per node
-// of the grid's pool, the block preconditioner per node, each particle's stiffness, and the solve's status (the
-// iterations' dispatches, the dot products' registers). It owns those buffers, published at the solver bindings of
+// of the grid's pool, the block preconditioner per node, each particle's stiffness, each rigid body's six unknowns
+// (common/solver_bodies.glsl), and the solve's status (the iterations' dispatches, the dot products' registers). It owns those buffers, published at the solver bindings of
 // the GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END); ImplicitSolver runs the passes over them.
 #include <cstddef>
 #include <cstdint>
@@ -16,9 +16,10 @@ namespace firn {
 
 class SolverState {
  public:
-  explicit SolverState(std::size_t particleCapacity);
+  SolverState(std::size_t particleCapacity, std::size_t rigidBodies);
 
-  // Vectors for a pool of `blocks` blocks (the grid's), zero: no product summed.
+  // Vectors for a pool of `blocks` blocks (the grid's), zero: no product summed. The status holds a partial sum's slot
+  // per block and per rigid body.
   void allocatePool(std::size_t blocks);
   std::size_t poolBytes() const;
 
@@ -28,6 +29,9 @@ class SolverState {
   glm::vec4 readRegister(std::size_t index) const;
   // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
   std::uint32_t readEnd() const;
+  // Empties the rigid bodies' records (gpu::SolverBody), whose sums carry what the grid update adds into the solve:
+  // after a grid update and products that were only timed.
+  void clearBodies() { bodies_.zero(); }
 
   void publish(gl::BufferBindings& bindings) const;
 
@@ -38,6 +42,8 @@ class SolverState {
   gl::Buffer status_;           // SolverStatus, then a vec4 per slot of the pool
   gl::Buffer particles_;        // SolverParticle per particle
   gl::Buffer preconditioners_;  // SolverPreconditioner per node of the pool
+  std::size_t rigidBodies_;
+  gl::Buffer bodies_;           // SolverBody per rigid body (one, unused, without bodies: a buffer is never empty)
 };
 
 }  // namespace firn

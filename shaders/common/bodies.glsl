@@ -38,3 +38,44 @@ void clearPush(uint i) {
   colliders[i].angularLow = uvec4(0u);
   colliders[i].angularHigh = ivec4(0);
 }
+
+// Adds M_b = diag(M, I) to a 6×6 upper triangle (row by row), in the units its values are in.
+void addBodyMass(float mass, mat3 inertia, inout float upper[21]) {
+  // The upper triangle's row r starts at 6r − r(r − 1)/2.
+  for (int r = 0; r < 3; ++r) upper[6 * r - r * (r - 1) / 2] += mass;
+  for (int r = 3; r < 6; ++r) {
+    for (int c = r; c < 6; ++c) upper[6 * r - r * (r - 1) / 2 + (c - r)] += inertia[c - 3][r - 3];
+  }
+}
+
+// Solves A x = b for a symmetric positive definite 6×6 A (its upper triangle, row by row) by Cholesky's A = L Lᵀ.
+void solveSymmetric(float upper[21], inout float x[6]) {
+  float l[6][6];
+  int k = 0;
+  float a[6][6];
+  for (int r = 0; r < 6; ++r) {
+    for (int c = r; c < 6; ++c) {
+      a[r][c] = upper[k];
+      a[c][r] = upper[k];
+      ++k;
+    }
+  }
+  for (int c = 0; c < 6; ++c) {
+    float diagonal = a[c][c];
+    for (int j = 0; j < c; ++j) diagonal -= l[c][j] * l[c][j];
+    l[c][c] = sqrt(diagonal);
+    for (int r = c + 1; r < 6; ++r) {
+      float value = a[r][c];
+      for (int j = 0; j < c; ++j) value -= l[r][j] * l[c][j];
+      l[r][c] = value / l[c][c];
+    }
+  }
+  for (int r = 0; r < 6; ++r) {  // L y = b
+    for (int j = 0; j < r; ++j) x[r] -= l[r][j] * x[j];
+    x[r] /= l[r][r];
+  }
+  for (int r = 5; r >= 0; --r) {  // Lᵀ x = y
+    for (int j = r + 1; j < 6; ++j) x[r] -= l[j][r] * x[j];
+    x[r] /= l[r][r];
+  }
+}

@@ -188,6 +188,17 @@ bool withinReachOfABody(vec3 x, float timeS) {
 #endif
 
 #ifdef FIRN_SEMI_IMPLICIT
+#ifdef FIRN_HAS_RIGID_BODIES
+// Body b (its index among the bodies) takes the opposite of an impulse its response gave the node at x, which goes to
+// its load too.
+void pushBodyAtNode(int b, vec3 x, float timeS, vec3 impulseKgMPerS) {
+  if (impulseKgMPerS == vec3(0.0)) return;
+  uint i = colliderCount - rigidBodyCount + uint(b);
+  pushRigidBody(i, x, timeS, impulseKgMPerS);
+  colliderImpulse(i, colliders[i], impulseKgMPerS, colliderVelocity(colliders[i], x, timeS));
+}
+#endif
+
 // The colliders' response to a node's v*, for the semi-implicit solve (common/solver.glsl), without friction: a
 // sticky collider holds all of v, a slip one the component along its normal, a separating one that component only
 // while approaching; two colliders holding different normals hold it all. Friction waits for the solve
@@ -196,12 +207,19 @@ bool withinReachOfABody(vec3 x, float timeS) {
 // (c Δt / h)² times too large beyond the explicit bound, and Coulomb friction on it stopped or even reversed a
 // landing body's slide. Returns SolverNode.constraint (the normal held, and the CONSTRAINT_* bits); `approachMPerS`
 // is the normal speed into the colliders that the response removed. A rigid body takes the opposite of the change in
-// the node's momentum (`massKg` times the change in v), as collideWithColliders gives it, and the moving colliders'
-// work is added to `workJ`.
-vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out float approachMPerS, inout float workJ) {
+// the node's momentum (`massKg` times the change in v), as collideWithColliders gives it — except where it alone
+// holds the node: then the node may be one of the body's unknowns in the solve (common/solver_bodies.glsl), and its
+// index among the bodies (`soleBody`, else −1) and the impulse its response gave the node (`soleBodyImpulseKgMPerS`)
+// are returned for the grid update to decide (the domain walls may hold the node too: pushBodyAtNode then). The
+// moving colliders' work is added to `workJ`.
+vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out float approachMPerS, inout float workJ,
+                     out int soleBody, out vec3 soleBodyImpulseKgMPerS) {
   int code = 0;
+  int holders = 0;
   vec3 heldNormal = vec3(0.0);
   approachMPerS = 0.0;
+  soleBody = -1;
+  soleBodyImpulseKgMPerS = vec3(0.0);
 #ifdef FIRN_HAS_COLLIDERS
   for (uint i = 0u; i < colliderCount; ++i) {
     if (!colliderWithinReach(i, probe, timeS)) continue;
@@ -211,6 +229,7 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out fl
     int boundary = c.shapeBoundary.y;
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     float normalSpeed = dot(v - boundaryVelocity, normal);
+    bool holds = true;
     if (boundary == BOUNDARY_STICKY) {
       code |= CONSTRAINT_FIXED;
     } else if (boundary == BOUNDARY_SLIP || normalSpeed < 0.0) {
@@ -218,14 +237,30 @@ vec4 collideForSolve(vec3 probe, inout vec3 v, float timeS, float massKg, out fl
       code |= CONSTRAINT_NORMAL;
       heldNormal = normal;
       approachMPerS = max(-normalSpeed, 0.0);
+    } else {
+      holds = false;
     }
     vec3 response = boundaryResponse(v, normal, boundaryVelocity, 0.0, boundary);
 #ifdef FIRN_HAS_RIGID_BODIES
+    if (c.shapeBoundary.z != 0 && holds && holders == 0) {
+      soleBody = int(i - (colliderCount - rigidBodyCount));  // its push waits for the grid update's decision
+      soleBodyImpulseKgMPerS = massKg * (response - v);
+      v = response;
+      ++holders;
+      continue;
+    }
     if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
 #endif
     if (response != v) workJ += colliderImpulse(i, c, massKg * (response - v), boundaryVelocity);
     v = response;
+    if (holds) ++holders;
   }
+#ifdef FIRN_HAS_RIGID_BODIES
+  if (soleBody >= 0 && holders > 1) {
+    pushBodyAtNode(soleBody, probe, timeS, soleBodyImpulseKgMPerS);  // not the body's alone
+    soleBody = -1;
+  }
+#endif
 #endif
   return vec4(heldNormal, float(code));
 }

@@ -77,9 +77,10 @@
 #define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: its stiffness in the frame of F's SVD
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 #define FIRN_BINDING_SOLVER_PRECONDITIONER 20  // SolverPreconditioner per node of the pool: P⁻¹'s 3×3 block there
-#define FIRN_SOLVER_BINDINGS_END 21
+#define FIRN_BINDING_SOLVER_BODIES 21       // SolverBody per rigid body: its six velocities as unknowns of the solve
+#define FIRN_SOLVER_BINDINGS_END 22
 // The snow's surface (shaders/surface/surface_contract.h declares its bindings).
-#define FIRN_SURFACE_BINDINGS_FIRST 21
+#define FIRN_SURFACE_BINDINGS_FIRST 22
 #define FIRN_SURFACE_BINDINGS_END 32
 // Texture units: the mesh colliders' and bodies' distance fields and the bodies' contact probes, one float per
 // texel of a buffer texture (common/colliders.glsl): a texture, so that the passes that meet colliders need no
@@ -296,6 +297,9 @@ FIRN_STRUCT(BlockSlot, FIRN_BLOCK_SLOT)
 FIRN_CONSTANT(int, CONSTRAINT_WALL_X, 1)
 FIRN_CONSTANT(int, CONSTRAINT_NORMAL, 8)
 FIRN_CONSTANT(int, CONSTRAINT_FIXED, 16)
+// A node that one rigid body alone holds is an unknown of that body's in the solve: the body's index + 1 in the bits
+// from CONSTRAINT_BODY_SHIFT up (0: no body's unknown).
+FIRN_CONSTANT(int, CONSTRAINT_BODY_SHIFT, 5)
 // The most conjugate residual iterations a step may take (solver.max_iterations), and the registers that hold
 // each iteration's dot products.
 FIRN_CONSTANT(int, SOLVER_MAX_ITERATIONS, 1000)
@@ -342,6 +346,30 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
   member(vec4, inverseDiagonal)                   \
   member(vec4, inverseOffDiagonal)
 FIRN_STRUCT(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)
+
+// SolverBody: a rigid body's six velocities u = (V, ω) as unknowns of the semi-implicit solve (common/solver_bodies.glsl;
+// docs/algorithm.md, Rigid bodies in the semi-implicit step), with the conjugate residual method's vectors as a node's
+// (SolverNode): [0] the linear part, [1] the angular part.
+//   velocity, direction, preconditioned   x_b (the solution), p, z = P_b⁻¹ r: V (m/s) and ω (rad/s)
+//   residual, product, directionProduct   r, A z, A p: force-like (kg·m/s) and moment-like (kg·m²/s) parts
+//   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values)
+//   sumsLow/High     Σ Gᵢᵀ Pᵢ wᵢ over the nodes it holds, wᵢ a product's held part ([0] the force, [1] its moment
+//                    about the centre of mass), 64-bit fixed point in 2^−k_H of the momentum unit (× h for [1])
+//   blockLow/High    Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ, the upper triangle row by row (21 values), in
+//                    2^−COUPLING_FRACTION_BITS of P2G's nondimensional units (mass m_ref, length h, time Δt_ref)
+#define FIRN_SOLVER_BODY(member, array) \
+  array(vec4, velocity, 2)              \
+  array(vec4, residual, 2)              \
+  array(vec4, preconditioned, 2)        \
+  array(vec4, product, 2)               \
+  array(vec4, direction, 2)             \
+  array(vec4, directionProduct, 2)      \
+  array(vec4, inverse, 9)               \
+  array(uvec4, sumsLow, 2)              \
+  array(ivec4, sumsHigh, 2)             \
+  array(uvec4, blockLow, 6)             \
+  array(ivec4, blockHigh, 6)
+FIRN_STRUCT(SolverBody, FIRN_SOLVER_BODY)
 
 // SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite
 // (material_hessians.glsl), so that the iterations' products need no SVD. Computed once per step

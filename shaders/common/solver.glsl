@@ -93,6 +93,9 @@ vec3 constrain(vec3 v, vec4 constraint) {
   return mix(v, vec3(0.0), notEqual(walls, ivec3(0)));
 }
 
+// The index among the rigid bodies of the body whose unknowns hold the node (common/solver_bodies.glsl), or −1.
+int constraintBody(vec4 constraint) { return (int(constraint.w) >> CONSTRAINT_BODY_SHIFT) - 1; }
+
 // n·u at a node a collider holds along its normal n, else 0: the held component of a product or a residual, which
 // the projection drops and the collider's normal impulse takes (SolverNode.residual.w; solver_finish.comp).
 float heldNormalComponent(vec3 u, vec4 constraint) {

@@ -1,8 +1,7 @@
 #version 430 core
 // Rigid bodies (docs/algorithm.md, Rigid bodies): one invocation for every body, after G2P. Each body takes the snow's
-// push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) — in
-// the explicit step, since its coupled solve, with gravity and the images' push taken before it (predict_bodies.comp);
-// in the semi-implicit step all of it, and gravity. Then the bodies' contacts with the scene's colliders, the domain
+// push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) since
+// its solve with the nodes it holds, with gravity and the images' push taken before it (predict_bodies.comp). Then the bodies' contacts with the scene's colliders, the domain
 // walls and each other (eq. 36), and each moves: symplectic Euler, v and L first, then x by v and the orientation by
 // ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and sums are rewritten for the next step. One invocation, so
 // that a contact between two bodies changes both at once and the impulses run in one order on every run.
@@ -115,7 +114,7 @@ void main() {
   float workJ = 0.0;      // of the moving colliders through the contacts
   float couplingJ = 0.0;  // the explicit coupling's own energy
 
-  // The snow's push, and gravity where the coupled solve did not take it already.
+  // The snow's push since the bodies' solve.
   for (uint i = staticColliders; i < colliderCount; ++i) {
     if (!takesPart(i)) continue;
     ColliderParams body = colliders[i];
@@ -123,24 +122,18 @@ void main() {
     mat3 inverseInertia = worldInverseInertia(body, rotationMatrix(body.rotation));
     vec3 impulse, angularImpulse;
     summedPush(body, impulse, angularImpulse);
-#ifdef FIRN_SEMI_IMPLICIT
-    // The snow met the body's surface moving as it moved before the push, which the body takes only now: the push's
-    // own energy is what this explicit coupling adds to the snow's and the body's.
-    vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
-    vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
-    couplingJ += pushOwnEnergyJ(massKg, inverseInertia, impulse, angularImpulse);
-#else
-    // The snow's impulses since the coupled solve (eq. 39), added to the body's velocities before it (V*, L*:
-    // predict_bodies.comp): the solve's own at the nodes it held, which take the body to the solved (V', ω') its
-    // entry moves at now, and the rest — friction, the particles G2P met — which the snow gave at the surface moving
-    // at (V', ω'): their energy beyond that is the departure's own, ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
+    // The snow's impulses since the bodies' solve with the nodes they hold (the explicit step's coupled solve, eq. 39;
+    // the semi-implicit step's, eq. 39a), added to the body's velocities before it (V*, L*: predict_bodies.comp, or
+    // the solve's own where it gave them: solver_bodies_finish.comp): the explicit solve's own at the nodes it held,
+    // which take the body to the solved (V', ω') its entry moves at now, and the rest — friction, the particles G2P
+    // met — which the snow gave at the surface moving at (V', ω'): their energy beyond that is the departure's own,
+    // ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
     vec3 v = body.freeVelocity.xyz + impulse / massKg;
     vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
     vec3 departure = v - body.velocityFriction.xyz;
     vec3 turnDeparture = inverseInertia * angularMomentum - body.angularVelocity.xyz;
     couplingJ += 0.5 * massKg * dot(departure, departure) +
                  0.5 * dot(turnDeparture, inverse(inverseInertia) * turnDeparture);
-#endif
     setVelocities(i, v, angularMomentum, inverseInertia);
   }
 

@@ -10,20 +10,20 @@
 // of almost no mass.) Without the images the nodes a body holds see the kernel's transition χ = Σ_{i held} w_i only
 // where the snow is, outside the surface, and pass on χ_s < 1 of the snow's traction.
 // Dispatched to push, and to measure (measuringWork) the energy the pushes give the nodes at the nodes' sums as no
-// push is changing them, which reads the same whatever the order of the pushes' invocations: the explicit step
-// measures half before the pushes and half after, the semi-implicit step, whose pushes leave the sums as they were,
-// once (StepPipeline::step).
+// push is changing them, which reads the same whatever the order of the pushes' invocations: half before the pushes
+// and half after (RigidBodies::afterTransfer). Explicit steps only: the semi-implicit step's bodies are unknowns of its
+// solve, and an explicit push as stiff as the snow would bound its step (docs/algorithm.md).
 // Reads: blockTable (mirrorDispatch: the dispatch record and w), particleRanks (the list), positionMass (xyz),
 //        velocityVolume (w: V0), kirchhoffStress, blockMap, colliders,
 //        gridMomentumMass (the nodes' masses and when measuring the sums and when pushing the atomics' old values),
-//        gridImpulse (pushing in PIC/FLIP or semi-implicit steps: the atomics' old values),
+//        gridImpulse (pushing in PIC/FLIP: the atomics' old values),
 //        watchdog (the reports' and the ledger's atomics' old values).
 // Writes: gridMomentumMass (pushing in an explicit APIC step: the impulses go to the momentum sums),
-//         gridImpulse (pushing in PIC/FLIP or semi-implicit steps: the impulse sums),
+//         gridImpulse (pushing in PIC/FLIP: the impulse sums),
 //         colliders (pushing: the bodies' entries' sums),
 //         watchdog (overflows and the bodies' loads when pushing and the ledger's flows when measuring).
 // The images need no affine velocity: without APIC's buffer the pass keeps within llvmpipe's 16 storage blocks with
-// the semi-implicit step's impulse sums (docs/platform.md).
+// PIC/FLIP's impulse sums (docs/platform.md).
 #define FIRN_WITHOUT_AFFINE
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
@@ -34,7 +34,7 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-uniform uint measuringWork;  // 0: push the nodes and the body; 1 or 2: measure half or all of the pushes' work
+uniform uint measuringWork;  // 0: push the nodes and the body; 1: measure half of the pushes' work
 
 // The image of particle p across body i's surface, whose signed distance at x is φ (0 < φ < the kernel's reach)
 // with outward normal n.
@@ -80,7 +80,7 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
     if (measuringWork != 0u) {
       vec4 sums = storedToNondimensional(gridMomentumMass[address]);
       vec3 nodeVelocity = sums.xyz * (momentumUnitKgMPerS / (sums.w * referenceMassKg));
-      madeJ += 0.5 * float(measuringWork) * dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
+      madeJ += 0.5 * dot(pushKgMPerS, nodeVelocity - colliderVelocity(body, nodeM, timeS));
       continue;
     }
     reportAccumulatorOverflow(overflow, node, IMPULSE_CHANNELS);

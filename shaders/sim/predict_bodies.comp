@@ -1,5 +1,6 @@
 #version 430 core
-// Rigid bodies before their coupled solve (docs/algorithm.md, eq. 39), explicit step: an invocation per body, after
+// Rigid bodies before their solve with the nodes they hold (docs/algorithm.md, eq. 39, and in the semi-implicit step
+// eq. 39a): an invocation per body, after
 // the images of the snow's stress (mirror_stress.comp) have pushed it and before the grid update. The body takes that
 // push and gravity, V* = V + J / M + Δt g and L* = L + K, and its entry moves at V* and ω* = I⁻¹ L* from here to the
 // solve: the grid update meets its surface moving so (a separating body holds the nodes approaching it then), and

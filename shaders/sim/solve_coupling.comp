@@ -17,40 +17,6 @@
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
-const int N = 6;
-
-// Solves A x = b for a symmetric positive definite 6×6 A (its upper triangle, row by row) by Cholesky's A = L Lᵀ.
-void solveSymmetric(float upper[21], inout float x[N]) {
-  float l[N][N];
-  int k = 0;
-  float a[N][N];
-  for (int r = 0; r < N; ++r) {
-    for (int c = r; c < N; ++c) {
-      a[r][c] = upper[k];
-      a[c][r] = upper[k];
-      ++k;
-    }
-  }
-  for (int c = 0; c < N; ++c) {
-    float diagonal = a[c][c];
-    for (int j = 0; j < c; ++j) diagonal -= l[c][j] * l[c][j];
-    l[c][c] = sqrt(diagonal);
-    for (int r = c + 1; r < N; ++r) {
-      float value = a[r][c];
-      for (int j = 0; j < c; ++j) value -= l[r][j] * l[c][j];
-      l[r][c] = value / l[c][c];
-    }
-  }
-  for (int r = 0; r < N; ++r) {  // L y = b
-    for (int j = 0; j < r; ++j) x[r] -= l[r][j] * x[j];
-    x[r] /= l[r][r];
-  }
-  for (int r = N - 1; r >= 0; --r) {  // Lᵀ x = y
-    for (int j = r + 1; j < N; ++j) x[r] -= l[j][r] * x[j];
-    x[r] /= l[r][r];
-  }
-}
-
 void main() {
   uint b = gl_GlobalInvocationID.x;
   if (b >= rigidBodyCount) return;
@@ -78,12 +44,8 @@ void main() {
   vec3 angularMomentum = inertiaUnits * angularVelocity;
   float upper[21];
   for (int k = 0; k < 21; ++k) upper[k] = sums[k];
-  // M_b on the diagonal: the upper triangle's row r starts at 6r − r(r − 1)/2.
-  for (int r = 0; r < 3; ++r) upper[6 * r - r * (r - 1) / 2] += massUnits;
-  for (int r = 3; r < 6; ++r) {
-    for (int c = r; c < 6; ++c) upper[6 * r - r * (r - 1) / 2 + (c - r)] += inertiaUnits[c - 3][r - 3];
-  }
-  float x[N];
+  addBodyMass(massUnits, inertiaUnits, upper);
+  float x[6];
   for (int k = 0; k < 3; ++k) {
     x[k] = massUnits * velocity[k] + sums[21 + k];
     x[3 + k] = angularMomentum[k] + sums[24 + k];

@@ -48,8 +48,11 @@ void main() {
   float workJ = 0.0;
 #ifdef FIRN_SOLUTION_PRODUCT
   // Its held components are the constraints' push on the snow, whose opposite the bodies take.
-  constraintsAfterSolve(x, timeS, solverNodes[i].constraint, product - constrain(product, solverNodes[i].constraint),
-                        workJ);
+  // A node a body's unknowns held pushed it within the solve (solver_bodies_finish.comp).
+  if (constraintBody(solverNodes[i].constraint) < 0) {
+    constraintsAfterSolve(x, timeS, solverNodes[i].constraint, product - constrain(product, solverNodes[i].constraint),
+                          workJ);
+  }
 #endif
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) {
     velocity = collideWithColliders(x, velocity, timeS, velocityMass.w, workJ);

@@ -28,7 +28,8 @@ shared ivec4 sumHigh[FIRN_REDUCTION_GROUP_SIZE];
 
 void main() {
   uint l = gl_LocalInvocationIndex;
-  uint blocks = activeBlocks();
+  // The blocks' slots, then the rigid bodies' (solver_bodies_*.comp; none without bodies).
+  uint blocks = activeBlocks() + rigidBodyCount;
 
   // The largest magnitude of each component: non-negative floats order as their bits do (NaN above infinity).
   uvec4 bits = uvec4(0u);

@@ -6,19 +6,29 @@
 // in place of z₀ (solver_step.comp), and the block's partial sums of (r₀, P⁻¹ r₀), of the tolerance's reference
 // (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) over all the components, held ones too, and of the rounding floor (below). The grid's
 // velocities become x₀, the solution's start.
-// Reads: solverStatus (roundingStiffness and the solveBlockDispatch record), blockTable (blockCounts),
-//        gridMomentumMass (the velocities v* and masses),
+// Reads: solverStatus (roundingStiffness and the solveBlockDispatch record),
+//        blockTable (blockCounts, and slots[].block with rigid bodies), gridMomentumMass (the velocities v* and masses),
 //        solverNodes (direction: the start x₀ and the product and stiffness block sums and constraint and residual.w),
-//        solverPreconditioner (the inverse it has just written at the node).
+//        solverPreconditioner (the inverse it has just written at the node), colliders (with rigid bodies: their
+//        centres).
 // Writes: gridMomentumMass (the velocities become x₀), solverPreconditioner (the inverse),
 //         solverNodes (residual with w: the normal impulse and preconditioned: v* − x₀ and the sums cleared),
-//         solverStatus (the block's partial sums).
+//         solverStatus (the block's partial sums),
+//         solverBodies (with rigid bodies: at the nodes a body holds, its sums and its preconditioner's block sums),
+//         watchdog (a body's sum out of range).
+// At a node a rigid body holds (common/solver_bodies.glsl), the held part of β Δt² H x₀ goes to the body's sums, and
+// the node's share of the body's preconditioner block to its block sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/solver.glsl"
 #include "common/solver_reduction.glsl"
+#ifdef FIRN_HAS_RIGID_BODIES
+#include "common/colliders.glsl"
+#include "common/bodies.glsl"
+#include "common/solver_bodies.glsl"
+#endif
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
@@ -54,6 +64,15 @@ void main() {
   invertPreconditioner(velocityMass.w, stiffnessKg, constraint, inverseDiagonal, inverseOffDiagonal);
   solverPreconditioners[i] = SolverPreconditioner(vec4(inverseDiagonal, 0.0), vec4(inverseOffDiagonal, 0.0));
   solverNodes[i].residual.xyz = residual;
+#ifdef FIRN_HAS_RIGID_BODIES
+  int body = constraintBody(constraint);
+  if (body >= 0) {
+    ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
+    vec3 x = nodePosition(node);
+    addToBodySums(body, x, heldPart(product, constraint), node);
+    addToBodyBlock(body, x, velocityMass.w, stiffnessKg, constraint);
+  }
+#endif
   // The held component's push at the start, n·(A x₀ − M v*), joins the approach update_grid.comp removed.
   if (velocityMass.w > 0.0) {
     solverNodes[i].residual.w += heldNormalComponent(velocityMass.w * (start - velocityMass.xyz) + product, constraint) /

@@ -9,18 +9,26 @@
 // before (another step's values in a reused slot) is then never multiplied by a zero, which would turn a stale
 // infinity into NaN.
 // A work group per active block, an invocation per node.
-// Reads: solverStatus (the registers and the solveBlockDispatch record), blockTable (blockCounts),
-//        gridMomentumMass (the velocities and masses),
+// Reads: solverStatus (the registers and the solveBlockDispatch record),
+//        blockTable (blockCounts, and slots[].block with rigid bodies), gridMomentumMass (the velocities and masses),
 //        solverNodes (residual and preconditioned and product and direction and directionProduct),
-//        solverPreconditioner (the inverse).
+//        solverPreconditioner (the inverse), colliders (with rigid bodies: their centres),
+//        solverBodies (with rigid bodies: preconditioned).
 // Writes: gridMomentumMass (the velocities: x), solverStatus (the block's partial sums),
 //         solverNodes (residual with w: the normal impulse and preconditioned and direction and directionProduct).
+// At a node a rigid body holds (common/solver_bodies.glsl), z's held components are the body's surface moving at its
+// new z_b (solver_bodies_step.comp runs first), P G z_b, so that every vector of the grid is T of the unknowns'.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/solver.glsl"
 #include "common/solver_reduction.glsl"
+#ifdef FIRN_HAS_RIGID_BODIES
+#include "common/colliders.glsl"
+#include "common/bodies.glsl"
+#include "common/solver_bodies.glsl"
+#endif
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
 
@@ -49,6 +57,15 @@ void main() {
   solverNodes[i].residual.xyz = residual;
   // x moves by α p, so the held component's push n·(A x − M v*) by α n·(A p): the collider's normal impulse.
   if (velocityMass.w > 0.0) solverNodes[i].residual.w += alpha * directionProduct.w / velocityMass.w;
-  solverNodes[i].preconditioned.xyz = preconditioned;
+  vec3 heldMotion = vec3(0.0);
+#ifdef FIRN_HAS_RIGID_BODIES
+  int body = constraintBody(solverNodes[i].constraint);
+  if (body >= 0) {
+    vec3 x = nodePosition(nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex));
+    heldMotion = heldBodyMotion(body, x, solverBodies[body].preconditioned[0].xyz,
+                                solverBodies[body].preconditioned[1].xyz, solverNodes[i].constraint);
+  }
+#endif
+  solverNodes[i].preconditioned.xyz = preconditioned + heldMotion;
   writeBlockPartial(slot, vec4(0.0, 0.0, dot(residual, preconditioned), 0.0));
 }

@@ -6,6 +6,8 @@
 // after the solve (common/colliders.glsl, collideForSolve).
 // With rigid bodies (explicit step), the bodies wait for their coupled solve: this pass adds the nodes they hold to
 // their sums (common/colliders.glsl, addToCoupling) and couple_nodes.comp meets them after solve_coupling.comp.
+// In the semi-implicit step a node that one body alone holds becomes one of that body's unknowns in the solve
+// (common/solver_bodies.glsl): the node starts on the body's surface, and the body's sums take its response.
 // The energy ledger's flows take the moving colliders' work (common/energy.glsl). What the walls take here stays in
 // the dissipated energy, as a collider at rest's does: a wall stops, each step, the velocity the step's forces gave
 // the nodes pressed into it, which had moved nothing, and that cancels only against the step's own truncation.
@@ -15,6 +17,7 @@
 // Writes: gridMomentumMass (the same storage as floats: velocity m/s and mass kg),
 //         gridImpulse (PIC/FLIP: the velocity before forces),
 //         solverNodes (semi-implicit steps: the node's constraint and residual.w and the solve's start in direction),
+//         solverBodies (semi-implicit steps with rigid bodies: the sums of the nodes a body alone holds),
 //         colliders (rigid bodies: the snow's push and the explicit step's coupling sums),
 //         watchdog (the energy ledger's flows: the moving colliders' work and the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
@@ -24,6 +27,10 @@
 #include "common/colliders.glsl"
 #ifdef FIRN_SEMI_IMPLICIT
 #include "common/solver.glsl"
+#ifdef FIRN_HAS_RIGID_BODIES
+#include "common/bodies.glsl"
+#include "common/solver_bodies.glsl"
+#endif
 #endif
 #include "common/energy.glsl"
 
@@ -56,7 +63,9 @@ void updateNode(uint slot) {
     vec3 x = nodePosition(node);
     float workJ = 0.0;
 #ifdef FIRN_SEMI_IMPLICIT
-    constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS, workJ);
+    int soleBody;
+    vec3 soleBodyImpulseKgMPerS;
+    constraint = collideForSolve(x, velocity, timeS, massKg, approachMPerS, workJ, soleBody, soleBodyImpulseKgMPerS);
 #elif defined(FIRN_HAS_RIGID_BODIES)
     // The scene's colliders and the walls now; the bodies after their coupled solve (eq. 39): this node's share of
     // each body's sums, and couple_nodes.comp gives it the motion solved.
@@ -74,6 +83,17 @@ void updateNode(uint slot) {
     // A normal and a wall's axis together: held whole, so that the projection stays one.
     if (walls != 0 && (int(constraint.w) & CONSTRAINT_NORMAL) != 0) constraint.w = float(CONSTRAINT_FIXED);
     constraint.w = float(int(constraint.w) | walls);
+#ifdef FIRN_HAS_RIGID_BODIES
+    // A node a body alone holds is one of its unknowns in the solve (common/solver_bodies.glsl): its response's
+    // impulse starts the body's residual, and the solve gives the body what the node takes. With a wall's axis
+    // held too it stays a constraint of the body's velocities now, which take the push.
+    if (soleBody >= 0 && walls == 0) {
+      constraint.w = float(int(constraint.w) | ((soleBody + 1) << CONSTRAINT_BODY_SHIFT));
+      addToBodySums(soleBody, x, soleBodyImpulseKgMPerS, node);
+    } else if (soleBody >= 0) {
+      pushBodyAtNode(soleBody, x, timeS, soleBodyImpulseKgMPerS);
+    }
+#endif
 #endif
     velocity = collideWithDomainWalls(x, velocity, interiorMin(), interiorMax());
     addEnergyFlows(vec4(workJ, 0.0, 0.0, 0.0));

@@ -10,16 +10,18 @@
 
 // Shader storage binding points, in the surface's range of the GPU contract (common/gpu_contract.h:
 // FIRN_SURFACE_BINDINGS_FIRST to _END); engine/surface/SurfaceLayout.h holds them to it.
-#define FIRN_BINDING_SURFACE_HEADER 21           // SurfaceHeader: the particles' kernel bounds
-#define FIRN_BINDING_SURFACE_DENSITY 22          // int per node: the volume fraction, fixed point
-#define FIRN_BINDING_SURFACE_SUMS 23             // SurfaceNodeSums per node: Σ weight · albedo, Σ weight · v
-#define FIRN_BINDING_SURFACE_CELLS 24            // uint per node: its cell's case, the crossings of its own edges
-#define FIRN_BINDING_SURFACE_COUNTS 25           // uvec2 per node (+1): vertices and triangles, then their offsets
-#define FIRN_BINDING_SURFACE_VERTICES 26         // SurfaceVertex per vertex of the mesh
-#define FIRN_BINDING_SURFACE_INDICES 27          // uint per triangle corner
-#define FIRN_BINDING_SURFACE_MATERIALS 28        // vec4 per entry of the material table: x 1 / rest density (m³/kg)
-#define FIRN_BINDING_SURFACE_PARTICLE_COLORS 29  // vec4 per particle: the linear albedo to carry onto the surface
-#define FIRN_BINDING_SCAN_VALUES 30              // uvec2 per element: an exclusive prefix sum, in place
+#define FIRN_BINDING_SURFACE_HEADER 22           // SurfaceHeader: the particles' kernel bounds
+#define FIRN_BINDING_SURFACE_DENSITY 23          // int per node: the volume fraction, fixed point
+#define FIRN_BINDING_SURFACE_SUMS 24             // SurfaceNodeSums per node: Σ weight · albedo, Σ weight · v
+#define FIRN_BINDING_SURFACE_CELLS 25            // uint per node: its cell's case, the crossings of its own edges
+#define FIRN_BINDING_SURFACE_COUNTS 26           // uvec2 per node (+1): vertices and triangles, then their offsets
+#define FIRN_BINDING_SURFACE_VERTICES 27         // SurfaceVertex per vertex of the mesh
+#define FIRN_BINDING_SURFACE_INDICES 28          // uint per triangle corner
+#define FIRN_BINDING_SURFACE_MATERIALS 29        // vec4 per entry of the material table: x 1 / rest density (m³/kg)
+#define FIRN_BINDING_SURFACE_PARTICLE_COLORS 30  // vec4 per particle: the linear albedo to carry onto the surface
+// The prefix scan's (PrefixScan): it scans the counts in place, so its values are bound where the counts are (the
+// levels above them too, for its own passes).
+#define FIRN_BINDING_SCAN_VALUES FIRN_BINDING_SURFACE_COUNTS  // uvec2 per element: an exclusive prefix sum, in place
 #define FIRN_BINDING_SCAN_SUMS 31                // uvec2 per chunk of SCAN_CHUNK elements
 // The marching-cubes cases (uvec4 per case, engine/surface/MarchingCubes.h) are a uniform block, at
 // FIRN_BINDING_SURFACE_CASES: 4 KiB, read by every cell, and one storage binding fewer.

@@ -1,0 +1,86 @@
+#version 430 core
+// Rigid bodies in the semi-implicit solve (common/solver_bodies.glsl, eq. 39a): their start, after
+// solver_residual.comp has summed the nodes they hold. A body starts at u₀ = u*, its velocities with gravity and the
+// images' push (predict_bodies.comp), and the nodes it holds on its surface moving so (update_grid.comp), so its
+// residual is r₀ = M_b (u* − u₀) − Σ Gᵀ P (A x₀ − M v*) = −(its sums: the grid update's response at those nodes and
+// the start's Hessian product there). Its preconditioner is the body's diagonal block of eq. 39a,
+// P_b = M_b + Σ Gᵀ P (m + β Δt² Hᵢᵢ) P G, inverted by Cholesky's factorization; the first iteration's direction
+// leaves the body where it is (the nodes' is v* − x₀, whose held components are 0), and the partial sums of
+// (r₀, P_b⁻¹ r₀) and of the tolerance's reference, (M_b u*, P_b⁻¹ M_b u*), go to the slots after the blocks'.
+// One work group, an invocation per body.
+// Reads: solverStatus (the solveReduceDispatch record), blockTable (blockCounts), colliders (the bodies' entries),
+//        solverBodies (the sums and the block sums).
+// Writes: solverBodies (velocity and residual and preconditioned and direction and directionProduct and inverse, the
+//         sums and block sums cleared), solverStatus (the bodies' partial sums).
+#define FIRN_WITHOUT_PARTICLE_BUFFERS
+#include "common/bindings.glsl"
+#include "common/blocks.glsl"
+#include "common/colliders.glsl"
+#include "common/bodies.glsl"
+#include "common/solver.glsl"
+#include "common/solver_reduction.glsl"
+#include "common/solver_bodies.glsl"
+
+layout(local_size_x = FIRN_REDUCTION_GROUP_SIZE) in;
+
+// P_b⁻¹ in SI units, row after row, from the block sums in P2G's nondimensional units: with D = diag(1/u_v, 1/u_v,
+// 1/u_v, h⁻¹/u_v, …) (u_v velocity units per m/s), P_b⁻¹ = u_p u_v D P_nd⁻¹ D, u_p momentum units per kg·m/s.
+void invertBodyBlock(int b, ColliderParams body) {
+  float upper[21];
+  float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
+  for (int w = 0; w < 6; ++w) {
+    vec4 values = fixed64ToFloat(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w]) * valuePerUnit;
+    for (int c = 0; c < 4 && 4 * w + c < 21; ++c) upper[4 * w + c] = values[c];
+    solverBodies[b].blockLow[w] = uvec4(0u);
+    solverBodies[b].blockHigh[w] = ivec4(0);
+  }
+  mat3 inertiaUnits = inverse(worldInverseInertia(body, rotationMatrix(body.rotation))) *
+                      (massUnitsPerKg * cellsPerM * cellsPerM);
+  addBodyMass(body.bodyMass.x * massUnitsPerKg, inertiaUnits, upper);
+  float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
+  float scale[6];
+  for (int k = 0; k < 3; ++k) {
+    scale[k] = 1.0 / velocityUnitsPerMPerS;
+    scale[3 + k] = cellsPerM / velocityUnitsPerMPerS;
+  }
+  for (int c = 0; c < 6; ++c) {
+    float column[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    column[c] = 1.0;
+    solveSymmetric(upper, column);
+    for (int r = 0; r < 6; ++r) {
+      float value = momentumUnitsPerKgMPerS * velocityUnitsPerMPerS * scale[r] * column[r] * scale[c];
+      solverBodies[b].inverse[(6 * r + c) / 4][(6 * r + c) % 4] = value;
+    }
+  }
+}
+
+void main() {
+  uint blocks = activeBlocks();
+  for (uint k = gl_LocalInvocationIndex; k < rigidBodyCount; k += uint(FIRN_REDUCTION_GROUP_SIZE)) {
+    int b = int(k);
+    ColliderParams body = colliders[bodyEntry(b)];
+    vec3 force, moment;
+    takeBodySums(b, force, moment);
+    invertBodyBlock(b, body);
+    bool takesPart = body.shapeBoundary.w != 0;  // a parked body holds no node and stays as it is
+    vec3 residual0 = takesPart ? -force : vec3(0.0);
+    vec3 residual1 = takesPart ? -moment : vec3(0.0);
+    vec3 scaled0, scaled1;
+    preconditionBody(b, residual0, residual1, scaled0, scaled1);
+    vec3 momentum0, momentum1, scaledMomentum0, scaledMomentum1;
+    bodyMassTimes(body, body.velocityFriction.xyz, body.angularVelocity.xyz, momentum0, momentum1);
+    preconditionBody(b, momentum0, momentum1, scaledMomentum0, scaledMomentum1);
+    solverBodies[b].velocity[0] = vec4(body.velocityFriction.xyz, 0.0);
+    solverBodies[b].velocity[1] = vec4(body.angularVelocity.xyz, 0.0);
+    solverBodies[b].residual[0] = vec4(residual0, 0.0);
+    solverBodies[b].residual[1] = vec4(residual1, 0.0);
+    for (int part = 0; part < 2; ++part) {
+      solverBodies[b].preconditioned[part] = vec4(0.0);
+      solverBodies[b].direction[part] = vec4(0.0);
+      solverBodies[b].directionProduct[part] = vec4(0.0);
+    }
+    float referenceDot = takesPart ? bodyDot(momentum0, momentum1, scaledMomentum0, scaledMomentum1) : 0.0;
+    blockPartials[blocks + k] =
+        vec4(0.0, 0.0, bodyDot(residual0, residual1, scaled0, scaled1), referenceDot);
+  }
+}
