@@ -1,7 +1,9 @@
 // objects.csv: what objects in the snow cost per step, on the bunny of the Snow thesis 2015 implementation
 // (--thesis-cloud; cubic kernel, fixed point, explicit, in free fall): with no object, with an analytic box collider,
 // with the same box as a 12-triangle mesh collider, with a 100,000-triangle sphere mesh collider of the box's size,
-// and with a rigid box of that size; each against the analytic box, with the mesh's distance field's bake time.
+// and with a rigid box of that size; each against the analytic box, with the mesh's distance field's bake time. The
+// analytic and the rigid box under the bunny again with the semi-implicit step, whose solve takes the rigid box's six
+// velocities as unknowns (docs/algorithm.md eq. 39a), against its own analytic box.
 // The objects sit on the ground under the bunny, their top a quarter cell below its lowest particles: every active
 // node and particle probes them (a collider's cost is its test, contact or not), the bunny's free fall keeps the
 // steps alike from one configuration to the next, and the snow at the bunny's foot lies within a kernel of the top,
@@ -33,6 +35,7 @@ struct ObjectCase {
   std::string object;
   Placement placement = Placement::UnderTheBunny;
   std::size_t triangles = 0;
+  std::string integrator = "explicit";
 };
 
 // Where the case's box sits; the bunny without an object has no placement (its row is timed against the analytic box
@@ -44,8 +47,9 @@ const char* placementName(const ObjectCase& object) {
 
 // "thesis bunny with rigid box under the bunny": the configuration's name and its summary line's start.
 std::string caseName(const ObjectCase& object) {
-  if (object.object == "none") return "thesis bunny with no object";
-  return "thesis bunny with " + object.object + " " + placementName(object);
+  const std::string step = object.integrator == "explicit" ? "" : ", " + object.integrator;
+  if (object.object == "none") return "thesis bunny with no object" + step;
+  return "thesis bunny with " + object.object + " " + placementName(object) + step;
 }
 
 // The box the objects share: 2 m wide, centred under the bunny on the floor of its domain; under the bunny it ends a
@@ -108,7 +112,9 @@ std::vector<ObjectCase> objectCases() {
           {"mesh sphere", under, 2 * kFineSegments * (kFineRings - 1)},
           {"rigid box", under, 0},
           {"analytic box", into, 0},
-          {"rigid box", into, 0}};
+          {"rigid box", into, 0},
+          {"analytic box", under, 0, "semi_implicit"},
+          {"rigid box", under, 0, "semi_implicit"}};
 }
 
 }  // namespace
@@ -123,7 +129,8 @@ PlannedWork planObjects(const BenchRun& run) {
 }
 
 void measureObjects(BenchRun& run) {
-  CsvTable table({"object", "placement", "triangles", "transfer_shape", "particles", "dt_s", "steps", "repeats",
+  CsvTable table({"object", "placement", "integrator", "triangles", "transfer_shape", "particles", "dt_s", "steps",
+                  "repeats",
                   "ms_per_step", "ms_min", "ms_max", "ratio_to_analytic_box", "bake_s", "field_samples", "status",
                   "renderer"});
   const BenchOptions& options = run.options();
@@ -136,7 +143,7 @@ void measureObjects(BenchRun& run) {
     configurations.push_back({caseName(object),
                               [&options, object] {
                                 return withObject(thesisCloudScene(options.thesisCloud, options.thesisDtS, "fixed",
-                                                                   "cubic", "explicit"),
+                                                                   "cubic", object.integrator),
                                                   object);
                               },
                               ""});  // P2G's shape as a run chooses it
@@ -147,10 +154,11 @@ void measureObjects(BenchRun& run) {
     fieldSamples[i] = fields.samples.size();
   }
   const std::vector<Timed> timed = run.timeConfigurations(configurations, objectsTiming(run.sizes().timing));
-  // Each row against the analytic box of its placement.
-  const auto analyticBoxMs = [&](Placement placement) {
+  // Each row against the analytic box of its placement and step.
+  const auto analyticBoxMs = [&](const ObjectCase& object) {
     for (std::size_t i = 0; i < cases.size(); ++i) {
-      if (cases[i].object == "analytic box" && cases[i].placement == placement && timed[i].status == "ok") {
+      if (cases[i].object == "analytic box" && cases[i].placement == object.placement &&
+          cases[i].integrator == object.integrator && timed[i].status == "ok") {
         return timed[i].timing.medianMs;
       }
     }
@@ -160,6 +168,7 @@ void measureObjects(BenchRun& run) {
     CsvTable::Row& row = table.addRow();
     row.setText("object", cases[i].object)
         .setText("placement", placementName(cases[i]))
+        .setText("integrator", cases[i].integrator)
         .setCount("triangles", std::int64_t(cases[i].triangles))
         .setText("transfer_shape", timed[i].transferShape)
         .setCount("particles", std::int64_t(timed[i].particles))
@@ -170,7 +179,7 @@ void measureObjects(BenchRun& run) {
       row.set("bake_s", bakeSeconds[i]).setCount("field_samples", std::int64_t(fieldSamples[i]));
     }
     if (timed[i].status != "ok") continue;
-    const double msPerStep = timed[i].timing.medianMs, boxMs = analyticBoxMs(cases[i].placement);
+    const double msPerStep = timed[i].timing.medianMs, boxMs = analyticBoxMs(cases[i]);
     row.setCount("steps", timed[i].timing.stepsPerRepeat)
         .setCount("repeats", timed[i].timing.repeats)
         .set("ms_per_step", msPerStep)

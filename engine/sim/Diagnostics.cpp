@@ -82,10 +82,12 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 }
 
 std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
-  // The semi-implicit step solves the bodies with the snow and mirrors no stress (docs/algorithm.md, eq. 39a).
-  if (!rigidBodies_ || solver_.semiImplicit()) return "";
-  return "; the rigid bodies take the snow's mirrored stress explicitly, and one much lighter than the snow it presses "
-         "on can rock apart at steps below " + bound + ": make it heavier or reduce time.dt";
+  // Only a fluid's stress is mirrored, and only in the explicit step (docs/algorithm.md, eq. 38 and 39a).
+  const bool fluid = std::any_of(materials_.begin(), materials_.end(),
+                                 [](const Material& m) { return m.model == MaterialModel::Water; });
+  if (!rigidBodies_ || solver_.semiImplicit() || !fluid) return "";
+  return "; the rigid bodies take the water's mirrored stress explicitly, and one much lighter than the water it "
+         "presses on can rock apart at steps below " + bound + ": make it heavier or reduce time.dt";
 }
 
 // Why an explicit step lost particles: snow that compacted past its critical compression hardens by e^{ξ(1 − J_P)}

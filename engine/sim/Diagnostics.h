@@ -54,7 +54,7 @@ class Diagnostics {
   std::string instabilityCause(const GpuState& state) const;
   // Which material's particles hold the kinetic energy, and the fastest of them.
   std::string energyCarrier(const GpuState& state) const;
-  // "; the rigid bodies take the snow's mirrored stress explicitly …" in an explicit scene with rigid bodies
+  // "; the rigid bodies take the water's mirrored stress explicitly …" in an explicit scene with rigid bodies and water
   // (docs/algorithm.md, Rigid bodies: the coupling's own step bound), naming `bound` as the step they may need to
   // stay below; empty without them.
   std::string rigidBodyHint(const std::string& bound) const;

@@ -1,6 +1,16 @@
 // Which particles' stress is mirrored into a rigid body (docs/algorithm.md eq. 38): those within a kernel's reach
 // of its surface, outside it. list_mirrored.comp lists them, mirror_stress.comp scatters their images.
 
+// Whether particle p's stress is mirrored at all: a fluid's (water) only. A fluid has no shear stiffness to carry a
+// body through the nodes the body holds, which pass on χ_s < 1 of its pressure, so a floating body takes Archimedes'
+// force from its images; a solid (snow, sand, the elastic models) deforms until the held nodes carry the body, and an
+// image, a push as stiff as the solid applied explicitly, only bounds the step: a 1.2 kg box and one of 0.12 kg on a
+// bed of snow came apart at 0.9 of the bed's elastic bound with their images and rest there without them
+// (docs/algorithm.md, The snow's stress mirrored into the body).
+#ifndef FIRN_WITHOUT_PARTICLE_BUFFERS
+bool stressMirrored(uint p) { return materials[plasticState[p].materialIndex].model.x == MODEL_WATER; }
+#endif
+
 // The kernel's reach: a particle farther from the surface than this has no image node outside the body.
 float mirrorReachM() { return 0.5 * float(KERNEL_WIDTH) * cellSizeM; }
 

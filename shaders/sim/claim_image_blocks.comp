@@ -1,12 +1,14 @@
 #version 430 core
 // Claim image blocks: over several processes with rigid bodies only, one invocation per particle after
-// mark_blocks.comp. A particle within a kernel's reach of a body's surface claims the blocks its image's stencil
+// mark_blocks.comp. A particle whose stress is mirrored (a fluid's: common/mirror.glsl) within a kernel's reach of a
+// body's surface claims the blocks its image's stencil
 // reaches (mirror_stress.comp). The image pushes only nodes that hold snow, and in one process some particle's own
 // stencil claimed their blocks; over several processes that particle may be another process's, and the image's
 // process must hold the node too, for its push to be summed there and exchanged (docs/distributed.md). The blocks
 // this pass claims are marked as the images' (BlockSlot.claimedForImages), so that the blocks the particles reach
 // are counted as one process counts them.
-// Reads: positionMass (xyz), blockMap (the entries and the claim's old value),
+// Reads: positionMass (xyz), plasticState (materialIndex), materials (model),
+//        blockMap (the entries and the claim's old value),
 //        blockTable (blockCounts: the old value of x and the capacity y), colliders (the bodies' entries).
 // Writes: blockMap, blockTable (blockCounts.x and slots[].block and .auditedElsewhere and .claimedForImages).
 #include "common/bindings.glsl"
@@ -31,7 +33,7 @@ void claimNodes(ivec3 firstNode, ivec3 lastNode) {
 
 void main() {
   uint p = invocationIndex();
-  if (p >= particleCount) return;
+  if (p >= particleCount || !stressMirrored(p)) return;
   vec3 x = positionMass[p].xyz;
   if (!allFinite(x)) return;  // reported by mark_blocks.comp
   // The images x − 2 φ n as mirror_stress.comp finds them (common/mirror.glsl), give or take a node on each side and

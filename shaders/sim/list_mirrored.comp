@@ -1,12 +1,13 @@
 #version 430 core
-// Lists the particles whose stress mirror_stress.comp mirrors into a rigid body (common/mirror.glsl), after P2G: a
+// Lists the particles whose stress mirror_stress.comp mirrors into a rigid body (common/mirror.glsl: a fluid's within
+// a kernel's reach of the body's surface), after P2G: a
 // work group per block list_mirror_blocks.comp listed, an invocation per particle of it (in the sorted order). The
 // list takes particleRanks, which the sort no longer needs, and sizes mirror_stress.comp's dispatch (mirrorDispatch,
 // rows of 65,535 work groups). Only the listed particles then run the images' scatter: on llvmpipe the scatter behind
 // a branch cost most of a P2G over all particles even when no particle took it (docs/platform.md, Timing on
 // llvmpipe).
 // Reads: blockTable (mirrorBlocks: the dispatch record and w and slots[] and mirrorDispatch.w's old value),
-//        sortedParticles, positionMass (xyz), colliders.
+//        sortedParticles, positionMass (xyz), plasticState (materialIndex), materials (model), colliders.
 // Writes: particleRanks (the list), blockTable (mirrorDispatch).
 #include "common/bindings.glsl"
 #include "common/kernel.glsl"
@@ -17,6 +18,7 @@
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void listIfMirrored(uint p, float reachM) {
+  if (!stressMirrored(p)) return;
   vec3 x = positionMass[p].xyz;
   bool mirrored = false;
   for (uint i = 0u; i < colliderCount; ++i) {
