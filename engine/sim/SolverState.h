@@ -1,8 +1,9 @@
 #pragma once
-// The semi-implicit solve's state on the GPU (common/solver.glsl): the conjugate residual method's vectors per node
-// of the grid's pool, the block preconditioner per node, each particle's stiffness, each rigid body's six unknowns
-// (common/solver_bodies.glsl), and the solve's status (the iterations' dispatches, the dot products' registers). It owns those buffers, published at the solver bindings of
-// the GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END); ImplicitSolver runs the passes over them.
+// The semi-implicit solve's state on the GPU (common/solver.glsl): the conjugate residual method's vectors per node of
+// the grid's pool, the block preconditioner per node, each particle's stiffness, each rigid body's six unknowns
+// (common/solver_bodies.glsl), and the solve's status (the iterations' dispatches, the dot products' registers). It
+// owns those buffers, published at the solver bindings of the GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END);
+// ImplicitSolver runs the passes over them.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -347,9 +347,9 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
   member(vec4, inverseOffDiagonal)
 FIRN_STRUCT(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)
 
-// SolverBody: a rigid body's six velocities u = (V, ω) as unknowns of the semi-implicit solve (common/solver_bodies.glsl;
-// docs/algorithm.md, Rigid bodies in the semi-implicit step), with the conjugate residual method's vectors as a node's
-// (SolverNode): [0] the linear part, [1] the angular part.
+// SolverBody: a rigid body's six velocities u = (V, ω) as unknowns of the semi-implicit solve
+// (common/solver_bodies.glsl; docs/algorithm.md, Rigid bodies in the semi-implicit step), with the conjugate residual
+// method's vectors as a node's (SolverNode): [0] the linear part, [1] the angular part.
 //   velocity, direction, preconditioned   x_b (the solution), p, z = P_b⁻¹ r: V (m/s) and ω (rad/s)
 //   residual, product, directionProduct   r, A z, A p: force-like (kg·m/s) and moment-like (kg·m²/s) parts
 //   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values)

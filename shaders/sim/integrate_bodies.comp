@@ -1,14 +1,14 @@
 #version 430 core
 // Rigid bodies (docs/algorithm.md, Rigid bodies): one invocation for every body, after G2P. Each body takes the snow's
-// push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) since
-// its solve with the nodes it holds, with gravity and the images' push taken before it (predict_bodies.comp). Then the bodies' contacts with the scene's colliders, the domain
-// walls and each other (eq. 36), and each moves: symplectic Euler, v and L first, then x by v and the orientation by
-// ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and sums are rewritten for the next step. One invocation, so
-// that a contact between two bodies changes both at once and the impulses run in one order on every run.
-// The energy ledger takes the work the moving colliders do on the bodies through their contacts, and the energy the
-// explicit coupling gives them (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the
-// images' share).
-// The bodies' contact probes come from the field buffer, a buffer texture (no storage buffer).
+// push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) since its
+// solve with the nodes it holds, with gravity and the images' push taken before it (predict_bodies.comp). Then the
+// bodies' contacts with the scene's colliders, the domain walls and each other (eq. 36), and each moves: symplectic
+// Euler, v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and sums
+// are rewritten for the next step. One invocation, so that a contact between two bodies changes both at once and the
+// impulses run in one order on every run. The energy ledger takes the work the moving colliders do on the bodies
+// through their contacts, and the energy the explicit coupling gives them (common/energy.glsl; docs/numerics.md, The
+// energy audit; mirror_stress.comp adds the images' share). The bodies' contact probes come from the field buffer, a
+// buffer texture (no storage buffer).
 // Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values).
 // Writes: colliders (the bodies' entries: pose and velocities and their sums cleared),
 //         watchdog (the ledger's flows and with adaptive steps the fastest speed).
@@ -16,15 +16,10 @@
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
 #include "common/bodies.glsl"
+#include "common/body_contacts.glsl"
 #include "common/energy.glsl"
 
 layout(local_size_x = 1) in;
-
-// Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
-// approach at every probe; a resting box settles within a few.
-const int CONTACT_PASSES = 10;
-
-vec3 probe(ColliderParams body, int k) { return fieldVector(body.bodyProbes.x + 3 * k); }
 
 // The deepest of the scene's colliders and the domain walls at x, at timeS: φ (m) and its outward normal, and
 // the velocity of that surface and its friction (a wall's 0 and at rest).
@@ -58,47 +53,6 @@ float deepestContact(vec3 x, float timeS, uint staticColliders, out vec3 normal,
   }
   return deepest;
 }
-
-// The inverse of the effective mass a body of mass M and world inverse inertia I⁻¹ has along direction d at r from its
-// centre of mass: 1/M + d · (I⁻¹ (r × d)) × r.
-float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
-  return 1.0 / massKg + dot(d, cross(inverseInertia * cross(r, d), r));
-}
-
-// The impulses the contacts have given this step, one slot per probe and what it may meet (the colliders and walls,
-// then each other body), numbered in the order the passes visit them: xyz the friction, w the normal impulse. Each
-// pass adds to a slot what makes its contact's approach zero and keeps its total within the contact's laws — the
-// normal total ≥ 0, the friction's within μ of it — so that a later pass can take back what an earlier one gave too
-// much (projected Gauss–Seidel with accumulated impulses, Catto 2005): a box landing flat on its 26 probes is not
-// turned by the first probe's taking the whole landing. A contact beyond the slots starts each pass from nothing.
-const int CONTACT_SLOTS = 128;
-vec4 accumulated[CONTACT_SLOTS];
-
-// The impulse this pass adds at contact `slot` on a body whose velocity relative to what it meets there is
-// `relative`, along the outward `normal` of what it meets: perfectly inelastic with Coulomb friction μ (eq. 36), given
-// the contact's inverse effective masses along the normal and along the slip's direction t (both bodies' summed, where
-// it meets another body).
-vec3 contactImpulse(int slot, vec3 relative, vec3 normal, float friction, float normalInverseMass,
-                    float tangentInverseMass, vec3 t) {
-  float approach = dot(relative, normal);
-  vec3 slip = relative - approach * normal;
-  vec3 frictionWanted = -length(slip) / tangentInverseMass * t;
-  vec4 before = slot < CONTACT_SLOTS ? accumulated[slot] : vec4(0.0);
-  float normalTotal = max(before.w - approach / normalInverseMass, 0.0);
-  vec3 frictionTotal = before.xyz + frictionWanted;
-  float limit = friction * normalTotal;
-  if (length(frictionTotal) > limit) frictionTotal *= limit / length(frictionTotal);
-  if (slot < CONTACT_SLOTS) accumulated[slot] = vec4(frictionTotal, normalTotal);
-  return (normalTotal - before.w) * normal + (frictionTotal - before.xyz);
-}
-
-// The direction of the tangential slip of a relative velocity, or 0 where there is none.
-vec3 slipDirection(vec3 relative, vec3 normal) {
-  vec3 slip = relative - dot(relative, normal) * normal;
-  return length(slip) > 0.0 ? normalize(slip) : vec3(0.0);
-}
-
-bool takesPart(uint i) { return colliders[i].shapeBoundary.w != 0; }  // a parked body does not
 
 // Body i's velocities as its entry holds them during the contacts: V, and L with ω = I⁻¹ L.
 void setVelocities(uint i, vec3 v, vec3 angularMomentum, mat3 inverseInertia) {

@@ -7,7 +7,8 @@
 // (M v*, (M + β Δt² Hᵢᵢ)⁻¹ M v*) over all the components, held ones too, and of the rounding floor (below). The grid's
 // velocities become x₀, the solution's start.
 // Reads: solverStatus (roundingStiffness and the solveBlockDispatch record),
-//        blockTable (blockCounts, and slots[].block with rigid bodies), gridMomentumMass (the velocities v* and masses),
+//        blockTable (blockCounts, and slots[].block with rigid bodies),
+//        gridMomentumMass (the velocities v* and masses),
 //        solverNodes (direction: the start x₀ and the product and stiffness block sums and constraint and residual.w),
 //        solverPreconditioner (the inverse it has just written at the node), colliders (with rigid bodies: their
 //        centres).
