@@ -79,7 +79,7 @@ void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, D
   if (semiImplicit_) return;
   // Each body and the nodes it holds, solved together, then those nodes take its motion.
   if (share) sumOverShares(state, *share, Sums::Coupling);
-  solveCoupling_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation for all: they meet
+  solveCoupling_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
   state.grid().run(coupleNodes_, sortFor, state.bindings(), timer);
 }
 
