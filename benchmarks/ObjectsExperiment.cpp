@@ -7,9 +7,9 @@
 // The objects sit on the ground under the bunny, their top a quarter cell below its lowest particles: every active
 // node and particle probes them (a collider's cost is its test, contact or not), the bunny's free fall keeps the
 // steps alike from one configuration to the next, and the snow at the bunny's foot lies within a kernel of the top,
-// so the rigid box mirrors its stress into itself (docs/algorithm.md eq. 38) as a body the snow rests on does. A
-// second analytic and rigid box, 1 m tall, reach 0.56 m into the bunny: the 28,000 particles that start inside are
-// moved out onto the top, packed there, all within a kernel of the body (the worst case of the images' cost).
+// where the rigid box holds its nodes as a body the snow rests on does (a fluid's stress, not snow's, would also be
+// mirrored into it: docs/algorithm.md eq. 38). A second analytic and rigid box, 1 m tall, reach 0.56 m into the bunny:
+// the 28,000 particles that start inside are moved out onto the top, packed there, all within a kernel of the body.
 #include <algorithm>
 #include <chrono>
 #include <memory>
