@@ -54,7 +54,7 @@ class DomainShare {
   // (BlockSlot::auditedElsewhere), whose nodes' energy flows, loads and pushes on rigid bodies that share counts. Every
   // share calls it at the same point of the same step.
   virtual void sumSharedNodes(BlockGrid& grid) = 0;
-  // After passes that add to the sums of the nodes once sumSharedNodes has completed them (the images of the snow's
+  // After passes that add to the sums of the nodes once sumSharedNodes has completed them (the images of a fluid's
   // stress in the rigid bodies, mirror_stress.comp): adds what the other shares added at the shared nodes since, so
   // that every holder holds the whole sums again. Every share calls it at the same point of the same step.
   virtual void sumSharedChanges(BlockGrid& grid) = 0;

@@ -1,7 +1,7 @@
 #pragma once
 // The step as a list of compute passes in the order of Stomakhin et al. 2013 §6 (docs/algorithm.md): the blocks
 // of the grid this step needs and the particles sorted into them (the block grid's own passes, sim/BlockGrid.h);
-// particle to grid, and the snow's stress mirrored into the rigid bodies; the grid update (forces, gravity,
+// particle to grid, and a fluid's stress mirrored into the rigid bodies; the grid update (forces, gravity,
 // colliders, walls); grid to particle with the deformation update, plasticity and advection; then the rigid bodies,
 // pushed by the snow. The programs are built for the scene: its kernel, transfer, atomics, colliders, rigid bodies
 // and material models, and nothing else.

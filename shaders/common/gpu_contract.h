@@ -210,9 +210,10 @@ FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
 //                     momentumUnitKgMPerS · 2^−k, P2G's momentum units (common/fixed64.glsl)
 //   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · 2^−k · h
-// and, in the explicit step, its coupled solve with the nodes it holds (docs/algorithm.md, eq. 39):
-//   freeVelocity      xyz the body's velocity before the coupled solve, V* (m/s), which the snow's impulses after
-//                     the solve add to (predict_bodies.comp, integrate_bodies.comp)
+// and its solve with the nodes it holds (docs/algorithm.md, eq. 39 in the explicit step, 39a in the semi-implicit):
+//   freeVelocity      xyz the body's velocity before the explicit step's coupled solve, V* (m/s), or the semi-implicit
+//                     solve's u (solver_bodies_finish.comp), which the snow's impulses after the solve add to
+//                     (predict_bodies.comp, integrate_bodies.comp)
 //   freeAngularVelocity  xyz its ω* before the solve (rad/s): a separating body's nodes are held where they approach
 //                     its surface moving so
 //   couplingLow/High  the solve's sums over the held nodes, 64-bit fixed point in units of 2^−COUPLING_FRACTION_BITS:

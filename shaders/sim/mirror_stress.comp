@@ -53,9 +53,8 @@ void scatterImage(uint i, uint p, vec3 x, float distanceM, vec3 normal) {
   vec3 bodyMomentKgM2PerS = vec3(0.0);
   // The images' push is no force of the snow's own energy: what it does to the nodes, as they move relative to the
   // body's surface, is energy the coupling makes. A node of mass m at v⁻ that takes the pushes' sum J moves at
-  // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly: the explicit step measures half of Σ J_image · (v − v_s) at v⁻,
-  // before the pushes, and half at v⁺, after. The semi-implicit step sums the impulses apart, so its nodes' sums hold
-  // v⁻ throughout: it measures the first order once, whole, and leaves the second in the residual.
+  // v⁺ = v⁻ + J/m and gains J · ½ (v⁻ + v⁺) exactly: half of Σ J_image · (v − v_s) is measured at v⁻, before the
+  // pushes, and half at v⁺, after.
   float madeJ = 0.0;
   // The stencil's nodes in the body's rest frame: its first node's, and a cell along each axis turned into it, so
   // that a node's side of the surface costs the shape's distance alone, not two turns by quaternions per node.

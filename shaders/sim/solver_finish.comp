@@ -7,8 +7,9 @@
 // meets them as update_grid.comp's nodes do. A node the solve did not change meets them unchanged, so with β = 0 the
 // step is the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c).
 // A work group per active block, an invocation per node.
-// With rigid bodies, each body whose solid holds a node takes its part of the constraints' push in the solve (eq. 35a,
-// from the product of the solution: common/colliders.glsl, constraintsAfterSolve) and of the friction; with moving
+// With rigid bodies, each body whose solid holds a node with another collider or a wall takes its part of the
+// constraints' push in the solve (eq. 35a, from the product of the solution: common/colliders.glsl,
+// constraintsAfterSolve; at a node it alone holds, its push is its own in the solve, eq. 39a), and of the friction; with moving
 // colliders, their part of that push, the friction and the collisions are their work on the snow, for the energy
 // audit (common/energy.glsl).
 // Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),

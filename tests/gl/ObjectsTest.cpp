@@ -244,14 +244,13 @@ TEST_F(ObjectsTest, AOneCellThickMeshWallHitAt10MetresASecondHoldsEveryParticle)
 // particles' velocities (2⁻²⁴ of each term, accumulating over 150 steps) and the fixed-point sums' units
 // (momentumUnit = m_ref h / Δt per node, of 2⁻⁷ the block's momentum), well inside the 1e-4 of the total allowed.
 //
-// The semi-implicit step couples bodies as the explicit one does (docs/algorithm.md, Rigid bodies, eq. 35a): a body
-// takes the approach the grid update removes at its nodes, the push its constraints take in the solve (the held
-// components of β Δt² H x, from a product of the solution) and the friction after it. The same block and sphere at
-// the snow's elastic bound (Δt = 2.5 ms = h / c = 0.05 / 19.7 s), 60 steps. The momentum the snow loses in a step is
-// then also the solve's residual summed, which Cauchy–Schwarz bounds by tolerance × √(M (M v*, v*)) ≈ tolerance × M v
+// The semi-implicit step solves the body's velocities with the snow's (docs/algorithm.md, Rigid bodies, eq. 39a): the
+// body's momentum is what the solve gives it, and the friction after it pushes it as eq. 35. The same block and
+// sphere at the snow's elastic bound (Δt = 2.5 ms = h / c = 0.05 / 19.7 s), 60 steps. The momentum lost in a step is
+// then the solve's residual summed, which Cauchy–Schwarz bounds by tolerance × √(M (M v*, v*)) ≈ tolerance × M v
 // (SemiImplicit.SolveConservesMomentumWithoutColliders): at tolerance 1e-6, 6e-5 of the total over 60 steps, inside
-// the same 1e-4 (measured: 1.6e-5; explicitly, 5e-6). Semi-implicitly also with a slip and a sticky sphere, whose
-// constraints hold the normal component and the whole velocity (measured: 2.1e-5 and 4e-6).
+// the same 1e-4 (measured: under 3e-6; explicitly, 5e-6). Semi-implicitly with a separating, a slip and a sticky
+// sphere, whose nodes hold the normal component (while approaching) and the whole velocity.
 TEST_F(ObjectsTest, SnowAndARigidSphereConserveTheirTotalMomentum) {
   for (const auto& [solver, boundary] :
        {std::pair<std::string, std::string>{R"("integrator": "explicit")", "separate"},

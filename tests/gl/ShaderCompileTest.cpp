@@ -79,14 +79,16 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, semiImplicit))
             << pass << " semi-implicit " << kernel << " " << transfer;
       }
-      // The rigid bodies' passes and those that push them, in the semi-implicit step (with APIC and the step's impulse
-      // sums the mirror pass declares 16 storage blocks, llvmpipe's limit).
+      // The rigid bodies' passes and those that push them, in the semi-implicit step, whose solve takes the bodies'
+      // velocities as unknowns (docs/algorithm.md, eq. 39a).
       firn::gl::ShaderOptions withBodies = semiImplicit;
       withBodies.defines.insert(withBodies.defines.end(), {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
                                                            {"FIRN_HAS_MESH_SHAPES", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}});
-      for (const char* pass : {"sim/update_grid.comp", "sim/solver_finish.comp", "sim/list_mirror_blocks.comp",
-                               "sim/list_mirrored.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
-                               "sim/integrate_bodies.comp"}) {
+      for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solver_residual.comp",
+                               "sim/solver_apply.comp", "sim/solver_step.comp", "sim/solver_reduce.comp",
+                               "sim/solver_bodies_residual.comp", "sim/solver_bodies_apply.comp",
+                               "sim/solver_bodies_step.comp", "sim/solver_bodies_finish.comp", "sim/solver_finish.comp",
+                               "sim/g2p.comp", "sim/integrate_bodies.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, withBodies))
             << pass << " semi-implicit with rigid bodies " << kernel << " " << transfer;
       }
@@ -96,7 +98,8 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
                                     {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
                                      {"FIRN_HAS_MESH_SHAPES", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_ADAPTIVE_DT", "1"}});
       for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solve_coupling.comp",
-                               "sim/couple_nodes.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
+                               "sim/couple_nodes.comp", "sim/list_mirror_blocks.comp", "sim/list_mirrored.comp",
+                               "sim/claim_image_blocks.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
                                "sim/integrate_bodies.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, explicitBodies))
             << pass << " explicit with rigid bodies " << kernel << " " << transfer;
