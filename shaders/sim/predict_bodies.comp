@@ -1,10 +1,11 @@
 #version 430 core
 // Rigid bodies before their solve with the nodes they hold (docs/algorithm.md, eq. 39, and in the semi-implicit step
 // eq. 39a): an invocation per body, after the images of a fluid's stress (mirror_stress.comp, explicit step) have
-// pushed it and before the grid update. The body takes that push and gravity, V* = V + J / M + Δt g and L* = L + K, and its entry moves at V* and ω* = I⁻¹ L* from here to the
-// solve: the grid update meets its surface moving so (a separating body holds the nodes approaching it then), and
-// integrate_bodies.comp adds the snow's impulses after the solve to V* (ColliderParams.freeVelocity).
-// The energy ledger takes the push's own energy, as integrate_bodies.comp takes the rest's (common/bodies.glsl).
+// pushed it and before the grid update. The body takes that push and gravity, V* = V + J / M + Δt g and L* = L + K, and
+// its entry moves at V* and ω* = I⁻¹ L* from here to the solve: the grid update meets its surface moving so (a
+// separating body holds the nodes approaching it then), and integrate_bodies.comp adds the snow's impulses after the
+// solve to V* (ColliderParams.freeVelocity). The energy ledger takes the push's own energy, as integrate_bodies.comp
+// takes the rest's (common/bodies.glsl).
 // Reads: colliders (the bodies' entries and the push summed there), watchdog (the ledger's atomics' old values).
 // Writes: colliders (the bodies' entries: velocities and their sums cleared), watchdog (the ledger's flows).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS

@@ -3,15 +3,14 @@
 // Coulomb friction now, bounded by the whole normal impulse of the step, the approach update_grid.comp removed and the
 // push the held component took in the solve (SolverNode.residual.w; common/colliders.glsl). The solution keeps the
 // components its constraints held at their collided values, but a node the constraints left free — outside the
-// colliders, or separating from one, when v* was computed — may now move into a collider or out of the domain: it
-// meets them as update_grid.comp's nodes do. A node the solve did not change meets them unchanged, so with β = 0 the
-// step is the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c).
-// A work group per active block, an invocation per node.
-// With rigid bodies, each body whose solid holds a node with another collider or a wall takes its part of the
-// constraints' push in the solve (eq. 35a, from the product of the solution: common/colliders.glsl,
-// constraintsAfterSolve; at a node it alone holds, its push is its own in the solve, eq. 39a), and of the friction; with moving
-// colliders, their part of that push, the friction and the collisions are their work on the snow, for the energy
-// audit (common/energy.glsl).
+// colliders, or separating from one, when v* was computed — may now move into a collider or out of the domain: it meets
+// them as update_grid.comp's nodes do. A node the solve did not change meets them unchanged, so with β = 0 the step is
+// the explicit one to the bit (for colliders at rest: the friction's relative velocity is v − v_c). A work group per
+// active block, an invocation per node. With rigid bodies, each body whose solid holds a node with another collider or
+// a wall takes its part of the constraints' push in the solve (eq. 35a, from the product of the solution:
+// common/colliders.glsl, constraintsAfterSolve; at a node it alone holds, its push is its own in the solve, eq. 39a),
+// and of the friction; with moving colliders, their part of that push, the friction and the collisions are their work
+// on the snow, for the energy audit (common/energy.glsl).
 // Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
 //        gridMomentumMass (the velocities and masses),
 //        solverNodes (constraint and residual.w: the colliders' normal impulses and FIRN_SOLUTION_PRODUCT's sums),
