@@ -11,6 +11,7 @@
 #include "Error.h"
 #include "gpu/GpuFunctions.h"
 #include "gpu/Materials.h"
+#include "sim/RigidBodies.h"
 #include "io/Text.h"
 #include "scene/ColliderMotion.h"
 #include "sim/GpuState.h"
@@ -38,7 +39,7 @@ Diagnostics::Diagnostics(const Scene& scene, const FixedPointScale& fixedPoint)
       stableDtS_(scene.grid.cellSizeM / stiffestBody(scene).waveSpeedMPerS),
       solver_(scene.solver), maxNodeValue_(fixedPoint.maxNodeValue()),
       kernelWidth_(scene.solver.kernel == Kernel::Cubic ? 4 : 3), materials_(scene.materials), bodies_(scene.bodies),
-      rigidBodies_(!scene.rigidBodies.empty()) {
+      imagesBoundTheStep_(mirrorsStressIntoBodies(scene)) {
   double fastestMPerS = 0;
   for (std::size_t c = 0; c < scene.colliders.size(); ++c) {
     const double speed = fastestColliderSpeedMPerS(scene, scene.colliders[c]);
@@ -82,10 +83,7 @@ std::string Diagnostics::describeParticle(std::int32_t particle, const GpuState&
 }
 
 std::string Diagnostics::rigidBodyHint(const std::string& bound) const {
-  // Only a fluid's stress is mirrored, and only in the explicit step (docs/algorithm.md, eq. 38 and 39a).
-  const bool fluid = std::any_of(materials_.begin(), materials_.end(),
-                                 [](const Material& m) { return m.model == MaterialModel::Water; });
-  if (!rigidBodies_ || solver_.semiImplicit() || !fluid) return "";
+  if (!imagesBoundTheStep_) return "";
   return "; the rigid bodies take the water's mirrored stress explicitly, and one much lighter than the water it "
          "presses on can rock apart at steps below " + bound + ": make it heavier or reduce time.dt";
 }

@@ -67,7 +67,8 @@ class Diagnostics {
   int kernelWidth_ = 4;       // nodes of a particle's stencil per axis
   std::vector<Material> materials_;
   std::vector<Body> bodies_;
-  bool rigidBodies_ = false;           // the scene has rigid bodies, whose coupling bounds the step too
+  bool imagesBoundTheStep_ = false;    // a fluid's stress mirrored into rigid bodies bounds the step too
+                                       // (sim/RigidBodies.h, mirrorsStressIntoBodies)
   std::string fastestCollider_;        // "colliders[i] (… m/s)" when a collider moves, else empty
   std::vector<int> particleBody_;      // body of each particle (−1: added while running)
   std::vector<int> particleMaterial_;  // material of each particle

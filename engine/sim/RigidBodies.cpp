@@ -1,5 +1,6 @@
 #include "sim/RigidBodies.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
@@ -28,20 +29,29 @@ unsigned countedElsewhere(const DomainShare* share) { return share && !share->co
 
 }  // namespace
 
+bool mirrorsStressIntoBodies(const Scene& scene) {
+  return !scene.rigidBodies.empty() && !scene.solver.semiImplicit() &&
+         std::any_of(scene.materials.begin(), scene.materials.end(),
+                     [](const Material& material) { return material.model == MaterialModel::Water; });
+}
+
 RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, const gl::ShaderOptions& options,
                          int maxWorkGroupsX)
     : count_(scene.rigidBodies.size()),
       first_(scene.colliders.size()),
       semiImplicit_(scene.solver.semiImplicit()),
+      mirrorsStress_(mirrorsStressIntoBodies(scene)),
       maxWorkGroupsX_(maxWorkGroupsX),
       predictBodies_(library, "sim/predict_bodies.comp", options),
       integrateBodies_(library, "sim/integrate_bodies.comp", options) {
   // The semi-implicit step's bodies are unknowns of its solve (ImplicitSolver), and it mirrors no stress into them:
   // the images' push is explicit and as stiff as the snow (docs/algorithm.md, Rigid bodies in the semi-implicit step).
-  if (!semiImplicit_) {
+  if (mirrorsStress_) {
     listMirrorBlocks_ = gl::ComputePass(library, "sim/list_mirror_blocks.comp", options);
     listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
+  }
+  if (!semiImplicit_) {
     solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
     coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
                                        offsetof(gpu::BlockTableHeader, blockDispatch));
@@ -49,7 +59,7 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
 }
 
 void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
-  if (semiImplicit_) return;
+  if (!mirrorsStress_) return;
   const gl::BufferBindings& buffers = state.bindings();
   const gl::Buffer& blockTable = state.grid().blockTable();
   listMirrorBlocks_.runIndirect(blockTable, offsetof(gpu::BlockTableHeader, blockRunDispatch), buffers, timer);

@@ -6,8 +6,8 @@
 // over the shares before a pass reads them, so that every share moves every body alike (docs/distributed.md).
 //
 // The step's points, in order (StepPipeline::step):
-//   afterTransfer        explicit step: the snow's stress mirrored into the bodies (eq. 38), once the nodes hold
-//                        their whole sums
+//   afterTransfer        explicit step with a fluid: its stress mirrored into the bodies (eq. 38), once the nodes
+//                        hold their whole sums
 //   beforeGridUpdate     each body takes gravity and the images' push (predict_bodies.comp)
 //   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39); the
 //                        semi-implicit step solves them with the snow (ImplicitSolver, eq. 39a)
@@ -27,6 +27,11 @@
 #include "sim/GpuState.h"
 
 namespace firn {
+
+// Whether a step of `scene` mirrors stress into its rigid bodies (docs/algorithm.md, eq. 38): the explicit step, with
+// bodies and a fluid (water) among the materials — only a fluid's stress is mirrored (common/mirror.glsl,
+// stressMirrored), and the semi-implicit step solves the bodies with the snow instead (eq. 39a).
+bool mirrorsStressIntoBodies(const Scene& scene);
 
 class RigidBodies {
  public:
@@ -60,11 +65,12 @@ class RigidBodies {
   std::size_t count_ = 0;
   std::size_t first_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
   bool semiImplicit_ = false;
+  bool mirrorsStress_ = false;  // mirrorsStressIntoBodies
   int maxWorkGroupsX_ = 65535;
   gl::ComputePass predictBodies_;
   gl::ComputePass integrateBodies_;
-  // The explicit step's images of the snow's stress (eq. 38) and coupled solve of the bodies and the nodes they hold
-  // (docs/algorithm.md, eq. 39).
+  // The explicit step's images of a fluid's stress (eq. 38), where the scene mirrors it, and coupled solve of the
+  // bodies and the nodes they hold (docs/algorithm.md, eq. 39).
   gl::ComputePass listMirrorBlocks_;
   gl::ComputePass listMirrored_;
   gl::ComputePass mirrorStress_;

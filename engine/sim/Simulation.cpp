@@ -136,7 +136,7 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
     diagnostics_.followIds(&shared_.ids());
     // A body's images push the nodes that hold snow, which another share's particles may fill: this share must hold
     // those nodes' blocks too (docs/distributed.md).
-    if (!scene_.rigidBodies.empty()) state_.grid().claimImageBlocks();
+    if (mirrorsStressIntoBodies(scene_)) state_.grid().claimImageBlocks();
   }
   const std::vector<ParticleSeed> particles = shared_.own(initial, 0);
   writeParticles(0, particles);

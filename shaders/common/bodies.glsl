@@ -17,6 +17,9 @@ mat3 worldInverseInertia(ColliderParams body, mat3 turn) {
   return turn * restInverseInertia * transpose(turn);
 }
 
+// I in the world's axes, R I_b Rᵀ, for the body's orientation now (kg·m²).
+mat3 worldInertia(ColliderParams body) { return inverse(worldInverseInertia(body, rotationMatrix(body.rotation))); }
+
 // The impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) summed in the body's entry.
 void summedPush(ColliderParams body, out vec3 impulseKgMPerS, out vec3 momentKgM2PerS) {
   float kgMPerSPerUnit = ldexp(momentumUnitKgMPerS, -fixedPointFractionBits);

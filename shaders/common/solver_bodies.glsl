@@ -29,10 +29,12 @@ vec3 heldBodyMotion(int b, vec3 x, vec3 linear, vec3 angular, vec4 constraint) {
   return heldPart(linear + cross(angular, fromCentre), constraint);
 }
 
-// Adds G_iᵀ w to body b's sums for a held vector w at node x: w (kg·m/s) and its moment about the centre of mass.
-// A value beyond the fixed point's range is dropped and the watchdog told, as the products' are.
-void addToBodySums(int b, vec3 x, vec3 heldKgMPerS, ivec3 node) {
-  vec3 fromCentreCells = (x - colliderPivot(colliders[bodyEntry(b)], timeS)) * cellsPerM;
+// Node x's place from body b's centre of mass, in cells (the body's sums' unit of length).
+vec3 fromBodyCentreCells(int b, vec3 x) { return (x - colliderPivot(colliders[bodyEntry(b)], timeS)) * cellsPerM; }
+
+// Adds G_iᵀ w to body b's sums for a held vector w at `node`, `fromCentreCells` from its centre of mass: w (kg·m/s)
+// and its moment. A value beyond the fixed point's range is dropped and the watchdog told, as the products' are.
+void addToBodySums(int b, vec3 fromCentreCells, vec3 heldKgMPerS, ivec3 node) {
   float unitsPerKgMPerS = 1.0 / momentumUnitKgMPerS;
   uvec4 low;
   ivec4 high;
@@ -55,11 +57,11 @@ void takeBodySums(int b, out vec3 forceKgMPerS, out vec3 momentKgM2PerS) {
   }
 }
 
-// Adds node x's share of body b's preconditioner block, G_iᵀ P_i (m I + K) P_i G_i with K = β Δt² Hᵢᵢ (kg), the
-// upper triangle of 21 values in P2G's nondimensional units, as the explicit step's coupled solve sums Σ m Gᵀ P G
-// (common/colliders.glsl, addToCoupling): the body's own diagonal block of eq. 39a.
-void addToBodyBlock(int b, vec3 x, float massKg, mat3 stiffnessKg, vec4 constraint) {
-  vec3 fromCentreCells = (x - colliderPivot(colliders[bodyEntry(b)], timeS)) * cellsPerM;
+// Adds the share of body b's preconditioner block of a node `fromCentreCells` from its centre of mass, G_iᵀ P_i (m I +
+// K) P_i G_i with K = β Δt² Hᵢᵢ (kg), the upper triangle of 21 values in P2G's nondimensional units, as the explicit
+// step's coupled solve sums Σ m Gᵀ P G (common/colliders.glsl, addToCoupling): the body's own diagonal block of eq.
+// 39a.
+void addToBodyBlock(int b, vec3 fromCentreCells, float massKg, mat3 stiffnessKg, vec4 constraint) {
   mat3 nodeBlock = (massKg * mat3(1.0) + stiffnessKg) * massUnitsPerKg;
   vec3 columns[6];
   for (int k = 0; k < 3; ++k) {
@@ -100,7 +102,7 @@ void preconditionBody(int b, vec3 force, vec3 moment, out vec3 linear, out vec3 
 // M_b u for body b's entry: M V and I ω (kg·m/s, kg·m²/s), I in the world's axes now.
 void bodyMassTimes(ColliderParams body, vec3 linear, vec3 angular, out vec3 force, out vec3 moment) {
   force = body.bodyMass.x * linear;
-  moment = inverse(worldInverseInertia(body, rotationMatrix(body.rotation))) * angular;
+  moment = worldInertia(body) * angular;
 }
 
 // The dot product of two of the body's 6-vectors, each as its two parts.

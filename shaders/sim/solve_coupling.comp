@@ -37,8 +37,7 @@ void main() {
   // The body in the sums' units: mass m_ref, length h, velocity h / Δt_ref, so ω in 1 / Δt_ref.
   float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
   float massUnits = body.bodyMass.x * massUnitsPerKg;
-  mat3 inertiaUnits = inverse(worldInverseInertia(body, rotationMatrix(body.rotation))) *
-                      (massUnitsPerKg * cellsPerM * cellsPerM);
+  mat3 inertiaUnits = worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM);
   vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
   vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
   vec3 angularMomentum = inertiaUnits * angularVelocity;

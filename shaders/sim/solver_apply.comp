@@ -44,7 +44,7 @@ void main() {
   int body = constraintBody(constraint);
   if (body >= 0) {
     ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
-    addToBodySums(body, nodePosition(node), unprojected - product, node);
+    addToBodySums(body, fromBodyCentreCells(body, nodePosition(node)), unprojected - product, node);
   }
 #endif
   vec3 residual = solverNodes[i].residual.xyz;

@@ -29,10 +29,9 @@ void main() {
   vec3 omega = solverBodies[b].velocity[1].xyz;
   vec3 impulseOnSnow = -body.bodyMass.x * (v - body.velocityFriction.xyz);
   if (impulseOnSnow != vec3(0.0)) addObjectLoad(i, impulseOnSnow, dot(impulseOnSnow, v));
-  mat3 inertia = inverse(worldInverseInertia(body, rotationMatrix(body.rotation)));
   colliders[i].velocityFriction.xyz = v;
   colliders[i].freeVelocity.xyz = v;
   colliders[i].angularVelocity.xyz = omega;
   colliders[i].freeAngularVelocity.xyz = omega;
-  colliders[i].angularMomentum.xyz = inertia * omega;
+  colliders[i].angularMomentum.xyz = worldInertia(body) * omega;
 }

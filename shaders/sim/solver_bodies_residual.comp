@@ -34,9 +34,7 @@ void invertBodyBlock(int b, ColliderParams body) {
     solverBodies[b].blockLow[w] = uvec4(0u);
     solverBodies[b].blockHigh[w] = ivec4(0);
   }
-  mat3 inertiaUnits = inverse(worldInverseInertia(body, rotationMatrix(body.rotation))) *
-                      (massUnitsPerKg * cellsPerM * cellsPerM);
-  addBodyMass(body.bodyMass.x * massUnitsPerKg, inertiaUnits, upper);
+  addBodyMass(body.bodyMass.x * massUnitsPerKg, worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM), upper);
   float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
   float scale[6];
   for (int k = 0; k < 3; ++k) {

@@ -25,6 +25,7 @@ void main() {
   uint blocks = activeBlocks();
   vec4 dots = registers[iteration];  // x: (z, A z), y: (A p, P⁻¹ A p)
   float alpha = dots.y > 0.0 ? dots.x / dots.y : 0.0;
+  float beta = iteration > 1u ? conjugateResidualBeta(dots.x, iteration) : 0.0;
   for (uint k = gl_LocalInvocationIndex; k < rigidBodyCount; k += uint(FIRN_REDUCTION_GROUP_SIZE)) {
     int b = int(k);
     vec3 residual[2];
@@ -32,7 +33,6 @@ void main() {
       vec3 direction = solverBodies[b].preconditioned[part].xyz;
       vec3 directionProduct = solverBodies[b].product[part].xyz;
       if (iteration > 1u) {
-        float beta = conjugateResidualBeta(dots.x, iteration);
         direction += beta * solverBodies[b].direction[part].xyz;
         directionProduct += beta * solverBodies[b].directionProduct[part].xyz;
       }

@@ -69,9 +69,9 @@ void main() {
   int body = constraintBody(constraint);
   if (body >= 0) {
     ivec3 node = nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex);
-    vec3 x = nodePosition(node);
-    addToBodySums(body, x, heldPart(product, constraint), node);
-    addToBodyBlock(body, x, velocityMass.w, stiffnessKg, constraint);
+    vec3 fromCentreCells = fromBodyCentreCells(body, nodePosition(node));
+    addToBodySums(body, fromCentreCells, heldPart(product, constraint), node);
+    addToBodyBlock(body, fromCentreCells, velocityMass.w, stiffnessKg, constraint);
   }
 #endif
   // The held component's push at the start, n·(A x₀ − M v*), joins the approach update_grid.comp removed.

@@ -89,7 +89,7 @@ void updateNode(uint slot) {
     // held too it stays a constraint of the body's velocities now, which take the push.
     if (soleBody >= 0 && walls == 0) {
       constraint.w = float(int(constraint.w) | ((soleBody + 1) << CONSTRAINT_BODY_SHIFT));
-      addToBodySums(soleBody, x, soleBodyImpulseKgMPerS, node);
+      addToBodySums(soleBody, fromBodyCentreCells(soleBody, x), soleBodyImpulseKgMPerS, node);
     } else if (soleBody >= 0) {
       pushBodyAtNode(soleBody, x, timeS, soleBodyImpulseKgMPerS);
     }
