@@ -52,6 +52,9 @@ class GpuState {
   const SolverState* solver() const { return solver_ ? &*solver_ : nullptr; }
   // Every part's buffers at its binding points: what each pass binds the blocks it declares from.
   const gl::BufferBindings& bindings() const { return bindings_; }
+  // Publishes a buffer a part of the step owns beside the state (RigidBodies' coupled inverses) at `binding`, until
+  // the state publishes its own anew (a grown particle buffer or block pool): the part publishes it before its passes.
+  void publishStorage(GLuint binding, const gl::Buffer& buffer) { bindings_.storage(binding, buffer); }
   StorageRecordBytes storageRecordBytes() const;
 
   // The block pool: its use (the grid's and the solver's buffers), and a new, larger pool (the grid is rebuilt every

@@ -53,6 +53,8 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
   }
   if (!semiImplicit_) {
     solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
+    if (count_ > 1) meetBodies_ = gl::ComputePass(library, "sim/meet_bodies.comp", options);
+    coupledInverses_ = gl::Buffer(count_ * sizeof(gpu::SolverBody)).labelled("rigid bodies: coupled inverses");
     coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
                                        offsetof(gpu::BlockTableHeader, blockDispatch));
   }
@@ -87,9 +89,12 @@ void RigidBodies::beforeGridUpdate(GpuState& state, DomainShare* share, gl::Pass
 void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, DomainShare* share,
                                   gl::PassTimer& timer) const {
   if (semiImplicit_) return;
-  // Each body and the nodes it holds, solved together, then those nodes take its motion.
+  // Each body and the nodes it holds, solved together, the bodies' contacts with each other, then those nodes take
+  // the bodies' motion.
   if (share) sumOverShares(state, *share, Sums::Coupling);
+  state.publishStorage(FIRN_BINDING_SOLVER_BODIES, coupledInverses_);
   solveCoupling_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
+  if (count_ > 1) meetBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation: they meet
   state.grid().run(coupleNodes_, sortFor, state.bindings(), timer);
 }
 

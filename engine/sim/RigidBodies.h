@@ -9,8 +9,9 @@
 //   afterTransfer        explicit step with a fluid: its stress mirrored into the bodies (eq. 38), once the nodes
 //                        hold their whole sums
 //   beforeGridUpdate     each body takes gravity and the images' push (predict_bodies.comp)
-//   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39); the
-//                        semi-implicit step solves them with the snow (ImplicitSolver, eq. 39a)
+//   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39), and the bodies'
+//                        contacts with each other met with that solve's inertia; the semi-implicit step solves them
+//                        with the snow (ImplicitSolver, eq. 39a)
 //   afterGridToParticle  the snow's push, the contacts, the motion (integrate_bodies.comp)
 #include <cstddef>
 #include <optional>
@@ -70,11 +71,14 @@ class RigidBodies {
   gl::ComputePass predictBodies_;
   gl::ComputePass integrateBodies_;
   // The explicit step's images of a fluid's stress (eq. 38), where the scene mirrors it, and coupled solve of the
-  // bodies and the nodes they hold (docs/algorithm.md, eq. 39).
+  // bodies and the nodes they hold (docs/algorithm.md, eq. 39), whose inverse inertias K⁻¹ (gpu::SolverBody.inverse,
+  // the semi-implicit solve's records, of which the explicit step uses this one) the bodies then meet each other with.
   gl::ComputePass listMirrorBlocks_;
   gl::ComputePass listMirrored_;
   gl::ComputePass mirrorStress_;
   gl::ComputePass solveCoupling_;
+  gl::ComputePass meetBodies_;  // with two bodies or more
+  gl::Buffer coupledInverses_;
   BlockGrid::StepPass coupleNodes_;
 };
 

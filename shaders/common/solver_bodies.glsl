@@ -14,11 +14,7 @@
 // product are Σ_i G_iᵀ P_i (A T y)_i over its nodes plus M_b y_b. Each node adds its part to the body's sums here, in
 // the solve's 64-bit fixed point, so the sums do not depend on the order of the additions.
 #include "common/fixed64.glsl"
-
-layout(std430, binding = FIRN_BINDING_SOLVER_BODIES) coherent buffer SolverBodiesBuffer { SolverBody solverBodies[]; };
-
-// The entry of body b in the collider table (the bodies are its last entries).
-uint bodyEntry(int b) { return colliderCount - rigidBodyCount + uint(b); }
+#include "common/body_blocks.glsl"
 
 // P_i w: the components of w that the node's constraint holds (for a node a body alone holds, what the body holds).
 vec3 heldPart(vec3 w, vec4 constraint) { return w - constrain(w, constraint); }
@@ -84,19 +80,6 @@ void addToBodyBlock(int b, vec3 fromCentreCells, float massKg, mat3 stiffnessKg,
                  high);
     FIRN_ADD_FIXED64(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w], low, high)
   }
-}
-
-// P_b⁻¹ v for body b: v's force-like part and moment-like part into (V, ω) (SolverBody.inverse, row after row).
-void preconditionBody(int b, vec3 force, vec3 moment, out vec3 linear, out vec3 angular) {
-  float v[6] = float[6](force.x, force.y, force.z, moment.x, moment.y, moment.z);
-  float result[6];
-  for (int r = 0; r < 6; ++r) {
-    float sum = 0.0;
-    for (int c = 0; c < 6; ++c) sum += solverBodies[b].inverse[(6 * r + c) / 4][(6 * r + c) % 4] * v[c];
-    result[r] = sum;
-  }
-  linear = vec3(result[0], result[1], result[2]);
-  angular = vec3(result[3], result[4], result[5]);
 }
 
 // M_b u for body b's entry: M V and I ω (kg·m/s, kg·m²/s), I in the world's axes now.

@@ -7,25 +7,26 @@
 // components moving with the body's surface: a perfectly inelastic collision of the body with the snow it holds,
 // whatever their masses' ratio. The body's entry then moves at u' for the rest of the step: couple_nodes.comp gives
 // the nodes that surface velocity and the body their impulses, which integrate_bodies.comp adds to u*. A body that
-// holds no node keeps u*.
+// holds no node keeps u*. The inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none) is kept for the bodies'
+// contacts with each other (meet_bodies.comp), with which a body and the nodes it holds move together.
 // Reads: colliders (the bodies' entries and their coupling sums).
-// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared).
+// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared), solverBodies (inverse).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
 #include "common/bodies.glsl"
+#include "common/body_blocks.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
 
 void main() {
   uint b = gl_GlobalInvocationID.x;
   if (b >= rigidBodyCount) return;
-  uint i = colliderCount - rigidBodyCount + b;
+  uint i = bodyEntry(int(b));
   ColliderParams body = colliders[i];
   if (body.shapeBoundary.w == 0) return;  // parked
   bool holds = false;
   for (int w = 0; w < COUPLING_WORDS; ++w) holds = holds || nonzero(body.couplingLow[w], body.couplingHigh[w]);
-  if (!holds) return;
   float sums[4 * COUPLING_WORDS];
   float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
   for (int w = 0; w < COUPLING_WORDS; ++w) {
@@ -38,12 +39,14 @@ void main() {
   float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
   float massUnits = body.bodyMass.x * massUnitsPerKg;
   mat3 inertiaUnits = worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM);
-  vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
-  vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
-  vec3 angularMomentum = inertiaUnits * angularVelocity;
   float upper[21];
   for (int k = 0; k < 21; ++k) upper[k] = sums[k];
   addBodyMass(massUnits, inertiaUnits, upper);
+  storeBlockInverse(int(b), upper);
+  if (!holds) return;
+  vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
+  vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
+  vec3 angularMomentum = inertiaUnits * angularVelocity;
   float x[6];
   for (int k = 0; k < 3; ++k) {
     x[k] = massUnits * velocity[k] + sums[21 + k];

@@ -33,7 +33,7 @@ void main() {
     solverBodies[b].product[0] = vec4(product0, 0.0);
     solverBodies[b].product[1] = vec4(product1, 0.0);
     vec3 scaled0, scaled1;
-    preconditionBody(b, product0, product1, scaled0, scaled1);
+    blockInverseTimes(b, product0, product1, scaled0, scaled1);
     float crossTerm = iteration > 1u ? bodyDot(scaled0, scaled1, solverBodies[b].directionProduct[0].xyz,
                                                solverBodies[b].directionProduct[1].xyz)
                                      : 0.0;

@@ -23,8 +23,7 @@
 
 layout(local_size_x = FIRN_REDUCTION_GROUP_SIZE) in;
 
-// P_b⁻¹ in SI units, row after row, from the block sums in P2G's nondimensional units: with D = diag(1/u_v, 1/u_v,
-// 1/u_v, h⁻¹/u_v, …) (u_v velocity units per m/s), P_b⁻¹ = u_p u_v D P_nd⁻¹ D, u_p momentum units per kg·m/s.
+// Body b's block P_b from its block sums in P2G's nondimensional units (cleared) and its mass, inverted.
 void invertBodyBlock(int b, ColliderParams body) {
   float upper[21];
   float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
@@ -35,21 +34,7 @@ void invertBodyBlock(int b, ColliderParams body) {
     solverBodies[b].blockHigh[w] = ivec4(0);
   }
   addBodyMass(body.bodyMass.x * massUnitsPerKg, worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM), upper);
-  float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
-  float scale[6];
-  for (int k = 0; k < 3; ++k) {
-    scale[k] = 1.0 / velocityUnitsPerMPerS;
-    scale[3 + k] = cellsPerM / velocityUnitsPerMPerS;
-  }
-  for (int c = 0; c < 6; ++c) {
-    float column[6] = float[6](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    column[c] = 1.0;
-    solveSymmetric(upper, column);
-    for (int r = 0; r < 6; ++r) {
-      float value = momentumUnitsPerKgMPerS * velocityUnitsPerMPerS * scale[r] * column[r] * scale[c];
-      solverBodies[b].inverse[(6 * r + c) / 4][(6 * r + c) % 4] = value;
-    }
-  }
+  storeBlockInverse(b, upper);
 }
 
 void main() {
@@ -64,10 +49,10 @@ void main() {
     vec3 residual0 = takesPart ? -force : vec3(0.0);
     vec3 residual1 = takesPart ? -moment : vec3(0.0);
     vec3 scaled0, scaled1;
-    preconditionBody(b, residual0, residual1, scaled0, scaled1);
+    blockInverseTimes(b, residual0, residual1, scaled0, scaled1);
     vec3 momentum0, momentum1, scaledMomentum0, scaledMomentum1;
     bodyMassTimes(body, body.velocityFriction.xyz, body.angularVelocity.xyz, momentum0, momentum1);
-    preconditionBody(b, momentum0, momentum1, scaledMomentum0, scaledMomentum1);
+    blockInverseTimes(b, momentum0, momentum1, scaledMomentum0, scaledMomentum1);
     solverBodies[b].velocity[0] = vec4(body.velocityFriction.xyz, 0.0);
     solverBodies[b].velocity[1] = vec4(body.angularVelocity.xyz, 0.0);
     solverBodies[b].residual[0] = vec4(residual0, 0.0);

@@ -43,7 +43,7 @@ void main() {
       solverBodies[b].residual[part].xyz = residual[part];
     }
     vec3 scaled0, scaled1;
-    preconditionBody(b, residual[0], residual[1], scaled0, scaled1);
+    blockInverseTimes(b, residual[0], residual[1], scaled0, scaled1);
     solverBodies[b].preconditioned[0].xyz = scaled0;
     solverBodies[b].preconditioned[1].xyz = scaled1;
     blockPartials[blocks + k] = vec4(0.0, 0.0, bodyDot(residual[0], residual[1], scaled0, scaled1), 0.0);

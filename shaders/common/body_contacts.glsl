@@ -1,0 +1,51 @@
+// The contacts of rigid bodies with the scene's colliders, the walls and each other (docs/algorithm.md, eq. 36), as
+// the passes over all the bodies at once resolve them: at contact probes in each body's frame, by sequential impulses
+// with accumulated totals (integrate_bodies.comp; meet_bodies.comp, for the bodies' contacts with each other within
+// the explicit step's coupled solve).
+
+// Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
+// approach at every probe; a resting box settles within a few.
+const int CONTACT_PASSES = 10;
+
+vec3 probe(ColliderParams body, int k) { return fieldVector(body.bodyProbes.x + 3 * k); }
+
+// The inverse of the effective mass a body of mass M and world inverse inertia I⁻¹ has along direction d at r from its
+// centre of mass: 1/M + d · (I⁻¹ (r × d)) × r.
+float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
+  return 1.0 / massKg + dot(d, cross(inverseInertia * cross(r, d), r));
+}
+
+// The impulses the contacts have given this step, one slot per probe and what it may meet (the colliders and walls,
+// then each other body), numbered in the order the passes visit them: xyz the friction, w the normal impulse. Each
+// pass adds to a slot what makes its contact's approach zero and keeps its total within the contact's laws — the
+// normal total ≥ 0, the friction's within μ of it — so that a later pass can take back what an earlier one gave too
+// much (projected Gauss–Seidel with accumulated impulses, Catto 2005): a box landing flat on its 26 probes is not
+// turned by the first probe's taking the whole landing. A contact beyond the slots starts each pass from nothing.
+const int CONTACT_SLOTS = 128;
+vec4 accumulated[CONTACT_SLOTS];
+
+// The impulse this pass adds at contact `slot` on a body whose velocity relative to what it meets there is
+// `relative`, along the outward `normal` of what it meets: perfectly inelastic with Coulomb friction μ (eq. 36), given
+// the contact's inverse effective masses along the normal and along the slip's direction t (both bodies' summed, where
+// it meets another body).
+vec3 contactImpulse(int slot, vec3 relative, vec3 normal, float friction, float normalInverseMass,
+                    float tangentInverseMass, vec3 t) {
+  float approach = dot(relative, normal);
+  vec3 slip = relative - approach * normal;
+  vec3 frictionWanted = -length(slip) / tangentInverseMass * t;
+  vec4 before = slot < CONTACT_SLOTS ? accumulated[slot] : vec4(0.0);
+  float normalTotal = max(before.w - approach / normalInverseMass, 0.0);
+  vec3 frictionTotal = before.xyz + frictionWanted;
+  float limit = friction * normalTotal;
+  if (length(frictionTotal) > limit) frictionTotal *= limit / length(frictionTotal);
+  if (slot < CONTACT_SLOTS) accumulated[slot] = vec4(frictionTotal, normalTotal);
+  return (normalTotal - before.w) * normal + (frictionTotal - before.xyz);
+}
+
+// The direction of the tangential slip of a relative velocity, or 0 where there is none.
+vec3 slipDirection(vec3 relative, vec3 normal) {
+  vec3 slip = relative - dot(relative, normal) * normal;
+  return length(slip) > 0.0 ? normalize(slip) : vec3(0.0);
+}
+
+bool takesPart(uint i) { return colliders[i].shapeBoundary.w != 0; }  // a parked body does not
