@@ -78,6 +78,7 @@
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 #define FIRN_BINDING_SOLVER_PRECONDITIONER 20  // SolverPreconditioner per node of the pool: P⁻¹'s 3×3 block there
 #define FIRN_BINDING_SOLVER_BODIES 21       // SolverBody per rigid body: its six velocities as unknowns of the solve
+                                            // (the explicit step: its coupled inverse inertia alone)
 #define FIRN_SOLVER_BINDINGS_END 22
 // The snow's surface (shaders/surface/surface_contract.h declares its bindings).
 #define FIRN_SURFACE_BINDINGS_FIRST 22
@@ -353,7 +354,8 @@ FIRN_STRUCT(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)
 // method's vectors as a node's (SolverNode): [0] the linear part, [1] the angular part.
 //   velocity, direction, preconditioned   x_b (the solution), p, z = P_b⁻¹ r: V (m/s) and ω (rad/s)
 //   residual, product, directionProduct   r, A z, A p: force-like (kg·m/s) and moment-like (kg·m²/s) parts
-//   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values)
+//   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values); in the
+//                    explicit step, the only member it uses, K⁻¹ of its coupled solve (common/body_blocks.glsl)
 //   sumsLow/High     Σ Gᵢᵀ Pᵢ wᵢ over the nodes it holds, wᵢ a product's held part ([0] the force, [1] its moment
 //                    about the centre of mass), 64-bit fixed point in 2^−k_H of the momentum unit (× h for [1])
 //   blockLow/High    Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ, the upper triangle row by row (21 values), in

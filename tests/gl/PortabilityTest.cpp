@@ -117,7 +117,8 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   semiImplicitFloat.solver.atomics = Atomics::Float;
   scenes.emplace_back(semiImplicitFloat, MaterialPrograms::SceneModels);
   // Objects: a mesh collider alone (the distance fields), then with a rigid body (the bodies' pushes and passes), and
-  // with water too (the images of its stress: RigidBodies.h, mirrorsStressIntoBodies).
+  // with water and a second body too (the images of its stress: RigidBodies.h, mirrorsStressIntoBodies; the bodies'
+  // contacts with each other within the coupled solve).
   Scene withMeshCollider = base;
   Collider mesh;
   mesh.shape = ColliderShape::Mesh;
@@ -128,8 +129,9 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   ball.radiusM = 0.1;
   withRigidBody.rigidBodies.push_back(ball);
   scenes.emplace_back(withRigidBody, MaterialPrograms::SceneModels);
-  scenes.emplace_back(withModels(withRigidBody, {MaterialModel::Snow, MaterialModel::Water}),
-                      MaterialPrograms::SceneModels);
+  Scene withTwoBodiesAndWater = withModels(withRigidBody, {MaterialModel::Snow, MaterialModel::Water});
+  withTwoBodiesAndWater.rigidBodies.push_back(ball);
+  scenes.emplace_back(withTwoBodiesAndWater, MaterialPrograms::SceneModels);
   // The semi-implicit step's pushes to a rigid body (solver_solution.comp and the passes that push).
   Scene semiImplicitWithRigidBody = withModels(withRigidBody, withHessian);
   semiImplicitWithRigidBody.solver.integrator = Integrator::SemiImplicit;

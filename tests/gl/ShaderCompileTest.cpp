@@ -97,10 +97,10 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
       explicitBodies.defines.insert(explicitBodies.defines.end(),
                                     {{"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_COLLIDER_FIELDS", "1"},
                                      {"FIRN_HAS_MESH_SHAPES", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_ADAPTIVE_DT", "1"}});
-      for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solve_coupling.comp", "sim/meet_bodies.comp",
-                               "sim/couple_nodes.comp", "sim/list_mirror_blocks.comp", "sim/list_mirrored.comp",
-                               "sim/claim_image_blocks.comp", "sim/mirror_stress.comp", "sim/g2p.comp",
-                               "sim/integrate_bodies.comp"}) {
+      for (const char* pass : {"sim/update_grid.comp", "sim/predict_bodies.comp", "sim/solve_coupling.comp",
+                               "sim/meet_bodies.comp", "sim/couple_nodes.comp", "sim/list_mirror_blocks.comp",
+                               "sim/list_mirrored.comp", "sim/claim_image_blocks.comp", "sim/mirror_stress.comp",
+                               "sim/g2p.comp", "sim/integrate_bodies.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, explicitBodies))
             << pass << " explicit with rigid bodies " << kernel << " " << transfer;
       }
