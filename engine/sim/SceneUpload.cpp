@@ -137,8 +137,27 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
     }
     if (std::find(chosen.begin(), chosen.end(), farthest) == chosen.end()) chosen.push_back(farthest);
   }
+  std::vector<glm::dvec3> points;
+  for (const std::size_t v : chosen) points.push_back(body.mesh->vertices[v]);
+  // A coarse mesh (its support points and its edges together no more than kMeshProbeDirections) takes its edges'
+  // midpoints too, each place once: a box's 12-triangle mesh, whose faces' diagonals are edges, then has the analytic
+  // box's 26 probes, and meets a box of the same footprint set squarely on it at its faces' centres and edges'
+  // midpoints, where corner on corner each reads the other's φ as 0 and they fell into each other.
+  std::vector<glm::dvec3> midpoints;
+  for (const glm::uvec3& triangle : body.mesh->triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const glm::dvec3 midpoint = 0.5 * (body.mesh->vertices[triangle[e]] + body.mesh->vertices[triangle[(e + 1) % 3]]);
+      if (std::find(midpoints.begin(), midpoints.end(), midpoint) == midpoints.end()) midpoints.push_back(midpoint);
+    }
+    if (points.size() + midpoints.size() > std::size_t(kMeshProbeDirections)) break;
+  }
+  if (points.size() + midpoints.size() <= std::size_t(kMeshProbeDirections)) {
+    for (const glm::dvec3& midpoint : midpoints) {
+      if (std::find(points.begin(), points.end(), midpoint) == points.end()) points.push_back(midpoint);
+    }
+  }
   std::vector<glm::dvec3> probes;
-  for (const std::size_t v : chosen) probes.push_back(body.mesh->vertices[v] - body.centerOfMassM);
+  for (const glm::dvec3& point : points) probes.push_back(point - body.centerOfMassM);
   return probes;
 }
 

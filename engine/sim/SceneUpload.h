@@ -34,8 +34,9 @@ struct ColliderFields {
 ColliderFields bakeColliderFields(const Scene& scene);
 
 // A rigid body's contact probes in its own frame (integrate_bodies.comp): a sphere's centre (with its radius as the
-// contact radius), a box's corners, and a mesh's support points in kMeshProbeDirections directions spread evenly
-// over the sphere, each vertex once.
+// contact radius), a box's corners, edges' midpoints and faces' centres, and a mesh's support points in
+// kMeshProbeDirections directions spread evenly over the sphere, each vertex once, with its edges' midpoints where
+// they are few enough (a coarse mesh: a box's mesh has the box's probes).
 constexpr int kMeshProbeDirections = 128;
 std::vector<glm::dvec3> bodyProbes(const RigidBody& body);
 

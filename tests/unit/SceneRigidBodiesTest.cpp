@@ -1,11 +1,15 @@
 // Mesh colliders and rigid bodies in scenes (docs/scene-format.md, colliders and rigid_bodies): files found
 // relative to the scene and placed, masses and inertia derived from the shape and a mass or density, their distance
 // fields sized, and every bad key an InputError naming it.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 #include <gtest/gtest.h>
@@ -14,6 +18,7 @@
 #include "Error.h"
 #include "scene/FieldLattice.h"
 #include "scene/Scene.h"
+#include "sim/SceneUpload.h"
 #include "support/TestFiles.h"
 #include "voxelizer/Mesh.h"
 
@@ -189,6 +194,39 @@ TEST_F(SceneRigidBodies, RigidBodiesTakeTheirMassAndInertiaFromTheShape) {
   ASSERT_EQ(fields.size(), 1u);
   EXPECT_EQ(fields[0].object, "rigid_bodies[2]");
   EXPECT_DOUBLE_EQ(fields[0].spacingM, 0.005);
+}
+
+// A body's contact probes (sim/SceneUpload.h, bodyProbes): a box's mesh, 8 vertices and 12 triangles, has the analytic
+// box's 26 — its support points are its corners and its edges' midpoints are the box's edges' midpoints and, the
+// faces' diagonals being edges too, its faces' centres — to the rounding of its centre of mass (1e-12 of its size). A
+// fine mesh (the boulder: 642 vertices) keeps its support points alone, each a vertex, no more than
+// kMeshProbeDirections.
+TEST_F(SceneRigidBodies, AMeshBoxHasTheAnalyticBoxsContactProbes) {
+  const std::string boulder = std::string(FIRN_SOURCE_DIR) + "/assets/meshes/boulder.obj";
+  const Scene parsed = parse(withRigidBodies(R"([
+    { "shape": "box", "center": [0.3, 0.3, 0.3], "size": [0.2, 0.2, 0.2], "density": 500 },
+    { "shape": "mesh", "path": "meshes/cube.obj", "scale": 0.2, "translate": [0.5, 0.5, 0.5], "density": 500 },
+    { "shape": "mesh", "path": ")" + boulder + R"(", "scale": 0.1, "translate": [1.0, 0.3, 1.0], "density": 500 } ])"));
+  const auto sorted = [](std::vector<glm::dvec3> points) {
+    std::sort(points.begin(), points.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
+      const glm::dvec3 r = glm::round(a * 1e6), s = glm::round(b * 1e6);
+      return std::tie(r.x, r.y, r.z) < std::tie(s.x, s.y, s.z);
+    });
+    return points;
+  };
+  const std::vector<glm::dvec3> box = sorted(bodyProbes(parsed.rigidBodies[0]));
+  const std::vector<glm::dvec3> mesh = sorted(bodyProbes(parsed.rigidBodies[1]));
+  ASSERT_EQ(box.size(), 26u);
+  ASSERT_EQ(mesh.size(), box.size());
+  for (std::size_t k = 0; k < box.size(); ++k) expectNear(mesh[k], box[k], 1e-12 * 0.2);
+
+  const RigidBody& rock = parsed.rigidBodies[2];
+  const std::vector<glm::dvec3> rockProbes = bodyProbes(rock);
+  EXPECT_LE(rockProbes.size(), std::size_t(kMeshProbeDirections));
+  for (const glm::dvec3& probe : rockProbes) {
+    const glm::dvec3 point = probe + rock.centerOfMassM;
+    EXPECT_NE(std::find(rock.mesh->vertices.begin(), rock.mesh->vertices.end(), point), rock.mesh->vertices.end());
+  }
 }
 
 TEST_F(SceneRigidBodies, EachBadKeyIsNamed) {
