@@ -94,7 +94,10 @@ void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, D
   if (share) sumOverShares(state, *share, Sums::Coupling);
   state.publishStorage(FIRN_BINDING_SOLVER_BODIES, coupledInverses_);
   solveCoupling_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
-  if (count_ > 1) meetBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation: they meet
+  if (count_ > 1) {
+    meetBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
+    meetBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation: they meet
+  }
   state.grid().run(coupleNodes_, sortFor, state.bindings(), timer);
 }
 

@@ -2,6 +2,7 @@
 // (SolverBody.inverse): in the explicit step the coupled solve's K = M_b + Σ m Gᵀ P G (eq. 39), with which the bodies
 // then meet each other (meet_bodies.comp); in the semi-implicit step the preconditioner's diagonal block
 // P_b = M_b + Σ Gᵀ P (m + β Δt² Hᵢᵢ) P G (eq. 39a; common/solver_bodies.glsl).
+#include "common/bodies.glsl"
 
 layout(std430, binding = FIRN_BINDING_SOLVER_BODIES) coherent buffer SolverBodiesBuffer { SolverBody solverBodies[]; };
 

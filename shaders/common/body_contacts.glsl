@@ -49,3 +49,23 @@ vec3 slipDirection(vec3 relative, vec3 normal) {
 }
 
 bool takesPart(uint i) { return colliders[i].shapeBoundary.w != 0; }  // a parked body does not
+
+// A probe of a body, r from its centre of mass and at `end` at the step's end, against body entry o there: whether it
+// lies within o's solid (less the probe's radius), and if so o's outward normal, the contact point's place from each
+// centre of mass and the velocity there of the body, moving at v and ω, relative to o's surface.
+bool meetsBody(uint o, vec3 r, vec3 end, float endTimeS, float probeRadiusM, vec3 v, vec3 omega, out vec3 normal,
+               out vec3 contactR, out vec3 otherR, out vec3 relative) {
+  if (!colliderWithinReach(o, end, endTimeS, probeRadiusM)) return false;
+  ColliderParams other = colliders[o];
+  if (colliderDistance(other, end, endTimeS, normal) - probeRadiusM >= 0.0) return false;
+  contactR = r - probeRadiusM * normal;
+  vec3 point = end - probeRadiusM * normal;
+  otherR = point - colliderPivot(other, endTimeS);
+  relative = v + cross(omega, contactR) - colliderVelocity(other, point, endTimeS);
+  return true;
+}
+
+// Two bodies' friction where they meet: the geometric mean of theirs.
+float meetingFriction(uint i, uint o) {
+  return sqrt(colliders[i].velocityFriction.w * colliders[o].velocityFriction.w);
+}

@@ -1,10 +1,10 @@
 #version 430 core
 // The nodes rigid bodies hold take the bodies' solved motion (docs/algorithm.md, eq. 39), explicit step: a work group
-// per active block, an invocation per node, after solve_coupling.comp. A node the solve counted (heldInCoupling)
-// meets the body as a collider (boundaryResponse), its surface now moving at the solved (V', ω'), and the body takes
-// the opposite of what that changed in the node's momentum — the solve's own impulse, and Coulomb friction besides —
-// in 64-bit fixed point, so that momentum is kept to the unit. Then the domain walls again, as the grid update left
-// them last.
+// per active block, an invocation per node, after solve_coupling.comp and meet_bodies.comp. A node the solve counted
+// (heldInCoupling) meets the body as a collider (boundaryResponse), its surface now moving at the solved (V', ω'), and
+// the body takes the opposite of what that changed in the node's momentum — the solve's own impulse, and Coulomb
+// friction besides — in 64-bit fixed point, so that momentum is kept to the unit. Then the domain walls again, as the
+// grid update left them last.
 // Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
 //        gridMomentumMass (the nodes' velocities and masses), colliders (the table and the bodies' sums' old words),
 //        watchdog (the loads' words: the carries take the atomics' old values).

@@ -132,18 +132,13 @@ void main() {
         for (uint o = staticColliders; o < colliderCount; ++o) {
           if (o == i || !takesPart(o)) continue;
           slot = contactSlot++;
-          if (!colliderWithinReach(o, end, endTimeS, probeRadiusM)) continue;
+          vec3 contactR, otherR, relative;
+          if (!meetsBody(o, r, end, endTimeS, probeRadiusM, v, omega, normal, contactR, otherR, relative)) continue;
           ColliderParams other = colliders[o];
-          distanceM = colliderDistance(other, end, endTimeS, normal) - probeRadiusM;
-          if (distanceM >= 0.0) continue;
-          vec3 contactR = r - probeRadiusM * normal;
-          vec3 point = end - probeRadiusM * normal;
-          vec3 otherR = point - colliderPivot(other, endTimeS);
-          vec3 relative = v + cross(omega, contactR) - colliderVelocity(other, point, endTimeS);
           vec3 t = slipDirection(relative, normal);
           float otherMassKg = other.bodyMass.x;
           mat3 otherInverseInertia = worldInverseInertia(other, rotationMatrix(other.rotation));
-          vec3 j = contactImpulse(slot, relative, normal, sqrt(body.velocityFriction.w * other.velocityFriction.w),
+          vec3 j = contactImpulse(slot, relative, normal, meetingFriction(i, o),
                                   inverseEffectiveMass(massKg, inverseInertia, contactR, normal) +
                                       inverseEffectiveMass(otherMassKg, otherInverseInertia, otherR, normal),
                                   inverseEffectiveMass(massKg, inverseInertia, contactR, t) +

@@ -8,9 +8,10 @@
 // whatever their masses' ratio. The body's entry then moves at u' for the rest of the step: couple_nodes.comp gives
 // the nodes that surface velocity and the body their impulses, which integrate_bodies.comp adds to u*. A body that
 // holds no node keeps u*. The inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none) is kept for the bodies'
-// contacts with each other (meet_bodies.comp), with which a body and the nodes it holds move together.
+// contacts with each other (meet_bodies.comp), with which a body and the nodes it holds move together, and whether it
+// holds any.
 // Reads: colliders (the bodies' entries and their coupling sums).
-// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared), solverBodies (inverse).
+// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared), solverBodies (inverse, velocity[0].w).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
@@ -43,6 +44,7 @@ void main() {
   for (int k = 0; k < 21; ++k) upper[k] = sums[k];
   addBodyMass(massUnits, inertiaUnits, upper);
   storeBlockInverse(int(b), upper);
+  solverBodies[b].velocity[0].w = holds ? 1.0 : 0.0;
   if (!holds) return;
   vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
   vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);

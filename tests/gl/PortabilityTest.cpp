@@ -130,7 +130,10 @@ std::vector<std::pair<Scene, firn::MaterialPrograms>> stepScenes() {
   withRigidBody.rigidBodies.push_back(ball);
   scenes.emplace_back(withRigidBody, MaterialPrograms::SceneModels);
   Scene withTwoBodiesAndWater = withModels(withRigidBody, {MaterialModel::Snow, MaterialModel::Water});
-  withTwoBodiesAndWater.rigidBodies.push_back(ball);
+  RigidBody secondBall = ball;
+  secondBall.centerM = ball.centerM + glm::dvec3(0.3, 0.0, 0.0);
+  secondBall.centerOfMassM = secondBall.centerM;
+  withTwoBodiesAndWater.rigidBodies.push_back(secondBall);
   scenes.emplace_back(withTwoBodiesAndWater, MaterialPrograms::SceneModels);
   // The semi-implicit step's pushes to a rigid body (solver_solution.comp and the passes that push).
   Scene semiImplicitWithRigidBody = withModels(withRigidBody, withHessian);
