@@ -11,7 +11,8 @@
 // contacts with each other (meet_bodies.comp), with which a body and the nodes it holds move together, and whether it
 // holds any.
 // Reads: colliders (the bodies' entries and their coupling sums).
-// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared), solverBodies (inverse, velocity[0].w).
+// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared),
+//         solverBodies (inverse, velocity[0].w).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
