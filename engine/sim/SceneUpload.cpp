@@ -149,12 +149,13 @@ std::vector<glm::dvec3> bodyProbes(const RigidBody& body) {
       const glm::dvec3 midpoint = 0.5 * (body.mesh->vertices[triangle[e]] + body.mesh->vertices[triangle[(e + 1) % 3]]);
       if (std::find(midpoints.begin(), midpoints.end(), midpoint) == midpoints.end()) midpoints.push_back(midpoint);
     }
-    if (points.size() + midpoints.size() > std::size_t(kMeshProbeDirections)) break;
-  }
-  if (points.size() + midpoints.size() <= std::size_t(kMeshProbeDirections)) {
-    for (const glm::dvec3& midpoint : midpoints) {
-      if (std::find(points.begin(), points.end(), midpoint) == points.end()) points.push_back(midpoint);
+    if (points.size() + midpoints.size() > std::size_t(kMeshProbeDirections)) {
+      midpoints.clear();  // a fine mesh: its support points are probes enough
+      break;
     }
+  }
+  for (const glm::dvec3& midpoint : midpoints) {
+    if (std::find(points.begin(), points.end(), midpoint) == points.end()) points.push_back(midpoint);
   }
   std::vector<glm::dvec3> probes;
   for (const glm::dvec3& point : points) probes.push_back(point - body.centerOfMassM);

@@ -1,15 +1,15 @@
 #version 430 core
 // The explicit step's coupled solve (docs/algorithm.md, eq. 39): an invocation per rigid body, after the grid update
-// has summed the nodes it holds. The body's velocities u = (V, ω) and the nodes' held components move together:
-// with M_b = diag(M, I) and the sums Σ m Gᵀ P G and Σ m Gᵀ P v (ColliderParams.couplingLow/High),
+// has summed the nodes it holds. The body's velocities u = (V, ω) and the nodes' held components move together: with
+// M_b = diag(M, I) and the sums Σ m Gᵀ P G and Σ m Gᵀ P v (ColliderParams.couplingLow/High),
 //   (M_b + Σ m Gᵀ P G) u' = M_b u* + Σ m Gᵀ P v,
 // the velocities that keep the body's and the held nodes' momentum and angular momentum, with the nodes' held
 // components moving with the body's surface: a perfectly inelastic collision of the body with the snow it holds,
 // whatever their masses' ratio. The body's entry then moves at u' for the rest of the step: couple_nodes.comp gives
 // the nodes that surface velocity and the body their impulses, which integrate_bodies.comp adds to u*. A body that
-// holds no node keeps u*. The inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none) is kept for the bodies'
-// contacts with each other (meet_bodies.comp), with which a body and the nodes it holds move together, and whether it
-// holds any.
+// holds no node keeps u*. With two bodies or more, the inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none),
+// with which a body and the nodes it holds move together, is kept for their contacts with each other
+// (meet_bodies.comp), and whether it holds any.
 // Reads: colliders (the bodies' entries and their coupling sums).
 // Writes: colliders (the bodies' entries: velocities and their coupling sums cleared),
 //         solverBodies (inverse, velocity[0].w).
@@ -44,8 +44,10 @@ void main() {
   float upper[21];
   for (int k = 0; k < 21; ++k) upper[k] = sums[k];
   addBodyMass(massUnits, inertiaUnits, upper);
-  storeBlockInverse(int(b), upper);
-  solverBodies[b].velocity[0].w = holds ? 1.0 : 0.0;
+  if (rigidBodyCount > 1u) {  // for meet_bodies.comp, which has none to meet otherwise
+    storeBlockInverse(int(b), upper);
+    solverBodies[b].velocity[0].w = holds ? 1.0 : 0.0;
+  }
   if (!holds) return;
   vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
   vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
