@@ -45,9 +45,10 @@ constexpr BindingRange kParticleBindings{FIRN_PARTICLE_BINDINGS_FIRST, FIRN_PART
 constexpr BindingRange kGridBindings{FIRN_GRID_BINDINGS_FIRST, FIRN_GRID_BINDINGS_END};
 constexpr BindingRange kTableBindings{FIRN_TABLE_BINDINGS_FIRST, FIRN_TABLE_BINDINGS_END};
 constexpr BindingRange kSolverBindings{FIRN_SOLVER_BINDINGS_FIRST, FIRN_SOLVER_BINDINGS_END};
+constexpr BindingRange kBodyBindings{FIRN_BODY_BINDINGS_FIRST, FIRN_BODY_BINDINGS_END};
 constexpr BindingRange kSurfaceBindings{FIRN_SURFACE_BINDINGS_FIRST, FIRN_SURFACE_BINDINGS_END};
-constexpr BindingRange kBindingRanges[] = {kParticleBindings, kGridBindings, kTableBindings, kSolverBindings,
-                                           kSurfaceBindings};
+constexpr BindingRange kBindingRanges[] = {kParticleBindings, kGridBindings,  kTableBindings,
+                                           kSolverBindings,   kBodyBindings, kSurfaceBindings};
 template <std::size_t N>
 constexpr bool rangesInOrder(const BindingRange (&ranges)[N], int bindingLimit) {
   int end = 0;
@@ -71,9 +72,10 @@ static_assert(bindingsWithin(kGridBindingPoints, kGridBindings), "a block grid b
 constexpr int kTableBindingPoints[] = {FIRN_BINDING_MATERIALS, FIRN_BINDING_COLLIDERS, FIRN_BINDING_WATCHDOG};
 static_assert(bindingsWithin(kTableBindingPoints, kTableBindings), "a table binding outside its range");
 constexpr int kSolverBindingPoints[] = {FIRN_BINDING_SOLVER_NODES, FIRN_BINDING_SOLVER_PARTICLES,
-                                        FIRN_BINDING_SOLVER_STATUS, FIRN_BINDING_SOLVER_PRECONDITIONER,
-                                        FIRN_BINDING_SOLVER_BODIES};
+                                        FIRN_BINDING_SOLVER_STATUS, FIRN_BINDING_SOLVER_PRECONDITIONER};
 static_assert(bindingsWithin(kSolverBindingPoints, kSolverBindings), "a solver binding outside its range");
+constexpr int kBodyBindingPoints[] = {FIRN_BINDING_BODIES};
+static_assert(bindingsWithin(kBodyBindingPoints, kBodyBindings), "a body binding outside its range");
 constexpr int kUniformBindingPoints[] = {FIRN_BINDING_STEP_UNIFORMS, FIRN_BINDING_SURFACE_UNIFORMS,
                                          FIRN_BINDING_SURFACE_CASES};
 static_assert(bindingsWithin(kUniformBindingPoints, {0, 3}), "uniform binding points must be distinct");
@@ -93,6 +95,7 @@ static_assert(sizeof(StepUniforms) == 144, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
 static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
 static_assert(sizeof(SolverBody) == 592, "std430 SolverBody");
+static_assert(sizeof(BodyContact) == 48, "std430 BodyContact");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");
 static_assert(sizeof(SolverStatus) == 80 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");
 

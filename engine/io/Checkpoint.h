@@ -17,7 +17,8 @@ struct Checkpoint {
   // 4: a mesh collider's entry of the collider table (held with rigid bodies) holds its field's steepest slope.
   // 5: the energy audit's account, and its ledger after the watchdog's status.
   // 6: a collider table's entry holds its rigid body's coupled solve (velocities before it, and its sums).
-  static constexpr std::uint32_t kVersion = 6;
+  // 7: with rigid bodies, their contacts of the last step and their records follow the collider table.
+  static constexpr std::uint32_t kVersion = 7;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to
   double timeS = 0;

@@ -113,6 +113,10 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
                      " allows a buffer texture; lower the mesh colliders' and bodies' \"resolution\"");
   }
   colliderFields_ = gl::BufferTexture(colliderFields);
+  // The bodies' contact slots, then a record per body (one, unused, without bodies: the semi-implicit passes declare
+  // the block whether or not the scene has bodies, and a bound buffer is never empty).
+  bodies_ = gl::Buffer(bodyRecordsOffset() + std::max<std::size_t>(layout_.rigidBodies, 1) * sizeof(gpu::SolverBody))
+                .labelled("rigid bodies: contacts and records");
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms)).labelled("step uniforms");
   // The watchdog's status, then the energy ledger and a load per entry of the collider table, empty (gpu_contract.h,
   // EnergyLedger, ObjectLoad).
@@ -183,6 +187,7 @@ void GpuState::publish() {
   bindings_.storage(FIRN_BINDING_COLLIDERS, colliders_);
   bindings_.texture(FIRN_TEXTURE_UNIT_COLLIDER_FIELDS, colliderFields_);
   bindings_.storage(FIRN_BINDING_WATCHDOG, watchdog_);
+  bindings_.storage(FIRN_BINDING_BODIES, bodies_);
   bindings_.uniform(FIRN_BINDING_STEP_UNIFORMS, stepUniforms_);
 }
 
@@ -247,14 +252,25 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-// The particles' buffers, then the watchdog, then (with rigid bodies, whose state it holds) the collider table: the
-// order of a checkpoint's sections.
+// The particles' buffers, then the watchdog, then with rigid bodies the collider table (the bodies' entries hold their
+// state) and the bodies' contacts and records (the last step's contacts start the next's): the order of a
+// checkpoint's sections.
 template <class Self>
 auto GpuState::stateBuffersOf(Self& self) {
   auto buffers = self.particles_.stateBuffers();
   buffers.push_back(&self.watchdog_);
-  if (self.layout_.rigidBodies > 0) buffers.push_back(&self.colliders_);
+  if (self.layout_.rigidBodies > 0) {
+    buffers.push_back(&self.colliders_);
+    buffers.push_back(&self.bodies_);
+  }
   return buffers;
+}
+
+std::size_t GpuState::bodyRecordsOffset() { return std::size_t(gpu::CONTACT_SLOTS) * sizeof(gpu::BodyContact); }
+
+void GpuState::clearBodyRecords() {
+  const std::vector<char> zeros(bodies_.bytes() - bodyRecordsOffset(), '\0');
+  bodies_.upload(bodyRecordsOffset(), zeros.size(), zeros.data());
 }
 
 std::vector<const gl::Buffer*> GpuState::stateBuffers() const { return stateBuffersOf(*this); }

@@ -52,9 +52,6 @@ class GpuState {
   const SolverState* solver() const { return solver_ ? &*solver_ : nullptr; }
   // Every part's buffers at its binding points: what each pass binds the blocks it declares from.
   const gl::BufferBindings& bindings() const { return bindings_; }
-  // Publishes a buffer a part of the step owns beside the state (RigidBodies' coupled inverses) at `binding`, until
-  // the state publishes its own anew (a grown particle buffer or block pool): the part publishes it before its passes.
-  void publishStorage(GLuint binding, const gl::Buffer& buffer) { bindings_.storage(binding, buffer); }
   StorageRecordBytes storageRecordBytes() const;
 
   // The block pool: its use (the grid's and the solver's buffers), and a new, larger pool (the grid is rebuilt every
@@ -80,6 +77,9 @@ class GpuState {
   std::vector<gpu::ObjectLoad> objectLoads() const;
   // Both as bytes, and back (none: emptied, for the next frame).
   std::string energyRecords() const;
+  // Empties the rigid bodies' records (gpu::SolverBody after the contact slots), whose sums carry what the grid update
+  // adds into the semi-implicit solve: after a grid update and products that were only timed. The contacts stay.
+  void clearBodyRecords();
   void writeEnergyRecords(const std::string& bytes = "");
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
@@ -112,6 +112,10 @@ class GpuState {
   gl::Buffer colliders_;
   gl::BufferTexture colliderFields_;  // the mesh colliders' and bodies' distance fields, the bodies' probes
   gl::Buffer watchdog_;
+  // The rigid bodies' contacts of the last step (gpu::BodyContact per slot), then a gpu::SolverBody per body: the
+  // explicit step's coupled inverses, the semi-implicit solve's unknowns (common/body_blocks.glsl).
+  gl::Buffer bodies_;
+  static std::size_t bodyRecordsOffset();
   std::size_t objectCount_ = 0;  // the collider table's entries, each with a load in the watchdog's buffer
   std::size_t energyBytes() const;
   gl::Buffer stepUniforms_;

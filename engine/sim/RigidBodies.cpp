@@ -51,10 +51,11 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
     listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
   }
+  // The explicit step's coupled solve, and with two bodies or more their contacts with each other met within it; the
+  // semi-implicit step's bodies meet each other after its solve, for the next.
+  if (count_ > 1) meetBodies_ = gl::ComputePass(library, "sim/meet_bodies.comp", options);
   if (!semiImplicit_) {
     solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
-    if (count_ > 1) meetBodies_ = gl::ComputePass(library, "sim/meet_bodies.comp", options);
-    coupledInverses_ = gl::Buffer(count_ * sizeof(gpu::SolverBody)).labelled("rigid bodies: coupled inverses");
     coupleNodes_ = BlockGrid::StepPass(library, "sim/couple_nodes.comp", options,
                                        offsetof(gpu::BlockTableHeader, blockDispatch));
   }
@@ -92,13 +93,17 @@ void RigidBodies::afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, D
   // Each body and the nodes it holds, solved together, the bodies' contacts with each other, then those nodes take
   // the bodies' motion.
   if (share) sumOverShares(state, *share, Sums::Coupling);
-  state.publishStorage(FIRN_BINDING_SOLVER_BODIES, coupledInverses_);
   solveCoupling_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
-  if (count_ > 1) {
-    meetBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
-    meetBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation: they meet
-  }
+  meetBodies(state, share, timer);
   state.grid().run(coupleNodes_, sortFor, state.bindings(), timer);
+}
+
+void RigidBodies::afterSolve(GpuState& state, gl::PassTimer& timer) const { meetBodies(state, nullptr, timer); }
+
+void RigidBodies::meetBodies(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
+  if (count_ < 2) return;
+  meetBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
+  meetBodies_.runOver(1, maxWorkGroupsX_, state.bindings(), timer);  // one invocation: they meet
 }
 
 void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {

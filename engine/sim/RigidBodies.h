@@ -12,6 +12,9 @@
 //   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39), and the bodies'
 //                        contacts with each other met with that solve's inertia; the semi-implicit step solves them
 //                        with the snow (ImplicitSolver, eq. 39a)
+//   afterSolve           semi-implicit step with two bodies or more: their contacts with each other met with the
+//                        inertia of each and the nodes the solve held with it (a body that held nodes takes what
+//                        they give it before the next solve)
 //   afterGridToParticle  the snow's push, the contacts, the motion (integrate_bodies.comp)
 #include <cstddef>
 #include <optional>
@@ -43,6 +46,7 @@ class RigidBodies {
   void afterTransfer(GpuState& state, DomainShare* share, gl::PassTimer& timer) const;
   void beforeGridUpdate(GpuState& state, DomainShare* share, gl::PassTimer& timer) const;
   void afterGridUpdate(GpuState& state, BlockGrid::SortFor sortFor, DomainShare* share, gl::PassTimer& timer) const;
+  void afterSolve(GpuState& state, gl::PassTimer& timer) const;
   void afterGridToParticle(GpuState& state, DomainShare* share, gl::PassTimer& timer) const;
 
   // The bodies' entries of the collider table as they are, and put back (a pass run outside a step, to time it,
@@ -62,6 +66,8 @@ class RigidBodies {
   // Over several shares: the bodies' `sums` that this share's passes added since they were last cleared, summed
   // over all shares, in integers (the sums one process makes). Every share calls it at the same point.
   void sumOverShares(GpuState& state, DomainShare& share, Sums sums) const;
+  // The bodies' contacts with each other, with two bodies or more (meet_bodies.comp).
+  void meetBodies(GpuState& state, DomainShare* share, gl::PassTimer& timer) const;
 
   std::size_t count_ = 0;
   std::size_t first_ = 0;  // the bodies' first entry in the collider table, after the scene's colliders
@@ -71,14 +77,13 @@ class RigidBodies {
   gl::ComputePass predictBodies_;
   gl::ComputePass integrateBodies_;
   // The explicit step's images of a fluid's stress (eq. 38), where the scene mirrors it, and coupled solve of the
-  // bodies and the nodes they hold (docs/algorithm.md, eq. 39), whose inverse inertias K⁻¹ (gpu::SolverBody.inverse,
-  // the semi-implicit solve's records, of which the explicit step uses this one) the bodies then meet each other with.
+  // bodies and the nodes they hold (docs/algorithm.md, eq. 39), whose inverse inertias K⁻¹ (gpu::SolverBody.inverse in
+  // the state's body records, of which the explicit step uses this one) the bodies then meet each other with.
   gl::ComputePass listMirrorBlocks_;
   gl::ComputePass listMirrored_;
   gl::ComputePass mirrorStress_;
   gl::ComputePass solveCoupling_;
   gl::ComputePass meetBodies_;  // with two bodies or more
-  gl::Buffer coupledInverses_;
   BlockGrid::StepPass coupleNodes_;
 };
 

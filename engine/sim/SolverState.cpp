@@ -8,9 +8,7 @@ namespace firn {
 
 SolverState::SolverState(std::size_t particleCapacity, std::size_t rigidBodies)
     : particles_(gl::Buffer(particleCapacity * sizeof(gpu::SolverParticle)).labelled("solver: particle stiffness")),
-      rigidBodies_(rigidBodies) {
-  bodies_ = gl::Buffer(std::max<std::size_t>(rigidBodies, 1) * sizeof(gpu::SolverBody)).labelled("solver: bodies");
-}
+      rigidBodies_(rigidBodies) {}
 
 void SolverState::allocatePool(std::size_t blocks) {
   nodes_ = gl::Buffer(blocks * gpu::BLOCK_NODES * sizeof(gpu::SolverNode)).labelled("solver: node vectors");
@@ -35,7 +33,6 @@ void SolverState::publish(gl::BufferBindings& bindings) const {
   bindings.storage(FIRN_BINDING_SOLVER_PARTICLES, particles_);
   bindings.storage(FIRN_BINDING_SOLVER_STATUS, status_);
   bindings.storage(FIRN_BINDING_SOLVER_PRECONDITIONER, preconditioners_);
-  bindings.storage(FIRN_BINDING_SOLVER_BODIES, bodies_);
 }
 
 }  // namespace firn

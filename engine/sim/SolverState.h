@@ -1,9 +1,8 @@
 #pragma once
 // The semi-implicit solve's state on the GPU (common/solver.glsl): the conjugate residual method's vectors per node of
-// the grid's pool, the block preconditioner per node, each particle's stiffness, each rigid body's six unknowns
-// (common/solver_bodies.glsl), and the solve's status (the iterations' dispatches, the dot products' registers). It
-// owns those buffers, published at the solver bindings of the GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END);
-// ImplicitSolver runs the passes over them.
+// the grid's pool, the block preconditioner per node, each particle's stiffness, and the solve's status (the
+// iterations' dispatches, the dot products' registers). It owns those buffers, published at the solver bindings of the
+// GPU contract (FIRN_SOLVER_BINDINGS_FIRST to _END); ImplicitSolver runs the passes over them.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -30,10 +29,6 @@ class SolverState {
   glm::vec4 readRegister(std::size_t index) const;
   // gpu::SolverStatus::solveEnd.x: 1 + the register at which the GPU ended the solve, 0 while it runs.
   std::uint32_t readEnd() const;
-  // Empties the rigid bodies' records (gpu::SolverBody), whose sums carry what the grid update adds into the solve:
-  // after a grid update and products that were only timed.
-  void clearBodies() { bodies_.zero(); }
-
   void publish(gl::BufferBindings& bindings) const;
 
  private:
@@ -43,8 +38,7 @@ class SolverState {
   gl::Buffer status_;           // SolverStatus, then a vec4 per slot of the pool
   gl::Buffer particles_;        // SolverParticle per particle
   gl::Buffer preconditioners_;  // SolverPreconditioner per node of the pool
-  std::size_t rigidBodies_;
-  gl::Buffer bodies_;           // SolverBody per rigid body (one, unused, without bodies: a buffer is never empty)
+  std::size_t rigidBodies_;     // each with a partial sum's slot in the status (its six unknowns: GpuState's records)
 };
 
 }  // namespace firn

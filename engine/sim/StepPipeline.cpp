@@ -202,7 +202,7 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     choice.productShape = transfers_[productChosen_].shape();
     state.bindings().completeWrites();
     if (bodies_) bodies_->restore(state, bodies);
-    state.solver()->clearBodies();
+    state.clearBodyRecords();
     state.writeEnergyRecords(energy);
   }
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).
@@ -224,6 +224,7 @@ SolveReport StepPipeline::step(GpuState& state, std::size_t particles, gl::PassT
   SolveReport solve;
   if (implicitSolver_) {
     solve = implicitSolver_->solve(state, particles, maxWorkGroupsX_, transfers_[productChosen_], timer);
+    if (bodies_) bodies_->afterSolve(state, timer);
   }
   gridToParticle_.runOver(particles, maxWorkGroupsX_, buffers, timer);
   if (bodies_) bodies_->afterGridToParticle(state, share, timer);

@@ -4,10 +4,18 @@
 // P_b = M_b + Σ Gᵀ P (m + β Δt² Hᵢᵢ) P G (eq. 39a; common/solver_bodies.glsl).
 #include "common/bodies.glsl"
 
-layout(std430, binding = FIRN_BINDING_SOLVER_BODIES) coherent buffer SolverBodiesBuffer { SolverBody solverBodies[]; };
+// The bodies' records: the contacts of the last step (the semi-implicit step's warm start), then each body's.
+layout(std430, binding = FIRN_BINDING_BODIES) coherent buffer BodiesBuffer {
+  BodyContact bodyContacts[CONTACT_SLOTS];
+  SolverBody solverBodies[];
+};
 
 // The entry of body b in the collider table (the bodies are its last entries).
 uint bodyEntry(int b) { return colliderCount - rigidBodyCount + uint(b); }
+
+// Whether body b holds grid nodes in its solve with them (SolverBody.velocity[0].w, which the explicit step's
+// solve_coupling.comp and the semi-implicit step's solver_bodies_residual.comp set).
+bool holdsNodes(int b) { return solverBodies[b].velocity[0].w != 0.0; }
 
 // Stores the inverse of body b's block in SI units, row after row, from the block's upper triangle (row by row) in
 // P2G's nondimensional units (mass m_ref, length h, velocity h / Δt_ref): with D = diag(1/u_v, 1/u_v, 1/u_v, h⁻¹/u_v,

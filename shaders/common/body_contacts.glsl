@@ -2,6 +2,7 @@
 // the passes over all the bodies at once resolve them: at contact probes in each body's frame, by sequential impulses
 // with accumulated totals (integrate_bodies.comp; meet_bodies.comp, for the bodies' contacts with each other within
 // the explicit step's coupled solve).
+#include "common/body_blocks.glsl"
 
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
 // approach at every probe; a resting box settles within a few.
@@ -20,8 +21,8 @@ float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
 // pass adds to a slot what makes its contact's approach zero and keeps its total within the contact's laws — the
 // normal total ≥ 0, the friction's within μ of it — so that a later pass can take back what an earlier one gave too
 // much (projected Gauss–Seidel with accumulated impulses, Catto 2005): a box landing flat on its 26 probes is not
-// turned by the first probe's taking the whole landing. A contact beyond the slots starts each pass from nothing.
-const int CONTACT_SLOTS = 128;
+// turned by the first probe's taking the whole landing. A contact beyond the slots (CONTACT_SLOTS) starts each pass
+// from nothing.
 vec4 accumulated[CONTACT_SLOTS];
 
 // The impulse this pass adds at contact `slot` on a body whose velocity relative to what it meets there is
@@ -69,3 +70,61 @@ bool meetsBody(uint o, vec3 r, vec3 end, float endTimeS, float probeRadiusM, vec
 float meetingFriction(uint i, uint o) {
   return sqrt(colliders[i].velocityFriction.w * colliders[o].velocityFriction.w);
 }
+
+#ifdef FIRN_SEMI_IMPLICIT
+// The semi-implicit step's warm start (docs/algorithm.md, Rigid bodies in the semi-implicit step). Its bodies meet
+// each other after the solve (meet_bodies.comp), so a body resting on another that holds nodes in the solve would pass
+// its weight on to the snow under that one a step late, every step, as a kick after the solve, and a stack would sink
+// and rock. Each contact's impulse of the last step (BodyContact, kept in the bodies' records from step to step) is
+// given to both bodies before the solve (predict_bodies.comp), which carries it into the snow with gravity; the
+// contacts after the solve start from it and revise it (Catto 2005's warm starting, with the accumulated impulses of
+// eq. 36).
+
+// Whether slot s holds a contact of the last step of two bodies that both take part.
+bool slotInUse(int s) {
+  ivec4 key = bodyContacts[s].key;
+  return key.w != 0 && takesPart(uint(key.x)) && takesPart(uint(key.z));
+}
+
+// Slot s's impulse on its first body (kg·m/s; the other takes the opposite), and where it acts now from each body's
+// centre of mass: the first body's probe, less its radius along the normal, and that point from the other's centre.
+vec3 slotImpulse(int s, out vec3 r, out vec3 otherR) {
+  BodyContact contact = bodyContacts[s];
+  ColliderParams body = colliders[contact.key.x];
+  r = rotationMatrix(body.rotation) * probe(body, contact.key.y) - body.bodyMass.y * contact.normal.xyz;
+  otherR = colliderPivot(body, timeS) + r - colliderPivot(colliders[contact.key.z], timeS);
+  return contact.impulse.w * contact.normal.xyz + contact.impulse.xyz;
+}
+
+// What body entry e takes from the slots' impulses before the solve (kg·m/s), and their moment about its centre of
+// mass (kg·m²/s).
+void impulsesBeforeSolve(uint e, out vec3 impulse, out vec3 moment) {
+  impulse = vec3(0.0);
+  moment = vec3(0.0);
+  for (int s = 0; s < CONTACT_SLOTS; ++s) {
+    if (!slotInUse(s)) continue;
+    ivec4 key = bodyContacts[s].key;
+    if (uint(key.x) != e && uint(key.z) != e) continue;
+    vec3 r, otherR;
+    vec3 j = slotImpulse(s, r, otherR);
+    if (uint(key.z) == e) {  // the other body: the opposite, at its own arm
+      j = -j;
+      r = otherR;
+    }
+    impulse += j;
+    moment += cross(r, j);
+  }
+}
+
+// The slot meet_bodies.comp gives the contact of body entry i's probe k with body entry o: for each body that takes
+// part, in the table's order, each of its probes has one for each other body that takes part.
+int contactSlotOf(uint i, int k, uint o) {
+  int others = -1;
+  for (uint b = bodyEntry(0); b < colliderCount; ++b) others += takesPart(b) ? 1 : 0;
+  int slot = 0;
+  for (uint b = bodyEntry(0); b < i; ++b) slot += takesPart(b) ? colliders[b].bodyProbes.y * others : 0;
+  slot += k * others;
+  for (uint b = bodyEntry(0); b < o; ++b) slot += b != i && takesPart(b) ? 1 : 0;
+  return slot;
+}
+#endif

@@ -77,9 +77,11 @@
 #define FIRN_BINDING_SOLVER_PARTICLES 18    // SolverParticle per particle: its stiffness in the frame of F's SVD
 #define FIRN_BINDING_SOLVER_STATUS 19       // SolverStatus, then a vec4 per slot of the pool: the blocks' partial sums
 #define FIRN_BINDING_SOLVER_PRECONDITIONER 20  // SolverPreconditioner per node of the pool: P⁻¹'s 3×3 block there
-#define FIRN_BINDING_SOLVER_BODIES 21       // SolverBody per rigid body: its six velocities as unknowns of the solve
-                                            // (the explicit step: its coupled inverse inertia alone)
-#define FIRN_SOLVER_BINDINGS_END 22
+#define FIRN_SOLVER_BINDINGS_END 21
+// The rigid bodies' (scenes with rigid bodies; common/body_blocks.glsl).
+#define FIRN_BODY_BINDINGS_FIRST 21
+#define FIRN_BINDING_BODIES 21              // BodyContact per contact slot, then a SolverBody per rigid body
+#define FIRN_BODY_BINDINGS_END 22
 // The snow's surface (shaders/surface/surface_contract.h declares its bindings).
 #define FIRN_SURFACE_BINDINGS_FIRST 22
 #define FIRN_SURFACE_BINDINGS_END 32
@@ -348,6 +350,21 @@ FIRN_STRUCT(SolverNode, FIRN_SOLVER_NODE)
   member(vec4, inverseDiagonal)                   \
   member(vec4, inverseOffDiagonal)
 FIRN_STRUCT(SolverPreconditioner, FIRN_SOLVER_PRECONDITIONER)
+
+// BodyContact: a contact after the semi-implicit solve of a rigid body that held nodes in it with one that held none,
+// as the last step left it: the next step's start (its warm start: docs/algorithm.md, Rigid bodies in the semi-implicit
+// step; meet_bodies.comp, predict_bodies.comp, common/body_contacts.glsl). A slot per contact meet_bodies.comp visits,
+// CONTACT_SLOTS of them, numbered in the order it visits them.
+//   impulse   xyz the friction's total, w the normal's (kg·m/s), on the first body (the other takes the opposite)
+//   normal    xyz the other body's outward unit normal there
+//   key       x the first body's entry in the collider table, y its probe, z the other body's entry; w 1 where the
+//             slot holds a contact, 0 where it holds none
+FIRN_CONSTANT(int, CONTACT_SLOTS, 128)
+#define FIRN_BODY_CONTACT(member, array) \
+  member(vec4, impulse)                  \
+  member(vec4, normal)                   \
+  member(ivec4, key)
+FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
 
 // SolverBody: a rigid body's six velocities u = (V, ω) as unknowns of the semi-implicit solve
 // (common/solver_bodies.glsl; docs/algorithm.md, Rigid bodies in the semi-implicit step), with the conjugate residual

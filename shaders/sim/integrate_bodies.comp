@@ -9,7 +9,8 @@
 // through their contacts, and the energy the explicit coupling gives them (common/energy.glsl; docs/numerics.md, The
 // energy audit; mirror_stress.comp adds the images' share). The bodies' contact probes come from the field buffer, a
 // buffer texture (no storage buffer).
-// Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values).
+// Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values),
+//        bodies (semi-implicit step: velocity[0].w).
 // Writes: colliders (the bodies' entries: pose and velocities and their sums cleared),
 //         watchdog (the ledger's flows and with adaptive steps the fastest speed).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
@@ -132,6 +133,10 @@ void main() {
         for (uint o = staticColliders; o < colliderCount; ++o) {
           if (o == i || !takesPart(o)) continue;
           slot = contactSlot++;
+#ifdef FIRN_SEMI_IMPLICIT
+          // Met after the solve where one of the two held nodes in it and the other none (meet_bodies.comp).
+          if (holdsNodes(int(i - bodyEntry(0))) != holdsNodes(int(o - bodyEntry(0)))) continue;
+#endif
           vec3 contactR, otherR, relative;
           if (!meetsBody(o, r, end, endTimeS, probeRadiusM, v, omega, normal, contactR, otherR, relative)) continue;
           ColliderParams other = colliders[o];

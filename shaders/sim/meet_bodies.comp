@@ -9,8 +9,14 @@
 // since the solve, with the snow's impulses at the nodes the body then moves (couple_nodes.comp), which
 // integrate_bodies.comp adds to V* and L*: V* and ω* themselves stay as the grid update saw them, for couple_nodes.comp
 // holds the nodes that update held by them (common/colliders.glsl, heldInCoupling).
-// Reads: colliders (the table and the bodies' entries), solverBodies (inverse: K⁻¹; velocity[0].w).
-// Writes: colliders (the bodies' entries: velocities and their push's sums).
+// In the semi-implicit step, after the solve, the contacts of a body that held nodes in it with one that held none,
+// each body moving by its own inertia, M_b⁻¹ (j, r × j): they start from the impulses they gave in the last step,
+// which predict_bodies.comp gave the bodies before the solve, and are kept for the next (the warm start:
+// common/body_contacts.glsl).
+// Reads: colliders (the table and the bodies' entries), bodies (inverse: K⁻¹; velocity[0].w; semi-implicit step: the
+//        contacts).
+// Writes: colliders (the bodies' entries: velocities and their push's sums), bodies (semi-implicit step: the
+//         contacts).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
@@ -20,14 +26,15 @@
 
 layout(local_size_x = 1) in;
 
-// Whether body b holds grid nodes in its coupled solve (solve_coupling.comp). Two bodies that hold none are met after
-// G2P alone (integrate_bodies.comp), with the colliders and walls they may rest on.
-bool holdsNodes(int b) { return solverBodies[b].velocity[0].w != 0.0; }
-
 // The inverse of body b's coupled effective mass along direction d at r from its centre of mass, d · K⁻¹ (d, r × d)
-// (1/M along no direction, as inverseEffectiveMass gives it: a contact without slip then asks no friction).
+// (1/M along no direction, as inverseEffectiveMass gives it: a contact without slip then asks no friction); in the
+// semi-implicit step its own, as takeContactImpulse moves it.
 float coupledInverseMass(int b, vec3 r, vec3 d) {
   if (d == vec3(0.0)) return 1.0 / colliders[bodyEntry(b)].bodyMass.x;
+#ifdef FIRN_SEMI_IMPLICIT
+  ColliderParams body = colliders[bodyEntry(b)];
+  return inverseEffectiveMass(body.bodyMass.x, worldInverseInertia(body, rotationMatrix(body.rotation)), r, d);
+#endif
   vec3 linear, angular;
   blockInverseTimes(b, d, cross(r, d), linear, angular);
   return dot(d, linear) + dot(cross(r, d), angular);
@@ -35,11 +42,17 @@ float coupledInverseMass(int b, vec3 r, vec3 d) {
 
 // Body b takes an impulse j (kg·m/s) at r from its centre of mass: its velocities by K⁻¹ (j, r × j), and j with its
 // moment in its push's sums, in the snow's fixed point (one share counts them: the bodies' sums are summed over the
-// shares before integrate_bodies.comp reads them).
+// shares before integrate_bodies.comp reads them). In the semi-implicit step by its own inertia, M_b⁻¹ (j, r × j): a
+// body and the nodes it holds have moved together in the solve already.
 void takeContactImpulse(int b, vec3 r, vec3 j) {
   uint i = bodyEntry(b);
   vec3 linear, angular;
+#ifdef FIRN_SEMI_IMPLICIT
+  linear = j / colliders[i].bodyMass.x;
+  angular = worldInverseInertia(colliders[i], rotationMatrix(colliders[i].rotation)) * cross(r, j);
+#else
   blockInverseTimes(b, j, cross(r, j), linear, angular);
+#endif
   colliders[i].velocityFriction.xyz += linear;
   colliders[i].angularVelocity.xyz += angular;
   addToRigidBody(i, j, cross(r, j));
@@ -51,6 +64,39 @@ void main() {
   int bodies = int(rigidBodyCount);
   float endTimeS = timeS + dtS;
   for (int slot = 0; slot < CONTACT_SLOTS; ++slot) accumulated[slot] = vec4(0.0);
+#ifdef FIRN_SEMI_IMPLICIT
+  // The warm start (common/body_contacts.glsl): the impulse each contact of the last step gave, which both bodies took
+  // before the solve, is taken back, and a contact that the bodies, moving as they would without it, still meet, in
+  // the slot the passes give it, starts its total from it (turned into the plane the normal now gives), given anew
+  // where it acts now.
+  for (int s = 0; s < CONTACT_SLOTS; ++s) {
+    bool inUse = slotInUse(s);
+    BodyContact contact = bodyContacts[s];
+    bodyContacts[s].key.w = 0;
+    if (!inUse) continue;
+    vec3 givenR, givenOtherR;
+    vec3 given = slotImpulse(s, givenR, givenOtherR);
+    uint i = uint(contact.key.x), o = uint(contact.key.z);
+    int b = int(i - bodyEntry(0)), a = int(o - bodyEntry(0));
+    takeContactImpulse(b, givenR, -given);
+    takeContactImpulse(a, givenOtherR, given);
+    vec3 r = rotationMatrix(colliders[i].rotation) * probe(colliders[i], contact.key.y);
+    vec3 v = colliders[i].velocityFriction.xyz, omega = colliders[i].angularVelocity.xyz;
+    vec3 end = colliderPivot(colliders[i], timeS) + dtS * v + r;
+    vec3 normal, contactR, otherR, relative;
+    if (holdsNodes(b) == holdsNodes(a) || contactSlotOf(i, contact.key.y, o) != s ||
+        !meetsBody(o, r, end, endTimeS, colliders[i].bodyMass.y, v, omega, normal, contactR, otherR, relative)) {
+      continue;
+    }
+    vec3 friction = contact.impulse.xyz - dot(contact.impulse.xyz, normal) * normal;
+    float limit = meetingFriction(i, o) * contact.impulse.w;
+    if (length(friction) > limit) friction *= limit / length(friction);
+    accumulated[s] = vec4(friction, contact.impulse.w);
+    vec3 start = contact.impulse.w * normal + friction;
+    takeContactImpulse(b, contactR, start);
+    takeContactImpulse(a, otherR, -start);
+  }
+#endif
   for (int pass = 0; pass < CONTACT_PASSES; ++pass) {
     int contactSlot = 0;
     for (int b = 0; b < bodies; ++b) {
@@ -64,7 +110,14 @@ void main() {
           uint o = bodyEntry(a);
           if (o == i || !takesPart(o)) continue;
           int slot = contactSlot++;
-          if (!holdsNodes(b) && !holdsNodes(a)) continue;  // as integrate_bodies.comp would meet them
+#ifdef FIRN_SEMI_IMPLICIT
+          // Two bodies of which one held nodes in the solve and the other none (the others: integrate_bodies.comp).
+          if (holdsNodes(b) == holdsNodes(a)) continue;
+#else
+          // Two bodies that hold no node are met after G2P alone (integrate_bodies.comp), with the colliders and
+          // walls they may rest on.
+          if (!holdsNodes(b) && !holdsNodes(a)) continue;
+#endif
           vec3 v = colliders[i].velocityFriction.xyz, omega = colliders[i].angularVelocity.xyz;
           vec3 end = colliderPivot(colliders[i], timeS) + dtS * v + r;
           vec3 normal, contactR, otherR, relative;
@@ -75,6 +128,11 @@ void main() {
                                   coupledInverseMass(b, contactR, t) + coupledInverseMass(a, otherR, t), t);
           takeContactImpulse(b, contactR, j);
           takeContactImpulse(a, otherR, -j);
+#ifdef FIRN_SEMI_IMPLICIT
+          if (slot < CONTACT_SLOTS) {
+            bodyContacts[slot] = BodyContact(accumulated[slot], vec4(normal, 0.0), ivec4(i, k, o, 1));
+          }
+#endif
         }
       }
     }

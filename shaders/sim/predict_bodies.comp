@@ -5,13 +5,17 @@
 // its entry moves at V* and ω* = I⁻¹ L* from here to the solve: the grid update meets its surface moving so (a
 // separating body holds the nodes approaching it then), and integrate_bodies.comp adds the snow's impulses after the
 // solve to V* (ColliderParams.freeVelocity). The energy ledger takes the push's own energy, as integrate_bodies.comp
-// takes the rest's (common/bodies.glsl).
-// Reads: colliders (the bodies' entries and the push summed there), watchdog (the ledger's atomics' old values).
+// takes the rest's (common/bodies.glsl). In the semi-implicit step each body also takes the impulses its contacts with
+// the other bodies gave after the last solve, the start of this step's, which the contacts after this solve revise
+// (the warm start: common/body_contacts.glsl).
+// Reads: colliders (the bodies' entries and the push summed there), watchdog (the ledger's atomics' old values),
+//        bodies (semi-implicit step: the contacts).
 // Writes: colliders (the bodies' entries: velocities and their sums cleared), watchdog (the ledger's flows).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
-#include "common/bodies.glsl"
+#include "common/body_blocks.glsl"
+#include "common/body_contacts.glsl"
 #include "common/energy.glsl"
 
 layout(local_size_x = FIRN_PARTICLE_GROUP_SIZE) in;
@@ -29,6 +33,13 @@ void main() {
   vec3 v = body.velocityFriction.xyz + impulse / massKg + dtS * gravityMPerS2;
   vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
   mat3 inverseInertia = worldInverseInertia(body, rotationMatrix(body.rotation));
+#ifdef FIRN_SEMI_IMPLICIT
+  // The impulses of its contacts with the other bodies after the last solve, the start of this step's.
+  vec3 contacts, contactsMoment;
+  impulsesBeforeSolve(i, contacts, contactsMoment);
+  v += contacts / massKg;
+  angularMomentum += contactsMoment;
+#endif
   colliders[i].velocityFriction.xyz = v;
   colliders[i].freeVelocity.xyz = v;
   colliders[i].angularMomentum.xyz = angularMomentum;

@@ -12,7 +12,7 @@
 // (meet_bodies.comp), and whether it holds any.
 // Reads: colliders (the bodies' entries and their coupling sums).
 // Writes: colliders (the bodies' entries: velocities and their coupling sums cleared),
-//         solverBodies (inverse, velocity[0].w).
+//         bodies (inverse, velocity[0].w).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"

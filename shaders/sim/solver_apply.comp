@@ -10,7 +10,7 @@
 //        solverNodes (the product sums and residual and preconditioned and directionProduct and constraint),
 //        solverPreconditioner (the inverse), colliders (with rigid bodies: their centres).
 // Writes: solverNodes (product with its held normal component in w and the product sums cleared),
-//         solverStatus (the block's partial sums), solverBodies (with rigid bodies: their sums),
+//         solverStatus (the block's partial sums), bodies (with rigid bodies: their sums),
 //         watchdog (a body's sum out of range).
 // At a node a rigid body holds (common/solver_bodies.glsl), the held part of A z goes to the body's sums.
 #define FIRN_WITHOUT_PARTICLE_BUFFERS

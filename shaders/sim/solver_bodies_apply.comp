@@ -5,8 +5,8 @@
 // y (A z, P⁻¹ A z), w (A z, P⁻¹ A p) with the last direction's product, in the slots after the blocks'.
 // One work group, an invocation per body.
 // Reads: solverStatus (the solveReduceDispatch record), blockTable (blockCounts), colliders (the bodies' entries),
-//        solverBodies (the sums and residual and preconditioned and directionProduct and inverse).
-// Writes: solverBodies (product, the sums cleared), solverStatus (the bodies' partial sums).
+//        bodies (the sums and residual and preconditioned and directionProduct and inverse).
+// Writes: bodies (product, the sums cleared), solverStatus (the bodies' partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"

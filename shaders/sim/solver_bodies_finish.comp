@@ -5,7 +5,7 @@
 // solve (ColliderParams.freeVelocity). What the solve gave the body, M_b (u − u*), is the opposite of its push on the
 // snow: the body's load (bodies.csv), with its work at the velocity solved.
 // An invocation per body.
-// Reads: colliders (the bodies' entries), solverBodies (velocity), watchdog (the loads' atomics' old values).
+// Reads: colliders (the bodies' entries), bodies (velocity), watchdog (the loads' atomics' old values).
 // Writes: colliders (the bodies' entries: velocities and angular momentum), watchdog (the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"

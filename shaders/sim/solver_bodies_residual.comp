@@ -9,9 +9,9 @@
 // (r₀, P_b⁻¹ r₀) and of the tolerance's reference, (M_b u*, P_b⁻¹ M_b u*), go to the slots after the blocks'.
 // One work group, an invocation per body.
 // Reads: solverStatus (the solveReduceDispatch record), blockTable (blockCounts), colliders (the bodies' entries),
-//        solverBodies (the sums and the block sums).
-// Writes: solverBodies (velocity and residual and preconditioned and direction and directionProduct and inverse, the
-//         sums and block sums cleared), solverStatus (the bodies' partial sums).
+//        bodies (the sums and the block sums).
+// Writes: bodies (velocity, w whether the body holds a node, and residual and preconditioned and direction and
+//         directionProduct and inverse, the sums and block sums cleared), solverStatus (the bodies' partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/blocks.glsl"
@@ -23,11 +23,14 @@
 
 layout(local_size_x = FIRN_REDUCTION_GROUP_SIZE) in;
 
-// Body b's block P_b from its block sums in P2G's nondimensional units (cleared) and its mass, inverted.
-void invertBodyBlock(int b, ColliderParams body) {
+// Body b's block P_b from its block sums in P2G's nondimensional units (cleared) and its mass, inverted; whether it
+// holds a node.
+bool invertBodyBlock(int b, ColliderParams body) {
   float upper[21];
   float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
+  bool holds = false;
   for (int w = 0; w < 6; ++w) {
+    holds = holds || nonzero(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w]);
     vec4 values = fixed64ToFloat(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w]) * valuePerUnit;
     for (int c = 0; c < 4 && 4 * w + c < 21; ++c) upper[4 * w + c] = values[c];
     solverBodies[b].blockLow[w] = uvec4(0u);
@@ -35,6 +38,7 @@ void invertBodyBlock(int b, ColliderParams body) {
   }
   addBodyMass(body.bodyMass.x * massUnitsPerKg, worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM), upper);
   storeBlockInverse(b, upper);
+  return holds;
 }
 
 void main() {
@@ -44,7 +48,7 @@ void main() {
     ColliderParams body = colliders[bodyEntry(b)];
     vec3 force, moment;
     takeBodySums(b, force, moment);
-    invertBodyBlock(b, body);
+    bool holds = invertBodyBlock(b, body);
     bool takesPart = body.shapeBoundary.w != 0;  // a parked body holds no node and stays as it is
     vec3 residual0 = takesPart ? -force : vec3(0.0);
     vec3 residual1 = takesPart ? -moment : vec3(0.0);
@@ -53,7 +57,7 @@ void main() {
     vec3 momentum0, momentum1, scaledMomentum0, scaledMomentum1;
     bodyMassTimes(body, body.velocityFriction.xyz, body.angularVelocity.xyz, momentum0, momentum1);
     blockInverseTimes(b, momentum0, momentum1, scaledMomentum0, scaledMomentum1);
-    solverBodies[b].velocity[0] = vec4(body.velocityFriction.xyz, 0.0);
+    solverBodies[b].velocity[0] = vec4(body.velocityFriction.xyz, holds ? 1.0 : 0.0);
     solverBodies[b].velocity[1] = vec4(body.angularVelocity.xyz, 0.0);
     solverBodies[b].residual[0] = vec4(residual0, 0.0);
     solverBodies[b].residual[1] = vec4(residual1, 0.0);

@@ -4,9 +4,9 @@
 // p = z + β_k p and A p = A z + β_k A p, then u += α p, r −= α A p, z = P_b⁻¹ r, and the partial sum of (r, z).
 // One work group, an invocation per body.
 // Reads: solverStatus (the registers and the solveReduceDispatch record), blockTable (blockCounts),
-//        solverBodies (velocity and residual and preconditioned and product and direction and directionProduct and
+//        bodies (velocity and residual and preconditioned and product and direction and directionProduct and
 //        inverse).
-// Writes: solverBodies (velocity and residual and preconditioned and direction and directionProduct),
+// Writes: bodies (velocity and residual and preconditioned and direction and directionProduct),
 //         solverStatus (the bodies' partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"

@@ -15,7 +15,7 @@
 // Writes: gridMomentumMass (the velocities become x₀), solverPreconditioner (the inverse),
 //         solverNodes (residual with w: the normal impulse and preconditioned: v* − x₀ and the sums cleared),
 //         solverStatus (the block's partial sums),
-//         solverBodies (with rigid bodies: at the nodes a body holds, its sums and its preconditioner's block sums),
+//         bodies (with rigid bodies: at the nodes a body holds, its sums and its preconditioner's block sums),
 //         watchdog (a body's sum out of range).
 // At a node a rigid body holds (common/solver_bodies.glsl), the held part of β Δt² H x₀ goes to the body's sums, and
 // the node's share of the body's preconditioner block to its block sums.

@@ -13,7 +13,7 @@
 //        blockTable (blockCounts, and slots[].block with rigid bodies), gridMomentumMass (the velocities and masses),
 //        solverNodes (residual and preconditioned and product and direction and directionProduct),
 //        solverPreconditioner (the inverse), colliders (with rigid bodies: their centres),
-//        solverBodies (with rigid bodies: preconditioned).
+//        bodies (with rigid bodies: preconditioned).
 // Writes: gridMomentumMass (the velocities: x), solverStatus (the block's partial sums),
 //         solverNodes (residual with w: the normal impulse and preconditioned and direction and directionProduct).
 // At a node a rigid body holds (common/solver_bodies.glsl), z's held components are the body's surface moving at its

@@ -17,7 +17,7 @@
 // Writes: gridMomentumMass (the same storage as floats: velocity m/s and mass kg),
 //         gridImpulse (PIC/FLIP: the velocity before forces),
 //         solverNodes (semi-implicit steps: the node's constraint and residual.w and the solve's start in direction),
-//         solverBodies (semi-implicit steps with rigid bodies: the sums of the nodes a body alone holds),
+//         bodies (semi-implicit steps with rigid bodies: the sums of the nodes a body alone holds),
 //         colliders (rigid bodies: the snow's push and the explicit step's coupling sums),
 //         watchdog (the energy ledger's flows: the moving colliders' work and the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS

@@ -74,6 +74,12 @@ std::vector<SharedStruct> sharedStructs() {
       {"common/material_hessians.glsl", GL_BUFFER_VARIABLE, "solverParticles[0].",
        FIRN_MEMBER_LIST(SolverParticle, FIRN_SOLVER_PARTICLE)},
       {"common/solver_reduction.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SolverStatus, FIRN_SOLVER_STATUS)},
+      // The rigid bodies' (common/body_blocks.glsl, which the collider table's declaration comes before): the contact
+      // slots, then a record per body.
+      {"common/colliders.glsl\"\n#include \"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].",
+       FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
+      {"common/colliders.glsl\"\n#include \"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].",
+       FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY), CONTACT_SLOTS * sizeof(BodyContact)},
   };
 }
 
@@ -91,7 +97,8 @@ firn::gl::Program probe(const std::string& include, const std::vector<std::strin
                                               body + "  positionMass[0] = vec4(sum);\n}\n");
   firn::gl::ShaderOptions options;
   options.defines = {{"FIRN_KERNEL_QUADRATIC", "1"}, {"FIRN_TRANSFER_APIC", "1"},
-                     {"FIRN_HAS_DEFORMATION_GRADIENT", "1"}, {"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_WALL_CELLS", "2"}};
+                     {"FIRN_HAS_DEFORMATION_GRADIENT", "1"}, {"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"},
+                     {"FIRN_WALL_CELLS", "2"}};
   return firn::gl::Program::compute(library, "test/contract_probe.comp", options);
 }
 
