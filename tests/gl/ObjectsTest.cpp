@@ -495,7 +495,8 @@ TEST_F(ObjectsTest, TwoBoxesStackedOnSnowStandStill) {
 // stack at rest: from 0.4 s to 0.8 s it sinks about 7.5 mm (measured on llvmpipe; the single 1.2 kg box of
 // BodiesRestOnSnowAtTheSnowsOwnStep rests), where without the warm start it sank 2.9 cm, rocking at up to 1.4 rad/s.
 // Held here: the energy audit passes (checkWatchdog), the upper box stays on the lower one (their gap within 0.1 h),
-// and the stack sinks less than a quarter cell in the 0.4 s (h / 4 = 1 cm).
+// the stack sinks less than a quarter cell in the 0.4 s (h / 4 = 1 cm), and a run resumed from 0.4 s, whose contacts
+// start from the impulses the checkpoint holds, ends to the bit where the run did.
 TEST_F(ObjectsTest, TwoBoxesStackedOnSnowAtTenTimesTheElasticBoundStayStacked) {
   const Scene scene = firn::parseScene(R"({
     "grid": { "origin": [0, 0, 0], "cells": [20, 16, 20], "cell_size": 0.04 },
@@ -506,13 +507,21 @@ TEST_F(ObjectsTest, TwoBoxesStackedOnSnowAtTenTimesTheElasticBoundStayStacked) {
     "rigid_bodies": [ { "shape": "box", "size": [0.2, 0.1, 0.2], "center": [0.4, 0.255, 0.4], "density": 150 },
                       { "shape": "box", "size": [0.2, 0.1, 0.2], "center": [0.4, 0.36, 0.4], "density": 150 } ]
   })", "a stack on snow, semi-implicitly");
-  Simulation simulation(scene, firn::sampleBodies(scene), gl());
+  const std::vector<firn::ParticleSeed> seeds = firn::sampleBodies(scene);
+  Simulation simulation(scene, seeds, gl());
   simulation.advanceTo(0.4);
   simulation.checkWatchdog();
   const std::vector<firn::ObjectPose> start = simulation.rigidBodyPoses();
+  const firn::Checkpoint checkpoint = simulation.checkpoint(4);
   simulation.advanceTo(0.8);
   simulation.checkWatchdog();
   const std::vector<firn::ObjectPose> end = simulation.rigidBodyPoses();
+  // The contacts' impulses carry from step to step with the state: a run resumed mid-stack goes on to the same bits.
+  Simulation resumed(scene, seeds, gl());
+  resumed.resume(checkpoint, "in memory");
+  resumed.advanceTo(0.8);
+  EXPECT_TRUE(firn::test::sameBytes(simulation.snapshot(), resumed.snapshot()));
+  EXPECT_EQ(resumed.rigidBodyPoses()[1].positionM, end[1].positionM);
   const double h = 0.04;
   const double gapM = (end[1].positionM.y - 0.05) - (end[0].positionM.y + 0.05);
   const double sankM = start[0].positionM.y - end[0].positionM.y;
