@@ -82,7 +82,8 @@ void RigidBodies::afterTransfer(GpuState& state, DomainShare* share, gl::PassTim
 }
 
 void RigidBodies::beforeGridUpdate(GpuState& state, DomainShare* share, gl::PassTimer& timer) const {
-  // The bodies take gravity and the images' push before the nodes meet them (eq. 39, 39a).
+  // The bodies take gravity and the images' push before the nodes meet them (eq. 39, 39a), and in the semi-implicit
+  // step the last step's impulses of their contacts with each other.
   predictBodies_.set("bodiesCountedElsewhere", countedElsewhere(share));
   predictBodies_.runOver(count_, maxWorkGroupsX_, state.bindings(), timer);
 }

@@ -8,13 +8,13 @@
 // The step's points, in order (StepPipeline::step):
 //   afterTransfer        explicit step with a fluid: its stress mirrored into the bodies (eq. 38), once the nodes
 //                        hold their whole sums
-//   beforeGridUpdate     each body takes gravity and the images' push (predict_bodies.comp)
+//   beforeGridUpdate     each body takes gravity and the images' push (predict_bodies.comp), and in the semi-implicit
+//                        step the warm start of its contacts with the other bodies
 //   afterGridUpdate      explicit step: each body and the nodes it holds solved together (eq. 39), and the bodies'
 //                        contacts with each other met with that solve's inertia; the semi-implicit step solves them
 //                        with the snow (ImplicitSolver, eq. 39a)
-//   afterSolve           semi-implicit step with two bodies or more: their contacts with each other met with the
-//                        inertia of each and the nodes the solve held with it (a body that held nodes takes what
-//                        they give it before the next solve)
+//   afterSolve           semi-implicit step with two bodies or more: the contacts of a body that held nodes in the
+//                        solve with one that held none, warm started, each body by its own inertia (meet_bodies.comp)
 //   afterGridToParticle  the snow's push, the contacts, the motion (integrate_bodies.comp)
 #include <cstddef>
 #include <optional>

@@ -1,7 +1,5 @@
 #include "sim/SolverState.h"
 
-#include <algorithm>
-
 #include "gpu/GpuLayout.h"
 
 namespace firn {

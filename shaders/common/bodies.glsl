@@ -1,5 +1,6 @@
 // What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation and inertia in
 // the world, and the snow's push summed in its entry (eq. 35).
+#include "common/colliders.glsl"
 #include "common/fixed64.glsl"
 
 // 1 on every share of the domain but the first (RigidBodies.cpp): each moves the bodies alike, and one counts the

@@ -1,7 +1,7 @@
 // The contacts of rigid bodies with the scene's colliders, the walls and each other (docs/algorithm.md, eq. 36), as
 // the passes over all the bodies at once resolve them: at contact probes in each body's frame, by sequential impulses
 // with accumulated totals (integrate_bodies.comp; meet_bodies.comp, for the bodies' contacts with each other within
-// the explicit step's coupled solve).
+// the explicit step's coupled solve and after the semi-implicit solve).
 #include "common/body_blocks.glsl"
 
 // Sequential impulses over the probes in contact (Gauss–Seidel): each pass removes what the last left of the
@@ -78,7 +78,8 @@ float meetingFriction(uint i, uint o) {
 // and rock. Each contact's impulse of the last step (BodyContact, kept in the bodies' records from step to step) is
 // given to both bodies before the solve (predict_bodies.comp), which carries it into the snow with gravity; the
 // contacts after the solve start from it and revise it (Catto 2005's warm starting, with the accumulated impulses of
-// eq. 36).
+// eq. 36). The contacts beyond CONTACT_SLOTS (a slot for each probe and other body) start from nothing, as each pass's
+// do.
 
 // Whether slot s holds a contact of the last step of two bodies that both take part.
 bool slotInUse(int s) {
@@ -86,13 +87,14 @@ bool slotInUse(int s) {
   return key.w != 0 && takesPart(uint(key.x)) && takesPart(uint(key.z));
 }
 
-// Slot s's impulse on its first body (kg·m/s; the other takes the opposite), and where it acts now from each body's
-// centre of mass: the first body's probe, less its radius along the normal, and that point from the other's centre.
+// Slot s's impulse on its first body (kg·m/s; the other takes the opposite), and where it acts from each body's centre
+// of mass as the step starts (the poses integrate_bodies.comp left, which every pass of the step reads alike): the
+// first body's probe, less its radius along the normal, and that point from the other's centre.
 vec3 slotImpulse(int s, out vec3 r, out vec3 otherR) {
   BodyContact contact = bodyContacts[s];
   ColliderParams body = colliders[contact.key.x];
   r = rotationMatrix(body.rotation) * probe(body, contact.key.y) - body.bodyMass.y * contact.normal.xyz;
-  otherR = colliderPivot(body, timeS) + r - colliderPivot(colliders[contact.key.z], timeS);
+  otherR = body.pivotTime.xyz + r - colliders[contact.key.z].pivotTime.xyz;
   return contact.impulse.w * contact.normal.xyz + contact.impulse.xyz;
 }
 

@@ -372,8 +372,9 @@ FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
 //   velocity, direction, preconditioned   x_b (the solution), p, z = P_b⁻¹ r: V (m/s) and ω (rad/s)
 //   residual, product, directionProduct   r, A z, A p: force-like (kg·m/s) and moment-like (kg·m²/s) parts
 //   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values); in the
-//                    explicit step K⁻¹ of its coupled solve (common/body_blocks.glsl), with velocity[0].w 1 where the
-//                    body holds a node (solve_coupling.comp), the only members that step uses
+//                    explicit step K⁻¹ of its coupled solve (common/body_blocks.glsl), the only member that step uses
+//                    with velocity[0].w: 1 where the body holds a node (solve_coupling.comp; in the semi-implicit step
+//                    solver_bodies_residual.comp), else 0
 //   sumsLow/High     Σ Gᵢᵀ Pᵢ wᵢ over the nodes it holds, wᵢ a product's held part ([0] the force, [1] its moment
 //                    about the centre of mass), 64-bit fixed point in 2^−k_H of the momentum unit (× h for [1])
 //   blockLow/High    Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ, the upper triangle row by row (21 values), in

@@ -74,12 +74,10 @@ std::vector<SharedStruct> sharedStructs() {
       {"common/material_hessians.glsl", GL_BUFFER_VARIABLE, "solverParticles[0].",
        FIRN_MEMBER_LIST(SolverParticle, FIRN_SOLVER_PARTICLE)},
       {"common/solver_reduction.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SolverStatus, FIRN_SOLVER_STATUS)},
-      // The rigid bodies' (common/body_blocks.glsl, which the collider table's declaration comes before): the contact
-      // slots, then a record per body.
-      {"common/colliders.glsl\"\n#include \"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].",
-       FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
-      {"common/colliders.glsl\"\n#include \"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].",
-       FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY), CONTACT_SLOTS * sizeof(BodyContact)},
+      // The rigid bodies' records (common/body_blocks.glsl): the contact slots, then a record per body.
+      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].", FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
+      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].", FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY),
+       CONTACT_SLOTS * sizeof(BodyContact)},
   };
 }
 
@@ -97,8 +95,8 @@ firn::gl::Program probe(const std::string& include, const std::vector<std::strin
                                               body + "  positionMass[0] = vec4(sum);\n}\n");
   firn::gl::ShaderOptions options;
   options.defines = {{"FIRN_KERNEL_QUADRATIC", "1"}, {"FIRN_TRANSFER_APIC", "1"},
-                     {"FIRN_HAS_DEFORMATION_GRADIENT", "1"}, {"FIRN_HAS_COLLIDERS", "1"}, {"FIRN_HAS_RIGID_BODIES", "1"},
-                     {"FIRN_WALL_CELLS", "2"}};
+                     {"FIRN_HAS_DEFORMATION_GRADIENT", "1"}, {"FIRN_HAS_COLLIDERS", "1"},
+                     {"FIRN_HAS_RIGID_BODIES", "1"}, {"FIRN_WALL_CELLS", "2"}};
   return firn::gl::Program::compute(library, "test/contract_probe.comp", options);
 }
 
@@ -229,6 +227,9 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       // The status, then the blocks' partial sums from its end: the driver counts one element of that array.
       {"common/solver_reduction.glsl", "registers[0]", GL_SHADER_STORAGE_BLOCK, "SolverStatusBuffer",
        FIRN_BINDING_SOLVER_STATUS, sizeof(SolverStatus) + sizeof(glm::vec4)},
+      // The contact slots, then the bodies' records from their end: one record counted.
+      {"common/body_blocks.glsl", "solverBodies[0].velocity[0]", GL_SHADER_STORAGE_BLOCK, "BodiesBuffer",
+       FIRN_BINDING_BODIES, CONTACT_SLOTS * sizeof(BodyContact) + sizeof(SolverBody)},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});

@@ -88,7 +88,7 @@ TEST(ShaderCompile, EveryPassCompilesForEveryConfiguration) {
                                "sim/solver_apply.comp", "sim/solver_step.comp", "sim/solver_reduce.comp",
                                "sim/solver_bodies_residual.comp", "sim/solver_bodies_apply.comp",
                                "sim/solver_bodies_step.comp", "sim/solver_bodies_finish.comp", "sim/solver_finish.comp",
-                               "sim/g2p.comp", "sim/integrate_bodies.comp"}) {
+                               "sim/meet_bodies.comp", "sim/g2p.comp", "sim/integrate_bodies.comp"}) {
         EXPECT_NO_THROW(firn::gl::Program::compute(library, pass, withBodies))
             << pass << " semi-implicit with rigid bodies " << kernel << " " << transfer;
       }
