@@ -2,9 +2,9 @@
 // The simulation's state on the GPU, in named parts that each own their buffers and a binding range of the GPU
 // contract: the particles (ParticleBuffers), the block-sparse grid with the passes that sort the particles into it
 // (BlockGrid), the semi-implicit solve's vectors (SolverState, when the scene asks for the solve), and the scene's
-// tables, the rigid bodies' records, the watchdog and the step's uniform block, which it owns itself. Which of them exist depends on what the
-// scene needs. It gathers the parts' buffers into one BufferBindings that every pass binds from, and copies the
-// buffers that carry over from step to step for checkpoints and for redoing a frame.
+// tables, the rigid bodies' records, the watchdog and the step's uniform block, which it owns itself. Which of them
+// exist depends on what the scene needs. It gathers the parts' buffers into one BufferBindings that every pass binds
+// from, and copies the buffers that carry over from step to step for checkpoints and for redoing a frame.
 #include <cstddef>
 #include <optional>
 #include <string>

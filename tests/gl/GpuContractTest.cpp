@@ -75,9 +75,10 @@ std::vector<SharedStruct> sharedStructs() {
        FIRN_MEMBER_LIST(SolverParticle, FIRN_SOLVER_PARTICLE)},
       {"common/solver_reduction.glsl", GL_BUFFER_VARIABLE, "", FIRN_MEMBER_LIST(SolverStatus, FIRN_SOLVER_STATUS)},
       // The rigid bodies' records (common/body_blocks.glsl): the contact slots, then a record per body.
-      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].", FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
-      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].", FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY),
-       CONTACT_SLOTS * sizeof(BodyContact)},
+      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].",
+       FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
+      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].",
+       FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY), CONTACT_SLOTS * sizeof(BodyContact)},
   };
 }
 
