@@ -77,10 +77,10 @@ class GpuState {
   std::vector<gpu::ObjectLoad> objectLoads() const;
   // Both as bytes, and back (none: emptied, for the next frame).
   std::string energyRecords() const;
+  void writeEnergyRecords(const std::string& bytes = "");
   // Empties the rigid bodies' records (gpu::SolverBody after the contact slots), whose sums carry what the grid update
   // adds into the semi-implicit solve: after a grid update and products that were only timed. The contacts stay.
   void clearBodyRecords();
-  void writeEnergyRecords(const std::string& bytes = "");
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
 
@@ -115,7 +115,7 @@ class GpuState {
   // The rigid bodies' contacts of the last step (gpu::BodyContact per slot), then a gpu::SolverBody per body: the
   // explicit step's coupled inverses, the semi-implicit solve's unknowns (common/body_blocks.glsl).
   gl::Buffer bodies_;
-  static std::size_t bodyRecordsOffset();
+  static std::size_t bodyRecordsOffset();  // the records' first byte: after the contact slots
   std::size_t objectCount_ = 0;  // the collider table's entries, each with a load in the watchdog's buffer
   std::size_t energyBytes() const;
   gl::Buffer stepUniforms_;

@@ -51,8 +51,8 @@ RigidBodies::RigidBodies(const Scene& scene, const gl::ShaderLibrary& library, c
     listMirrored_ = gl::ComputePass(library, "sim/list_mirrored.comp", options);
     mirrorStress_ = gl::ComputePass(library, "sim/mirror_stress.comp", options);
   }
-  // The explicit step's coupled solve, and with two bodies or more their contacts with each other met within it; the
-  // semi-implicit step's bodies meet each other after its solve, for the next.
+  // The explicit step's coupled solve, and with two bodies or more their contacts with each other met within it (the
+  // semi-implicit step's bodies meet each other after its solve).
   if (count_ > 1) meetBodies_ = gl::ComputePass(library, "sim/meet_bodies.comp", options);
   if (!semiImplicit_) {
     solveCoupling_ = gl::ComputePass(library, "sim/solve_coupling.comp", options);
