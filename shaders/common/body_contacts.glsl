@@ -25,6 +25,11 @@ float inverseEffectiveMass(float massKg, mat3 inverseInertia, vec3 r, vec3 d) {
 // from nothing.
 vec4 accumulated[CONTACT_SLOTS];
 
+// A friction impulse within Coulomb's cone: at most μ times the normal impulse, `limit`.
+vec3 withinFrictionCone(vec3 friction, float limit) {
+  return length(friction) > limit ? friction * (limit / length(friction)) : friction;
+}
+
 // The impulse this pass adds at contact `slot` on a body whose velocity relative to what it meets there is
 // `relative`, along the outward `normal` of what it meets: perfectly inelastic with Coulomb friction μ (eq. 36), given
 // the contact's inverse effective masses along the normal and along the slip's direction t (both bodies' summed, where
@@ -37,8 +42,7 @@ vec3 contactImpulse(int slot, vec3 relative, vec3 normal, float friction, float 
   vec4 before = slot < CONTACT_SLOTS ? accumulated[slot] : vec4(0.0);
   float normalTotal = max(before.w - approach / normalInverseMass, 0.0);
   vec3 frictionTotal = before.xyz + frictionWanted;
-  float limit = friction * normalTotal;
-  if (length(frictionTotal) > limit) frictionTotal *= limit / length(frictionTotal);
+  frictionTotal = withinFrictionCone(frictionTotal, friction * normalTotal);
   if (slot < CONTACT_SLOTS) accumulated[slot] = vec4(frictionTotal, normalTotal);
   return (normalTotal - before.w) * normal + (frictionTotal - before.xyz);
 }

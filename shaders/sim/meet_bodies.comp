@@ -88,9 +88,8 @@ void main() {
         !meetsBody(o, r, end, endTimeS, colliders[i].bodyMass.y, v, omega, normal, contactR, otherR, relative)) {
       continue;
     }
-    vec3 friction = contact.impulse.xyz - dot(contact.impulse.xyz, normal) * normal;
-    float limit = meetingFriction(i, o) * contact.impulse.w;
-    if (length(friction) > limit) friction *= limit / length(friction);
+    vec3 friction = withinFrictionCone(contact.impulse.xyz - dot(contact.impulse.xyz, normal) * normal,
+                                       meetingFriction(i, o) * contact.impulse.w);
     accumulated[s] = vec4(friction, contact.impulse.w);
     vec3 start = contact.impulse.w * normal + friction;
     takeContactImpulse(b, contactR, start);
