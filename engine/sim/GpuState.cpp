@@ -98,8 +98,9 @@ const GpuStateLayout& checkedLayout(const GpuStateLayout& layout, const gl::Cont
 }  // namespace
 
 GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
-                   const std::vector<gpu::ColliderParams>& colliders, const std::vector<float>& colliderFields,
-                   const gl::ContextInfo& gl, const gl::ShaderOptions& options)
+                   const std::vector<gpu::ColliderParams>& colliders, const std::vector<gpu::BodyRecord>& bodyRecords,
+                   const std::vector<float>& colliderFields, const gl::ContextInfo& gl,
+                   const gl::ShaderOptions& options)
     : layout_(checkedLayout(layout, gl)),
       particles_(layout_.particleCapacity, layout_.deformationGradient, layout_.affine),
       grid_(layout_, gl::ShaderLibrary(), options, gl) {
@@ -113,10 +114,15 @@ GpuState::GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
                      " allows a buffer texture; lower the mesh colliders' and bodies' \"resolution\"");
   }
   colliderFields_ = gl::BufferTexture(colliderFields);
-  // The bodies' contact slots, then a record per body (one, unused, without bodies: the semi-implicit passes declare
-  // the block whether or not the scene has bodies, and a bound buffer is never empty).
-  bodies_ = gl::Buffer(bodyRecordsOffset() + std::max<std::size_t>(layout_.rigidBodies, 1) * sizeof(gpu::SolverBody))
+  // The bodies' contact slots, empty, then a record per body (one, unused, without bodies: the semi-implicit passes
+  // declare the block whether or not the scene has bodies, and a bound buffer is never empty).
+  if (bodyRecords.size() != std::max<std::size_t>(layout_.rigidBodies, 1)) {
+    throw std::logic_error("GpuState: " + std::to_string(bodyRecords.size()) + " body records for " +
+                           std::to_string(layout_.rigidBodies) + " rigid bodies");
+  }
+  bodies_ = gl::Buffer(bodyRecordsOffset() + bodyRecords.size() * sizeof(gpu::BodyRecord))
                 .labelled("rigid bodies: contacts and records");
+  writeBodyRecords(bodyRecords);
   stepUniforms_ = gl::Buffer(sizeof(gpu::StepUniforms)).labelled("step uniforms");
   // The watchdog's status, then the energy ledger and a load per entry of the collider table, empty (gpu_contract.h,
   // EnergyLedger, ObjectLoad).
@@ -268,9 +274,16 @@ auto GpuState::stateBuffersOf(Self& self) {
 
 std::size_t GpuState::bodyRecordsOffset() { return std::size_t(gpu::CONTACT_SLOTS) * sizeof(gpu::BodyContact); }
 
-void GpuState::clearBodyRecords() {
-  const std::vector<char> zeros(bodies_.bytes() - bodyRecordsOffset(), '\0');
-  bodies_.upload(bodyRecordsOffset(), zeros.size(), zeros.data());
+void GpuState::writeBodyRecords(const std::vector<gpu::BodyRecord>& records, std::size_t first) {
+  bodies_.upload(bodyRecordsOffset() + first * sizeof(gpu::BodyRecord), records.size() * sizeof(gpu::BodyRecord),
+                 records.data());
+}
+
+std::vector<gpu::BodyRecord> GpuState::readBodyRecords(std::size_t first, std::size_t count) const {
+  std::vector<gpu::BodyRecord> records(count);
+  bodies_.download(bodyRecordsOffset() + first * sizeof(gpu::BodyRecord), count * sizeof(gpu::BodyRecord),
+                   records.data());
+  return records;
 }
 
 std::vector<const gl::Buffer*> GpuState::stateBuffers() const { return stateBuffersOf(*this); }

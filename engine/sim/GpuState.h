@@ -38,8 +38,8 @@ class GpuState {
   // The block grid's passes are built with the step's shader options. Throws InputError when a buffer would exceed
   // what the driver allows per shader storage block.
   GpuState(const GpuStateLayout& layout, const MaterialTable& materials,
-           const std::vector<gpu::ColliderParams>& colliders, const std::vector<float>& colliderFields,
-           const gl::ContextInfo& gl, const gl::ShaderOptions& options);
+           const std::vector<gpu::ColliderParams>& colliders, const std::vector<gpu::BodyRecord>& bodyRecords,
+           const std::vector<float>& colliderFields, const gl::ContextInfo& gl, const gl::ShaderOptions& options);
 
   std::size_t particleCapacity() const { return layout_.particleCapacity; }
 
@@ -78,9 +78,10 @@ class GpuState {
   // Both as bytes, and back (none: emptied, for the next frame).
   std::string energyRecords() const;
   void writeEnergyRecords(const std::string& bytes = "");
-  // Empties the rigid bodies' records (gpu::SolverBody after the contact slots), whose sums carry what the grid update
-  // adds into the semi-implicit solve: after a grid update and products that were only timed. The contacts stay.
-  void clearBodyRecords();
+  // The rigid bodies' records (gpu::BodyRecord, after the contact slots) from `first` on: a launched body's, and
+  // those put back after a pass that was only timed (RigidBodies::restore).
+  void writeBodyRecords(const std::vector<gpu::BodyRecord>& records, std::size_t first = 0);
+  std::vector<gpu::BodyRecord> readBodyRecords(std::size_t first, std::size_t count) const;
   // The largest |v| + c the last G2P saw (m/s): one 4-byte read.
   double fastestSignalMPerS() const;
 
@@ -112,8 +113,8 @@ class GpuState {
   gl::Buffer colliders_;
   gl::BufferTexture colliderFields_;  // the mesh colliders' and bodies' distance fields, the bodies' probes
   gl::Buffer watchdog_;
-  // The rigid bodies' contacts of the last step (gpu::BodyContact per slot), then a gpu::SolverBody per body: the
-  // explicit step's coupled inverses, the semi-implicit solve's unknowns (common/body_blocks.glsl).
+  // The rigid bodies' contacts of the last step (gpu::BodyContact per slot), then a gpu::BodyRecord per body: its
+  // dynamics, the explicit step's coupled inverse, the semi-implicit solve's unknowns (common/body_blocks.glsl).
   gl::Buffer bodies_;
   static std::size_t bodyRecordsOffset();  // the records' first byte: after the contact slots
   std::size_t objectCount_ = 0;  // the collider table's entries, each with a load in the watchdog's buffer

@@ -37,8 +37,8 @@ class ImplicitSolver {
                     gl::PassTimer& timer) const;
   // Times the step's first Hessian product by each of `shapes` (fastestOfRounds, `rounds` timed), on the grid the
   // grid update has just left (its start x₀). Each product's sums are taken by the residual pass after it, so
-  // nothing carries into the next solve but the rigid bodies' sums (GpuState::clearBodyRecords). Returns each shape's
-  // time (ms), in their order.
+  // nothing carries into the next solve but the rigid bodies' sums (RigidBodies::restore puts their records back).
+  // Returns each shape's time (ms), in their order.
   std::vector<std::pair<TransferShape, double>> timeProducts(const GpuState& state, std::size_t particles,
                                                              int maxWorkGroupsX,
                                                              const std::vector<TransferPasses>& shapes,

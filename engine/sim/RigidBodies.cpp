@@ -18,7 +18,7 @@ ObjectPose poseOf(const gpu::ColliderParams& entry) {
   // The entry's pose is at the time of its pivotTime.w, the end of the last step (or t = 0): now.
   pose.positionM = glm::dvec3(glm::vec3(entry.pivotTime));
   pose.orientation = glm::dquat(entry.rotation.w, entry.rotation.x, entry.rotation.y, entry.rotation.z);
-  pose.velocityMPerS = glm::dvec3(glm::vec3(entry.velocityFriction));
+  pose.velocityMPerS = glm::dvec3(glm::vec3(entry.velocity));
   pose.angularVelocityRadPerS = glm::dvec3(glm::vec3(entry.angularVelocity));
   return pose;
 }
@@ -115,7 +115,7 @@ void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::P
 
 void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) const {
   state.bindings().completeWrites();  // the passes' atomics, before the host reads them
-  std::vector<gpu::ColliderParams> bodies = save(state);
+  std::vector<gpu::ColliderParams> bodies = state.readColliders(first_, count_);
   // Each sum's 64-bit words, (low, high) per component, as one integer.
   std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
   for (gpu::ColliderParams& body : bodies) {
@@ -138,33 +138,36 @@ void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) 
       (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
     }
   }
-  restore(state, bodies);
+  state.writeColliders(bodies, first_);
 }
 
-std::vector<gpu::ColliderParams> RigidBodies::save(const GpuState& state) const {
-  return state.readColliders(first_, count_);
+RigidBodies::Saved RigidBodies::save(const GpuState& state) const {
+  return {state.readColliders(first_, count_), state.readBodyRecords(0, count_)};
 }
 
-void RigidBodies::restore(GpuState& state, const std::vector<gpu::ColliderParams>& entries) const {
-  if (!entries.empty()) state.writeColliders(entries, first_);
+void RigidBodies::restore(GpuState& state, const Saved& saved) const {
+  state.writeColliders(saved.entries, first_);
+  state.writeBodyRecords(saved.records);
 }
 
 std::vector<ObjectPose> RigidBodies::poses(const GpuState& state) const {
   std::vector<ObjectPose> poses;
-  for (const gpu::ColliderParams& entry : save(state)) poses.push_back(poseOf(entry));
+  for (const gpu::ColliderParams& entry : state.readColliders(first_, count_)) poses.push_back(poseOf(entry));
   return poses;
 }
 
 std::vector<std::optional<ObjectPose>> RigidBodies::posesInPlay(const GpuState& state) const {
   std::vector<std::optional<ObjectPose>> inPlay;
-  for (const gpu::ColliderParams& entry : save(state)) {
+  for (const gpu::ColliderParams& entry : state.readColliders(first_, count_)) {
     inPlay.push_back(entry.shapeBoundary.w != 0 ? std::optional<ObjectPose>(poseOf(entry)) : std::nullopt);
   }
   return inPlay;
 }
 
-void RigidBodies::write(GpuState& state, std::size_t index, const gpu::ColliderParams& entry) const {
+void RigidBodies::write(GpuState& state, std::size_t index, const gpu::ColliderParams& entry,
+                        const gpu::BodyRecord& record) const {
   state.writeColliders({entry}, first_ + index);
+  state.writeBodyRecords({record}, index);
 }
 
 }  // namespace firn

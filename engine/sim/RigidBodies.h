@@ -1,9 +1,10 @@
 #pragma once
 // The rigid bodies' part of a simulation (docs/algorithm.md, Rigid bodies): their passes, which the step runs at
-// named points, and their state on the GPU — each body an entry of the collider table after the scene's colliders,
-// whose pose, velocities and 64-bit sums of the snow's push the GPU keeps — read back as poses, written when a
-// parked body is launched, saved and put back. Over several processes (a DomainShare) each body's sums are summed
-// over the shares before a pass reads them, so that every share moves every body alike (docs/distributed.md).
+// named points, and their state on the GPU — each body an entry of the collider table after the scene's colliders
+// (its shape, pose and velocities, which the snow's passes meet, and the 64-bit sums of the snow's push they add to)
+// and a record in the bodies' own buffer (its dynamics and solves: gpu::BodyRecord) — read back as poses, written
+// when a parked body is launched, saved and put back. Over several processes (a DomainShare) each body's sums are
+// summed over the shares before a pass reads them, so that every share moves every body alike (docs/distributed.md).
 //
 // The step's points, in order (StepPipeline::step):
 //   afterTransfer        explicit step with a fluid: its stress mirrored into the bodies (eq. 38), once the nodes
@@ -49,16 +50,21 @@ class RigidBodies {
   void afterSolve(GpuState& state, gl::PassTimer& timer) const;
   void afterGridToParticle(GpuState& state, DomainShare* share, gl::PassTimer& timer) const;
 
-  // The bodies' entries of the collider table as they are, and put back (a pass run outside a step, to time it,
-  // must leave the bodies as they were: StepPipeline::chooseTransferShape).
-  std::vector<gpu::ColliderParams> save(const GpuState& state) const;
-  void restore(GpuState& state, const std::vector<gpu::ColliderParams>& entries) const;
+  // The bodies' entries of the collider table and their records as they are, and put back (a pass run outside a
+  // step, to time it, must leave the bodies as they were: StepPipeline::chooseTransferShape).
+  struct Saved {
+    std::vector<gpu::ColliderParams> entries;
+    std::vector<gpu::BodyRecord> records;
+  };
+  Saved save(const GpuState& state) const;
+  void restore(GpuState& state, const Saved& saved) const;
   // Each body's frame now, in the scene's order (SceneObjects.h), with its velocity and angular velocity; and the
   // same with none for a parked body (outside the simulation until launched).
   std::vector<ObjectPose> poses(const GpuState& state) const;
   std::vector<std::optional<ObjectPose>> posesInPlay(const GpuState& state) const;
-  // Writes body `index`'s entry (a launch: sim/SceneUpload.h, rigidBodyEntry).
-  void write(GpuState& state, std::size_t index, const gpu::ColliderParams& entry) const;
+  // Writes body `index`'s entry and record (a launch: sim/SceneUpload.h, rigidBodyEntry and rigidBodyRecord).
+  void write(GpuState& state, std::size_t index, const gpu::ColliderParams& entry,
+             const gpu::BodyRecord& record) const;
 
  private:
   // The sums a point of the step reads: the snow's push (impulse and its moment) or the coupled solve's.
@@ -77,7 +83,7 @@ class RigidBodies {
   gl::ComputePass predictBodies_;
   gl::ComputePass integrateBodies_;
   // The explicit step's images of a fluid's stress (eq. 38), where the scene mirrors it, and coupled solve of the
-  // bodies and the nodes they hold (docs/algorithm.md, eq. 39), whose inverse inertias K⁻¹ (gpu::SolverBody.inverse in
+  // bodies and the nodes they hold (docs/algorithm.md, eq. 39), whose inverse inertias K⁻¹ (gpu::BodyRecord.inverse in
   // the state's body records, of which the explicit step uses this one) the bodies then meet each other with.
   gl::ComputePass listMirrorBlocks_;
   gl::ComputePass listMirrored_;

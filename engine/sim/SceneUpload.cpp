@@ -90,14 +90,19 @@ float shapeReachM(const gpu::ColliderParams& entry) {
   return float(reachM * (1.0 + 1e-4));
 }
 
-// An entry's rigid motion from timeS on (pivot, turn, v, ω; colliderDistance advances it) and its friction; the
-// shape must be set first, for the reach that shares ω's vec4.
+// An entry's rigid motion from timeS on (pivot, turn, v, ω; colliderDistance advances it).
 void setMotion(gpu::ColliderParams& entry, const glm::dvec3& pivotM, const glm::dquat& rotation,
-               const glm::dvec3& velocityMPerS, const glm::dvec3& angularVelocityRadPerS, double friction, double timeS) {
+               const glm::dvec3& velocityMPerS, const glm::dvec3& angularVelocityRadPerS, double timeS) {
   entry.pivotTime = glm::vec4(glm::vec3(pivotM), float(timeS));
   entry.rotation = glm::vec4(float(rotation.x), float(rotation.y), float(rotation.z), float(rotation.w));
-  entry.velocityFriction = glm::vec4(glm::vec3(velocityMPerS), float(friction));
-  entry.angularVelocity = glm::vec4(glm::vec3(angularVelocityRadPerS), shapeReachM(entry));
+  entry.velocity = glm::vec4(glm::vec3(velocityMPerS), 0);
+  entry.angularVelocity = glm::vec4(glm::vec3(angularVelocityRadPerS), 0);
+}
+
+// How an entry meets the snow: its friction, its reach (the shape must be set first) and whether its load is reported
+// (gpu::ColliderParams.contact).
+void setContact(gpu::ColliderParams& entry, double friction, bool loadReported) {
+  entry.contact = glm::vec4(float(friction), shapeReachM(entry), loadReported ? 1.0f : 0.0f, 0);
 }
 
 }  // namespace
@@ -201,22 +206,38 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
       break;
     case RigidShape::Mesh: setField(entry, fields.bodies.at(index)); break;
   }
-  setMotion(entry, pose.positionM, pose.orientation, pose.velocityMPerS, pose.angularVelocityRadPerS, body.friction,
-            timeS);
+  setMotion(entry, pose.positionM, pose.orientation, pose.velocityMPerS, pose.angularVelocityRadPerS, timeS);
+  setContact(entry, body.friction, true);
   entry.shapeBoundary.y = boundaryCode(body.boundary);
   entry.shapeBoundary.z = 1;
   entry.shapeBoundary.w = body.parked ? 0 : 1;
-  entry.bodyMass = glm::vec4(float(body.massKg), body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f, 0, 0);
-  entry.bodyProbes = glm::ivec4(fields.bodyProbes.at(index), 1, 0);  // z: its load goes to bodies.csv
+  return entry;
+}
+
+gpu::BodyRecord rigidBodyRecord(const RigidBody& body, const ColliderFields& fields, std::size_t index,
+                                const ObjectPose& pose) {
+  gpu::BodyRecord record{};
+  record.massRadius = glm::vec4(float(body.massKg), body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f, 0, 0);
+  record.probes = glm::ivec4(fields.bodyProbes.at(index), 0, 0);
   // L = R I Rᵀ ω: the inertia is the body's own frame's, ω the world's.
   const glm::dmat3 turn = glm::mat3_cast(pose.orientation);
-  entry.angularMomentum =
+  record.angularMomentum =
       glm::vec4(glm::vec3(turn * body.inertiaKgM2 * glm::transpose(turn) * pose.angularVelocityRadPerS), 0);
   const glm::dmat3 inverseInertia = glm::inverse(body.inertiaKgM2);
   for (int column = 0; column < 3; ++column) {
-    entry.inverseInertia[column] = glm::vec4(glm::vec3(inverseInertia[column]), 0);
+    record.inverseInertia[column] = glm::vec4(glm::vec3(inverseInertia[column]), 0);
   }
-  return entry;
+  return record;
+}
+
+std::vector<gpu::BodyRecord> buildBodyRecords(const Scene& scene, const ColliderFields& fields) {
+  std::vector<gpu::BodyRecord> records;
+  for (std::size_t b = 0; b < scene.rigidBodies.size(); ++b) {
+    const RigidBody& body = scene.rigidBodies[b];
+    records.push_back(rigidBodyRecord(body, fields, b, initialBodyPose(body)));
+  }
+  if (records.empty()) records.emplace_back();  // a zeroed record, so that the binding is always a valid buffer
+  return records;
 }
 
 std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const ColliderFields& fields, double timeS) {
@@ -244,10 +265,10 @@ std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const Colli
     }
     const RigidPose segment = colliderPose(c, colliderPose(c, timeS).segmentStartS);
     setMotion(out, segment.pivotM, segment.rotation, segment.velocityMPerS, segment.angularVelocityRadPerS,
-              c.friction, segment.segmentStartS);
+              segment.segmentStartS);
+    setContact(out, c.friction, colliderMoves(c));
     out.shapeBoundary.y = boundaryCode(c.boundary);
     out.shapeBoundary.w = 1;
-    out.bodyProbes.z = colliderMoves(c) ? 1 : 0;  // its load goes to bodies.csv
   }
   return colliders;
 }

@@ -48,9 +48,16 @@ std::vector<gpu::ColliderParams> colliderEntries(const Scene& scene, const Colli
 // binding is always a valid buffer.
 std::vector<gpu::ColliderParams> buildColliderTable(const Scene& scene, const ColliderFields& fields, double timeS);
 
-// A rigid body's entry in the collider table with its frame at `pose` (SceneObjects.h).
+// A rigid body's entry in the collider table with its frame at `pose` (SceneObjects.h): its shape and motion, which
+// the snow's passes meet.
 gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& fields, std::size_t index,
                                    const ObjectPose& pose, double timeS);
+// Its record in the bodies' buffer (gpu::BodyRecord): its mass, probes, inertia and angular momentum at `pose`, the
+// solves' members empty.
+gpu::BodyRecord rigidBodyRecord(const RigidBody& body, const ColliderFields& fields, std::size_t index,
+                                const ObjectPose& pose);
+// Every body's record at its initial state; at least one (zeroed) so the binding is always a valid buffer.
+std::vector<gpu::BodyRecord> buildBodyRecords(const Scene& scene, const ColliderFields& fields);
 
 // The collider table at a time, rebuilt only when the time changes (particles come grouped by release time).
 class ColliderTableAt {

@@ -114,8 +114,8 @@ Simulation::Simulation(const Scene& scene, const std::vector<ParticleSeed>& seed
                  options.blockCapacity > 0 ? options.blockCapacity
                                            : initialBlockCapacity(scene_, seeds, options.share, gl),
                  needsDeformationGradient(scene_, options.programs)),
-             materialTable_, buildColliderTable(scene_, colliderFields_, 0), colliderFields_.samples, gl,
-             stepShaderOptions(scene_, options.programs)),
+             materialTable_, buildColliderTable(scene_, colliderFields_, 0), buildBodyRecords(scene_, colliderFields_),
+             colliderFields_.samples, gl, stepShaderOptions(scene_, options.programs)),
       fixedPoint_(fixedPointScaleFor(scene_, seeds, std::max(options.particleCapacity, seeds.size()))),
       stepping_(scene_, initialFastestSignalMPerS(scene_, seeds)),
       diagnostics_(scene_, fixedPoint_),
@@ -600,7 +600,8 @@ void Simulation::launchRigidBody(std::size_t index, const ObjectPose& pose) {
   body.parked = false;
   energy_.noteArrival(rigidBodyKineticEnergyJ(body, pose) +
                       potentialEnergyJ(scene_.gravityMPerS2, potentialFloorM(scene_), body.massKg, pose.positionM));
-  pipeline_.rigidBodies()->write(state_, index, rigidBodyEntry(body, colliderFields_, index, pose, timeS_));
+  pipeline_.rigidBodies()->write(state_, index, rigidBodyEntry(body, colliderFields_, index, pose, timeS_),
+                                 rigidBodyRecord(body, colliderFields_, index, pose));
 }
 
 Simulation::StepTraffic Simulation::stepRecordingTraffic(double dtS) {

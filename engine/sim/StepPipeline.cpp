@@ -190,10 +190,10 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
   if (implicitSolver_) {
     // The product is timed from the start x₀ the grid update makes of a transfer (every shape's leaves the same
     // grid, to the bit), sorted for tiles too, which the product's tiles read. That grid update pushes the rigid
-    // bodies as the step's will, and adds the energy its collisions move to the ledger: the bodies' entries and the
-    // ledger are put back as they were, and the solve's records of the bodies, which that grid update starts, emptied.
+    // bodies as the step's will, adds the energy its collisions move to the ledger and starts the solve's sums in the
+    // bodies' records: the bodies' entries and records and the ledger are put back as they were.
     transferToGrid(state, particles, BlockGrid::SortFor::Tiles, untimed);
-    const std::vector<gpu::ColliderParams> bodies = bodies_ ? bodies_->save(state) : std::vector<gpu::ColliderParams>();
+    const RigidBodies::Saved bodies = bodies_ ? bodies_->save(state) : RigidBodies::Saved();
     const std::string energy = state.energyRecords();
     state.grid().run(updateGrid_, BlockGrid::SortFor::Tiles, state.bindings(), untimed);
     choice.msPerProduct =
@@ -202,7 +202,6 @@ bool StepPipeline::chooseTransferShape(GpuState& state, std::size_t particles) {
     choice.productShape = transfers_[productChosen_].shape();
     state.bindings().completeWrites();
     if (bodies_) bodies_->restore(state, bodies);
-    state.clearBodyRecords();
     state.writeEnergyRecords(energy);
   }
   // The chosen shape runs last, so that the grid is its own transfer's (the same sums in any shape).

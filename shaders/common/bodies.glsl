@@ -1,4 +1,4 @@
-// What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation and inertia in
+// What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation and
 // the world, and the snow's push summed in its entry (eq. 35).
 #include "common/colliders.glsl"
 #include "common/fixed64.glsl"
@@ -11,15 +11,6 @@ mat3 rotationMatrix(vec4 q) {
   return mat3(rotateByQuaternion(q, vec3(1.0, 0.0, 0.0)), rotateByQuaternion(q, vec3(0.0, 1.0, 0.0)),
               rotateByQuaternion(q, vec3(0.0, 0.0, 1.0)));
 }
-
-// I⁻¹ in the world's axes, R I_b⁻¹ Rᵀ, for the body's orientation `turn` (1/(kg·m²)).
-mat3 worldInverseInertia(ColliderParams body, mat3 turn) {
-  mat3 restInverseInertia = mat3(body.inverseInertia[0].xyz, body.inverseInertia[1].xyz, body.inverseInertia[2].xyz);
-  return turn * restInverseInertia * transpose(turn);
-}
-
-// I in the world's axes, R I_b Rᵀ, for the body's orientation now (kg·m²).
-mat3 worldInertia(ColliderParams body) { return inverse(worldInverseInertia(body, rotationMatrix(body.rotation))); }
 
 // The impulse (kg·m/s) and its moment about the centre of mass (kg·m²/s) summed in the body's entry.
 void summedPush(ColliderParams body, out vec3 impulseKgMPerS, out vec3 momentKgM2PerS) {

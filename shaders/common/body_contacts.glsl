@@ -8,7 +8,8 @@
 // approach at every probe; a resting box settles within a few.
 const int CONTACT_PASSES = 10;
 
-vec3 probe(ColliderParams body, int k) { return fieldVector(body.bodyProbes.x + 3 * k); }
+// Probe k of the body of entry i, in its own frame (m).
+vec3 probe(uint i, int k) { return fieldVector(bodyRecords[bodyOf(i)].probes.x + 3 * k); }
 
 // The inverse of the effective mass a body of mass M and world inverse inertia I⁻¹ has along direction d at r from its
 // centre of mass: 1/M + d · (I⁻¹ (r × d)) × r.
@@ -72,7 +73,7 @@ bool meetsBody(uint o, vec3 r, vec3 end, float endTimeS, float probeRadiusM, vec
 
 // Two bodies' friction where they meet: the geometric mean of theirs.
 float meetingFriction(uint i, uint o) {
-  return sqrt(colliders[i].velocityFriction.w * colliders[o].velocityFriction.w);
+  return sqrt(colliders[i].contact.x * colliders[o].contact.x);
 }
 
 #ifdef FIRN_SEMI_IMPLICIT
@@ -96,8 +97,9 @@ bool slotInUse(int s) {
 // first body's probe, less its radius along the normal, and that point from the other's centre.
 vec3 slotImpulse(int s, out vec3 r, out vec3 otherR) {
   BodyContact contact = bodyContacts[s];
-  ColliderParams body = colliders[contact.key.x];
-  r = rotationMatrix(body.rotation) * probe(body, contact.key.y) - body.bodyMass.y * contact.normal.xyz;
+  uint i = uint(contact.key.x);
+  ColliderParams body = colliders[i];
+  r = rotationMatrix(body.rotation) * probe(i, contact.key.y) - bodyRecords[bodyOf(i)].massRadius.y * contact.normal.xyz;
   otherR = body.pivotTime.xyz + r - colliders[contact.key.z].pivotTime.xyz;
   return contact.impulse.w * contact.normal.xyz + contact.impulse.xyz;
 }
@@ -128,7 +130,7 @@ int contactSlotOf(uint i, int k, uint o) {
   int others = -1;
   for (uint b = bodyEntry(0); b < colliderCount; ++b) others += takesPart(b) ? 1 : 0;
   int slot = 0;
-  for (uint b = bodyEntry(0); b < i; ++b) slot += takesPart(b) ? colliders[b].bodyProbes.y * others : 0;
+  for (uint b = bodyEntry(0); b < i; ++b) slot += takesPart(b) ? bodyRecords[bodyOf(b)].probes.y * others : 0;
   slot += k * others;
   for (uint b = bodyEntry(0); b < o; ++b) slot += b != i && takesPart(b) ? 1 : 0;
   return slot;

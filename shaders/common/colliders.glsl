@@ -58,15 +58,15 @@ void pushRigidBody(uint i, vec3 x, float timeS, vec3 impulseOnSnowKgMPerS) {
 #endif
 
 // Whether the collider of entry i may hold x at timeS: it takes part (a parked body does not) and x lies within its
-// reach, the sphere about its pivot that holds its whole shape (ColliderParams.angularVelocity.w). Most nodes and
-// particles lie beyond every collider's reach: this reads three vec4s of the entry, where the distance reads it all
+// reach, the sphere about its pivot that holds its whole shape (ColliderParams.contact.y). Most nodes and
+// particles lie beyond every collider's reach: this reads four vec4s of the entry, where the distance reads it all
 // and turns x twice by quaternions (a mesh also reads eight samples).
 // `marginM` further: the points within that distance of its surface (0: of its solid).
 bool colliderWithinReach(uint i, vec3 x, float timeS, float marginM) {
   if (colliders[i].shapeBoundary.w == 0) return false;
   vec4 pivotTime = colliders[i].pivotTime;
-  vec3 fromPivot = x - (pivotTime.xyz + colliders[i].velocityFriction.xyz * (timeS - pivotTime.w));
-  float reachM = colliders[i].angularVelocity.w;
+  vec3 fromPivot = x - (pivotTime.xyz + colliders[i].velocity.xyz * (timeS - pivotTime.w));
+  float reachM = colliders[i].contact.y;
   return reachM < 0.0 || dot(fromPivot, fromPivot) <= (reachM + marginM) * (reachM + marginM);
 }
 bool colliderWithinReach(uint i, vec3 x, float timeS) { return colliderWithinReach(i, x, timeS, 0.0); }
@@ -95,7 +95,7 @@ vec3 boundaryResponse(vec3 v, vec3 normal, vec3 boundaryVelocity, float friction
 // body takes the impulse back, and its own energy is audited.
 float colliderImpulse(uint i, ColliderParams c, vec3 impulseKgMPerS, vec3 surfaceVelocity) {
   float workJ = dot(impulseKgMPerS, surfaceVelocity);
-  if (c.bodyProbes.z != 0) addObjectLoad(i, impulseKgMPerS, workJ);
+  if (c.contact.z != 0.0) addObjectLoad(i, impulseKgMPerS, workJ);
   return c.shapeBoundary.z != 0 ? 0.0 : workJ;
 }
 
@@ -110,7 +110,7 @@ vec3 collideWithEntries(uint first, uint end, vec3 probe, vec3 v, float timeS, f
     vec3 normal;
     if (colliderDistance(c, probe, timeS, normal) <= 0.0) {
       vec3 surfaceVelocity = colliderVelocity(c, probe, timeS);
-      vec3 response = boundaryResponse(v, normal, surfaceVelocity, c.velocityFriction.w, c.shapeBoundary.y);
+      vec3 response = boundaryResponse(v, normal, surfaceVelocity, c.contact.x, c.shapeBoundary.y);
 #ifdef FIRN_HAS_RIGID_BODIES
       if (c.shapeBoundary.z != 0 && response != v) pushRigidBody(i, probe, timeS, massKg * (response - v));
 #endif
@@ -285,7 +285,7 @@ vec3 collidersFrictionAfterSolve(vec3 probe, vec3 v, float timeS, float massKg, 
     vec3 boundaryVelocity = colliderVelocity(c, probe, timeS);
     vec3 tangential = v - boundaryVelocity;
     float tangentialSpeed = length(tangential);
-    float frictionLoss = c.velocityFriction.w * max(normalImpulseMPerS, 0.0);
+    float frictionLoss = c.contact.x * max(normalImpulseMPerS, 0.0);
     tangential = tangentialSpeed <= frictionLoss ? vec3(0.0) : tangential * (1.0 - frictionLoss / tangentialSpeed);
     vec3 response = tangential + boundaryVelocity;
 #ifdef FIRN_HAS_RIGID_BODIES
@@ -312,8 +312,8 @@ void constraintsAfterSolve(vec3 probe, float timeS, vec4 constraint, vec3 heldPr
   if ((code & (CONSTRAINT_NORMAL | CONSTRAINT_FIXED)) == 0) return;  // no collider holds the node
   for (uint i = 0u; i < colliderCount; ++i) {
     // A body, a collider moving now, or one whose load bodies.csv reports (a keyframed one may rest a while).
-    bool counted = colliders[i].velocityFriction.xyz != vec3(0.0) || colliders[i].angularVelocity.xyz != vec3(0.0) ||
-                   colliders[i].bodyProbes.z != 0;
+    bool counted = colliders[i].velocity.xyz != vec3(0.0) || colliders[i].angularVelocity.xyz != vec3(0.0) ||
+                   colliders[i].contact.z != 0.0;
     if (!counted || !colliderWithinReach(i, probe, timeS)) continue;
     ColliderParams c = colliders[i];
     vec3 normal;

@@ -80,7 +80,7 @@
 #define FIRN_SOLVER_BINDINGS_END 21
 // The rigid bodies' (scenes with rigid bodies; common/body_blocks.glsl).
 #define FIRN_BODY_BINDINGS_FIRST 21
-#define FIRN_BINDING_BODIES 21              // BodyContact per contact slot, then a SolverBody per rigid body
+#define FIRN_BINDING_BODIES 21              // BodyContact per contact slot, then a BodyRecord per rigid body
 #define FIRN_BODY_BINDINGS_END 22
 // The snow's surface (shaders/surface/surface_contract.h declares its bindings).
 #define FIRN_SURFACE_BINDINGS_FIRST 22
@@ -185,63 +185,52 @@ FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
 // ColliderParams: one collider, a rigid motion of its shape at rest (common/colliders.glsl; docs/algorithm.md,
 // Colliders). The host writes its pose at the start of the segment of motion that holds the step (for a collider
 // without keyframes, at t = 0 for good); colliderDistance advances it rigidly by v and ω to the time it probes.
-// The table holds the scene's colliders, then an entry per rigid body (docs/algorithm.md, Rigid bodies), whose pose
-// integrate_bodies.comp writes at the end of every step: its pivot is the body's centre of mass, its shape at rest
-// is in the body's own frame.
+// The table holds the scene's colliders, then an entry per rigid body (docs/algorithm.md, Rigid bodies): the snow's
+// passes meet a body as they meet a collider, by its entry, whose pose integrate_bodies.comp writes at the end of
+// every step: its pivot is the body's centre of mass, its shape at rest is in the body's own frame. (The body's
+// dynamics are its BodyRecord.)
 //   shapeA            the shape at rest, from its pivot (m): plane: a point; sphere: the centre, w the radius;
 //                     box: the centre; a rigid body's mesh: w the steepest slope of its field's interpolation
 //                     within the lattice (|∇φ| ≤ w, from the samples; colliderSlope), a collider's 0
 //   shapeB            plane: the unit normal; box: the half extents (m)
 //   pivotTime         xyz where the pivot is (m) at the time w (s)
 //   rotation          the turn from rest about the pivot at that time, a unit quaternion (xyz its vector part)
-//   velocityFriction  xyz the pivot's velocity v (m/s), w Coulomb's μ
-//   angularVelocity   xyz ω (rad/s), about the pivot; w the reach (m): the radius of a sphere about the pivot that
-//                     holds the whole shape (a mesh's field lattice), or −1 for a plane (colliderWithinReach)
+//   velocity          xyz the pivot's velocity v (m/s)
+//   angularVelocity   xyz ω (rad/s), about the pivot
 //   shapeBoundary     x SHAPE_*, y BOUNDARY_*, z: a rigid body's entry 1, else 0; w: a body that takes part 1, a
 //                     parked one (the viewer's spare balls, out of the domain until thrown) 0
 //   field             SHAPE_MESH: x the first of its samples in the field buffer, yzw the samples per axis; after
 //                     the samples' φ, as many floats naming each sample's nearest triangle, then a record of
 //                     FIELD_TRIANGLE_FLOATS per triangle (common/shared_functions.h, meshRestDistance)
 //   fieldOrigin       SHAPE_MESH: xyz where sample (0, 0, 0) lies at rest, from the pivot (m); w the spacing (m)
-// A rigid body's entry also holds its dynamics and the snow's push on it this step:
-//   bodyMass          x the mass (kg), y the contact radius of its probes (m: a sphere's radius, else 0)
-//   bodyProbes        x the first of its contact probes in the field buffer (3 floats each, in its own frame, m),
-//                     y their number; z (any entry): 1 where the object's load goes to bodies.csv (a rigid body, or
-//                     a collider that moves: scene/SceneObjects.h, colliderMoves; gpu::ObjectLoad)
-//   angularMomentum   xyz L about the centre of mass (kg·m²/s, world axes)
-//   inverseInertia    the columns of I⁻¹ in the body's own frame (1/(kg·m²))
+//   contact           x Coulomb's μ; y the reach (m): the radius of a sphere about the pivot that holds the whole
+//                     shape (a mesh's field lattice), or −1 for a plane (colliderWithinReach); z 1 where the object's
+//                     load goes to bodies.csv (a rigid body, or a collider that moves: scene/SceneObjects.h,
+//                     colliderMoves; gpu::ObjectLoad)
+// A rigid body's entry also gathers what the snow's passes that meet it add this step (they hold as many storage
+// blocks as a pass may, 16, so the body's sums lie where they already read its shape):
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
 //                     momentumUnitKgMPerS · 2^−k, P2G's momentum units (common/fixed64.glsl)
 //   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · 2^−k · h
-// and its solve with the nodes it holds (docs/algorithm.md, eq. 39 in the explicit step, 39a in the semi-implicit):
-//   freeVelocity      xyz the body's velocity before the explicit step's coupled solve, V* (m/s), or the semi-implicit
-//                     solve's u (solver_bodies_finish.comp), which the snow's impulses after the solve add to
-//                     (predict_bodies.comp, integrate_bodies.comp)
-//   freeAngularVelocity  xyz its ω* before the solve (rad/s): a separating body's nodes are held where they approach
-//                     its surface moving so
-//   couplingLow/High  the solve's sums over the held nodes, 64-bit fixed point in units of 2^−COUPLING_FRACTION_BITS:
-//                     the upper triangle of Σ m Gᵀ P G, row by row (21), then Σ m Gᵀ P v (6), in P2G's nondimensional
-//                     units (mass m_ref, length h, time Δt_ref; update_grid.comp, solve_coupling.comp)
+//   couplingLow/High  the explicit step's coupled solve's sums over the held nodes (docs/algorithm.md, eq. 39),
+//                     64-bit fixed point in units of 2^−COUPLING_FRACTION_BITS: the upper triangle of Σ m Gᵀ P G, row
+//                     by row (21), then Σ m Gᵀ P v (6), in P2G's nondimensional units (mass m_ref, length h, time
+//                     Δt_ref; update_grid.comp, solve_coupling.comp)
 #define FIRN_COLLIDER_PARAMS(member, array) \
   member(vec4, shapeA)                      \
   member(vec4, shapeB)                      \
   member(vec4, pivotTime)                   \
   member(vec4, rotation)                    \
-  member(vec4, velocityFriction)            \
+  member(vec4, velocity)                    \
   member(vec4, angularVelocity)             \
   member(ivec4, shapeBoundary)              \
   member(ivec4, field)                      \
   member(vec4, fieldOrigin)                 \
-  member(vec4, bodyMass)                    \
-  member(ivec4, bodyProbes)                 \
-  member(vec4, angularMomentum)             \
-  array(vec4, inverseInertia, 3)            \
+  member(vec4, contact)                     \
   member(uvec4, impulseLow)                 \
   member(ivec4, impulseHigh)                \
   member(uvec4, angularLow)                 \
   member(ivec4, angularHigh)                \
-  member(vec4, freeVelocity)                \
-  member(vec4, freeAngularVelocity)         \
   array(uvec4, couplingLow, COUPLING_WORDS) \
   array(ivec4, couplingHigh, COUPLING_WORDS)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
@@ -366,20 +355,38 @@ FIRN_CONSTANT(int, CONTACT_SLOTS, 128)
   member(ivec4, key)
 FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
 
-// SolverBody: a rigid body's six velocities u = (V, ω) as unknowns of the semi-implicit solve
-// (common/solver_bodies.glsl; docs/algorithm.md, Rigid bodies in the semi-implicit step), with the conjugate residual
-// method's vectors as a node's (SolverNode): [0] the linear part, [1] the angular part.
+// BodyRecord: a rigid body's dynamics (docs/algorithm.md, Rigid bodies; common/body_blocks.glsl) — its shape and
+// pose are its entry of the collider table, which the snow's passes meet — and its six velocities u = (V, ω) as
+// unknowns of the solves.
+//   massRadius       x the mass (kg), y the contact radius of its probes (m: a sphere's radius, else 0)
+//   probes           x the first of its contact probes in the field buffer (3 floats each, in its own frame, m),
+//                    y their number
+//   angularMomentum  xyz L about the centre of mass (kg·m²/s, world axes)
+//   inverseInertia   the columns of I⁻¹ in the body's own frame (1/(kg·m²))
+//   freeVelocity     xyz the body's velocity before the explicit step's coupled solve, V* (m/s), or the semi-implicit
+//                    solve's u (solver_bodies_finish.comp), which the snow's impulses after the solve add to
+//                    (predict_bodies.comp, integrate_bodies.comp)
+//   freeAngularVelocity  xyz its ω* before the solve (rad/s): a separating body's nodes are held where they approach
+//                    its surface moving so
+// The semi-implicit solve's vectors, as a node's (SolverNode; common/solver_bodies.glsl; docs/algorithm.md, Rigid
+// bodies in the semi-implicit step): [0] the linear part, [1] the angular part.
 //   velocity, direction, preconditioned   x_b (the solution), p, z = P_b⁻¹ r: V (m/s) and ω (rad/s)
 //   residual, product, directionProduct   r, A z, A p: force-like (kg·m/s) and moment-like (kg·m²/s) parts
 //   inverse          P_b⁻¹, the inverse of the body's 6×6 preconditioner block, row after row (36 values); in the
-//                    explicit step K⁻¹ of its coupled solve (common/body_blocks.glsl), the only member that step uses
-//                    with velocity[0].w: 1 where the body holds a node (solve_coupling.comp; in the semi-implicit step
-//                    solver_bodies_residual.comp), else 0
+//                    explicit step K⁻¹ of its coupled solve (common/body_blocks.glsl), the only solve member that step
+//                    uses with velocity[0].w: 1 where the body holds a node (solve_coupling.comp; in the semi-implicit
+//                    step solver_bodies_residual.comp), else 0
 //   sumsLow/High     Σ Gᵢᵀ Pᵢ wᵢ over the nodes it holds, wᵢ a product's held part ([0] the force, [1] its moment
 //                    about the centre of mass), 64-bit fixed point in 2^−k_H of the momentum unit (× h for [1])
 //   blockLow/High    Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ, the upper triangle row by row (21 values), in
 //                    2^−COUPLING_FRACTION_BITS of P2G's nondimensional units (mass m_ref, length h, time Δt_ref)
-#define FIRN_SOLVER_BODY(member, array) \
+#define FIRN_BODY_RECORD(member, array) \
+  member(vec4, massRadius)              \
+  member(ivec4, probes)                 \
+  member(vec4, angularMomentum)         \
+  array(vec4, inverseInertia, 3)        \
+  member(vec4, freeVelocity)            \
+  member(vec4, freeAngularVelocity)     \
   array(vec4, velocity, 2)              \
   array(vec4, residual, 2)              \
   array(vec4, preconditioned, 2)        \
@@ -391,7 +398,7 @@ FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
   array(ivec4, sumsHigh, 2)             \
   array(uvec4, blockLow, 6)             \
   array(ivec4, blockHigh, 6)
-FIRN_STRUCT(SolverBody, FIRN_SOLVER_BODY)
+FIRN_STRUCT(BodyRecord, FIRN_BODY_RECORD)
 
 // SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite
 // (material_hessians.glsl), so that the iterations' products need no SVD. Computed once per step

@@ -128,7 +128,7 @@ FIRN_FUNCTION vec4 turnOver(vec3 angularVelocity, float durationS) {
 
 // Where a collider's pivot is at timeS: its pose moves rigidly from c.pivotTime.w at v (docs/algorithm.md eq. 33).
 FIRN_FUNCTION vec3 colliderPivot(ColliderParams c, float timeS) {
-  return vec3(c.pivotTime) + vec3(c.velocityFriction) * (timeS - c.pivotTime.w);
+  return vec3(c.pivotTime) + vec3(c.velocity) * (timeS - c.pivotTime.w);
 }
 
 // x taken into the frame of a collider's shape at rest, from its pivot, at time timeS (eq. 33): where eq. 27 measures
@@ -374,7 +374,7 @@ FIRN_FUNCTION float meshRestDistance(FIRN_FIELD_BUFFER ColliderParams c, vec3 fr
 
 // The velocity of a collider's surface at x at timeS, the rigid motion's v + ω × (x − c(t)) (eq. 33).
 FIRN_FUNCTION vec3 colliderVelocity(ColliderParams c, vec3 x, float timeS) {
-  return vec3(c.velocityFriction) + cross(vec3(c.angularVelocity), x - colliderPivot(c, timeS));
+  return vec3(c.velocity) + cross(vec3(c.angularVelocity), x - colliderPivot(c, timeS));
 }
 
 #ifndef __cplusplus

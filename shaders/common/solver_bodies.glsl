@@ -35,21 +35,21 @@ void addToBodySums(int b, vec3 fromCentreCells, vec3 heldKgMPerS, ivec3 node) {
   uvec4 low;
   ivec4 high;
   bool fits = productToFixed64(vec4(heldKgMPerS * unitsPerKgMPerS, 0.0), low, high);
-  FIRN_ADD_FIXED64(solverBodies[b].sumsLow[0], solverBodies[b].sumsHigh[0], low, high)
+  FIRN_ADD_FIXED64(bodyRecords[b].sumsLow[0], bodyRecords[b].sumsHigh[0], low, high)
   fits = productToFixed64(vec4(cross(fromCentreCells, heldKgMPerS) * unitsPerKgMPerS, 0.0), low, high) && fits;
-  FIRN_ADD_FIXED64(solverBodies[b].sumsLow[1], solverBodies[b].sumsHigh[1], low, high)
+  FIRN_ADD_FIXED64(bodyRecords[b].sumsLow[1], bodyRecords[b].sumsHigh[1], low, high)
   if (!fits) reportOverflow(nodeIndex(node), CHANNEL_SOLVER);
 }
 
 // The body's sums as G_iᵀ (kg·m/s) and their moments (kg·m²/s); the sums are cleared for the next product.
 void takeBodySums(int b, out vec3 forceKgMPerS, out vec3 momentKgM2PerS) {
   float kgMPerSPerUnit = ldexp(1.0, -solverFractionBits) * momentumUnitKgMPerS;
-  forceKgMPerS = fixed64ToFloat(solverBodies[b].sumsLow[0], solverBodies[b].sumsHigh[0]).xyz * kgMPerSPerUnit;
+  forceKgMPerS = fixed64ToFloat(bodyRecords[b].sumsLow[0], bodyRecords[b].sumsHigh[0]).xyz * kgMPerSPerUnit;
   momentKgM2PerS =
-      fixed64ToFloat(solverBodies[b].sumsLow[1], solverBodies[b].sumsHigh[1]).xyz * (kgMPerSPerUnit * cellSizeM);
+      fixed64ToFloat(bodyRecords[b].sumsLow[1], bodyRecords[b].sumsHigh[1]).xyz * (kgMPerSPerUnit * cellSizeM);
   for (int k = 0; k < 2; ++k) {
-    solverBodies[b].sumsLow[k] = uvec4(0u);
-    solverBodies[b].sumsHigh[k] = ivec4(0);
+    bodyRecords[b].sumsLow[k] = uvec4(0u);
+    bodyRecords[b].sumsHigh[k] = ivec4(0);
   }
 }
 
@@ -78,14 +78,14 @@ void addToBodyBlock(int b, vec3 fromCentreCells, float massKg, mat3 stiffnessKg,
     ivec4 high;
     splitFixed64(round(vec4(sums[4 * w], sums[4 * w + 1], sums[4 * w + 2], sums[4 * w + 3]) * unitsPerValue), low,
                  high);
-    FIRN_ADD_FIXED64(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w], low, high)
+    FIRN_ADD_FIXED64(bodyRecords[b].blockLow[w], bodyRecords[b].blockHigh[w], low, high)
   }
 }
 
-// M_b u for body b's entry: M V and I ω (kg·m/s, kg·m²/s), I in the world's axes now.
-void bodyMassTimes(ColliderParams body, vec3 linear, vec3 angular, out vec3 force, out vec3 moment) {
-  force = body.bodyMass.x * linear;
-  moment = worldInertia(body) * angular;
+// M_b u for body b: M V and I ω (kg·m/s, kg·m²/s), I in the world's axes now.
+void bodyMassTimes(int b, vec3 linear, vec3 angular, out vec3 force, out vec3 moment) {
+  force = bodyRecords[b].massRadius.x * linear;
+  moment = worldInertia(b) * angular;
 }
 
 // The dot product of two of the body's 6-vectors, each as its two parts.

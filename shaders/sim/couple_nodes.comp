@@ -7,13 +7,14 @@
 // grid update left them last.
 // Reads: blockTable (blockCounts and slots[].block and .auditedElsewhere and the blockDispatch record),
 //        gridMomentumMass (the nodes' velocities and masses), colliders (the table and the bodies' sums' old words),
-//        watchdog (the loads' words: the carries take the atomics' old values).
+//        bodies (the free velocities), watchdog (the loads' words: the carries take the atomics' old values).
 // Writes: gridMomentumMass (the nodes' velocities), colliders (the bodies' sums), watchdog (the bodies' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/colliders.glsl"
+#include "common/body_blocks.glsl"
 #include "common/energy.glsl"
 
 layout(local_size_x = FIRN_BLOCK_GROUP_SIZE) in;
@@ -34,12 +35,14 @@ void coupleNode(uint slot) {
     vec3 normal;
     if (colliderDistance(body, x, timeS, normal) > 0.0) continue;
     vec3 fromCentreM = x - colliderPivot(body, timeS);
-    vec3 freeSurfaceVelocity = body.freeVelocity.xyz + cross(body.freeAngularVelocity.xyz, fromCentreM);
+    int r = bodyOf(b);
+    vec3 freeSurfaceVelocity =
+        bodyRecords[r].freeVelocity.xyz + cross(bodyRecords[r].freeAngularVelocity.xyz, fromCentreM);
     if (!heldInCoupling(body, velocity, normal, freeSurfaceVelocity)) continue;
     // Held: a separating body holds the normal component whichever way the solved motion takes it, as a slip one.
     int boundary = body.shapeBoundary.y == BOUNDARY_STICKY ? BOUNDARY_STICKY : BOUNDARY_SLIP;
     vec3 surfaceVelocity = colliderVelocity(body, x, timeS);
-    vec3 response = boundaryResponse(velocity, normal, surfaceVelocity, body.velocityFriction.w, boundary);
+    vec3 response = boundaryResponse(velocity, normal, surfaceVelocity, body.contact.x, boundary);
     if (response == velocity) continue;
     pushRigidBody(b, x, timeS, massKg * (response - velocity));
     colliderImpulse(b, body, massKg * (response - velocity), surfaceVelocity);  // its load; its work is its own

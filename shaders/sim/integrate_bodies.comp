@@ -10,8 +10,8 @@
 // energy audit; mirror_stress.comp adds the images' share). The bodies' contact probes come from the field buffer, a
 // buffer texture (no storage buffer).
 // Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values),
-//        bodies (semi-implicit step: velocity[0].w).
-// Writes: colliders (the bodies' entries: pose and velocities and their sums cleared),
+//        bodies (the records' dynamics; semi-implicit step: velocity[0].w).
+// Writes: colliders (the bodies' entries: pose and velocities and their sums cleared), bodies (angular momentum),
 //         watchdog (the ledger's flows and with adaptive steps the fastest speed).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -55,10 +55,11 @@ float deepestContact(vec3 x, float timeS, uint staticColliders, out vec3 normal,
   return deepest;
 }
 
-// Body i's velocities as its entry holds them during the contacts: V, and L with ω = I⁻¹ L.
+// The velocities of the body of entry i as its entry and record hold them during the contacts: V, and L with
+// ω = I⁻¹ L.
 void setVelocities(uint i, vec3 v, vec3 angularMomentum, mat3 inverseInertia) {
-  colliders[i].velocityFriction.xyz = v;
-  colliders[i].angularMomentum.xyz = angularMomentum;
+  colliders[i].velocity.xyz = v;
+  bodyRecords[bodyOf(i)].angularMomentum.xyz = angularMomentum;
   colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
 }
 
@@ -73,8 +74,9 @@ void main() {
   for (uint i = staticColliders; i < colliderCount; ++i) {
     if (!takesPart(i)) continue;
     ColliderParams body = colliders[i];
-    float massKg = body.bodyMass.x;
-    mat3 inverseInertia = worldInverseInertia(body, rotationMatrix(body.rotation));
+    int b = bodyOf(i);
+    float massKg = bodyRecords[b].massRadius.x;
+    mat3 inverseInertia = worldInverseInertia(b, rotationMatrix(body.rotation));
     vec3 impulse, angularImpulse;
     summedPush(body, impulse, angularImpulse);
     // The snow's impulses since the bodies' solve with the nodes they hold (the explicit step's coupled solve, eq. 39;
@@ -83,9 +85,9 @@ void main() {
     // which take the body to the solved (V', ω') its entry moves at now, and the rest — friction, the particles G2P
     // met — which the snow gave at the surface moving at (V', ω'): their energy beyond that is the departure's own,
     // ½ M |V − V'|² + ½ (ω − ω') · I (ω − ω').
-    vec3 v = body.freeVelocity.xyz + impulse / massKg;
-    vec3 angularMomentum = body.angularMomentum.xyz + angularImpulse;
-    vec3 departure = v - body.velocityFriction.xyz;
+    vec3 v = bodyRecords[b].freeVelocity.xyz + impulse / massKg;
+    vec3 angularMomentum = bodyRecords[b].angularMomentum.xyz + angularImpulse;
+    vec3 departure = v - body.velocity.xyz;
     vec3 turnDeparture = inverseInertia * angularMomentum - body.angularVelocity.xyz;
     couplingJ += 0.5 * massKg * dot(departure, departure) +
                  0.5 * dot(turnDeparture, inverse(inverseInertia) * turnDeparture);
@@ -104,16 +106,17 @@ void main() {
     for (uint i = staticColliders; i < colliderCount; ++i) {
       if (!takesPart(i)) continue;
       ColliderParams body = colliders[i];
-      float massKg = body.bodyMass.x;
-      float probeRadiusM = body.bodyMass.y;
+      int b = bodyOf(i);
+      float massKg = bodyRecords[b].massRadius.x;
+      float probeRadiusM = bodyRecords[b].massRadius.y;
       vec3 x = colliderPivot(body, timeS);
       mat3 turn = rotationMatrix(body.rotation);
-      mat3 inverseInertia = worldInverseInertia(body, turn);
-      vec3 v = body.velocityFriction.xyz;
-      vec3 angularMomentum = body.angularMomentum.xyz;
+      mat3 inverseInertia = worldInverseInertia(b, turn);
+      vec3 v = body.velocity.xyz;
+      vec3 angularMomentum = bodyRecords[b].angularMomentum.xyz;
       vec3 omega = body.angularVelocity.xyz;
-      for (int k = 0; k < body.bodyProbes.y; ++k) {
-        vec3 r = turn * probe(body, k);
+      for (int k = 0; k < bodyRecords[b].probes.y; ++k) {
+        vec3 r = turn * probe(i, k);
         vec3 end = x + dtS * v + r;
         vec3 normal, surfaceVelocity;
         float distanceM = deepestContact(end, endTimeS, staticColliders, normal, surfaceVelocity) - probeRadiusM;
@@ -122,7 +125,7 @@ void main() {
           vec3 contactR = r - probeRadiusM * normal;
           vec3 relative = v + cross(omega, contactR) - surfaceVelocity;
           vec3 t = slipDirection(relative, normal);
-          vec3 j = contactImpulse(slot, relative, normal, body.velocityFriction.w,
+          vec3 j = contactImpulse(slot, relative, normal, body.contact.x,
                                   inverseEffectiveMass(massKg, inverseInertia, contactR, normal),
                                   inverseEffectiveMass(massKg, inverseInertia, contactR, t), t);
           v += j / massKg;
@@ -135,14 +138,15 @@ void main() {
           slot = contactSlot++;
 #ifdef FIRN_SEMI_IMPLICIT
           // Met after the solve where one of the two held nodes in it and the other none (meet_bodies.comp).
-          if (holdsNodes(int(i - bodyEntry(0))) != holdsNodes(int(o - bodyEntry(0)))) continue;
+          if (holdsNodes(b) != holdsNodes(bodyOf(o))) continue;
 #endif
           vec3 contactR, otherR, relative;
           if (!meetsBody(o, r, end, endTimeS, probeRadiusM, v, omega, normal, contactR, otherR, relative)) continue;
           ColliderParams other = colliders[o];
+          int a = bodyOf(o);
           vec3 t = slipDirection(relative, normal);
-          float otherMassKg = other.bodyMass.x;
-          mat3 otherInverseInertia = worldInverseInertia(other, rotationMatrix(other.rotation));
+          float otherMassKg = bodyRecords[a].massRadius.x;
+          mat3 otherInverseInertia = worldInverseInertia(a, rotationMatrix(other.rotation));
           vec3 j = contactImpulse(slot, relative, normal, meetingFriction(i, o),
                                   inverseEffectiveMass(massKg, inverseInertia, contactR, normal) +
                                       inverseEffectiveMass(otherMassKg, otherInverseInertia, otherR, normal),
@@ -152,8 +156,8 @@ void main() {
           v += j / massKg;
           angularMomentum += cross(contactR, j);
           omega = inverseInertia * angularMomentum;
-          setVelocities(o, other.velocityFriction.xyz - j / otherMassKg,
-                        other.angularMomentum.xyz - cross(otherR, j), otherInverseInertia);
+          setVelocities(o, other.velocity.xyz - j / otherMassKg,
+                        bodyRecords[a].angularMomentum.xyz - cross(otherR, j), otherInverseInertia);
         }
       }
       setVelocities(i, v, angularMomentum, inverseInertia);
@@ -164,27 +168,28 @@ void main() {
   for (uint i = staticColliders; i < colliderCount; ++i) {
     if (!takesPart(i)) continue;
     ColliderParams body = colliders[i];
-    float probeRadiusM = body.bodyMass.y;
-    vec3 v = body.velocityFriction.xyz;
-    vec3 angularMomentum = body.angularMomentum.xyz;
+    int b = bodyOf(i);
+    float probeRadiusM = bodyRecords[b].massRadius.y;
+    vec3 v = body.velocity.xyz;
+    vec3 angularMomentum = bodyRecords[b].angularMomentum.xyz;
     vec3 x = colliderPivot(body, timeS) + dtS * v;
     vec4 q = normalize(composeTurns(body.rotation, turnOver(body.angularVelocity.xyz, dtS)));
     mat3 turn = rotationMatrix(q);
-    for (int k = 0; k < body.bodyProbes.y; ++k) {
+    for (int k = 0; k < bodyRecords[b].probes.y; ++k) {
       vec3 normal, surfaceVelocity;
-      float distanceM = deepestContact(x + turn * probe(body, k), endTimeS, staticColliders, normal,
+      float distanceM = deepestContact(x + turn * probe(i, k), endTimeS, staticColliders, normal,
                                        surfaceVelocity) - probeRadiusM;
       if (distanceM < 0.0) x -= distanceM * normal;
     }
-    mat3 inverseInertia = worldInverseInertia(body, turn);
+    mat3 inverseInertia = worldInverseInertia(b, turn);
     colliders[i].pivotTime = vec4(x, endTimeS);
     colliders[i].rotation = q;
     colliders[i].angularVelocity.xyz = inverseInertia * angularMomentum;
     clearPush(i);
 #ifdef FIRN_ADAPTIVE_DT
     // The next step must keep the body's surface within a cell too, as g2p.comp keeps the particles: its fastest
-    // point moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.angularVelocity.w).
-    reportSpeed(length(v) + length(colliders[i].angularVelocity.xyz) * colliders[i].angularVelocity.w);
+    // point moves at |v| + |ω| r, r its reach from the centre of mass (ColliderParams.contact.y).
+    reportSpeed(length(v) + length(colliders[i].angularVelocity.xyz) * colliders[i].contact.y);
 #endif
   }
   addEnergyFlows(vec4(workJ, 0.0, couplingJ, 0.0));

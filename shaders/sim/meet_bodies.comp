@@ -30,10 +30,10 @@ layout(local_size_x = 1) in;
 // (1/M along no direction, as inverseEffectiveMass gives it: a contact without slip then asks no friction); in the
 // semi-implicit step its own, as takeContactImpulse moves it.
 float coupledInverseMass(int b, vec3 r, vec3 d) {
-  if (d == vec3(0.0)) return 1.0 / colliders[bodyEntry(b)].bodyMass.x;
+  if (d == vec3(0.0)) return 1.0 / bodyRecords[b].massRadius.x;
 #ifdef FIRN_SEMI_IMPLICIT
-  ColliderParams body = colliders[bodyEntry(b)];
-  return inverseEffectiveMass(body.bodyMass.x, worldInverseInertia(body, rotationMatrix(body.rotation)), r, d);
+  mat3 turn = rotationMatrix(colliders[bodyEntry(b)].rotation);
+  return inverseEffectiveMass(bodyRecords[b].massRadius.x, worldInverseInertia(b, turn), r, d);
 #endif
   vec3 linear, angular;
   blockInverseTimes(b, d, cross(r, d), linear, angular);
@@ -48,12 +48,12 @@ void takeContactImpulse(int b, vec3 r, vec3 j) {
   uint i = bodyEntry(b);
   vec3 linear, angular;
 #ifdef FIRN_SEMI_IMPLICIT
-  linear = j / colliders[i].bodyMass.x;
-  angular = worldInverseInertia(colliders[i], rotationMatrix(colliders[i].rotation)) * cross(r, j);
+  linear = j / bodyRecords[b].massRadius.x;
+  angular = worldInverseInertia(b, rotationMatrix(colliders[i].rotation)) * cross(r, j);
 #else
   blockInverseTimes(b, j, cross(r, j), linear, angular);
 #endif
-  colliders[i].velocityFriction.xyz += linear;
+  colliders[i].velocity.xyz += linear;
   colliders[i].angularVelocity.xyz += angular;
   addToRigidBody(i, j, cross(r, j));
 }
@@ -77,15 +77,15 @@ void main() {
     vec3 givenR, givenOtherR;
     vec3 given = slotImpulse(s, givenR, givenOtherR);
     uint i = uint(contact.key.x), o = uint(contact.key.z);
-    int b = int(i - bodyEntry(0)), a = int(o - bodyEntry(0));
+    int b = bodyOf(i), a = bodyOf(o);
     takeContactImpulse(b, givenR, -given);
     takeContactImpulse(a, givenOtherR, given);
-    vec3 r = rotationMatrix(colliders[i].rotation) * probe(colliders[i], contact.key.y);
-    vec3 v = colliders[i].velocityFriction.xyz, omega = colliders[i].angularVelocity.xyz;
+    vec3 r = rotationMatrix(colliders[i].rotation) * probe(i, contact.key.y);
+    vec3 v = colliders[i].velocity.xyz, omega = colliders[i].angularVelocity.xyz;
     vec3 end = colliderPivot(colliders[i], timeS) + dtS * v + r;
     vec3 normal, contactR, otherR, relative;
     if (holdsNodes(b) == holdsNodes(a) || contactSlotOf(i, contact.key.y, o) != s ||
-        !meetsBody(o, r, end, endTimeS, colliders[i].bodyMass.y, v, omega, normal, contactR, otherR, relative)) {
+        !meetsBody(o, r, end, endTimeS, bodyRecords[b].massRadius.y, v, omega, normal, contactR, otherR, relative)) {
       continue;
     }
     vec3 friction = withinFrictionCone(contact.impulse.xyz - dot(contact.impulse.xyz, normal) * normal,
@@ -101,10 +101,10 @@ void main() {
     for (int b = 0; b < bodies; ++b) {
       uint i = bodyEntry(b);
       if (!takesPart(i)) continue;
-      float probeRadiusM = colliders[i].bodyMass.y;
+      float probeRadiusM = bodyRecords[b].massRadius.y;
       mat3 turn = rotationMatrix(colliders[i].rotation);
-      for (int k = 0; k < colliders[i].bodyProbes.y; ++k) {
-        vec3 r = turn * probe(colliders[i], k);
+      for (int k = 0; k < bodyRecords[b].probes.y; ++k) {
+        vec3 r = turn * probe(i, k);
         for (int a = 0; a < bodies; ++a) {
           uint o = bodyEntry(a);
           if (o == i || !takesPart(o)) continue;
@@ -117,7 +117,7 @@ void main() {
           // walls they may rest on.
           if (!holdsNodes(b) && !holdsNodes(a)) continue;
 #endif
-          vec3 v = colliders[i].velocityFriction.xyz, omega = colliders[i].angularVelocity.xyz;
+          vec3 v = colliders[i].velocity.xyz, omega = colliders[i].angularVelocity.xyz;
           vec3 end = colliderPivot(colliders[i], timeS) + dtS * v + r;
           vec3 normal, contactR, otherR, relative;
           if (!meetsBody(o, r, end, endTimeS, probeRadiusM, v, omega, normal, contactR, otherR, relative)) continue;

@@ -10,7 +10,7 @@
 // holds no node keeps u*. With two bodies or more, the inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none),
 // with which a body and the nodes it holds move together, is kept for their contacts with each other
 // (meet_bodies.comp), and whether it holds any.
-// Reads: colliders (the bodies' entries and their coupling sums).
+// Reads: colliders (the bodies' entries and their coupling sums), bodies (the records' mass and inertia).
 // Writes: colliders (the bodies' entries: velocities and their coupling sums cleared),
 //         bodies (inverse, velocity[0].w).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
@@ -39,17 +39,17 @@ void main() {
   }
   // The body in the sums' units: mass m_ref, length h, velocity h / Δt_ref, so ω in 1 / Δt_ref.
   float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;
-  float massUnits = body.bodyMass.x * massUnitsPerKg;
-  mat3 inertiaUnits = worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM);
+  float massUnits = bodyRecords[b].massRadius.x * massUnitsPerKg;
+  mat3 inertiaUnits = worldInertia(int(b)) * (massUnitsPerKg * cellsPerM * cellsPerM);
   float upper[21];
   for (int k = 0; k < 21; ++k) upper[k] = sums[k];
   addBodyMass(massUnits, inertiaUnits, upper);
   if (rigidBodyCount > 1u) {  // for meet_bodies.comp, which has none to meet otherwise
     storeBlockInverse(int(b), upper);
-    solverBodies[b].velocity[0].w = holds ? 1.0 : 0.0;
+    bodyRecords[b].velocity[0].w = holds ? 1.0 : 0.0;
   }
   if (!holds) return;
-  vec3 velocity = body.velocityFriction.xyz * velocityUnitsPerMPerS;
+  vec3 velocity = body.velocity.xyz * velocityUnitsPerMPerS;
   vec3 angularVelocity = body.angularVelocity.xyz * (velocityUnitsPerMPerS / cellsPerM);
   vec3 angularMomentum = inertiaUnits * angularVelocity;
   float x[6];
@@ -58,6 +58,6 @@ void main() {
     x[3 + k] = angularMomentum[k] + sums[24 + k];
   }
   solveSymmetric(upper, x);
-  colliders[i].velocityFriction.xyz = vec3(x[0], x[1], x[2]) / velocityUnitsPerMPerS;
+  colliders[i].velocity.xyz = vec3(x[0], x[1], x[2]) / velocityUnitsPerMPerS;
   colliders[i].angularVelocity.xyz = vec3(x[3], x[4], x[5]) * (cellsPerM / velocityUnitsPerMPerS);
 }

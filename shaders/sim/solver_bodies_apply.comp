@@ -5,7 +5,7 @@
 // y (A z, P⁻¹ A z), w (A z, P⁻¹ A p) with the last direction's product, in the slots after the blocks'.
 // One work group, an invocation per body.
 // Reads: solverStatus (the solveReduceDispatch record), blockTable (blockCounts), colliders (the bodies' entries),
-//        bodies (the sums and residual and preconditioned and directionProduct and inverse).
+//        bodies (the mass and inertia, the sums and residual and preconditioned and directionProduct and inverse).
 // Writes: bodies (product, the sums cleared), solverStatus (the bodies' partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
@@ -24,21 +24,20 @@ void main() {
   uint blocks = activeBlocks();
   for (uint k = gl_LocalInvocationIndex; k < rigidBodyCount; k += uint(FIRN_REDUCTION_GROUP_SIZE)) {
     int b = int(k);
-    ColliderParams body = colliders[bodyEntry(b)];
     vec3 product0, product1, mass0, mass1;
     takeBodySums(b, product0, product1);
-    bodyMassTimes(body, solverBodies[b].preconditioned[0].xyz, solverBodies[b].preconditioned[1].xyz, mass0, mass1);
+    bodyMassTimes(b, bodyRecords[b].preconditioned[0].xyz, bodyRecords[b].preconditioned[1].xyz, mass0, mass1);
     product0 += mass0;
     product1 += mass1;
-    solverBodies[b].product[0] = vec4(product0, 0.0);
-    solverBodies[b].product[1] = vec4(product1, 0.0);
+    bodyRecords[b].product[0] = vec4(product0, 0.0);
+    bodyRecords[b].product[1] = vec4(product1, 0.0);
     vec3 scaled0, scaled1;
     blockInverseTimes(b, product0, product1, scaled0, scaled1);
-    float crossTerm = iteration > 1u ? bodyDot(scaled0, scaled1, solverBodies[b].directionProduct[0].xyz,
-                                               solverBodies[b].directionProduct[1].xyz)
+    float crossTerm = iteration > 1u ? bodyDot(scaled0, scaled1, bodyRecords[b].directionProduct[0].xyz,
+                                               bodyRecords[b].directionProduct[1].xyz)
                                      : 0.0;
     blockPartials[blocks + k] =
-        vec4(bodyDot(solverBodies[b].residual[0].xyz, solverBodies[b].residual[1].xyz, scaled0, scaled1),
+        vec4(bodyDot(bodyRecords[b].residual[0].xyz, bodyRecords[b].residual[1].xyz, scaled0, scaled1),
              bodyDot(product0, product1, scaled0, scaled1), 0.0, crossTerm);
   }
 }

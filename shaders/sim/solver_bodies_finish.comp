@@ -2,11 +2,13 @@
 // Rigid bodies after the semi-implicit solve (common/solver_bodies.glsl, eq. 39a): each body's entry moves at the
 // velocities solved, u = (V, ω), for the rest of the step — the friction after the solve and G2P meet its surface
 // moving so, and integrate_bodies.comp adds their impulses to u, as the explicit step's bodies after their coupled
-// solve (ColliderParams.freeVelocity). What the solve gave the body, M_b (u − u*), is the opposite of its push on the
+// solve (BodyRecord.freeVelocity). What the solve gave the body, M_b (u − u*), is the opposite of its push on the
 // snow: the body's load (bodies.csv), with its work at the velocity solved.
 // An invocation per body.
-// Reads: colliders (the bodies' entries), bodies (velocity), watchdog (the loads' atomics' old values).
-// Writes: colliders (the bodies' entries: velocities and angular momentum), watchdog (the objects' loads).
+// Reads: colliders (the bodies' entries), bodies (velocity, the mass and inertia), watchdog (the loads' atomics' old
+//        values).
+// Writes: colliders (the bodies' entries: velocities), bodies (the free velocities and angular momentum),
+//         watchdog (the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
@@ -25,13 +27,13 @@ void main() {
   ColliderParams body = colliders[i];
   if (body.shapeBoundary.w == 0) return;  // parked
   countedHere = true;  // the semi-implicit step runs in one process
-  vec3 v = solverBodies[b].velocity[0].xyz;
-  vec3 omega = solverBodies[b].velocity[1].xyz;
-  vec3 impulseOnSnow = -body.bodyMass.x * (v - body.velocityFriction.xyz);
+  vec3 v = bodyRecords[b].velocity[0].xyz;
+  vec3 omega = bodyRecords[b].velocity[1].xyz;
+  vec3 impulseOnSnow = -bodyRecords[b].massRadius.x * (v - body.velocity.xyz);
   if (impulseOnSnow != vec3(0.0)) addObjectLoad(i, impulseOnSnow, dot(impulseOnSnow, v));
-  colliders[i].velocityFriction.xyz = v;
-  colliders[i].freeVelocity.xyz = v;
+  colliders[i].velocity.xyz = v;
+  bodyRecords[b].freeVelocity.xyz = v;
   colliders[i].angularVelocity.xyz = omega;
-  colliders[i].freeAngularVelocity.xyz = omega;
-  colliders[i].angularMomentum.xyz = worldInertia(body) * omega;
+  bodyRecords[b].freeAngularVelocity.xyz = omega;
+  bodyRecords[b].angularMomentum.xyz = worldInertia(b) * omega;
 }

@@ -9,7 +9,7 @@
 // (r₀, P_b⁻¹ r₀) and of the tolerance's reference, (M_b u*, P_b⁻¹ M_b u*), go to the slots after the blocks'.
 // One work group, an invocation per body.
 // Reads: solverStatus (the solveReduceDispatch record), blockTable (blockCounts), colliders (the bodies' entries),
-//        bodies (the sums and the block sums).
+//        bodies (the mass and inertia, the sums and the block sums).
 // Writes: bodies (velocity, w whether the body holds a node, and residual and preconditioned and direction and
 //         directionProduct and inverse, the sums and block sums cleared), solverStatus (the bodies' partial sums).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
@@ -25,18 +25,19 @@ layout(local_size_x = FIRN_REDUCTION_GROUP_SIZE) in;
 
 // Body b's block P_b from its block sums in P2G's nondimensional units (cleared) and its mass, inverted; whether it
 // holds a node.
-bool invertBodyBlock(int b, ColliderParams body) {
+bool invertBodyBlock(int b) {
   float upper[21];
   float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
   bool holds = false;
   for (int w = 0; w < 6; ++w) {
-    holds = holds || nonzero(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w]);
-    vec4 values = fixed64ToFloat(solverBodies[b].blockLow[w], solverBodies[b].blockHigh[w]) * valuePerUnit;
+    holds = holds || nonzero(bodyRecords[b].blockLow[w], bodyRecords[b].blockHigh[w]);
+    vec4 values = fixed64ToFloat(bodyRecords[b].blockLow[w], bodyRecords[b].blockHigh[w]) * valuePerUnit;
     for (int c = 0; c < 4 && 4 * w + c < 21; ++c) upper[4 * w + c] = values[c];
-    solverBodies[b].blockLow[w] = uvec4(0u);
-    solverBodies[b].blockHigh[w] = ivec4(0);
+    bodyRecords[b].blockLow[w] = uvec4(0u);
+    bodyRecords[b].blockHigh[w] = ivec4(0);
   }
-  addBodyMass(body.bodyMass.x * massUnitsPerKg, worldInertia(body) * (massUnitsPerKg * cellsPerM * cellsPerM), upper);
+  float massUnits = bodyRecords[b].massRadius.x * massUnitsPerKg;
+  addBodyMass(massUnits, worldInertia(b) * (massUnitsPerKg * cellsPerM * cellsPerM), upper);
   storeBlockInverse(b, upper);
   return holds;
 }
@@ -48,23 +49,23 @@ void main() {
     ColliderParams body = colliders[bodyEntry(b)];
     vec3 force, moment;
     takeBodySums(b, force, moment);
-    bool holds = invertBodyBlock(b, body);
+    bool holds = invertBodyBlock(b);
     bool takesPart = body.shapeBoundary.w != 0;  // a parked body holds no node and stays as it is
     vec3 residual0 = takesPart ? -force : vec3(0.0);
     vec3 residual1 = takesPart ? -moment : vec3(0.0);
     vec3 scaled0, scaled1;
     blockInverseTimes(b, residual0, residual1, scaled0, scaled1);
     vec3 momentum0, momentum1, scaledMomentum0, scaledMomentum1;
-    bodyMassTimes(body, body.velocityFriction.xyz, body.angularVelocity.xyz, momentum0, momentum1);
+    bodyMassTimes(b, body.velocity.xyz, body.angularVelocity.xyz, momentum0, momentum1);
     blockInverseTimes(b, momentum0, momentum1, scaledMomentum0, scaledMomentum1);
-    solverBodies[b].velocity[0] = vec4(body.velocityFriction.xyz, holds ? 1.0 : 0.0);
-    solverBodies[b].velocity[1] = vec4(body.angularVelocity.xyz, 0.0);
-    solverBodies[b].residual[0] = vec4(residual0, 0.0);
-    solverBodies[b].residual[1] = vec4(residual1, 0.0);
+    bodyRecords[b].velocity[0] = vec4(body.velocity.xyz, holds ? 1.0 : 0.0);
+    bodyRecords[b].velocity[1] = vec4(body.angularVelocity.xyz, 0.0);
+    bodyRecords[b].residual[0] = vec4(residual0, 0.0);
+    bodyRecords[b].residual[1] = vec4(residual1, 0.0);
     for (int part = 0; part < 2; ++part) {
-      solverBodies[b].preconditioned[part] = vec4(0.0);
-      solverBodies[b].direction[part] = vec4(0.0);
-      solverBodies[b].directionProduct[part] = vec4(0.0);
+      bodyRecords[b].preconditioned[part] = vec4(0.0);
+      bodyRecords[b].direction[part] = vec4(0.0);
+      bodyRecords[b].directionProduct[part] = vec4(0.0);
     }
     float referenceDot = takesPart ? bodyDot(momentum0, momentum1, scaledMomentum0, scaledMomentum1) : 0.0;
     blockPartials[blocks + k] =

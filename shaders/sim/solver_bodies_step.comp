@@ -30,22 +30,22 @@ void main() {
     int b = int(k);
     vec3 residual[2];
     for (int part = 0; part < 2; ++part) {
-      vec3 direction = solverBodies[b].preconditioned[part].xyz;
-      vec3 directionProduct = solverBodies[b].product[part].xyz;
+      vec3 direction = bodyRecords[b].preconditioned[part].xyz;
+      vec3 directionProduct = bodyRecords[b].product[part].xyz;
       if (iteration > 1u) {
-        direction += beta * solverBodies[b].direction[part].xyz;
-        directionProduct += beta * solverBodies[b].directionProduct[part].xyz;
+        direction += beta * bodyRecords[b].direction[part].xyz;
+        directionProduct += beta * bodyRecords[b].directionProduct[part].xyz;
       }
-      solverBodies[b].direction[part].xyz = direction;
-      solverBodies[b].directionProduct[part].xyz = directionProduct;
-      solverBodies[b].velocity[part].xyz += alpha * direction;
-      residual[part] = solverBodies[b].residual[part].xyz - alpha * directionProduct;
-      solverBodies[b].residual[part].xyz = residual[part];
+      bodyRecords[b].direction[part].xyz = direction;
+      bodyRecords[b].directionProduct[part].xyz = directionProduct;
+      bodyRecords[b].velocity[part].xyz += alpha * direction;
+      residual[part] = bodyRecords[b].residual[part].xyz - alpha * directionProduct;
+      bodyRecords[b].residual[part].xyz = residual[part];
     }
     vec3 scaled0, scaled1;
     blockInverseTimes(b, residual[0], residual[1], scaled0, scaled1);
-    solverBodies[b].preconditioned[0].xyz = scaled0;
-    solverBodies[b].preconditioned[1].xyz = scaled1;
+    bodyRecords[b].preconditioned[0].xyz = scaled0;
+    bodyRecords[b].preconditioned[1].xyz = scaled1;
     blockPartials[blocks + k] = vec4(0.0, 0.0, bodyDot(residual[0], residual[1], scaled0, scaled1), 0.0);
   }
 }

@@ -62,8 +62,8 @@ void main() {
   int body = constraintBody(solverNodes[i].constraint);
   if (body >= 0) {
     vec3 x = nodePosition(nodeOfBlock(blockCoordinates(slots[slot].block), gl_LocalInvocationIndex));
-    heldMotion = heldBodyMotion(body, x, solverBodies[body].preconditioned[0].xyz,
-                                solverBodies[body].preconditioned[1].xyz, solverNodes[i].constraint);
+    heldMotion = heldBodyMotion(body, x, bodyRecords[body].preconditioned[0].xyz,
+                                bodyRecords[body].preconditioned[1].xyz, solverNodes[i].constraint);
   }
 #endif
   solverNodes[i].preconditioned.xyz = preconditioned + heldMotion;

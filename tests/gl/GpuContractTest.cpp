@@ -77,8 +77,8 @@ std::vector<SharedStruct> sharedStructs() {
       // The rigid bodies' records (common/body_blocks.glsl): the contact slots, then a record per body.
       {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyContacts[0].",
        FIRN_MEMBER_LIST(BodyContact, FIRN_BODY_CONTACT)},
-      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "solverBodies[0].",
-       FIRN_MEMBER_LIST(SolverBody, FIRN_SOLVER_BODY), CONTACT_SLOTS * sizeof(BodyContact)},
+      {"common/body_blocks.glsl", GL_BUFFER_VARIABLE, "bodyRecords[0].",
+       FIRN_MEMBER_LIST(BodyRecord, FIRN_BODY_RECORD), CONTACT_SLOTS * sizeof(BodyContact)},
   };
 }
 
@@ -229,8 +229,8 @@ TEST(GpuContract, BlocksAreBoundWhereTheHostBindsThem) {
       {"common/solver_reduction.glsl", "registers[0]", GL_SHADER_STORAGE_BLOCK, "SolverStatusBuffer",
        FIRN_BINDING_SOLVER_STATUS, sizeof(SolverStatus) + sizeof(glm::vec4)},
       // The contact slots, then the bodies' records from their end: one record counted.
-      {"common/body_blocks.glsl", "solverBodies[0].velocity[0]", GL_SHADER_STORAGE_BLOCK, "BodiesBuffer",
-       FIRN_BINDING_BODIES, CONTACT_SLOTS * sizeof(BodyContact) + sizeof(SolverBody)},
+      {"common/body_blocks.glsl", "bodyRecords[0].velocity[0]", GL_SHADER_STORAGE_BLOCK, "BodiesBuffer",
+       FIRN_BINDING_BODIES, CONTACT_SLOTS * sizeof(BodyContact) + sizeof(BodyRecord)},
   };
   for (const auto& block : blocks) {
     const firn::gl::Program program = probe(block.include, {block.read});

@@ -824,7 +824,7 @@ TEST_F(ObjectsTest, EveryParticleWithinAKernelOfABodyHasItsStressMirrored) {
       if (isListed) ++next;
       const glm::vec3 x(s.positionMass[i]);
       // Beyond the body's reach by more than the kernel's, nothing is tested (colliderWithinReach).
-      if (glm::length(x - pivotM) > body.angularVelocity.w + reachM + slackM) {
+      if (glm::length(x - pivotM) > body.contact.y + reachM + slackM) {
         extra += isListed;
         continue;
       }

@@ -140,7 +140,7 @@ TEST(ColliderMotion, TheGpuTableAdvancedToAKeyframeIsAtIt) {
   EXPECT_NEAR(velocity.z, 0.1 * 2 * glm::pi<double>(), 1e-5);
 }
 
-// The reach (ColliderParams.angularVelocity.w) lets the shaders skip a collider at a point beyond it, so it must hold
+// The reach (ColliderParams.contact.y) lets the shaders skip a collider at a point beyond it, so it must hold
 // every point of the solid, at every time of the motion: the keyframed box (turning), a sphere turned about a pivot
 // outside it, a mesh turned about a pivot off its centre (its field's lattice holds it), and a box and a mesh body. Probed on a
 // 2 cm lattice through the colliders at four times. A plane has no reach (−1). The reach of the sphere is its exact
@@ -181,8 +181,8 @@ TEST(ColliderMotion, EveryPointInsideAColliderLiesWithinItsReach) {
   }
   const ColliderFields fields = bakeColliderFields(scene);
   const std::vector<gpu::ColliderParams> table = buildColliderTable(scene, fields, 0.0);
-  EXPECT_EQ(table[2].angularVelocity.w, -1.0f);
-  EXPECT_NEAR(table[1].angularVelocity.w, 0.6 * (1 + 1e-4), 1e-6);
+  EXPECT_EQ(table[2].contact.y, -1.0f);
+  EXPECT_NEAR(table[1].contact.y, 0.6 * (1 + 1e-4), 1e-6);
   std::vector<int> inside(table.size(), 0);
   for (const double timeS : {0.0, 0.1, 0.3, 0.45}) {
     const std::vector<gpu::ColliderParams> atTime = buildColliderTable(scene, fields, timeS);
@@ -198,7 +198,7 @@ TEST(ColliderMotion, EveryPointInsideAColliderLiesWithinItsReach) {
             if (gpu::colliderDistance(c, fields.samples, x, float(timeS), normal) > 0.0f) continue;
             ++inside[entry];
             const glm::vec3 fromPivot = x - pivot;
-            ASSERT_LE(glm::dot(fromPivot, fromPivot), c.angularVelocity.w * c.angularVelocity.w)
+            ASSERT_LE(glm::dot(fromPivot, fromPivot), c.contact.y * c.contact.y)
                 << "entry " << entry << " at " << timeS << " s, x = (" << x.x << ", " << x.y << ", " << x.z << ")";
           }
         }
