@@ -85,7 +85,7 @@ static_assert(FIRN_BLOCK_TILES == BLOCK_TILES, "order_tiles.comp takes an invoca
 static_assert(sizeof(Mat3x4) == 48, "std430 mat3 is 48 bytes");
 static_assert(sizeof(ParticlePlasticState) == 16, "std430 ParticlePlasticState");
 static_assert(sizeof(MaterialParams) == 64, "std430 MaterialParams");
-static_assert(sizeof(ColliderParams) == 448, "std430 ColliderParams");
+static_assert(sizeof(ColliderParams) == 224, "std430 ColliderParams");
 static_assert(sizeof(BlockTableHeader) == 144 + TILE_BUCKETS * sizeof(uint), "std430 BlockTableHeader");
 static_assert(sizeof(BlockSlot) == 24, "std430 BlockSlot");
 static_assert(sizeof(WatchdogStatus) == 48, "std430 WatchdogStatus");
@@ -94,7 +94,7 @@ static_assert(sizeof(ObjectLoad) == 32, "std430 ObjectLoad");
 static_assert(sizeof(StepUniforms) == 144, "std140 StepUniforms");
 static_assert(sizeof(SolverNode) == 192, "std430 SolverNode");
 static_assert(sizeof(SolverPreconditioner) == 32, "std430 SolverPreconditioner");
-static_assert(sizeof(BodyRecord) == 720, "std430 BodyRecord");
+static_assert(sizeof(BodyRecord) == 752, "std430 BodyRecord");
 static_assert(sizeof(BodyContact) == 48, "std430 BodyContact");
 static_assert(sizeof(SolverParticle) == 144, "std430 SolverParticle");
 static_assert(sizeof(SolverStatus) == 80 + SOLVER_REGISTERS * sizeof(vec4), "std430 SolverStatus");

@@ -115,15 +115,21 @@ void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::P
 
 void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) const {
   state.bindings().completeWrites();  // the passes' atomics, before the host reads them
-  std::vector<gpu::ColliderParams> bodies = state.readColliders(first_, count_);
+  // The push's sums are in the bodies' entries of the collider table, the coupled solve's in their records.
+  std::vector<gpu::ColliderParams> entries;
+  std::vector<gpu::BodyRecord> records;
   // Each sum's 64-bit words, (low, high) per component, as one integer.
   std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
-  for (gpu::ColliderParams& body : bodies) {
-    if (sums == Sums::Push) {
+  if (sums == Sums::Push) {
+    entries = state.readColliders(first_, count_);
+    for (gpu::ColliderParams& body : entries) {
       words.emplace_back(&body.impulseLow, &body.impulseHigh);
       words.emplace_back(&body.angularLow, &body.angularHigh);
-    } else {
-      for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.couplingLow[w], &body.couplingHigh[w]);
+    }
+  } else {
+    records = state.readBodyRecords(0, count_);
+    for (gpu::BodyRecord& body : records) {
+      for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.blockLow[w], &body.blockHigh[w]);
     }
   }
   std::vector<std::int64_t> values;
@@ -138,7 +144,11 @@ void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) 
       (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
     }
   }
-  state.writeColliders(bodies, first_);
+  if (sums == Sums::Push) {
+    state.writeColliders(entries, first_);
+  } else {
+    state.writeBodyRecords(records);
+  }
 }
 
 RigidBodies::Saved RigidBodies::save(const GpuState& state) const {

@@ -126,67 +126,6 @@ vec3 collideWithColliders(vec3 probe, vec3 v, float timeS, float massKg, inout f
   return collideWithEntries(0u, colliderCount, probe, v, timeS, massKg, workJ);
 }
 
-#if defined(FIRN_HAS_RIGID_BODIES) && !defined(FIRN_SEMI_IMPLICIT)
-// Whether a body whose solid holds a node at velocity v holds it in the coupled solve (eq. 39): a sticky or slip body
-// always, a separating one where the node approaches its surface moving before the solve at `freeSurfaceVelocity`.
-// The grid update and couple_nodes.comp decide alike, so that the nodes the solve counted are the nodes that take
-// its motion, pulled or pushed: a set that changed with the solved motion would push the body with what the solve
-// did not count, explicitly, and a light body rocks apart on that.
-bool heldInCoupling(ColliderParams body, vec3 v, vec3 normal, vec3 freeSurfaceVelocity) {
-  return body.shapeBoundary.y != BOUNDARY_SEPARATE || dot(v - freeSurfaceVelocity, normal) < 0.0;
-}
-
-// The explicit step's coupled solve (docs/algorithm.md, eq. 39): a node of mass m at x that body i holds, at the
-// velocity v the grid update gave it, adds m Gᵀ P G and m Gᵀ P v to the body's sums, G the 3×6 map from the body's
-// velocities (V, ω) to its surface's velocity at x, V + ω × (x − c), and P what the body holds of the node's velocity:
-// all of it if sticky, its normal component if slip, or if separating and approaching the body's surface as the
-// body moves before the solve (predict_bodies.comp). P is a projection, so Gᵀ P G = (P G)ᵀ (P G), from the six
-// columns of P G. The sums are in P2G's nondimensional units (mass m_ref, length h, velocity h / Δt_ref) and 64-bit
-// fixed point, so that they do not depend on the order of the GPU's additions.
-void addToCoupling(uint i, vec3 x, float timeS, float massKg, vec3 v) {
-  if (!countedHere) return;
-  ColliderParams body = colliders[i];
-  vec3 normal;
-  if (colliderDistance(body, x, timeS, normal) > 0.0) return;
-  if (!heldInCoupling(body, v, normal, colliderVelocity(body, x, timeS))) return;
-  bool sticky = body.shapeBoundary.y == BOUNDARY_STICKY;
-  float massUnits = massKg * massUnitsPerKg;
-  vec3 fromCentreCells = (x - colliderPivot(body, timeS)) * cellsPerM;
-  vec3 velocityUnits = v * (momentumUnitsPerKgMPerS / massUnitsPerKg);
-  vec3 columns[6];
-  for (int k = 0; k < 3; ++k) {
-    vec3 axis = vec3(0.0);
-    axis[k] = 1.0;
-    vec3 turning = cross(axis, fromCentreCells);  // ∂(ω × r)/∂ω_k
-    columns[k] = sticky ? axis : normal * normal[k];
-    columns[3 + k] = sticky ? turning : normal * dot(normal, turning);
-  }
-  float sums[4 * COUPLING_WORDS];
-  int n = 0;
-  for (int a = 0; a < 6; ++a) {
-    for (int b = a; b < 6; ++b) sums[n++] = massUnits * dot(columns[a], columns[b]);
-  }
-  for (int a = 0; a < 6; ++a) sums[n++] = massUnits * dot(columns[a], velocityUnits);
-  sums[n] = 0.0;
-  float unitsPerValue = ldexp(1.0, COUPLING_FRACTION_BITS);
-  for (int w = 0; w < COUPLING_WORDS; ++w) {
-    uvec4 low;
-    ivec4 high;
-    splitFixed64(round(vec4(sums[4 * w], sums[4 * w + 1], sums[4 * w + 2], sums[4 * w + 3]) * unitsPerValue), low,
-                 high);
-    FIRN_ADD_FIXED64(colliders[i].couplingLow[w], colliders[i].couplingHigh[w], low, high)
-  }
-}
-
-// Whether any rigid body may hold x: within the reach of one that takes part (colliderWithinReach).
-bool withinReachOfABody(vec3 x, float timeS) {
-  for (uint i = colliderCount - rigidBodyCount; i < colliderCount; ++i) {
-    if (colliderWithinReach(i, x, timeS)) return true;
-  }
-  return false;
-}
-#endif
-
 #ifdef FIRN_SEMI_IMPLICIT
 #ifdef FIRN_HAS_RIGID_BODIES
 // Body b (its index among the bodies) takes the opposite of an impulse its response gave the node at x, which goes to

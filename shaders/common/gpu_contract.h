@@ -177,7 +177,8 @@ FIRN_STRUCT(ParticlePlasticState, FIRN_PARTICLE_PLASTIC_STATE)
   member(ivec4, model)
 FIRN_STRUCT(MaterialParams, FIRN_MATERIAL_PARAMS)
 
-// The coupled solve's sums (ColliderParams.couplingLow/High): 21 + 6 values in 7 vec4s, 2^−20 their unit.
+// The solves' sums over the nodes a body holds (BodyRecord.blockLow/High): 21 + 6 values in 7 vec4s, 2^−20 their
+// unit.
 #define COUPLING_WORDS 7
 FIRN_CONSTANT(int, COUPLING_SUMS, 27)
 FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
@@ -207,15 +208,11 @@ FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
 //                     shape (a mesh's field lattice), or −1 for a plane (colliderWithinReach); z 1 where the object's
 //                     load goes to bodies.csv (a rigid body, or a collider that moves: scene/SceneObjects.h,
 //                     colliderMoves; gpu::ObjectLoad)
-// A rigid body's entry also gathers what the snow's passes that meet it add this step (they hold as many storage
-// blocks as a pass may, 16, so the body's sums lie where they already read its shape):
+// A rigid body's entry also gathers the snow's push on it this step, which the passes that meet the snow's particles
+// add to (G2P holds as many storage blocks as a pass may, 16, so the sums lie where it already reads the body's shape):
 //   impulseLow/High   xyz Σ of the impulses the snow gave the body this step, 64-bit fixed point in units of
 //                     momentumUnitKgMPerS · 2^−k, P2G's momentum units (common/fixed64.glsl)
 //   angularLow/High   xyz Σ of their moments about the centre of mass, in units of momentumUnitKgMPerS · 2^−k · h
-//   couplingLow/High  the explicit step's coupled solve's sums over the held nodes (docs/algorithm.md, eq. 39),
-//                     64-bit fixed point in units of 2^−COUPLING_FRACTION_BITS: the upper triangle of Σ m Gᵀ P G, row
-//                     by row (21), then Σ m Gᵀ P v (6), in P2G's nondimensional units (mass m_ref, length h, time
-//                     Δt_ref; update_grid.comp, solve_coupling.comp)
 #define FIRN_COLLIDER_PARAMS(member, array) \
   member(vec4, shapeA)                      \
   member(vec4, shapeB)                      \
@@ -230,9 +227,7 @@ FIRN_CONSTANT(int, COUPLING_FRACTION_BITS, 20)
   member(uvec4, impulseLow)                 \
   member(ivec4, impulseHigh)                \
   member(uvec4, angularLow)                 \
-  member(ivec4, angularHigh)                \
-  array(uvec4, couplingLow, COUPLING_WORDS) \
-  array(ivec4, couplingHigh, COUPLING_WORDS)
+  member(ivec4, angularHigh)
 FIRN_STRUCT(ColliderParams, FIRN_COLLIDER_PARAMS)
 
 // BlockTableHeader: the pool of blocks and this step's active ones (common/blocks.glsl); a BlockSlot per slot
@@ -378,8 +373,11 @@ FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
 //                    step solver_bodies_residual.comp), else 0
 //   sumsLow/High     Σ Gᵢᵀ Pᵢ wᵢ over the nodes it holds, wᵢ a product's held part ([0] the force, [1] its moment
 //                    about the centre of mass), 64-bit fixed point in 2^−k_H of the momentum unit (× h for [1])
-//   blockLow/High    Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ, the upper triangle row by row (21 values), in
-//                    2^−COUPLING_FRACTION_BITS of P2G's nondimensional units (mass m_ref, length h, time Δt_ref)
+//   blockLow/High    the solve's sums over the nodes it holds, 64-bit fixed point in 2^−COUPLING_FRACTION_BITS of
+//                    P2G's nondimensional units (mass m_ref, length h, time Δt_ref): the upper triangle of its block,
+//                    row by row (21 values), Σ Gᵢᵀ Pᵢ (mᵢ + β Δt² Hᵢᵢ) Pᵢ Gᵢ in the semi-implicit step
+//                    (solver_bodies_residual.comp) and Σ m Gᵀ P G in the explicit step's coupled solve, which then also
+//                    sums Σ m Gᵀ P v (6: docs/algorithm.md, eq. 39; update_grid.comp, solve_coupling.comp)
 #define FIRN_BODY_RECORD(member, array) \
   member(vec4, massRadius)              \
   member(ivec4, probes)                 \
@@ -396,8 +394,8 @@ FIRN_STRUCT(BodyContact, FIRN_BODY_CONTACT)
   array(vec4, inverse, 9)               \
   array(uvec4, sumsLow, 2)              \
   array(ivec4, sumsHigh, 2)             \
-  array(uvec4, blockLow, 6)             \
-  array(ivec4, blockHigh, 6)
+  array(uvec4, blockLow, COUPLING_WORDS) \
+  array(ivec4, blockHigh, COUPLING_WORDS)
 FIRN_STRUCT(BodyRecord, FIRN_BODY_RECORD)
 
 // SolverParticle: a particle's stiffness ∂²Ψ/∂F² in the frame of its F = U Σ Vᵀ, made positive semi-definite

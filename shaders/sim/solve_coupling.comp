@@ -1,7 +1,7 @@
 #version 430 core
 // The explicit step's coupled solve (docs/algorithm.md, eq. 39): an invocation per rigid body, after the grid update
 // has summed the nodes it holds. The body's velocities u = (V, ω) and the nodes' held components move together: with
-// M_b = diag(M, I) and the sums Σ m Gᵀ P G and Σ m Gᵀ P v (ColliderParams.couplingLow/High),
+// M_b = diag(M, I) and the sums Σ m Gᵀ P G and Σ m Gᵀ P v (BodyRecord.blockLow/High),
 //   (M_b + Σ m Gᵀ P G) u' = M_b u* + Σ m Gᵀ P v,
 // the velocities that keep the body's and the held nodes' momentum and angular momentum, with the nodes' held
 // components moving with the body's surface: a perfectly inelastic collision of the body with the snow it holds,
@@ -10,9 +10,8 @@
 // holds no node keeps u*. With two bodies or more, the inverse of K = M_b + Σ m Gᵀ P G (M_b⁻¹ where it holds none),
 // with which a body and the nodes it holds move together, is kept for their contacts with each other
 // (meet_bodies.comp), and whether it holds any.
-// Reads: colliders (the bodies' entries and their coupling sums), bodies (the records' mass and inertia).
-// Writes: colliders (the bodies' entries: velocities and their coupling sums cleared),
-//         bodies (inverse, velocity[0].w).
+// Reads: colliders (the bodies' entries), bodies (the records' mass and inertia and coupling sums).
+// Writes: colliders (the bodies' entries: velocities), bodies (inverse, velocity[0].w, the coupling sums cleared).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/colliders.glsl"
@@ -28,14 +27,16 @@ void main() {
   ColliderParams body = colliders[i];
   if (body.shapeBoundary.w == 0) return;  // parked
   bool holds = false;
-  for (int w = 0; w < COUPLING_WORDS; ++w) holds = holds || nonzero(body.couplingLow[w], body.couplingHigh[w]);
+  for (int w = 0; w < COUPLING_WORDS; ++w) {
+    holds = holds || nonzero(bodyRecords[b].blockLow[w], bodyRecords[b].blockHigh[w]);
+  }
   float sums[4 * COUPLING_WORDS];
   float valuePerUnit = ldexp(1.0, -COUPLING_FRACTION_BITS);
   for (int w = 0; w < COUPLING_WORDS; ++w) {
-    vec4 values = fixed64ToFloat(body.couplingLow[w], body.couplingHigh[w]) * valuePerUnit;
+    vec4 values = fixed64ToFloat(bodyRecords[b].blockLow[w], bodyRecords[b].blockHigh[w]) * valuePerUnit;
     for (int c = 0; c < 4; ++c) sums[4 * w + c] = values[c];
-    colliders[i].couplingLow[w] = uvec4(0u);
-    colliders[i].couplingHigh[w] = ivec4(0);
+    bodyRecords[b].blockLow[w] = uvec4(0u);
+    bodyRecords[b].blockHigh[w] = ivec4(0);
   }
   // The body in the sums' units: mass m_ref, length h, velocity h / Δt_ref, so ω in 1 / Δt_ref.
   float velocityUnitsPerMPerS = momentumUnitsPerKgMPerS / massUnitsPerKg;

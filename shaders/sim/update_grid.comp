@@ -17,18 +17,22 @@
 // Writes: gridMomentumMass (the same storage as floats: velocity m/s and mass kg),
 //         gridImpulse (PIC/FLIP: the velocity before forces),
 //         solverNodes (semi-implicit steps: the node's constraint and residual.w and the solve's start in direction),
-//         bodies (semi-implicit steps with rigid bodies: the sums of the nodes a body alone holds),
-//         colliders (rigid bodies: the snow's push and the explicit step's coupling sums),
+//         bodies (rigid bodies: the sums of the nodes a body alone holds, and the explicit step's coupling sums),
+//         colliders (rigid bodies: the snow's push),
 //         watchdog (the energy ledger's flows: the moving colliders' work and the objects' loads).
 #define FIRN_WITHOUT_PARTICLE_BUFFERS
 #include "common/bindings.glsl"
 #include "common/grid.glsl"
 #include "common/blocks.glsl"
 #include "common/colliders.glsl"
+#ifdef FIRN_HAS_RIGID_BODIES
+// The bodies' records (the explicit step's coupling sums, the semi-implicit solve's unknowns), first here: the shader
+// library includes a file once, where it first appears, and the semi-implicit branch below includes it too.
+#include "common/body_blocks.glsl"
+#endif
 #ifdef FIRN_SEMI_IMPLICIT
 #include "common/solver.glsl"
 #ifdef FIRN_HAS_RIGID_BODIES
-#include "common/bodies.glsl"
 #include "common/solver_bodies.glsl"
 #endif
 #endif
