@@ -217,7 +217,8 @@ gpu::ColliderParams rigidBodyEntry(const RigidBody& body, const ColliderFields& 
 gpu::BodyRecord rigidBodyRecord(const RigidBody& body, const ColliderFields& fields, std::size_t index,
                                 const ObjectPose& pose) {
   gpu::BodyRecord record{};
-  record.massRadius = glm::vec4(float(body.massKg), body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f, 0, 0);
+  const float contactRadiusM = body.shape == RigidShape::Sphere ? float(body.radiusM) : 0.0f;
+  record.massRadius = glm::vec4(float(body.massKg), contactRadiusM, 0, 0);
   record.probes = glm::ivec4(fields.bodyProbes.at(index), 0, 0);
   // L = R I Rᵀ ω: the inertia is the body's own frame's, ω the world's.
   const glm::dmat3 turn = glm::mat3_cast(pose.orientation);

@@ -1,6 +1,8 @@
-// A rigid body's 6×6 block, the inertia with which it and the grid nodes it holds move together, and its inverse
-// (BodyRecord.inverse): in the explicit step the coupled solve's K = M_b + Σ m Gᵀ P G (eq. 39), with which the bodies
-// then meet each other (meet_bodies.comp); in the semi-implicit step the preconditioner's diagonal block
+// The rigid bodies' records (gpu::BodyRecord: a body's dynamics and its solves; docs/algorithm.md, Rigid bodies), their
+// inertia in the world, and a body's 6×6 block, the inertia with which it and the grid nodes it holds move together,
+// and its inverse (BodyRecord.inverse): in the explicit step the coupled solve's K = M_b + Σ m Gᵀ P G (eq. 39), whose
+// sums over the held nodes the grid update adds (addToCoupling) and with which the bodies then meet each other
+// (meet_bodies.comp); in the semi-implicit step the preconditioner's diagonal block
 // P_b = M_b + Σ Gᵀ P (m + β Δt² Hᵢᵢ) P G (eq. 39a; common/solver_bodies.glsl).
 #include "common/bodies.glsl"
 

@@ -99,7 +99,8 @@ vec3 slotImpulse(int s, out vec3 r, out vec3 otherR) {
   BodyContact contact = bodyContacts[s];
   uint i = uint(contact.key.x);
   ColliderParams body = colliders[i];
-  r = rotationMatrix(body.rotation) * probe(i, contact.key.y) - bodyRecords[bodyOf(i)].massRadius.y * contact.normal.xyz;
+  float probeRadiusM = bodyRecords[bodyOf(i)].massRadius.y;
+  r = rotationMatrix(body.rotation) * probe(i, contact.key.y) - probeRadiusM * contact.normal.xyz;
   otherR = body.pivotTime.xyz + r - colliders[contact.key.z].pivotTime.xyz;
   return contact.impulse.w * contact.normal.xyz + contact.impulse.xyz;
 }

@@ -217,7 +217,7 @@ TEST(CheckpointFile, EarlierFormatVersionIsRefusedClearly) {
   std::memcpy(bytes.data() + 8, &version, sizeof version);
   writeBytes(path, bytes);
   EXPECT_EQ(inputErrorOf([&] { firn::readCheckpoint(path); }),
-            path.string() + ": checkpoint format version 2, written by an earlier Firn; this build reads version 7 "
+            path.string() + ": checkpoint format version 2, written by an earlier Firn; this build reads version 8 "
                             "only, so run the scene again from frame 0 to make new checkpoints");
 }
 
