@@ -18,8 +18,8 @@ struct Checkpoint {
   // 5: the energy audit's account, and its ledger after the watchdog's status.
   // 6: a collider table's entry holds its rigid body's coupled solve (velocities before it, and its sums).
   // 7: with rigid bodies, their contacts of the last step and their records follow the collider table.
-  // 8: a body's dynamics (mass, probes, inertia, momentum) moved from its entry of the collider table to its record,
-  //    and a collider's friction, reach and load flag to an entry's `contact`.
+  // 8: a body's dynamics (mass, probes, inertia, momentum, free velocities, the explicit coupling's sums) moved from
+  //    its entry of the collider table to its record, and a collider's friction, reach and load flag to `contact`.
   static constexpr std::uint32_t kVersion = 8;
   std::uint64_t sceneFingerprint = 0;  // of the scene and its particles: a checkpoint resumes only its own scene
   std::int32_t frame = 0;              // the frame the state belongs to

@@ -258,9 +258,9 @@ double GpuState::fastestSignalMPerS() const {
   return glm::uintBitsToFloat(bits);
 }
 
-// The particles' buffers, then the watchdog, then with rigid bodies the collider table (the bodies' entries hold their
-// state) and the bodies' contacts and records (the last step's contacts start the next's): the order of a
-// checkpoint's sections.
+// The particles' buffers, then the watchdog, then with rigid bodies the collider table (the bodies' poses and
+// velocities) and the bodies' contacts and records (their dynamics; the last step's contacts start the next's): the
+// order of a checkpoint's sections.
 template <class Self>
 auto GpuState::stateBuffersOf(Self& self) {
   auto buffers = self.particles_.stateBuffers();

@@ -65,7 +65,7 @@ class GpuState {
 
   void writeStepUniforms(const gpu::StepUniforms& uniforms);
   // Entries of the collider table from `first` on: the colliders' poses for the step to come (buildColliderTable), a
-  // launched body's state. The table keeps its size.
+  // launched body's entry (its record: writeBodyRecords). The table keeps its size.
   void writeColliders(const std::vector<gpu::ColliderParams>& colliders, std::size_t first = 0);
   std::vector<gpu::ColliderParams> readColliders(std::size_t first, std::size_t count) const;
   // The material table's entries, as many as it holds (Simulation::setMaterials).

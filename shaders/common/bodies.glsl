@@ -1,5 +1,5 @@
-// What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation and
-// the world, and the snow's push summed in its entry (eq. 35).
+// What the passes over rigid bodies share (docs/algorithm.md, Rigid bodies): an entry's orientation, and the snow's
+// push summed in its entry (eq. 35).
 #include "common/colliders.glsl"
 #include "common/fixed64.glsl"
 

@@ -55,7 +55,7 @@ void takeBodySums(int b, out vec3 forceKgMPerS, out vec3 momentKgM2PerS) {
 
 // Adds the share of body b's preconditioner block of a node `fromCentreCells` from its centre of mass, G_iᵀ P_i (m I +
 // K) P_i G_i with K = β Δt² Hᵢᵢ (kg), the upper triangle of 21 values in P2G's nondimensional units, as the explicit
-// step's coupled solve sums Σ m Gᵀ P G (common/colliders.glsl, addToCoupling): the body's own diagonal block of eq.
+// step's coupled solve sums Σ m Gᵀ P G (common/body_blocks.glsl, addToCoupling): the body's own diagonal block of eq.
 // 39a.
 void addToBodyBlock(int b, vec3 fromCentreCells, float massKg, mat3 stiffnessKg, vec4 constraint) {
   mat3 nodeBlock = (massKg * mat3(1.0) + stiffnessKg) * massUnitsPerKg;

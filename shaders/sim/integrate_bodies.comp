@@ -3,12 +3,12 @@
 // push of this step (the impulses its entry gathered at the nodes and particles its response changed, eq. 35) since its
 // solve with the nodes it holds, with gravity and the images' push taken before it (predict_bodies.comp). Then the
 // bodies' contacts with the scene's colliders, the domain walls and each other (eq. 36), and each moves: symplectic
-// Euler, v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and sums
-// are rewritten for the next step. One invocation, so that a contact between two bodies changes both at once and the
-// impulses run in one order on every run. The energy ledger takes the work the moving colliders do on the bodies
-// through their contacts, and the energy the explicit coupling gives them (common/energy.glsl; docs/numerics.md, The
-// energy audit; mirror_stress.comp adds the images' share). The bodies' contact probes come from the field buffer, a
-// buffer texture (no storage buffer).
+// Euler, v and L first, then x by v and the orientation by ω = I⁻¹ L (eq. 37). Their entries' pose, velocities and
+// sums, and L in their records, are rewritten for the next step. One invocation, so that a contact between two bodies
+// changes both at once and the impulses run in one order on every run. The energy ledger takes the work the moving
+// colliders do on the bodies through their contacts, and the energy the explicit coupling gives them
+// (common/energy.glsl; docs/numerics.md, The energy audit; mirror_stress.comp adds the images' share). The bodies'
+// contact probes come from the field buffer, a buffer texture (no storage buffer).
 // Reads: colliders (the table and the bodies' entries with their sums), watchdog (the ledger's atomics' old values),
 //        bodies (the records' dynamics; semi-implicit step: velocity[0].w).
 // Writes: colliders (the bodies' entries: pose and velocities and their sums cleared), bodies (angular momentum),

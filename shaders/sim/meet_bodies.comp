@@ -8,7 +8,7 @@
 // had met it, every step, and the stack sank into a bed.) What a contact gives a body goes to its sums of the push
 // since the solve, with the snow's impulses at the nodes the body then moves (couple_nodes.comp), which
 // integrate_bodies.comp adds to V* and L*: V* and ω* themselves stay as the grid update saw them, for couple_nodes.comp
-// holds the nodes that update held by them (common/colliders.glsl, heldInCoupling).
+// holds the nodes that update held by them (common/body_blocks.glsl, heldInCoupling).
 // In the semi-implicit step, after the solve, the contacts of a body that held nodes in it with one that held none,
 // each body moving by its own inertia, M_b⁻¹ (j, r × j): they start from the impulses they gave in the last step,
 // which predict_bodies.comp gave the bodies before the solve, and are kept for the next (the warm start:

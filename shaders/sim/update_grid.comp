@@ -5,7 +5,7 @@
 // walls. Nodes without mass stay zero. A semi-implicit step meets the colliders without friction here and takes it
 // after the solve (common/colliders.glsl, collideForSolve).
 // With rigid bodies (explicit step), the bodies wait for their coupled solve: this pass adds the nodes they hold to
-// their sums (common/colliders.glsl, addToCoupling) and couple_nodes.comp meets them after solve_coupling.comp.
+// their sums (common/body_blocks.glsl, addToCoupling) and couple_nodes.comp meets them after solve_coupling.comp.
 // In the semi-implicit step a node that one body alone holds becomes one of that body's unknowns in the solve
 // (common/solver_bodies.glsl): the node starts on the body's surface, and the body's sums take its response.
 // The energy ledger's flows take the moving colliders' work (common/energy.glsl). What the walls take here stays in
