@@ -27,6 +27,22 @@ ObjectPose poseOf(const gpu::ColliderParams& entry) {
 // the energy that moves.
 unsigned countedElsewhere(const DomainShare* share) { return share && !share->countsCommonWork() ? 1u : 0u; }
 
+// Sums 64-bit fixed-point words, (low, high) per component, over the shares, each as one integer: in place.
+void sumWordsOverShares(DomainShare& share, const std::vector<std::pair<glm::uvec4*, glm::ivec4*>>& words) {
+  std::vector<std::int64_t> values;
+  for (const auto& [low, high] : words) {
+    for (int c = 0; c < 4; ++c) values.push_back(joinFixed64((*low)[c], (*high)[c]));
+  }
+  share.sumExactly(values);
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    for (int c = 0; c < 4; ++c) {
+      const std::uint64_t value = std::uint64_t(values[4 * k + std::size_t(c)]);
+      (*words[k].first)[c] = std::uint32_t(value);
+      (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
+    }
+  }
+}
+
 }  // namespace
 
 bool mirrorsStressIntoBodies(const Scene& scene) {
@@ -116,37 +132,22 @@ void RigidBodies::afterGridToParticle(GpuState& state, DomainShare* share, gl::P
 void RigidBodies::sumOverShares(GpuState& state, DomainShare& share, Sums sums) const {
   state.bindings().completeWrites();  // the passes' atomics, before the host reads them
   // The push's sums are in the bodies' entries of the collider table, the coupled solve's in their records.
-  std::vector<gpu::ColliderParams> entries;
-  std::vector<gpu::BodyRecord> records;
-  // Each sum's 64-bit words, (low, high) per component, as one integer.
-  std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
   if (sums == Sums::Push) {
-    entries = state.readColliders(first_, count_);
+    std::vector<gpu::ColliderParams> entries = state.readColliders(first_, count_);
+    std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
     for (gpu::ColliderParams& body : entries) {
       words.emplace_back(&body.impulseLow, &body.impulseHigh);
       words.emplace_back(&body.angularLow, &body.angularHigh);
     }
+    sumWordsOverShares(share, words);
+    state.writeColliders(entries, first_);
   } else {
-    records = state.readBodyRecords(0, count_);
+    std::vector<gpu::BodyRecord> records = state.readBodyRecords(0, count_);
+    std::vector<std::pair<glm::uvec4*, glm::ivec4*>> words;
     for (gpu::BodyRecord& body : records) {
       for (int w = 0; w < COUPLING_WORDS; ++w) words.emplace_back(&body.blockLow[w], &body.blockHigh[w]);
     }
-  }
-  std::vector<std::int64_t> values;
-  for (const auto& [low, high] : words) {
-    for (int c = 0; c < 4; ++c) values.push_back(joinFixed64((*low)[c], (*high)[c]));
-  }
-  share.sumExactly(values);
-  for (std::size_t k = 0; k < words.size(); ++k) {
-    for (int c = 0; c < 4; ++c) {
-      const std::uint64_t value = std::uint64_t(values[4 * k + std::size_t(c)]);
-      (*words[k].first)[c] = std::uint32_t(value);
-      (*words[k].second)[c] = std::int32_t(std::uint32_t(value >> 32));
-    }
-  }
-  if (sums == Sums::Push) {
-    state.writeColliders(entries, first_);
-  } else {
+    sumWordsOverShares(share, words);
     state.writeBodyRecords(records);
   }
 }
